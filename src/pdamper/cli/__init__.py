@@ -1,0 +1,18 @@
+"""The ``pdamper`` command line: thin commands over the public API.
+
+Each command lives in its own module of this package and registers itself on
+:data:`main`. Errors a user can fix (:class:`pdamper.errors.InputError`) are
+printed as one line ``Error: ...`` with exit code 2, never as a traceback.
+"""
+
+from __future__ import annotations
+
+import click
+
+from .common import main
+
+# Importing the command modules registers their commands on ``main``.
+from . import theory as _theory  # noqa: F401,E402
+from . import analyze as _analyze  # noqa: F401,E402
+
+__all__ = ["main"]
