@@ -22,10 +22,7 @@ class _Group(click.Group):
         try:
             return super().invoke(ctx)
         except (InputError, SimulationError) as exc:
-            raise click.ClickException(str(exc)) from None
-
-
-click.ClickException.exit_code = 1  # default, overridden per instance below
+            fail(str(exc))
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

@@ -1,0 +1,92 @@
+r"""Hertz normal contact with the nonlinear damping of Gonthier et al. (2004), paper eq. (1).
+
+.. math::
+
+    F_N = k\,\delta^{3/2}\,(1 + d\,\dot\delta), \qquad F_N \ge 0,
+
+    k = \tfrac43 E^* \sqrt{R^*}, \qquad d = \frac{1-\varepsilon^2}{\varepsilon\, v_{in}},
+
+with the overlap :math:`\delta` [m], its rate :math:`\dot\delta` [m/s] (positive while
+approaching), the effective modulus :math:`1/E^* = (1-\nu_1^2)/E_1 + (1-\nu_2^2)/E_2`, the
+effective radius :math:`1/R^* = 1/r_1 + 1/r_2` (flat wall: :math:`R^* = r`; concave wall of
+radius R: :math:`1/R^* = 1/r - 1/R`), and :math:`v_{in}` the normal approach speed at the first
+touch of that contact, kept as contact history.
+
+The force is clipped at zero: a contact never pulls.
+
+**Guard for resting contacts.** As :math:`v_{in}\to 0` the damping parameter diverges. pdamper
+uses :math:`v_{in} \leftarrow \max(v_{in}, v_\text{floor})` with the default
+:data:`V_IN_FLOOR` = 1 mm/s. Below that speed a contact is slightly less dissipative than
+Gonthier's law says; a sphere resting on the floor then sits in a damped Hertz well whose
+damping rate ``g d`` is bounded, so explicit integrators stay stable. Tested in
+``tests/contact/test_hertz_gonthier.py`` (a sphere dropped from rest settles and stays).
+
+References
+----------
+Gonthier, Y., McPhee, J., Lange, C., Piedboeuf, J.-C. (2004). A regularized contact model with
+asymmetric damping and dwell-time dependent friction. Multibody Syst. Dyn. 11, 209-233.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..kernels.jit import njit
+
+__all__ = ["V_IN_FLOOR", "hertz_stiffness", "effective_radius", "damping_parameter",
+           "contact_time", "peak_overlap", "normal_force"]
+
+#: Default floor on the approach speed used in the damping parameter [m/s].
+V_IN_FLOOR = 1e-3
+
+
+def effective_radius(r1: float, r2: float | None = None, *, concave_radius: float | None = None) -> float:
+    """R* [m]: sphere-sphere ``1/(1/r1 + 1/r2)``, flat wall (``r2=None``) ``r1``,
+    concave wall of radius R ``1/(1/r1 - 1/R)``."""
+    if concave_radius is not None:
+        return 1.0 / (1.0 / r1 - 1.0 / concave_radius)
+    if r2 is None:
+        return float(r1)
+    return 1.0 / (1.0 / r1 + 1.0 / r2)
+
+
+def hertz_stiffness(e_star: float, r_star: float) -> float:
+    """k = 4/3 E* sqrt(R*) [N/m^1.5]."""
+    return 4.0 / 3.0 * e_star * math.sqrt(r_star)
+
+
+def damping_parameter(restitution: float, v_in: float, v_floor: float = V_IN_FLOOR) -> float:
+    """Gonthier's d = (1 - eps^2)/(eps * max(v_in, v_floor)) [s/m]."""
+    return (1.0 - restitution**2) / (restitution * max(v_in, v_floor))
+
+
+def contact_time(m_star: float, r_star: float, e_star: float, v: float) -> float:
+    """Duration [s] of an undamped Hertz impact at approach speed v [m/s]:
+    ``2.87 (m*^2 / (R* E*^2 v))^(1/5)`` (Johnson, Contact Mechanics, ch. 11)."""
+    return 2.868265 * (m_star**2 / (r_star * e_star**2 * v)) ** 0.2
+
+
+def peak_overlap(m_star: float, k: float, v: float) -> float:
+    """Largest overlap [m] of an undamped Hertz impact: (15 m* v^2 / (16 k))^(2/5)... with k = 4/3 E* sqrt(R*).
+
+    Energy balance ``1/2 m* v^2 = 2/5 k delta^(5/2)``.
+    """
+    return (1.25 * m_star * v * v / k) ** 0.4
+
+
+@njit
+def normal_force(k, delta, delta_dot, d):
+    """Scalar eq. (1): k delta^1.5 (1 + d delta_dot), clipped at 0. Returns (F_N, F_damp) where
+    F_damp is the damping part actually applied (for the energy ledger)."""
+    fe = k * delta * math.sqrt(delta)
+    f = fe * (1.0 + d * delta_dot)
+    if f < 0.0:
+        return 0.0, -fe
+    return f, fe * d * delta_dot
+
+
+def stiffness_matrix(e_stars: np.ndarray, r_stars: np.ndarray) -> np.ndarray:
+    """Vectorised :func:`hertz_stiffness`."""
+    return 4.0 / 3.0 * np.asarray(e_stars) * np.sqrt(np.asarray(r_stars))

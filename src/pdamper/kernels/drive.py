@@ -1,0 +1,46 @@
+"""Prescribed container motion along the drive direction, evaluated inside the time loop.
+
+``kind`` 0: at rest. 1: harmonic ``x = X sin(Omega t + phase)`` with ``par = (X, Omega, phase)``.
+2: piecewise cubic through samples, ``tab`` rows ``(t_k, c0, c1, c2, c3)`` so that
+``x = c0 + c1 s + c2 s^2 + c3 s^3`` with ``s = t - t_k`` on ``[t_k, t_{k+1})``.
+Before ``t = 0`` (the settling phase) the container is at rest at ``x(0)``... with zero speed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .jit import njit
+
+__all__ = ["drive_motion"]
+
+
+@njit
+def drive_motion(kind, par, tab, t):
+    """Container (position [m], velocity [m/s], acceleration [m/s^2]) along the drive at time t [s]."""
+    if kind == 1:
+        if t < 0.0:
+            return par[0] * math.sin(par[2]), 0.0, 0.0
+        ph = par[1] * t + par[2]
+        s = math.sin(ph)
+        return par[0] * s, par[0] * par[1] * math.cos(ph), -par[0] * par[1] * par[1] * s
+    if kind == 2:
+        n = tab.shape[0]
+        if t <= tab[0, 0]:
+            return tab[0, 1], 0.0, 0.0
+        k = np.searchsorted(tab[:, 0], t) - 1
+        if k >= n - 1:
+            k = n - 2
+        s = t - tab[k, 0]
+        if t > tab[n - 1, 0]:
+            # past the last sample: hold the last position
+            s = tab[n - 1, 0] - tab[k, 0]
+            x = tab[k, 1] + s * (tab[k, 2] + s * (tab[k, 3] + s * tab[k, 4]))
+            return x, 0.0, 0.0
+        x = tab[k, 1] + s * (tab[k, 2] + s * (tab[k, 3] + s * tab[k, 4]))
+        v = tab[k, 2] + s * (2.0 * tab[k, 3] + 3.0 * s * tab[k, 4])
+        a = 2.0 * tab[k, 3] + 6.0 * s * tab[k, 4]
+        return x, v, a
+    return 0.0, 0.0, 0.0

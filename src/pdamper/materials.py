@@ -1,0 +1,63 @@
+"""Materials of particles and container walls (paper Table 1) and their pairwise mixing.
+
+All values SI: Young's modulus [Pa], Poisson ratio [-], density [kg/m^3].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .errors import InputError
+
+__all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "effective_modulus", "LIBRARY"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Material:
+    """An isotropic elastic material.
+
+    Parameters
+    ----------
+    name : str
+        Label used in configs and results.
+    youngs_modulus : float
+        E [Pa], > 0.
+    poisson_ratio : float
+        nu [-], in (-1, 0.5).
+    density : float
+        rho [kg/m^3], > 0.
+    """
+
+    name: str
+    youngs_modulus: float
+    poisson_ratio: float
+    density: float
+
+    def __post_init__(self):
+        if not (self.youngs_modulus > 0):
+            raise InputError(f"material {self.name!r}: youngs_modulus = {self.youngs_modulus!r} Pa; must be > 0 (steel: 208e9)")
+        if not (-1.0 < self.poisson_ratio < 0.5):
+            raise InputError(f"material {self.name!r}: poisson_ratio = {self.poisson_ratio!r}; must be in (-1, 0.5) (steel: 0.3)")
+        if not (self.density > 0):
+            raise InputError(f"material {self.name!r}: density = {self.density!r} kg/m^3; must be > 0 (steel: 7900)")
+
+    @property
+    def reduced_modulus(self) -> float:
+        """E / (1 - nu^2) [Pa]: this material's share of 1/E* is its inverse."""
+        return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+
+
+def effective_modulus(a: Material, b: Material) -> float:
+    """Hertz effective modulus E* [Pa]: ``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2`` (SPEC Sect. 2)."""
+    return 1.0 / (1.0 / a.reduced_modulus + 1.0 / b.reduced_modulus)
+
+
+#: Paper Table 1: sphere steel S235.
+STEEL_S235 = Material(name="steel", youngs_modulus=208e9, poisson_ratio=0.3, density=7900.0)
+#: Paper Table 1: container PVC.
+PVC = Material(name="pvc", youngs_modulus=3e9, poisson_ratio=0.38, density=1400.0)
+#: Paper Sect. 6.1 sensitivity value (tungsten): E = 405 GPa, rho = 19250 kg/m^3.
+TUNGSTEN = Material(name="tungsten", youngs_modulus=405e9, poisson_ratio=0.28, density=19250.0)
+
+#: Named materials a config may refer to by name.
+LIBRARY = {m.name: m for m in (STEEL_S235, PVC, TUNGSTEN)}

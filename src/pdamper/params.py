@@ -1,0 +1,289 @@
+"""Parameters of a simulated case: frozen, keyword-only dataclasses in SI units.
+
+A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case (see
+:func:`with_stroke`). Validation happens in ``__post_init__`` and raises
+:class:`pdamper.errors.InputError` naming the field, the value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+from .contact.cor_constant import ConstantRestitution
+from .contact.friction_tanh import DEFAULT_TAU
+from .contact.hertz_gonthier import V_IN_FLOOR
+from .errors import InputError
+from .excitation import HarmonicDrive, SampledDrive
+from .geometry.cuboid import Cuboid
+from .geometry.cylinder import Cylinder
+from .materials import PVC, STEEL_S235, Material
+
+__all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case",
+           "PAPER_TILT", "with_stroke"]
+
+#: The paper's default tilt: 0.1 deg about the container's x, y and z axes [rad].
+PAPER_TILT = (math.radians(0.1),) * 3
+
+
+def _positive(obj, name, allowed="> 0"):
+    v = getattr(obj, name)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0) or not math.isfinite(v):
+        raise InputError(f"{type(obj).__name__.lower()}.{name} = {v!r}; must be {allowed}")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ParticleSet:
+    """``count`` identical spheres.
+
+    Parameters
+    ----------
+    count : int, >= 1.
+    radius : float, r [m] > 0 (paper: 5 mm).
+    material : Material (paper: steel S235).
+    """
+
+    count: int
+    radius: float = 0.005
+    material: Material = STEEL_S235
+
+    def __post_init__(self):
+        if isinstance(self.count, bool) or not isinstance(self.count, int) or self.count < 1:
+            raise InputError(f"particles.count = {self.count!r}; must be a whole number >= 1")
+        _positive(self, "radius", "> 0 m (paper: 5 mm)")
+
+    @property
+    def mass(self) -> float:
+        """Mass of one sphere [kg]."""
+        return self.material.density * 4.0 / 3.0 * math.pi * self.radius**3
+
+
+@dataclass(frozen=True, kw_only=True)
+class Container:
+    """The container: its inner geometry, wall material, tilt and mass.
+
+    Parameters
+    ----------
+    geometry : Cuboid or Cylinder.
+    material : Material of the walls (paper: PVC).
+    tilt : (a_x, a_y, a_z) [rad] about the container's x, y, z axes, applied in that order
+        (see :mod:`pdamper.geometry.tilt`). Paper default 0.1 deg each.
+    mass : float, m_c [kg] >= 0; enters the driving force as m_c x_c'' (no effect on Re P).
+    """
+
+    geometry: Cuboid | Cylinder = field(default_factory=Cuboid)
+    material: Material = PVC
+    tilt: tuple = PAPER_TILT
+    mass: float = 0.0
+
+    def __post_init__(self):
+        t = tuple(float(a) for a in self.tilt)
+        if len(t) != 3 or any(not math.isfinite(a) or abs(a) >= math.pi / 4 for a in t):
+            raise InputError(f"container.tilt = {self.tilt!r}; give three angles about x, y, z, each below 45 deg")
+        object.__setattr__(self, "tilt", t)
+        if not (self.mass >= 0 and math.isfinite(self.mass)):
+            raise InputError(f"container.mass = {self.mass!r} kg; must be >= 0")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ContactModel:
+    """Contact laws for all contacts, with optional per-material-pair overrides.
+
+    Parameters
+    ----------
+    friction : float, mu [-] >= 0 (paper: 0.1 for all contacts).
+    restitution : a COR law (ConstantRestitution, TabulatedRestitution, ThorntonRestitution);
+        default constant 0.9.
+    tau : float, friction smoothing [s/m] > 0 (default 1000; see :mod:`pdamper.contact.friction_tanh`).
+    v_in_floor : float, floor on the first-touch approach speed [m/s] > 0 (default 1 mm/s).
+    pair_friction, pair_restitution : dict mapping ``(material_a, material_b)`` names (e.g.
+        ``("steel", "pvc")``) to a friction coefficient / a COR law; order does not matter.
+    """
+
+    friction: float = 0.1
+    restitution: object = field(default_factory=ConstantRestitution)
+    tau: float = DEFAULT_TAU
+    v_in_floor: float = V_IN_FLOOR
+    pair_friction: dict = field(default_factory=dict)
+    pair_restitution: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        for mu in [self.friction, *self.pair_friction.values()]:
+            if not (isinstance(mu, (int, float)) and mu >= 0 and math.isfinite(mu)):
+                raise InputError(f"contact.friction = {mu!r}; a friction coefficient must be >= 0 (paper: 0.1)")
+        _positive(self, "tau", "> 0 s/m (default 1000)")
+        _positive(self, "v_in_floor", "> 0 m/s (default 1e-3)")
+
+    def friction_for(self, a: str, b: str) -> float:
+        """mu [-] for the material pair (a, b)."""
+        return float(self.pair_friction.get((a, b), self.pair_friction.get((b, a), self.friction)))
+
+    def restitution_for(self, a: str, b: str):
+        """COR law for the material pair (a, b)."""
+        return self.pair_restitution.get((a, b), self.pair_restitution.get((b, a), self.restitution))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Numerics:
+    """How the equations are integrated.
+
+    Parameters
+    ----------
+    integrator : "verlet" (fixed step) or "gear" (variable-step 5th-order predictor-corrector).
+    time_step : fixed step [s] for Verlet; None picks it from the Hertz contact time at
+        ``max_impact_speed`` divided by ``steps_per_contact``.
+    steps_per_contact : int, steps per shortest Hertz contact (default 15).
+    max_impact_speed : expected largest impact speed [m/s]; None: 2.5 X Omega + 0.1 m/s.
+    max_time_step : upper bound on any step [s] (default 1e-5).
+    gear_tolerance : Gear's local position error bound [m] per step (default 1e-10).
+    neighbour_search : "auto", "direct" (all pairs) or "cells" (link cells) for building the Verlet list.
+    skin : Verlet-list skin [m]; None: 0.2 r_max.
+    overlap_limit : a run stops when an overlap exceeds this fraction of the radius (default 0.05).
+    """
+
+    integrator: str = "verlet"
+    time_step: float | None = None
+    steps_per_contact: int = 15
+    max_impact_speed: float | None = None
+    max_time_step: float = 1e-5
+    gear_tolerance: float = 1e-10
+    neighbour_search: str = "auto"
+    skin: float | None = None
+    overlap_limit: float = 0.05
+
+    def __post_init__(self):
+        if self.integrator not in ("verlet", "gear"):
+            raise InputError(f"numerics.integrator = {self.integrator!r}; choose 'verlet' or 'gear'")
+        if self.neighbour_search not in ("auto", "direct", "cells"):
+            raise InputError(f"numerics.neighbour_search = {self.neighbour_search!r}; choose 'auto', 'direct' or 'cells'")
+        if self.time_step is not None:
+            _positive(self, "time_step", "> 0 s (or omit it for the automatic step)")
+        if not (isinstance(self.steps_per_contact, int) and self.steps_per_contact >= 4):
+            raise InputError(f"numerics.steps_per_contact = {self.steps_per_contact!r}; must be a whole number >= 4")
+        if self.max_impact_speed is not None:
+            _positive(self, "max_impact_speed", "> 0 m/s")
+        _positive(self, "max_time_step", "> 0 s")
+        _positive(self, "gear_tolerance", "> 0 m")
+        if self.skin is not None:
+            _positive(self, "skin", "> 0 m")
+        if not (0 < self.overlap_limit < 0.5):
+            raise InputError(f"numerics.overlap_limit = {self.overlap_limit!r}; must be in (0, 0.5)")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Recording:
+    """What is recorded and how often.
+
+    Parameters
+    ----------
+    sample_rate : float [Hz] of the force/motion signals (default 1000, as the paper's rig);
+        each sample is the mean over its interval (impulse / interval), never a point value.
+    trajectory_fps : frames per second of decimated particle trajectories (0: none).
+    """
+
+    sample_rate: float = 1000.0
+    trajectory_fps: float = 0.0
+
+    def __post_init__(self):
+        _positive(self, "sample_rate", "> 0 Hz (default 1000)")
+        if not (self.trajectory_fps >= 0 and math.isfinite(self.trajectory_fps)):
+            raise InputError(f"recording.trajectory_fps = {self.trajectory_fps!r}; must be >= 0")
+        if self.trajectory_fps > self.sample_rate:
+            raise InputError(f"recording.trajectory_fps = {self.trajectory_fps!r} exceeds sample_rate = "
+                             f"{self.sample_rate!r}; use at most the sample rate")
+
+
+@dataclass(frozen=True, kw_only=True)
+class InitialState:
+    """How the particles start.
+
+    Parameters
+    ----------
+    arrangement : "block" (compact block at rest against the -x wall, default) or "scatter"
+        (random non-overlapping positions on the floor).
+    jitter : random displacement [m] of each sphere in the floor plane, uniform in
+        [-jitter, jitter] (default 0.1 mm); set 0 for a perfect lattice.
+    seed : int, seed of the random generator (same seed, same run, bit for bit).
+    settle_time : time [s] the particles settle under gravity in the still container before the
+        drive starts (default 0.1 s).
+    layers : "one" (error when the spheres do not fit in one layer on the floor) or "auto"
+        (stack further layers, for large beds).
+    positions : optional explicit initial centres [(x, y, z), ...] [m] in the container frame.
+    """
+
+    arrangement: str = "block"
+    jitter: float = 1e-4
+    seed: int = 0
+    settle_time: float = 0.1
+    layers: str = "one"
+    positions: tuple | None = None
+
+    def __post_init__(self):
+        if self.arrangement not in ("block", "scatter"):
+            raise InputError(f"initial.arrangement = {self.arrangement!r}; choose 'block' or 'scatter'")
+        if not (self.jitter >= 0 and math.isfinite(self.jitter)):
+            raise InputError(f"initial.jitter = {self.jitter!r} m; must be >= 0")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise InputError(f"initial.seed = {self.seed!r}; must be a whole number >= 0")
+        if not (self.settle_time >= 0 and math.isfinite(self.settle_time)):
+            raise InputError(f"initial.settle_time = {self.settle_time!r} s; must be >= 0")
+        if self.layers not in ("one", "auto"):
+            raise InputError(f"initial.layers = {self.layers!r}; choose 'one' or 'auto'")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Case:
+    """One simulated case: what is simulated (particles, container, drive, contact laws), how
+    (numerics), what is recorded, how it starts, and for how long (``cycles`` of the drive)."""
+
+    particles: tuple
+    container: Container = field(default_factory=Container)
+    drive: HarmonicDrive | SampledDrive = field(default_factory=lambda: HarmonicDrive(stroke=0.012))
+    contact: ContactModel = field(default_factory=ContactModel)
+    numerics: Numerics = field(default_factory=Numerics)
+    recording: Recording = field(default_factory=Recording)
+    initial: InitialState = field(default_factory=InitialState)
+    cycles: float = 20
+    drop_cycles: int = 2
+    gravity: float = 9.81
+
+    def __post_init__(self):
+        ps = self.particles
+        if isinstance(ps, ParticleSet):
+            ps = (ps,)
+        ps = tuple(ps)
+        if not ps or not all(isinstance(p, ParticleSet) for p in ps):
+            raise InputError("case.particles: give one or more ParticleSet entries")
+        object.__setattr__(self, "particles", ps)
+        if not (self.cycles > 0 and math.isfinite(self.cycles)):
+            raise InputError(f"run.cycles = {self.cycles!r}; must be > 0 (paper: 20)")
+        if not (isinstance(self.drop_cycles, int) and 0 <= self.drop_cycles):
+            raise InputError(f"run.drop_cycles = {self.drop_cycles!r}; must be a whole number >= 0 (paper: 2)")
+        if isinstance(self.drive, HarmonicDrive) and self.drop_cycles >= self.cycles:
+            raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles} cycles; "
+                             "run more cycles or drop fewer")
+        if not (self.gravity >= 0 and math.isfinite(self.gravity)):
+            raise InputError(f"gravity = {self.gravity!r} m/s^2; must be >= 0")
+
+    @property
+    def n_particles(self) -> int:
+        """Total number of spheres."""
+        return sum(p.count for p in self.particles)
+
+    @property
+    def bed_mass(self) -> float:
+        """m_bed [kg]: mass of all spheres."""
+        return sum(p.count * p.mass for p in self.particles)
+
+    @property
+    def duration(self) -> float:
+        """Driven time [s] (after settling)."""
+        return self.drive.duration(self.cycles)
+
+
+def with_stroke(case: Case, stroke: float) -> Case:
+    """The same case at another stroke X [m] (harmonic drives only)."""
+    if not isinstance(case.drive, HarmonicDrive):
+        raise InputError("a stroke can only be set on a harmonic drive")
+    return dataclasses.replace(case, drive=dataclasses.replace(case.drive, stroke=stroke))

@@ -1,0 +1,362 @@
+"""Build a case from its parameters, run it, and feed the recorders.
+
+:class:`Simulation` turns a :class:`pdamper.params.Case` into the plain arrays the kernels
+take, settles the particles, runs the drive in segments (for progress and clean interrupts)
+and returns a :class:`RunResult` with the recorded signals, the energy ledger and the
+complex-power analysis.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .contact.cor_table import SPEED_GRID, tabulate_law
+from .contact.cor_thornton import ThorntonRestitution
+from .contact.hertz_gonthier import contact_time, effective_radius
+from .errors import InputError, SimulationError
+from .excitation import HarmonicDrive
+from .geometry.tilt import container_vectors
+from .geometry.walls import CYLINDER_INSIDE
+from .initial import initial_positions
+from .kernels import forces as kf
+from .materials import effective_modulus
+from .params import Case
+from .recorders.signals import Signals
+from .recorders.energy import EnergyLedger
+
+__all__ = ["Simulation", "RunResult", "run_case", "auto_time_step"]
+
+#: Above this many spheres the Verlet list is built with link cells ("auto" search).
+CELLS_THRESHOLD = 150
+
+
+def _radii_masses(case):
+    rad = np.concatenate([np.full(p.count, p.radius) for p in case.particles])
+    mass = np.concatenate([np.full(p.count, p.mass) for p in case.particles])
+    return rad, mass
+
+
+def auto_time_step(case: Case) -> float:
+    """Time step [s] for the fixed-step integrator: the shortest Hertz contact time among the
+    case's contact types at the expected largest impact speed, over ``steps_per_contact``,
+    capped by ``max_time_step``."""
+    num = case.numerics
+    if num.time_step is not None:
+        return num.time_step
+    if num.max_impact_speed is not None:
+        v = num.max_impact_speed
+    elif isinstance(case.drive, HarmonicDrive):
+        v = 2.5 * case.drive.velocity_amplitude + 0.1
+    else:
+        _, vc, _ = case.drive.motion(np.asarray(case.drive.time))
+        v = 2.5 * float(np.max(np.abs(vc))) + 0.1
+    wall = case.container.material
+    best = math.inf
+    for a in case.particles:
+        for b in case.particles:
+            es = effective_modulus(a.material, b.material)
+            rs = effective_radius(a.radius, b.radius)
+            ms = a.mass * b.mass / (a.mass + b.mass)
+            best = min(best, contact_time(ms, rs, es, v))
+        best = min(best, contact_time(a.mass, a.radius, effective_modulus(a.material, wall), v))
+    return min(best / num.steps_per_contact, num.max_time_step)
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunResult:
+    """What one run produced.
+
+    Attributes
+    ----------
+    case : the Case that was run.
+    signals : :class:`pdamper.recorders.signals.Signals` (time, driving force, container motion).
+    energy : :class:`pdamper.recorders.energy.EnergyLedger`.
+    analysis : complex-power result (``pdamper.analysis.PowerResult``) or None.
+    trajectory : dict of arrays (``time`` [s], ``position`` [m], ``velocity`` [m/s], ``spin``
+        [rad/s], container frame) or None.
+    steps : time steps taken; time_step : the (initial) step [s]; wall_time_s : run time [s].
+    """
+
+    case: Case
+    signals: Signals
+    energy: EnergyLedger
+    analysis: object = None
+    trajectory: dict | None = None
+    steps: int = 0
+    time_step: float = 0.0
+    wall_time_s: float = 0.0
+    neighbour_search: str = ""
+    extras: dict = field(default_factory=dict)
+
+    @property
+    def eta_star(self) -> float:
+        """Reduced loss factor eta* [-] (eq. 5)."""
+        return float(self.analysis.eta_star) if self.analysis is not None else math.nan
+
+    @property
+    def energy_per_cycle(self) -> float:
+        """Dissipated energy per cycle [J] (eq. 4)."""
+        return float(self.analysis.energy_per_cycle_J) if self.analysis is not None else math.nan
+
+    def summary(self) -> dict:
+        """Plain dict for JSON output."""
+        a = self.analysis
+        return {
+            "eta_star": self.eta_star,
+            "energy_per_cycle_J": self.energy_per_cycle,
+            "mean_power_check_J": float(a.mean_power_check_J) if a is not None else math.nan,
+            "ledger_dissipated_per_cycle_J": self.energy.dissipated_per_cycle(self.case),
+            "energy_balance_error": self.energy.balance_error(),
+            "stroke_m": getattr(self.case.drive, "stroke", math.nan),
+            "frequency_hz": getattr(self.case.drive, "frequency", None) or (a.frequency_hz if a is not None else math.nan),
+            "particles": self.case.n_particles,
+            "bed_mass_kg": self.case.bed_mass,
+            "steps": self.steps,
+            "time_step_s": self.time_step,
+            "wall_time_s": self.wall_time_s,
+            "us_per_step": 1e6 * self.wall_time_s / max(self.steps, 1),
+            "integrator": self.case.numerics.integrator,
+            "neighbour_search": self.neighbour_search,
+            **self.extras,
+        }
+
+
+class Simulation:
+    """A case turned into kernel arrays, ready to run.
+
+    >>> from pdamper.params import Case, ParticleSet
+    >>> sim = Simulation(Case(particles=(ParticleSet(count=4),), cycles=1, drop_cycles=0))
+    >>> sim.n
+    4
+    """
+
+    def __init__(self, case: Case):
+        self.case = case
+        self._build()
+
+    # ------------------------------------------------------------------ building
+    def _build(self):
+        case = self.case
+        rng = np.random.default_rng(case.initial.seed)
+        rad, mass = _radii_masses(case)
+        self.n = n = rad.size
+        self.rad, self.mass = rad, mass
+        self.inv_m = 1.0 / mass
+        self.inv_i = 1.0 / (0.4 * mass * rad * rad)
+        # materials: particle materials first, the wall material last
+        mats = []
+        for p in case.particles:
+            if p.material.name not in [m.name for m in mats]:
+                mats.append(p.material)
+        wall_mat = case.container.material
+        allm = mats + [wall_mat]
+        nmat = len(allm)
+        self.nmat = nmat
+        self.mat = np.concatenate([np.full(p.count, [m.name for m in mats].index(p.material.name))
+                                   for p in case.particles]).astype(np.int64)
+        npair = nmat * nmat
+        self.estar = np.empty(npair)
+        self.mu = np.empty(npair)
+        self.cor_tab = np.empty((npair, SPEED_GRID.size))
+        self.cor_py = np.zeros(npair)
+        for a in range(nmat):
+            for b in range(nmat):
+                mp = a * nmat + b
+                self.estar[mp] = effective_modulus(allm[a], allm[b])
+                self.mu[mp] = case.contact.friction_for(allm[a].name, allm[b].name)
+                law = case.contact.restitution_for(allm[a].name, allm[b].name)
+                if isinstance(law, ThorntonRestitution):
+                    # the table is epsilon over v / v_y; the kernel computes v_y per contact
+                    self.cor_py[mp] = law.yield_pressure
+                    from .contact.cor_thornton import thornton_restitution
+
+                    self.cor_tab[mp] = np.clip(thornton_restitution(SPEED_GRID, 1.0), 1e-6, 1.0)
+                else:
+                    self.cor_tab[mp] = tabulate_law(law)
+        self.logv0 = math.log(SPEED_GRID[0])
+        self.dlogv = math.log(SPEED_GRID[1]) - math.log(SPEED_GRID[0])
+        # walls
+        geo = case.container.geometry
+        kinds, data, names = geo.walls()
+        self.wall_kind, self.wall_data, self.wall_names = kinds, np.ascontiguousarray(data), names
+        nw = len(kinds)
+        self.wk = np.empty((n, nw))
+        self.wrs = np.empty((n, nw))
+        self.wmp = np.empty((n, nw), dtype=np.int64)
+        for w in range(nw):
+            for i in range(n):
+                if kinds[w] == CYLINDER_INSIDE:
+                    rs = effective_radius(rad[i], concave_radius=data[w, 6])
+                else:
+                    rs = rad[i]
+                mp = self.mat[i] * nmat + (nmat - 1)
+                self.wrs[i, w] = rs
+                self.wmp[i, w] = mp
+                self.wk[i, w] = 4.0 / 3.0 * self.estar[mp] * math.sqrt(rs)
+        # vectors in the container frame
+        self.gvec, self.dvec = container_vectors(case.container.tilt, case.gravity,
+                                                 getattr(case.drive, "angle", 0.0))
+        # state
+        self.pos = initial_positions(case, rng)
+        self.vel = np.zeros((n, 3))
+        self.omg = np.zeros((n, 3))
+        self.acc = np.zeros((n, 3))
+        self.alp = np.zeros((n, 3))
+        self.acc_prev = np.zeros((n, 3))
+        self.alp_prev = np.zeros((n, 3))
+        self.force = np.zeros((n, 3))
+        self.torque = np.zeros((n, 3))
+        # neighbour lists
+        num = case.numerics
+        self.skin = num.skin if num.skin is not None else 0.2 * float(rad.max())
+        search = num.neighbour_search
+        if search == "auto":
+            search = "cells" if n > CELLS_THRESHOLD else "direct"
+        self.search = search
+        cut = 2 * float(rad.max()) + self.skin
+        vmin, vmax = self._bounding_box()
+        self.lo = vmin - cut
+        span = vmax - vmin + 2 * cut
+        self.ncell = np.maximum(1, np.floor(span / cut)).astype(np.int64)
+        self.cell = float(np.max(span / self.ncell))
+        # keep cells at least `cut` wide in every direction
+        self.cell = max(self.cell, cut)
+        self.head = np.empty(int(np.prod(self.ncell)), dtype=np.int64)
+        self.nxt = np.empty(n, dtype=np.int64)
+        self.counts = np.zeros(n, dtype=np.int64)
+        self.ref = np.full((n, 3), np.inf)
+        cap = max(16, n * 8)
+        self._alloc_pairs(cap)
+        self.wl_i = np.empty(max(8, n * nw), dtype=np.int64)
+        self.wl_w = np.empty(max(8, n * nw), dtype=np.int64)
+        self.nwl = np.zeros(1, dtype=np.int64)
+        self.wvin = np.zeros((n, nw))
+        self.wd = np.zeros((n, nw))
+        self.ledger = np.zeros(4)
+        self.dt = auto_time_step(case)
+
+    def _bounding_box(self):
+        g = self.case.container.geometry
+        if g.shape == "cuboid":
+            return (np.array([-g.length / 2, 0.0, -g.width / 2]), np.array([g.length / 2, g.height, g.width / 2]))
+        return (np.array([-g.radius, 0.0, -g.radius]), np.array([g.radius, g.height, g.radius]))
+
+    def _alloc_pairs(self, cap, keep=None):
+        n = self.n
+        new = dict(row=np.zeros(n + 1, dtype=np.int64), pj=np.zeros(cap, dtype=np.int64),
+                   pvin=np.zeros(cap), pd=np.zeros(cap), pk=np.zeros(cap), pmp=np.zeros(cap, dtype=np.int64),
+                   row2=np.zeros(n + 1, dtype=np.int64), pj2=np.zeros(cap, dtype=np.int64),
+                   pvin2=np.zeros(cap), pd2=np.zeros(cap))
+        if keep is not None:
+            for k, arr in new.items():
+                old = getattr(self, k)
+                arr[: old.shape[0]] = old
+        for k, arr in new.items():
+            setattr(self, k, arr)
+
+    # ------------------------------------------------------------------ running
+    def _advance(self, n_steps, t0, step0, sub, record, rec_offset, sig, eng, traj_every, traj):
+        """Run ``n_steps`` steps, growing the neighbour arrays when they overflow."""
+        from .kernels.verlet import run_verlet
+
+        done = 0
+        while done < n_steps:
+            status, steps, culprit = run_verlet(
+                n_steps - done, self.dt, t0 + done * self.dt, step0 + done, sub, record, rec_offset,
+                self.pos, self.vel, self.omg, self.acc, self.alp, self.acc_prev, self.alp_prev, self.rad, self.mass, self.inv_m, self.inv_i,
+                self.mat, self.force, self.torque, self.gvec, self.dvec, *self._drive,
+                self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
+                self.case.contact.tau, self.case.contact.v_in_floor, self.case.numerics.overlap_limit,
+                self.skin, self.search == "cells", self.lo, self.cell, self.ncell, self.head, self.nxt, self.counts,
+                self.ref, self.row, self.pj, self.pvin, self.pd, self.pk, self.pmp,
+                self.row2, self.pj2, self.pvin2, self.pd2,
+                self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
+                self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj)
+            done += steps
+            if status == kf.STATUS_OK:
+                continue
+            if status == kf.STATUS_LIST_OVERFLOW:
+                self._alloc_pairs(2 * self.pj.shape[0], keep=True)
+                continue
+            if status == kf.STATUS_WALL_OVERFLOW:
+                self.wl_i = np.empty(2 * self.wl_i.shape[0], dtype=np.int64)
+                self.wl_w = np.empty(2 * self.wl_w.shape[0], dtype=np.int64)
+                continue
+            t_fail = t0 + done * self.dt
+            what = "an overlap beyond " + f"{100 * self.case.numerics.overlap_limit:g} % of the radius" \
+                if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
+            raise SimulationError(
+                f"the run became unstable at t = {t_fail:.6f} s: particle {culprit} reached {what} with time step "
+                f"{self.dt * 1e6:.3g} us; use a smaller numerics.time_step (e.g. {self.dt * 5e5:.3g} us), more "
+                "numerics.steps_per_contact, or a larger numerics.max_impact_speed")
+        return done
+
+    def run(self, *, progress=None, analyse: bool = True) -> RunResult:
+        """Settle, drive for ``case.cycles`` cycles, record, analyse.
+
+        ``progress(done_fraction)`` is called after every segment if given.
+        """
+        from .kernels.drive import drive_motion  # noqa: F401  (compiled with the run)
+
+        case = self.case
+        wall0 = _time.perf_counter()
+        fs = case.recording.sample_rate
+        ts = 1.0 / fs
+        sub = max(1, int(math.ceil(ts / self.dt - 1e-9)))
+        self.dt = ts / sub
+        self._drive = case.drive.kernel_args()
+        n_samples = int(math.floor(case.duration * fs + 1e-9))
+        if n_samples < 2:
+            raise InputError(f"run: {case.duration:g} s at {fs:g} Hz gives fewer than 2 samples; run longer")
+        sig = np.zeros((n_samples, 1))
+        eng = np.zeros((n_samples, 7))
+        traj_every = 0
+        traj = np.zeros((1, 1, 9))
+        if case.recording.trajectory_fps > 0:
+            traj_every = max(1, int(round(fs / case.recording.trajectory_fps)))
+            traj = np.zeros((n_samples // traj_every, self.n, 9))
+        steps = 0
+        # settling: the container rests; whole samples so the drive starts on a sample boundary
+        settle_steps = int(math.ceil(case.initial.settle_time / ts)) * sub
+        t = -settle_steps * self.dt
+        empty_sig = np.zeros((0, 1))
+        empty_eng = np.zeros((0, 7))
+        if settle_steps:
+            steps += self._advance(settle_steps, t, 0, sub, False, 0, empty_sig, empty_eng, 0, traj)
+        # the drive starts: particles keep their lab velocity, so their velocity relative to
+        # the container jumps by -v_c(0+)
+        _, v0, _ = case.drive.motion(np.array([0.0]))
+        self.vel -= float(v0[0]) * self.dvec
+        self.ledger[:] = 0.0
+        rec_offset = settle_steps // sub
+        total = n_samples * sub
+        seg = max(sub, (int(0.25 * fs) or 1) * sub)  # ~0.25 s of simulated time per call
+        done = 0
+        while done < total:
+            k = min(seg, total - done)
+            steps += self._advance(k, done * self.dt, settle_steps + done, sub, True, rec_offset,
+                                   sig, eng, traj_every, traj)
+            done += k
+            if progress is not None:
+                progress(done / total)
+        wall = _time.perf_counter() - wall0
+        signals = Signals.from_run(case, ts, sig[:, 0])
+        energy = EnergyLedger.from_array(signals.time_end, eng)
+        trajectory = None
+        if traj_every:
+            trajectory = {"time": (np.arange(traj.shape[0]) + 1) * traj_every * ts, "position": traj[:, :, 0:3],
+                          "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy()}
+        analysis = None
+        if analyse:
+            analysis = signals.analyse(case)
+        return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,
+                         steps=steps, time_step=self.dt, wall_time_s=wall, neighbour_search=self.search)
+
+
+def run_case(case: Case, **kwargs) -> RunResult:
+    """Build and run ``case`` (see :meth:`Simulation.run`)."""
+    return Simulation(case).run(**kwargs)
