@@ -1,0 +1,104 @@
+"""The paper's closed forms, the bouncing law and the operating bounds.
+
+Pure functions of SI floats or numpy arrays (a whole stroke sweep in one call); used as
+design formulas, as test oracles for the DEM and as overlays on its plots. Equation numbers
+refer to "Energy dissipation in horizontally driven particle dampers of low acceleration
+intensities" (Nonlinear Dynamics), Sect. 5.
+
+Clearance (:mod:`.clearance`)
+    :func:`container_length` -- L [m] of a cuboid, or 2R of a cylinder;
+    :func:`clearance` -- h = L (1 - N_p/N_p,max), eq. (6).
+Scattered state (:mod:`.scattered`)
+    :func:`eta_scattered` -- η* = κ X/h, eq. (8);
+    :func:`energy_per_cycle_scattered` -- eqs. (4), (7).
+Rolling collect-and-collide (:mod:`.rolling`)
+    :func:`bed_velocity`, :func:`relative_velocity`, :func:`bed_position` -- eqs. (10), (11);
+    :func:`clearance_over_stroke`, :func:`impact_phase_rolling` -- eq. (12) and its inverse;
+    :func:`eta_rolling`, :func:`energy_per_cycle_rolling` -- eq. (14), NaN below X_opt;
+    :func:`optimal_stroke`, :data:`X_OPT_OVER_H`, :data:`ETA_MAX` -- eqs. (15)-(17);
+    :func:`eta_theory` -- the paper's combined curve of Fig. 4 (scattered, then rolling).
+Bouncing collect-and-collide (:mod:`.bouncing`, beyond the paper)
+    :func:`impact_phase_bouncing`, :func:`eta_bouncing`, :func:`energy_per_cycle_bouncing`,
+    :func:`optimal_stroke_bouncing`, :data:`ETA_MAX_BOUNCING`.
+Operating bounds (:mod:`.bounds`)
+    :func:`angular_frequency`, :func:`velocity_amplitude`, :func:`acceleration_amplitude`,
+    :func:`max_stroke_no_liftoff` (A < g), :func:`min_acceleration_tilt`,
+    :func:`min_stroke_tilt` (A cos α > g sin α), :data:`GRAVITY`.
+Block model (:mod:`.block_model`)
+    :func:`integrate_rolling_block` -- the rolling block integrated in time, an oracle for (14).
+
+Examples
+--------
+>>> from pdamper import theory
+>>> h = theory.clearance(0.120, 36, 48)
+>>> round(theory.optimal_stroke(h) * 1e3, 2), round(theory.ETA_MAX, 4)
+(12.23, 0.9095)
+"""
+
+from __future__ import annotations
+
+from .block_model import BlockImpact, integrate_rolling_block
+from .bouncing import (
+    ETA_MAX_BOUNCING,
+    energy_per_cycle_bouncing,
+    eta_bouncing,
+    impact_phase_bouncing,
+    optimal_stroke_bouncing,
+)
+from .bounds import (
+    GRAVITY,
+    acceleration_amplitude,
+    angular_frequency,
+    max_stroke_no_liftoff,
+    min_acceleration_tilt,
+    min_stroke_tilt,
+    velocity_amplitude,
+)
+from .clearance import SHAPES, clearance, container_length
+from .rolling import (
+    ETA_MAX,
+    X_OPT_OVER_H,
+    bed_position,
+    bed_velocity,
+    clearance_over_stroke,
+    energy_per_cycle_rolling,
+    eta_rolling,
+    eta_theory,
+    impact_phase_rolling,
+    optimal_stroke,
+    relative_velocity,
+)
+from .scattered import energy_per_cycle_scattered, eta_scattered
+
+__all__ = [
+    "SHAPES",
+    "container_length",
+    "clearance",
+    "eta_scattered",
+    "energy_per_cycle_scattered",
+    "X_OPT_OVER_H",
+    "ETA_MAX",
+    "bed_velocity",
+    "relative_velocity",
+    "bed_position",
+    "clearance_over_stroke",
+    "impact_phase_rolling",
+    "optimal_stroke",
+    "eta_rolling",
+    "energy_per_cycle_rolling",
+    "eta_theory",
+    "ETA_MAX_BOUNCING",
+    "impact_phase_bouncing",
+    "optimal_stroke_bouncing",
+    "eta_bouncing",
+    "energy_per_cycle_bouncing",
+    "GRAVITY",
+    "angular_frequency",
+    "velocity_amplitude",
+    "acceleration_amplitude",
+    "max_stroke_no_liftoff",
+    "min_acceleration_tilt",
+    "min_stroke_tilt",
+    "BlockImpact",
+    "integrate_rolling_block",
+]
