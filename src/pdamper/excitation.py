@@ -13,7 +13,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["HarmonicDrive", "SampledDrive"]
+__all__ = ["HarmonicDrive", "SampledDrive", "Still"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -143,3 +143,29 @@ class SampledDrive:
         # closing row holds the last knot so the kernel can find the end
         last = np.array([[sp.x[-1], float(sp(sp.x[-1])), 0.0, 0.0, 0.0]])
         return 2, np.zeros(3), np.ascontiguousarray(np.vstack([tab, last]))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Still:
+    """A container at rest for ``duration`` [s] (settling, tests, free motion of the bed)."""
+
+    duration_s: float = 1.0
+    angle: float = 0.0
+    kind: str = "still"
+
+    def __post_init__(self):
+        if not (self.duration_s > 0 and math.isfinite(self.duration_s)):
+            raise InputError(f"drive.duration = {self.duration_s!r} s; must be > 0")
+
+    def duration(self, cycles: float | None = None) -> float:
+        """Length of the run [s] (``cycles`` is ignored)."""
+        return self.duration_s
+
+    def motion(self, t):
+        """(0, 0, 0) at every time."""
+        z = np.zeros(np.shape(t))
+        return z, z.copy(), z.copy()
+
+    def kernel_args(self):
+        """(kind, par, tab) for :func:`pdamper.kernels.drive.drive_motion`."""
+        return 0, np.zeros(3), np.zeros((1, 5))

@@ -16,6 +16,8 @@ from .geometry.walls import wall_distances
 __all__ = ["initial_positions"]
 
 _GAP = 1e-6  # clearance between neighbours and to the floor at the start [m]
+#: Largest initial overlap accepted, as a fraction of the radius.
+OVERLAP_TOLERANCE = 1e-3
 
 
 def _radii(case) -> np.ndarray:
@@ -130,12 +132,14 @@ def _scatter(case, rad, rng):
 
 
 def check_positions(case, pos, rad) -> None:
-    """Raise InputError if a sphere overlaps another or sticks out of the container."""
+    """Raise InputError if a sphere overlaps another or sticks out of the container by more than
+    :data:`OVERLAP_TOLERANCE` of its radius (resting Hertz overlaps, ~1e-5 r, are fine, so a
+    settled state can be restarted)."""
     if not np.all(np.isfinite(pos)):
         raise InputError("initial positions contain NaN or inf")
     kinds, data, names = case.container.geometry.walls()
     s, _ = wall_distances(kinds, np.ascontiguousarray(data), np.ascontiguousarray(pos))
-    out = s < rad[:, None] * (1 - 1e-9)
+    out = s < rad[:, None] * (1 - OVERLAP_TOLERANCE)
     if out.any():
         i, w = np.argwhere(out)[0]
         raise InputError(f"initial positions: sphere {i} at {np.round(pos[i] * 1e3, 3).tolist()} mm is outside the "
@@ -146,7 +150,7 @@ def check_positions(case, pos, rad) -> None:
         pairs = cKDTree(pos).query_pairs(2 * rad.max(), output_type="ndarray")
         if len(pairs):
             d = np.linalg.norm(pos[pairs[:, 0]] - pos[pairs[:, 1]], axis=1)
-            bad = d < (rad[pairs[:, 0]] + rad[pairs[:, 1]]) * (1 - 1e-9)
+            bad = d < (rad[pairs[:, 0]] + rad[pairs[:, 1]]) * (1 - OVERLAP_TOLERANCE)
             if bad.any():
                 i, j = pairs[np.argmax(bad)]
                 raise InputError(f"initial positions: spheres {i} and {j} overlap (centres {np.linalg.norm(pos[i] - pos[j]) * 1e3:.3f} mm "

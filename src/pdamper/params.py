@@ -13,9 +13,9 @@ from dataclasses import dataclass, field
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
-from .contact.hertz_gonthier import V_IN_FLOOR
+from .contact.hertz_gonthier import DAMPING_CHOICES, V_IN_FLOOR
 from .errors import InputError
-from .excitation import HarmonicDrive, SampledDrive
+from .excitation import HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .materials import PVC, STEEL_S235, Material
@@ -97,6 +97,9 @@ class ContactModel:
         default constant 0.9.
     tau : float, friction smoothing [s/m] > 0 (default 1000; see :mod:`pdamper.contact.friction_tanh`).
     v_in_floor : float, floor on the first-touch approach speed [m/s] > 0 (default 1 mm/s).
+    damping : "calibrated" (default: an impact rebounds with exactly the COR asked for) or
+        "gonthier" (the paper's ``d = (1 - eps^2)/(eps v_in)`` as written, which rebounds up to
+        4 % lower); see :mod:`pdamper.contact.hertz_gonthier`.
     pair_friction, pair_restitution : dict mapping ``(material_a, material_b)`` names (e.g.
         ``("steel", "pvc")``) to a friction coefficient / a COR law; order does not matter.
     """
@@ -105,6 +108,7 @@ class ContactModel:
     restitution: object = field(default_factory=ConstantRestitution)
     tau: float = DEFAULT_TAU
     v_in_floor: float = V_IN_FLOOR
+    damping: str = "calibrated"
     pair_friction: dict = field(default_factory=dict)
     pair_restitution: dict = field(default_factory=dict)
 
@@ -114,6 +118,8 @@ class ContactModel:
                 raise InputError(f"contact.friction = {mu!r}; a friction coefficient must be >= 0 (paper: 0.1)")
         _positive(self, "tau", "> 0 s/m (default 1000)")
         _positive(self, "v_in_floor", "> 0 m/s (default 1e-3)")
+        if self.damping not in DAMPING_CHOICES:
+            raise InputError(f"contact.damping = {self.damping!r}; choose one of {', '.join(DAMPING_CHOICES)}")
 
     def friction_for(self, a: str, b: str) -> float:
         """mu [-] for the material pair (a, b)."""
@@ -210,6 +216,8 @@ class InitialState:
     layers : "one" (error when the spheres do not fit in one layer on the floor) or "auto"
         (stack further layers, for large beds).
     positions : optional explicit initial centres [(x, y, z), ...] [m] in the container frame.
+    velocities, spins : optional initial velocities [m/s] and spins [rad/s], (N, 3) each, in the
+        lab frame at the start of the run (before settling; use ``settle_time = 0`` to keep them).
     """
 
     arrangement: str = "block"
@@ -218,6 +226,8 @@ class InitialState:
     settle_time: float = 0.1
     layers: str = "one"
     positions: tuple | None = None
+    velocities: tuple | None = None
+    spins: tuple | None = None
 
     def __post_init__(self):
         if self.arrangement not in ("block", "scatter"):
@@ -239,7 +249,7 @@ class Case:
 
     particles: tuple
     container: Container = field(default_factory=Container)
-    drive: HarmonicDrive | SampledDrive = field(default_factory=lambda: HarmonicDrive(stroke=0.012))
+    drive: HarmonicDrive | SampledDrive | Still = field(default_factory=lambda: HarmonicDrive(stroke=0.012))
     contact: ContactModel = field(default_factory=ContactModel)
     numerics: Numerics = field(default_factory=Numerics)
     recording: Recording = field(default_factory=Recording)

@@ -16,7 +16,7 @@ import numpy as np
 
 from .contact.cor_table import SPEED_GRID, tabulate_law
 from .contact.cor_thornton import ThorntonRestitution
-from .contact.hertz_gonthier import contact_time, effective_radius
+from .contact.hertz_gonthier import chi_for_restitution, contact_time, effective_radius
 from .errors import InputError, SimulationError
 from .excitation import HarmonicDrive
 from .geometry.tilt import container_vectors
@@ -174,9 +174,10 @@ class Simulation:
                     self.cor_py[mp] = law.yield_pressure
                     from .contact.cor_thornton import thornton_restitution
 
-                    self.cor_tab[mp] = np.clip(thornton_restitution(SPEED_GRID, 1.0), 1e-6, 1.0)
+                    eps = np.clip(thornton_restitution(SPEED_GRID, 1.0), 1e-6, 1.0)
                 else:
-                    self.cor_tab[mp] = tabulate_law(law)
+                    eps = tabulate_law(law)
+                self.cor_tab[mp] = chi_for_restitution(eps, case.contact.damping)
         self.logv0 = math.log(SPEED_GRID[0])
         self.dlogv = math.log(SPEED_GRID[1]) - math.log(SPEED_GRID[0])
         # walls
@@ -202,8 +203,8 @@ class Simulation:
                                                  getattr(case.drive, "angle", 0.0))
         # state
         self.pos = initial_positions(case, rng)
-        self.vel = np.zeros((n, 3))
-        self.omg = np.zeros((n, 3))
+        self.vel = self._initial_vectors(case.initial.velocities, "velocities")
+        self.omg = self._initial_vectors(case.initial.spins, "spins")
         self.acc = np.zeros((n, 3))
         self.alp = np.zeros((n, 3))
         self.acc_prev = np.zeros((n, 3))
@@ -238,6 +239,15 @@ class Simulation:
         self.wd = np.zeros((n, nw))
         self.ledger = np.zeros(4)
         self.dt = auto_time_step(case)
+        self._primed = False  # initial accelerations not computed yet
+
+    def _initial_vectors(self, given, name):
+        if given is None:
+            return np.zeros((self.n, 3))
+        arr = np.array(given, dtype=float)
+        if arr.shape != (self.n, 3) or not np.all(np.isfinite(arr)):
+            raise InputError(f"initial.{name}: expected {self.n} finite rows of (x, y, z), got shape {arr.shape}")
+        return arr
 
     def _bounding_box(self):
         g = self.case.container.geometry
@@ -267,6 +277,7 @@ class Simulation:
         while done < n_steps:
             status, steps, culprit = run_verlet(
                 n_steps - done, self.dt, t0 + done * self.dt, step0 + done, sub, record, rec_offset,
+                not self._primed,
                 self.pos, self.vel, self.omg, self.acc, self.alp, self.acc_prev, self.alp_prev, self.rad, self.mass, self.inv_m, self.inv_i,
                 self.mat, self.force, self.torque, self.gvec, self.dvec, *self._drive,
                 self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
@@ -277,6 +288,8 @@ class Simulation:
                 self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
                 self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj)
             done += steps
+            if status == kf.STATUS_OK or steps > 0:
+                self._primed = True
             if status == kf.STATUS_OK:
                 continue
             if status == kf.STATUS_LIST_OVERFLOW:
@@ -351,7 +364,7 @@ class Simulation:
             trajectory = {"time": (np.arange(traj.shape[0]) + 1) * traj_every * ts, "position": traj[:, :, 0:3],
                           "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy()}
         analysis = None
-        if analyse:
+        if analyse and case.drive.kind != "still":
             analysis = signals.analyse(case)
         return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,
                          steps=steps, time_step=self.dt, wall_time_s=wall, neighbour_search=self.search)

@@ -2,8 +2,8 @@
 
 The normal law is Hertz with Gonthier damping (:mod:`pdamper.contact.hertz_gonthier`), the
 tangential law tanh-regularised Coulomb friction (:mod:`pdamper.contact.friction_tanh`); every
-COR law reaches the kernels as a table of epsilon over log-spaced speeds (for Thornton's law
-over v / v_y, with the yield speed computed per contact at first touch).
+COR law reaches the kernels as a table of the dimensionless damping chi(eps(v)) over log-spaced
+speeds (for Thornton's law over v / v_y, with the yield speed computed per contact at first touch).
 
 Conventions: pair normal n points from i to j, the overlap is ``delta = r_i + r_j - |x_j - x_i|``
 and its rate ``delta_dot = (v_i - v_j).n`` (> 0 approaching). Wall normals point into the
@@ -38,12 +38,13 @@ STATUS_NAN = 4
 
 @njit
 def first_touch(v_approach, mp, e_star, r_star, m_star, cor_tab, cor_py, logv0, dlogv, v_floor):
-    """Damping parameter d [s/m] fixed at the first touch of a contact (Gonthier, eq. 1).
+    """Damping parameter d = chi / v_in [s/m] fixed at the first touch of a contact (eq. 1).
 
     ``v_approach`` [m/s] is the normal approach speed at first touch; it is floored at
-    ``v_floor`` (see the guard in :mod:`pdamper.contact.hertz_gonthier`). The coefficient of
-    restitution is read from row ``mp`` of ``cor_tab`` at ``v`` (or at ``v / v_y`` for
-    Thornton's law, ``cor_py[mp]`` > 0 being its yield pressure).
+    ``v_floor`` (see the guard in :mod:`pdamper.contact.hertz_gonthier`). ``chi`` (the
+    dimensionless damping that yields the pair's coefficient of restitution, Gonthier's
+    ``(1 - eps^2)/eps`` or its calibrated form) is read from row ``mp`` of ``cor_tab`` at ``v``
+    (or at ``v / v_y`` for Thornton's law, ``cor_py[mp]`` > 0 being its yield pressure).
     """
     v = v_approach
     if v < v_floor:
@@ -57,14 +58,14 @@ def first_touch(v_approach, mp, e_star, r_star, m_star, cor_tab, cor_py, logv0, 
     u = (math.log(x) - logv0) / dlogv
     g = cor_tab.shape[1]
     if u <= 0.0:
-        eps = cor_tab[mp, 0]
+        chi = cor_tab[mp, 0]
     elif u >= g - 1:
-        eps = cor_tab[mp, g - 1]
+        chi = cor_tab[mp, g - 1]
     else:
         k = int(u)
         f = u - k
-        eps = cor_tab[mp, k] * (1.0 - f) + cor_tab[mp, k + 1] * f
-    return (1.0 - eps * eps) / (eps * v)
+        chi = cor_tab[mp, k] * (1.0 - f) + cor_tab[mp, k + 1] * f
+    return chi / v
 
 
 @njit

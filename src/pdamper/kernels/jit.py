@@ -1,17 +1,54 @@
 """The one place where numba is configured for pdamper.
 
-Every kernel is compiled with :data:`JIT` options: ``cache=True`` so the machine
-code is written to ``__pycache__`` beside the sources (or ``NUMBA_CACHE_DIR``)
-and later runs start without compiling; ``nogil=True`` so threads can run
-kernels side by side; ``error_model='numpy'`` so a division by zero gives inf
-instead of raising from inside numba.
+Every kernel is compiled with :data:`JIT` options: ``cache=True`` so the machine code is
+written to disk and later runs start without compiling; ``nogil=True`` so threads can run
+kernels side by side; ``error_model='numpy'`` so a division by zero gives inf instead of
+raising from inside numba.
+
+**Cache directory.** numba checks only the source file of a cached function, not the files of
+the functions it calls, so an edited contact law could be served stale from a caller's cache.
+pdamper therefore keys the cache directory on a hash of all its compiled sources:
+``$PDAMPER_CACHE_DIR`` (default ``~/.cache/pdamper``) ``/numba-<hash>``. ``NUMBA_CACHE_DIR``,
+when set, wins.
 """
 
 from __future__ import annotations
 
+import hashlib
+import os
+from pathlib import Path
+
 import numba
 
 JIT = dict(cache=True, nogil=True, error_model="numpy", fastmath=False)
+
+_PKG = Path(__file__).resolve().parent.parent
+#: Folders whose sources hold compiled code (their hash names the cache directory).
+_COMPILED_SOURCES = ("kernels", "contact", "geometry")
+
+
+def _source_hash() -> str:
+    h = hashlib.sha1(numba.__version__.encode())
+    for sub in _COMPILED_SOURCES:
+        for f in sorted((_PKG / sub).glob("*.py")):
+            h.update(f.name.encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def cache_dir() -> Path:
+    """Directory where pdamper's compiled kernels are cached."""
+    base = os.environ.get("PDAMPER_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "pdamper")
+    return Path(base) / f"numba-{_source_hash()}"
+
+
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    try:
+        d = cache_dir()
+        d.mkdir(parents=True, exist_ok=True)
+        numba.config.CACHE_DIR = str(d)
+    except OSError:  # read-only home: fall back to numba's default (__pycache__ beside the sources)
+        pass
 
 
 def njit(*args, **kwargs):

@@ -24,7 +24,7 @@ __all__ = ["run_verlet"]
 
 
 @njit
-def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset,
+def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
                pos, vel, omg, acc, alp, acc_prev, alp_prev, rad, mass, inv_m, inv_i, mat,
                force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
                nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
@@ -40,12 +40,35 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset,
     run (``k = (step0 + s + 1) // sub - 1 - rec_offset``) is written to ``sig``/``eng`` and every
     ``traj_every``-th sample to ``traj``.
 
+    With ``prime`` true, the accelerations at ``t0`` are computed first (the first call of a
+    run), so the first half kick uses the true initial forces.
+
     Returns ``(status, steps_done, culprit)``.
     """
     n = pos.shape[0]
     half = 0.5 * dt
     skin2 = 0.25 * skin * skin
     n_wl = nwl[0]
+    if prime:
+        r = rebuild_lists(pos, rad, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
+                          row, pj, pvin, pd, pk, pmp, row2, pj2, pvin2, pd2,
+                          wall_kind, wall_data, wl_i, wl_w, ref)
+        if r == -1:
+            return STATUS_LIST_OVERFLOW, 0, -1
+        if r == -2:
+            return STATUS_WALL_OVERFLOW, 0, -1
+        n_wl = r
+        nwl[0] = r
+        compute_forces(pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp,
+                       wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+                       estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
+        xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t0)
+        for i in range(n):
+            for c in range(3):
+                acc[i, c] = force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]
+                alp[i, c] = torque[i, c] * inv_i[i]
+                acc_prev[i, c] = acc[i, c]
+                alp_prev[i, c] = alp[i, c]
     for s in range(n_steps):
         t = t0 + (s + 1) * dt
         # -- neighbour lists (before anything moves, so an overflow can be resumed)

@@ -1,0 +1,1 @@
+"""Reading and writing: measured records, datasets, VTK. Knows no physics."""

@@ -1,0 +1,45 @@
+"""Small DEM set-ups shared by the physics tests (one or two spheres, still container)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pdamper.contact import ConstantRestitution
+from pdamper.excitation import Still
+from pdamper.geometry import Cuboid
+from pdamper.materials import PVC, STEEL_S235
+from pdamper.params import Case, ContactModel, Container, InitialState, Numerics, ParticleSet, Recording
+from pdamper.simulation import Simulation
+
+R = 0.005
+BOX = Cuboid(length=0.2, width=0.1, height=0.1)
+
+
+def still_case(positions, velocities, *, duration, eps=0.9, mu=0.0, gravity=0.0, dt=None, sample_rate=None,
+               tilt=(0.0, 0.0, 0.0), spins=None, container=BOX, tau=1000.0, steps_per_contact=15, drive=None,
+               integrator="verlet", material=STEEL_S235, wall=PVC):
+    pos = np.asarray(positions, dtype=float)
+    n = len(pos)
+    rec = Recording(sample_rate=sample_rate) if sample_rate else Recording(sample_rate=max(1000.0, 10.0 / duration))
+    num = Numerics(time_step=dt, steps_per_contact=steps_per_contact, max_impact_speed=1.0, integrator=integrator)
+    return Case(
+        particles=(ParticleSet(count=n, radius=R, material=material),),
+        container=Container(geometry=container, material=wall, tilt=tilt),
+        drive=drive if drive is not None else Still(duration_s=duration),
+        contact=ContactModel(friction=mu, restitution=ConstantRestitution(value=eps), tau=tau),
+        numerics=num, recording=rec,
+        initial=InitialState(positions=tuple(map(tuple, pos)), velocities=tuple(map(tuple, velocities)),
+                             spins=None if spins is None else tuple(map(tuple, spins)), settle_time=0.0, jitter=0.0),
+        cycles=1, drop_cycles=0, gravity=gravity)
+
+
+def run(case, analyse=True):
+    sim = Simulation(case)
+    res = sim.run(analyse=analyse)
+    return sim, res
+
+
+def sphere_mass(material=STEEL_S235, r=R):
+    return material.density * 4.0 / 3.0 * math.pi * r**3
