@@ -1,0 +1,152 @@
+"""``pdamper analyze``: the complex power method on a measured (or exported) record file."""
+
+from __future__ import annotations
+
+import math
+
+import click
+
+from .. import __version__
+from ..analysis import DEFAULT_DROP_CYCLES, analyze_record
+from ..errors import InputError
+from ..io.records import read_record
+from .common import Quantity, echo_json, fail, main, user_errors
+
+__all__ = ["analyze_command", "STEADY_SPREAD"]
+
+#: Relative standard deviation of the used per-cycle energies above which the
+#: record is reported as possibly not steady.
+STEADY_SPREAD = 0.10
+
+
+class _OneLineCommand(click.Command):
+    """A command whose usage errors (bad option value, unknown option) print one ``Error:`` line."""
+
+    def parse_args(self, ctx, args):
+        try:
+            return super().parse_args(ctx, args)
+        except click.UsageError as exc:
+            fail(exc.format_message())
+
+
+@main.command("analyze", cls=_OneLineCommand)
+@click.argument("record", type=click.Path(dir_okay=True))
+@click.option("--bed-mass", type=Quantity("mass"),
+              help="Mass of all particles m_bed, e.g. 149g; needed for eta* (eq. 5).")
+@click.option("--frequency", type=Quantity("frequency"),
+              help="Drive frequency, e.g. 2Hz; detected from the motion if omitted.")
+@click.option("--drop-cycles", type=int, default=DEFAULT_DROP_CYCLES, show_default=True,
+              help="Whole cycles dropped at the start (the transient).")
+@click.option("--time-column", metavar="NAME", help="Name of the time column (default: time).")
+@click.option("--force-column", metavar="NAME", help="Name of the force column (default: force).")
+@click.option("--position-column", metavar="NAME", help="Use this column as the position.")
+@click.option("--velocity-column", metavar="NAME", help="Use this column as the velocity.")
+@click.option("--acceleration-column", metavar="NAME", help="Use this column as the acceleration.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
+@click.option("--plot", type=click.Path(dir_okay=False),
+              help="Write a figure of the signals and per-cycle energies (.png, .svg, .pdf).")
+@user_errors
+def analyze_command(record, bed_mass, frequency, drop_cycles, time_column, force_column,
+                    position_column, velocity_column, acceleration_column, as_json, plot):
+    """Energy dissipated per cycle and eta* of a force/motion RECORD (paper Sect. 4.1).
+
+    RECORD is a CSV (comma, semicolon or tab separated) with a header row and the
+    columns time, force and one of position, velocity, acceleration; units in
+    brackets are honoured, e.g. "time [ms]", "force [kN]", "position [mm]"
+    (without a unit: SI).
+
+    Example: pdamper analyze run.csv --bed-mass 149g --plot run.png
+    """
+    motions = {"position": position_column, "velocity": velocity_column,
+               "acceleration": acceleration_column}
+    chosen = [m for m, name in motions.items() if name is not None]
+    if len(chosen) > 1:
+        raise InputError("give only one of --position-column, --velocity-column, "
+                         f"--acceleration-column (got {', '.join('--' + m + '-column' for m in chosen)})")
+    columns = {role: name for role, name in
+               (("time", time_column), ("force", force_column), *motions.items())
+               if name is not None}
+    if plot is not None:
+        from ..plotting.analysis import FORMATS
+
+        if not str(plot).lower().endswith(FORMATS):
+            raise InputError(f"--plot {plot!r}: unknown format; use a file ending in "
+                             f"{', '.join(FORMATS)}")
+
+    rec = read_record(record, columns=columns, motion=chosen[0] if chosen else None)
+    result = analyze_record(rec.time, rec.force, **{rec.motion_kind: rec.motion},
+                            frequency=frequency, drop_cycles=drop_cycles, bed_mass=bed_mass)
+
+    if plot is not None:
+        from ..plotting.analysis import plot_analysis
+
+        plot_analysis(result, plot, title=f"{click.format_filename(record)}")
+
+    steady = (not math.isfinite(result.cycle_energy_spread)
+              or result.cycle_energy_spread <= STEADY_SPREAD)
+    if as_json:
+        out = {"version": __version__, "record": str(record), "columns": rec.headers,
+               "samples": len(rec)}
+        out.update(result.to_dict())
+        out["steady"] = steady
+        out["check_relative_difference"] = result.check_relative_difference
+        out["plot"] = str(plot) if plot is not None else None
+        echo_json(out)
+        return
+    click.echo(_table(record, rec, result))
+    if not math.isfinite(result.eta_star):
+        click.echo("\neta* not reported: give the bed mass, e.g. --bed-mass 149g.")
+    if not steady:
+        click.echo(f"\nnote: the energies of the used cycles spread by "
+                   f"{100 * result.cycle_energy_spread:.0f} % (relative standard deviation, "
+                   f"more than {100 * STEADY_SPREAD:.0f} %); the record may not be steady: drop "
+                   "more cycles (--drop-cycles) or record longer.")
+    if plot is not None:
+        click.echo(f"\nplot written to {plot}")
+
+
+def _table(path, rec, r) -> str:
+    fs = r.sample_rate_hz
+    rate = f"{fs / 1e3:.6g} kHz" if fs >= 1e3 else f"{fs:.6g} Hz"
+    motion_note = {"velocity": "as measured",
+                   "position": "V* = i Omega X*",
+                   "acceleration": "V* = A* / (i Omega)"}[r.motion]
+    p = r.complex_power_W
+    rows = [
+        ("record", str(path), f"{len(rec)} samples at {rate}"),
+        ("columns", ", ".join(rec.headers.values()), f"motion: {r.motion}"),
+        ("drive frequency f", f"{r.frequency_hz:.7g} Hz",
+         "detected from the motion" if r.frequency_detected else "given"),
+        ("FFT window", f"{r.window_s[0]:.6g} s .. {r.window_s[1]:.6g} s",
+         f"{r.cycles_used} whole cycles, first {r.cycles_dropped} dropped"
+         + (", resampled to whole cycles" if r.resampled else "")),
+        ("complex power P", f"{p.real:.6g} {'+' if p.imag >= 0 else '-'} {abs(p.imag):.6g}i W",
+         "eq. (3), 1/2 F* conj(V*)"),
+        ("force amplitude |F*|", f"{r.force_amplitude_N:.6g} N", ""),
+        ("velocity amplitude |V*|", f"{r.velocity_amplitude_m_s:.6g} m/s", motion_note),
+        ("energy per cycle E~_diss", f"{r.energy_per_cycle_J:.6g} J", "eq. (4), (2 pi/Omega) Re(P)"),
+        ("mean-power check <F v> T", f"{r.mean_power_check_J:.6g} J", _check_note(r)),
+        ("E_diss = E~_diss / 2 pi", f"{r.dissipated_energy_J:.6g} J", ""),
+    ]
+    if math.isfinite(r.eta_star):
+        rows.append(("reduced loss factor eta*", f"{r.eta_star:.5g}",
+                     f"eq. (5), m_bed = {r.bed_mass_kg * 1e3:.6g} g"))
+    w0 = max(len(a) for a, _, _ in rows)
+    w1 = max(len(b) for _, b, _ in rows)
+    lines = [f"{a:<{w0}}  {b:<{w1}}  {c}".rstrip() for a, b, c in rows]
+    lines += ["", "energy put in per cycle, int F v dt:",
+              f"{'cycle':>5}  {'start [s]':>10}  {'energy [J]':>12}"]
+    for k, (t0, e, used) in enumerate(zip(r.cycle_start_s, r.cycle_energies_J, r.cycle_used)):
+        lines.append(f"{k + 1:>5}  {t0:>10.5g}  {e:>12.6g}" + ("" if used else "  dropped"))
+    if math.isfinite(r.cycle_energy_spread):
+        lines.append(f"spread of the used cycles: {100 * r.cycle_energy_spread:.2g} % "
+                     "(relative standard deviation)")
+    return "\n".join(lines)
+
+
+def _check_note(r) -> str:
+    diff = abs(r.mean_power_check_J - r.energy_per_cycle_J)
+    if r.energy_per_cycle_J != 0.0 and diff <= abs(r.energy_per_cycle_J):
+        return f"time domain; differs by {100 * diff / abs(r.energy_per_cycle_J):.2g} %"
+    return (f"time domain; differs by {r.check_relative_difference:.2g} of the apparent "
+            "energy pi |F*| |V*| / Omega")

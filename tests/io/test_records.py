@@ -1,0 +1,139 @@
+"""Reading measured force/motion records (CSV with units in the header)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pdamper.errors import InputError
+from pdamper.io.records import Record, read_record
+
+
+def write(path, text):
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.fixture
+def signals():
+    t = np.arange(50) * 1e-3
+    w = 2 * np.pi * 2.0
+    return t, 0.01 * np.sin(w * t), 0.01 * w * np.cos(w * t), 3.0 * np.cos(w * t)
+
+
+def test_units_in_brackets_are_converted_to_si(tmp_path, signals):
+    t, x, v, F = signals
+    p = tmp_path / "r.csv"
+    np.savetxt(p, np.column_stack([t * 1e3, F / 1e3, x * 1e3]), delimiter=",",
+               header="time [ms], force [kN], position [mm]", comments="")
+    rec = read_record(p)
+    assert isinstance(rec, Record)
+    assert rec.motion_kind == "position" and rec.velocity is None and rec.acceleration is None
+    assert rec.time == pytest.approx(t, rel=1e-15, abs=1e-18)
+    assert rec.force == pytest.approx(F, rel=1e-14)
+    assert rec.position == pytest.approx(x, rel=1e-14, abs=1e-18)
+    assert rec.motion is rec.position
+    assert rec.source == str(p)
+    assert rec.headers == {"time": "time [ms]", "force": "force [kN]", "position": "position [mm]"}
+    assert len(rec) == t.size
+
+
+@pytest.mark.parametrize("header, factor", [
+    ("velocity [m/s]", 1.0), ("velocity [mm/s]", 1e-3), ("Velocity (mm/s)", 1e-3),
+    ("  VELOCITY  ", 1.0), ("velocity[km/h]", 1 / 3.6),
+])
+def test_velocity_units_and_name_matching(tmp_path, header, factor):
+    p = write(tmp_path / "r.csv", f"time [s],force [N],{header}\n0,1,2\n0.001,1,4\n0.002,1,6\n")
+    rec = read_record(p)
+    assert rec.velocity == pytest.approx(np.array([2, 4, 6]) * factor)
+
+
+@pytest.mark.parametrize("header, factor", [
+    ("acceleration [m/s^2]", 1.0), ("acceleration [mm/s^2]", 1e-3), ("acceleration [g0]", 9.80665),
+])
+def test_acceleration_units(tmp_path, header, factor):
+    p = write(tmp_path / "r.csv", f"time,force,{header}\n0,1,2\n0.001,1,4\n0.002,1,6\n")
+    assert read_record(p).acceleration == pytest.approx(np.array([2, 4, 6]) * factor)
+
+
+def test_semicolon_and_tab_delimiters_with_decimal_comma(tmp_path):
+    p = write(tmp_path / "s.csv", "time [s];force [N];position [mm]\n0,000;1,5;2\n0,001;2,5;3\n")
+    rec = read_record(p)
+    assert rec.force == pytest.approx([1.5, 2.5]) and rec.position == pytest.approx([2e-3, 3e-3])
+    p = write(tmp_path / "t.tsv", "time\tforce\tvelocity\n0\t1\t2\n1\t3\t4\n")
+    rec = read_record(p)
+    assert rec.velocity == pytest.approx([2, 4])
+
+
+def test_comments_blank_lines_bom_and_extra_columns(tmp_path):
+    text = "\ufeff# exported by the rig\n\ntime [s],comment,force [N],velocity [m/s]\n" \
+           "0,start,1,2\n\n0.001,,3,4\n"
+    rec = read_record(write(tmp_path / "r.csv", text))
+    assert rec.time == pytest.approx([0, 1e-3]) and rec.force == pytest.approx([1, 3])
+
+
+def test_column_map(tmp_path):
+    p = write(tmp_path / "r.csv", "t [ms],F_x [kN],x [mm],v [m/s]\n0,1,2,0\n1,2,3,0\n")
+    rec = read_record(p, columns={"time": "t", "force": "F_x", "position": "x"})
+    assert rec.time == pytest.approx([0, 1e-3])
+    assert rec.force == pytest.approx([1e3, 2e3])
+    assert rec.position == pytest.approx([2e-3, 3e-3])
+    # the full header text works too, case-insensitively
+    rec = read_record(p, columns={"time": "T [MS]", "force": "f_x [kN]", "velocity": "v"})
+    assert rec.motion_kind == "velocity"
+
+
+def test_two_motion_columns_need_a_choice(tmp_path):
+    p = write(tmp_path / "r.csv", "time,force,position [mm],velocity [mm/s]\n0,1,2,3\n1,1,2,3\n")
+    with pytest.raises(InputError, match="'position \\[mm\\]' and 'velocity \\[mm/s\\]'.*choose"):
+        read_record(p)
+    assert read_record(p, motion="velocity").velocity == pytest.approx([3e-3, 3e-3])
+    assert read_record(p, columns={"position": "position"}).motion_kind == "position"
+    with pytest.raises(InputError, match="several motion columns"):
+        read_record(p, columns={"position": "position", "velocity": "velocity"})
+
+
+@pytest.mark.parametrize("text, pattern", [
+    ("", "empty"),
+    ("# only a comment\n\n", "empty"),
+    ("time,force,position\n", "no data rows"),
+    ("time,position\n0,1\n", "no force column \\('force'\\).*--force-column"),
+    ("t,force,position\n0,1,2\n", "no time column"),
+    ("time,force,temperature\n0,1,2\n", "no motion column.*position, velocity, acceleration"),
+    ("time,force,position\n0,1,2\n0.001,x1,2\n", "line 3, column 'force': cannot read 'x1'"),
+    ("time,force,position\n0,1,2\n0.001,,2\n", "line 3, column 'force': empty cell"),
+    ("time,force,position\n0,1,2\n0.001,2\n", "line 3: 2 fields but the header has 3"),
+    ("time,force,position\n0,1,2\n0.001,nan,2\n", "line 3, column 'force': 'nan' is not a finite"),
+    ("time,force,position [furlong/s]\n0,1,2\n", "'furlong/s' is not a known unit of length"),
+    ("time [kg],force,position\n0,1,2\n", "'kg' is not a known unit of time"),
+    ("time,force,position [%]\n0,1,2\n", "'%' is not a unit of length"),
+    ("time [fortnight/s],force,position\n0,1,2\n", "'fortnight/s' is not a unit of time"),
+    ("time,force [N],position,force [kN]\n0,1,2,3\n", "2 columns match force"),
+    ("time force position\n0 1 2\n", "cannot find the column delimiter"),
+])
+def test_bad_files(tmp_path, text, pattern):
+    p = write(tmp_path / "bad.csv", text)
+    with pytest.raises(InputError, match=pattern):
+        read_record(p)
+
+
+def test_missing_file_and_directory(tmp_path):
+    with pytest.raises(InputError, match="not found"):
+        read_record(tmp_path / "nope.csv")
+    with pytest.raises(InputError, match="directory"):
+        read_record(tmp_path)
+
+
+def test_bad_options(tmp_path):
+    p = write(tmp_path / "r.csv", "time,force,position\n0,1,2\n")
+    with pytest.raises(InputError, match="unknown column role 'speed'"):
+        read_record(p, columns={"speed": "v"})
+    with pytest.raises(InputError, match="motion must be one of"):
+        read_record(p, motion="jerk")
+    with pytest.raises(InputError, match="no velocity column"):
+        read_record(p, motion="velocity")
+
+
+def test_record_needs_exactly_one_motion():
+    with pytest.raises(InputError, match="exactly one motion"):
+        Record(time=np.zeros(3), force=np.zeros(3))
