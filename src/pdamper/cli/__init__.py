@@ -14,5 +14,6 @@ from .common import main
 # Importing the command modules registers their commands on ``main``.
 from . import theory as _theory  # noqa: F401,E402
 from . import analyze as _analyze  # noqa: F401,E402
+from . import run as _run  # noqa: F401,E402
 
 __all__ = ["main"]

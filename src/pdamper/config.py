@@ -1,0 +1,832 @@
+"""Case configuration files (TOML): read one into a :class:`pdamper.params.Case`, write one back.
+
+A config file has the sections below; every section and key is optional and defaults to the
+paper's values (the :class:`~pdamper.params.Case` defaults), except ``[particles] count``.
+Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg"``,
+``"208GPa"``, ``"7900kg/m^3"``) or as plain SI numbers (m, s, Hz, kg, rad, Pa, kg/m^3, m/s)::
+
+    [container]
+    shape = "cuboid"            # or "cylinder"
+    length = "120mm"            # cuboid: length (along the drive), width, height
+    width = "40.4mm"
+    height = "40mm"             # cylinder: radius, height
+    material = "pvc"            # a name from pdamper.materials.LIBRARY, or an inline table
+                                # {name=..., youngs_modulus=..., poisson_ratio=..., density=...}
+    tilt = ["0.1deg", "0.1deg", "0.1deg"]   # about x, y, z (applied in that order); one value: all three
+    mass = "0kg"
+
+    [particles]                 # one species; [[particles]] tables for a mixed bed
+    count = 36                  # required
+    radius = "5mm"
+    material = "steel"
+
+    [drive]                     # harmonic x_c = X sin(2 pi f t) ...
+    stroke = "12mm"
+    frequency = "2Hz"
+    angle = "0deg"
+    # ... or a sampled motion: samples = "motion.csv" (columns time, position[, velocity],
+    # units in brackets, path relative to the config file), or inline arrays
+    # time = [...], position = [...][, velocity = [...]]; frequency is then optional.
+    # ... or a container at rest: kind = "still", duration = "1s".
+
+    [contact]
+    friction = 0.1
+    restitution = 0.9           # or {law = "table", speeds = [...], values = [...]}
+                                # or {law = "thornton", yield_pressure = "1.5GPa"}
+    tau = 1000                  # friction smoothing [s/m]
+    v_in_floor = "1mm/s"
+    damping = "calibrated"      # or "gonthier" (the paper's d as written)
+    [[contact.pair]]            # optional, per material pair
+    materials = ["steel", "pvc"]
+    friction = 0.2
+    restitution = 0.8
+
+    [numerics]                  # integrator, time_step ("auto" or a time), steps_per_contact,
+                                # max_impact_speed ("auto" or a speed), max_time_step,
+                                # gear_tolerance, neighbour_search, skin ("auto" or a length),
+                                # overlap_limit
+    [recording]                 # sample_rate, trajectory_fps
+    [initial]                   # arrangement, jitter, seed, settle_time, layers, and optional
+                                # per-sphere rows [x, y, z]: positions, velocities, spins [rad/s]
+    [run]                       # cycles, drop_cycles, gravity
+
+:func:`load_case` reads a file (with optional overrides such as ``{"drive.stroke": "3mm"}``);
+:func:`case_to_dict` / :func:`dump_case` write a case back in plain SI numbers, so that
+``load_case(dump_case(case, p)) == case`` exactly. Every problem raises
+:class:`pdamper.errors.InputError` naming the file, the section and the key.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import difflib
+import math
+import os
+import tomllib
+import uuid
+from pathlib import Path
+
+from .contact.cor_constant import ConstantRestitution
+from .contact.cor_table import TabulatedRestitution
+from .contact.cor_thornton import ThorntonRestitution
+from .errors import InputError
+from .excitation import HarmonicDrive, SampledDrive, Still
+from .geometry.cuboid import Cuboid
+from .geometry.cylinder import Cylinder
+from .materials import LIBRARY, Material
+from .params import Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording
+from .units import parse_quantity, unit_factor
+
+__all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
+           "SECTIONS"]
+
+#: Allowed keys of each section (the schema).
+SECTIONS = {
+    "container": ("shape", "length", "width", "height", "radius", "material", "tilt", "mass"),
+    "particles": ("count", "radius", "material"),
+    "drive": ("kind", "stroke", "frequency", "angle", "samples", "time", "position", "velocity",
+              "acceleration", "duration"),
+    "contact": ("friction", "restitution", "tau", "v_in_floor", "damping", "pair"),
+    # every field of Numerics, read by its default's type (see _FLAT_DIMENSIONS)
+    "numerics": tuple(f.name for f in dataclasses.fields(Numerics)),
+    "recording": tuple(f.name for f in dataclasses.fields(Recording)),
+    "initial": ("arrangement", "jitter", "seed", "settle_time", "layers", "positions", "velocities", "spins"),
+    "run": ("cycles", "drop_cycles", "gravity"),
+}
+#: Dimensions of the plain keys of [numerics] and [recording] (a key missing here takes plain SI
+#: numbers); a key whose default is None also takes "auto".
+_FLAT_DIMENSIONS = {"time_step": "time", "max_impact_speed": "velocity", "max_time_step": "time",
+                    "gear_tolerance": "length", "gear_max_step": "time", "skin": "length",
+                    "sample_rate": "frequency", "trajectory_fps": "frequency"}
+_CHOICES = {"integrator": ("verlet", "gear"), "neighbour_search": ("auto", "direct", "cells")}
+_SHAPE_KEYS = {"cuboid": ("length", "width", "height"), "cylinder": ("radius", "height")}
+_MATERIAL_KEYS = ("name", "youngs_modulus", "poisson_ratio", "density")
+_PAIR_KEYS = ("materials", "friction", "restitution")
+_LAW_KEYS = {"constant": ("law", "value"), "table": ("law", "speeds", "values"),
+             "thornton": ("law", "yield_pressure")}
+_SAMPLED_KEYS = ("samples", "time", "position", "velocity", "acceleration")
+
+
+# --------------------------------------------------------------------------- reading
+
+def load_case(path, overrides: dict | None = None) -> Case:
+    """Read the TOML config file ``path`` into a :class:`~pdamper.params.Case`.
+
+    ``overrides`` maps dotted keys to values that replace (or add to) the file's, e.g.
+    ``{"drive.stroke": 0.012, "drive.frequency": "2Hz", "run.cycles": 20, "initial.seed": 3}``;
+    values are read exactly like the file's (SI numbers or strings with units).
+    """
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"config file not found: {path}")
+    if path.is_dir():
+        raise InputError(f"{path} is a directory; give a .toml config file")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read config file {path}: {exc}") from None
+    return loads_case(text, overrides, source=str(path), base_dir=path.parent)
+
+
+def loads_case(text: str, overrides: dict | None = None, *, source: str = "<config>",
+               base_dir=None) -> Case:
+    """Like :func:`load_case` for TOML ``text``; ``base_dir`` resolves relative sample files."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{source}: invalid TOML: {exc}; check the syntax (key = value, "
+                         "strings in quotes, [section] headers)") from None
+    return case_from_dict(data, overrides, source=source, base_dir=base_dir)
+
+
+def case_from_dict(data: dict, overrides: dict | None = None, *, source: str | None = None,
+                   base_dir=None) -> Case:
+    """Build a :class:`~pdamper.params.Case` from a parsed config ``data`` (see the module docstring)."""
+    data = _apply_overrides(_copy(data), overrides or {})
+    try:
+        return _Reader(Path(base_dir) if base_dir is not None else Path.cwd()).case(data)
+    except InputError as exc:
+        if source is None:
+            raise
+        raise InputError(f"{source}: {exc}") from None
+
+
+def _copy(obj):
+    if isinstance(obj, dict):
+        return {k: _copy(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_copy(v) for v in obj]
+    return obj
+
+
+def _suggest(word: str, allowed, what: str) -> str:
+    near = difflib.get_close_matches(word, list(allowed), n=1, cutoff=0.6)
+    if near:
+        return f"did you mean {what.format(near[0])}?"
+    return "allowed: " + ", ".join(what.format(a) for a in allowed)
+
+
+def _quoted(key, allowed) -> str:
+    near = difflib.get_close_matches(key, list(allowed), n=1, cutoff=0.6)
+    if near:
+        return f"did you mean {near[0]!r}?"
+    return "allowed keys: " + ", ".join(allowed)
+
+
+def _apply_overrides(data: dict, overrides: dict) -> dict:
+    for dotted, value in overrides.items():
+        parts = str(dotted).split(".")
+        if len(parts) != 2 or not all(parts):
+            raise InputError(f"override {dotted!r}: write it as 'section.key', e.g. 'drive.stroke'")
+        section, key = parts
+        if section not in SECTIONS:
+            raise InputError(f"override {dotted!r}: unknown section [{section}]; "
+                             + _suggest(section, SECTIONS, "[{}]"))
+        if key not in SECTIONS[section]:
+            raise InputError(f"override {dotted!r}: unknown key {key!r} in [{section}]; "
+                             + _quoted(key, SECTIONS[section]))
+        table = data.setdefault(section, {})
+        if isinstance(table, list):
+            if len(table) != 1:
+                raise InputError(f"override {dotted!r}: the config has {len(table)} [[{section}]] tables; "
+                                 "edit the file to change one of them")
+            table = table[0]
+        if not isinstance(table, dict):
+            raise InputError(f"[{section}] must be a table (a [{section}] header with key = value lines)")
+        if section == "drive" and key in ("stroke",) and any(k in table for k in _SAMPLED_KEYS):
+            raise InputError(f"override {dotted!r}: the drive is given as samples; a stroke applies to a "
+                             "harmonic drive only")
+        table[key] = value
+    return data
+
+
+class _Reader:
+    """Turns the parsed TOML tables into parameter objects, one section at a time."""
+
+    def __init__(self, base_dir: Path):
+        self.base_dir = base_dir
+
+    # ---- helpers
+    @staticmethod
+    def _table(data, section):
+        t = data.get(section, {})
+        if not isinstance(t, dict):
+            raise InputError(f"[{section}] must be a table (a [{section}] header with key = value lines), "
+                             f"got {t!r}")
+        return t
+
+    @staticmethod
+    def _check_keys(table, section, allowed):
+        for key in table:
+            if key not in allowed:
+                raise InputError(f"unknown key {key!r} in [{section}]; {_quoted(key, allowed)}")
+
+    @staticmethod
+    def quantity(table, section, key, dimension, default=None):
+        if key not in table:
+            return default
+        return _parse(table[key], f"[{section}] {key}", dimension)
+
+    @staticmethod
+    def number(table, section, key, default=None):
+        if key not in table:
+            return default
+        v = table[key]
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            return v
+        return _dimless(v, f"[{section}] {key}")
+
+    @staticmethod
+    def integer(table, section, key, default=None):
+        if key not in table:
+            return default
+        v = table[key]
+        if isinstance(v, float) and v.is_integer():
+            return int(v)
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise InputError(f"[{section}] {key} = {v!r} must be a whole number")
+        return v
+
+    @staticmethod
+    def choice(table, section, key, choices, default):
+        if key not in table:
+            return default
+        v = table[key]
+        if not isinstance(v, str):
+            raise InputError(f"[{section}] {key} = {v!r} must be a string: one of "
+                             + ", ".join(repr(c) for c in choices))
+        if v not in choices:
+            near = difflib.get_close_matches(v, choices, n=1, cutoff=0.5)
+            hint = f"did you mean {near[0]!r}? " if near else ""
+            raise InputError(f"[{section}] {key} = {v!r} is not allowed; {hint}choose one of "
+                             + ", ".join(repr(c) for c in choices))
+        return v
+
+    def quantity_list(self, value, name, dimension):
+        if not isinstance(value, list):
+            raise InputError(f"{name} = {value!r} must be a list of {dimension}s, e.g. [1, 2, 3]")
+        return tuple(_q(v, name, k, dimension) for k, v in enumerate(value))
+
+    def vectors(self, rows, name, dimension, example):
+        """A list of [x, y, z] rows as a tuple of 3-tuples (SI)."""
+        if not isinstance(rows, list) or not all(isinstance(r, list) and len(r) == 3 for r in rows):
+            raise InputError(f"{name} must be a list of [x, y, z] rows (one per sphere, container frame), "
+                             f"e.g. [[0, {example}, 0], [{example}, 0, 0]]")
+        return tuple(tuple(_q(v, f"{name}[{i}]", k, dimension) for k, v in enumerate(r)) for i, r in enumerate(rows))
+
+    # ---- sections
+    def case(self, data: dict) -> Case:
+        for section in data:
+            if section not in SECTIONS:
+                raise InputError(f"unknown section [{section}]; " + _suggest(section, SECTIONS, "[{}]"))
+        with _context("container"):
+            container = self.container(self._table(data, "container"))
+        with _context("particles"):
+            particles = self.particles(data.get("particles"))
+        with _context("drive"):
+            drive = self.drive(self._table(data, "drive"))
+        mats = [p.material for p in particles] + [container.material]
+        for m in mats:
+            if any(o.name == m.name and o != m for o in mats):
+                raise InputError(f"two different materials are both named {m.name!r}; contacts are looked up by "
+                                 "material name, so give each inline material its own name = '...'")
+        names = [m.name for m in mats]
+        with _context("contact"):
+            contact = self.contact(self._table(data, "contact"), names)
+        with _context("numerics"):
+            numerics = self.numerics(self._table(data, "numerics"))
+        with _context("recording"):
+            recording = self.recording(self._table(data, "recording"))
+        with _context("initial"):
+            initial = self.initial(self._table(data, "initial"))
+        with _context("run"):
+            run = self._table(data, "run")
+            self._check_keys(run, "run", SECTIONS["run"])
+            kw = {}
+            if "cycles" in run:
+                kw["cycles"] = self.number(run, "run", "cycles")
+            if "drop_cycles" in run:
+                kw["drop_cycles"] = self.integer(run, "run", "drop_cycles")
+            if "gravity" in run:
+                kw["gravity"] = self.quantity(run, "run", "gravity", "acceleration")
+            return Case(particles=particles, container=container, drive=drive, contact=contact,
+                        numerics=numerics, recording=recording, initial=initial, **kw)
+
+    def material(self, value, section, default_name):
+        """A material from a library name or an inline table ``{name, youngs_modulus, poisson_ratio, density}``."""
+        name = f"[{section}] material"
+        if isinstance(value, str):
+            key = value.strip().lower()
+            if key in LIBRARY:
+                return LIBRARY[key]
+            near = difflib.get_close_matches(key, list(LIBRARY), n=1, cutoff=0.5)
+            hint = f"did you mean {near[0]!r}? " if near else ""
+            raise InputError(f"{name} = {value!r} is not a known material; {hint}known: "
+                             + ", ".join(map(repr, LIBRARY)) + " (or give an inline table {name = ..., "
+                             "youngs_modulus = ..., poisson_ratio = ..., density = ...})")
+        if not isinstance(value, dict):
+            raise InputError(f"{name} = {value!r}: give a material name such as 'steel' or an inline table "
+                             "{youngs_modulus = '208GPa', poisson_ratio = 0.3, density = '7900kg/m^3'}")
+        sub = f"{section}.material"
+        self._check_keys(value, sub, _MATERIAL_KEYS)
+        for req in _MATERIAL_KEYS[1:]:
+            if req not in value:
+                raise InputError(f"[{sub}] {req} is missing; an inline material needs youngs_modulus, "
+                                 "poisson_ratio and density")
+        mname = value.get("name", default_name)
+        if not isinstance(mname, str) or not mname:
+            raise InputError(f"[{sub}] name = {mname!r} must be a non-empty string")
+        return Material(name=mname,
+                        youngs_modulus=self.quantity(value, sub, "youngs_modulus", "pressure"),
+                        poisson_ratio=_dimless(value["poisson_ratio"], f"[{sub}] poisson_ratio"),
+                        density=self.quantity(value, sub, "density", "density"))
+
+    def container(self, t) -> Container:
+        self._check_keys(t, "container", SECTIONS["container"])
+        shape = self.choice(t, "container", "shape", ("cuboid", "cylinder"), "cuboid")
+        for key in ("length", "width", "height", "radius"):
+            if key in t and key not in _SHAPE_KEYS[shape]:
+                other = "cylinder" if shape == "cuboid" else "cuboid"
+                raise InputError(f"[container] {key} applies to shape = {other!r}, but shape = {shape!r} "
+                                 f"(give {', '.join(_SHAPE_KEYS[shape])})")
+        dims = {k: self.quantity(t, "container", k, "length") for k in _SHAPE_KEYS[shape] if k in t}
+        geometry = Cuboid(**dims) if shape == "cuboid" else Cylinder(**dims)
+        kw = {"geometry": geometry}
+        if "material" in t:
+            kw["material"] = self.material(t["material"], "container", "container")
+        if "tilt" in t:
+            tilt = t["tilt"]
+            if isinstance(tilt, list):
+                if len(tilt) != 3:
+                    raise InputError(f"[container] tilt = {tilt!r}: give three angles about x, y, z, "
+                                     "e.g. ['0.1deg', '0.1deg', '0.1deg'] (or one angle for all three)")
+                kw["tilt"] = tuple(_q(a, "[container] tilt", k, "angle") for k, a in enumerate(tilt))
+            else:
+                a = self.quantity(t, "container", "tilt", "angle")
+                kw["tilt"] = (a, a, a)
+        if "mass" in t:
+            kw["mass"] = self.quantity(t, "container", "mass", "mass")
+        return Container(**kw)
+
+    def particles(self, value) -> tuple:
+        if value is None:
+            raise InputError("missing section [particles]; give at least the number of spheres, e.g. "
+                             "[particles] count = 36")
+        tables = value if isinstance(value, list) else [value]
+        if not tables:
+            raise InputError("[[particles]] is empty; give at least one table with count = ...")
+        out = []
+        for k, t in enumerate(tables):
+            label = "particles" if len(tables) == 1 else f"particles #{k + 1}"
+            if not isinstance(t, dict):
+                raise InputError(f"[{label}] must be a table, got {t!r}")
+            self._check_keys(t, label, SECTIONS["particles"])
+            if "count" not in t:
+                raise InputError(f"[{label}] count is missing; give the number of spheres, e.g. count = 36")
+            kw = {"count": self.integer(t, label, "count")}
+            if "radius" in t:
+                kw["radius"] = self.quantity(t, label, "radius", "length")
+            if "material" in t:
+                default = "particles" if len(tables) == 1 else f"particles-{k + 1}"
+                kw["material"] = self.material(t["material"], label, default)
+            out.append(ParticleSet(**kw))
+        return tuple(out)
+
+    def drive(self, t):
+        self._check_keys(t, "drive", SECTIONS["drive"])
+        sampled = [k for k in _SAMPLED_KEYS if k in t]
+        kind = self.choice(t, "drive", "kind", ("harmonic", "samples", "still"),
+                           "samples" if sampled else ("still" if "duration" in t else "harmonic"))
+        own = {"harmonic": ("stroke",), "samples": _SAMPLED_KEYS, "still": ("duration",)}
+        for other, keys in own.items():
+            given = [k for k in keys if k in t]
+            if other != kind and given:
+                raise InputError(f"[drive] {', '.join(given)} belongs to a {other!r} drive but this drive is "
+                                 f"{kind!r}; give stroke (harmonic), samples or time/position (sampled) "
+                                 "or duration (still), not a mix")
+        kw = {}
+        if "angle" in t:
+            kw["angle"] = self.quantity(t, "drive", "angle", "angle")
+        if kind == "still":
+            if "frequency" in t:
+                raise InputError("[drive] frequency does not apply to a still container (kind = 'still')")
+            if "duration" in t:
+                kw["duration_s"] = self.quantity(t, "drive", "duration", "time")
+            return Still(**kw)
+        if "frequency" in t:
+            kw["frequency"] = self.quantity(t, "drive", "frequency", "frequency")
+        if kind == "harmonic":
+            return HarmonicDrive(stroke=self.quantity(t, "drive", "stroke", "length", 0.012), **kw)
+        if "samples" in t:
+            extra = [k for k in ("time", "position", "velocity", "acceleration") if k in t]
+            if extra:
+                raise InputError(f"[drive] give either samples = 'file.csv' or inline {', '.join(extra)}, not both")
+            kw.update(self._samples_file(t["samples"]))
+        else:
+            for req in ("time", "position"):
+                if req not in t:
+                    raise InputError(f"[drive] a sampled motion needs {req!r}: give time = [...] and "
+                                     "position = [...] (optionally velocity = [...]) or samples = 'motion.csv'")
+            dims = {"time": "time", "position": "length", "velocity": "velocity", "acceleration": "acceleration"}
+            kw.update({k: self.quantity_list(t[k], f"[drive] {k}", dims[k]) for k in dims if k in t})
+        return SampledDrive(**kw)
+
+    def _samples_file(self, value) -> dict:
+        if not isinstance(value, str) or not value.strip():
+            raise InputError(f"[drive] samples = {value!r} must be the path of a CSV file")
+        path = Path(value)
+        if not path.is_absolute():
+            path = self.base_dir / path
+        return read_motion_csv(path)
+
+    def restitution(self, value, section, key="restitution"):
+        """A COR law from a number (constant) or a table with ``law = ...``."""
+        name = f"[{section}] {key}"
+        try:
+            return self._law(value, section, key)
+        except InputError as exc:
+            msg = str(exc)
+            if msg.startswith("["):
+                raise
+            if msg.startswith("restitution = ") and ": " in msg:
+                raise InputError(f"{name} = {value!r}: {msg.split(': ', 1)[1]}") from None
+            raise InputError(f"[{section}] {msg}") from None
+
+    def _law(self, value, section, key):
+        name = f"[{section}] {key}"
+        if isinstance(value, (bool, int, float, str)):
+            return ConstantRestitution(value=_dimless(value, name))
+        if not isinstance(value, dict):
+            raise InputError(f"{name} = {value!r}: give a number such as 0.9 or a table "
+                             "{law = 'table', speeds = [...], values = [...]} or {law = 'thornton', "
+                             "yield_pressure = '1.5GPa'}")
+        law = value.get("law")
+        if law is None:
+            raise InputError(f"{name}: the table needs law = 'constant', 'table' or 'thornton'")
+        if law not in _LAW_KEYS:
+            near = difflib.get_close_matches(str(law), list(_LAW_KEYS), n=1, cutoff=0.5)
+            hint = f"did you mean {near[0]!r}? " if near else ""
+            raise InputError(f"{name}: law = {law!r} is unknown; {hint}choose 'constant', 'table' or 'thornton'")
+        sub = f"{section}.{key}"
+        self._check_keys(value, sub, _LAW_KEYS[law])
+        for req in _LAW_KEYS[law][1:]:
+            if req not in value:
+                raise InputError(f"{name}: law = {law!r} needs {req!r}")
+        if law == "constant":
+            return ConstantRestitution(value=_dimless(value["value"], f"[{sub}] value"))
+        if law == "thornton":
+            return ThorntonRestitution(yield_pressure=self.quantity(value, sub, "yield_pressure", "pressure"))
+        speeds = self.quantity_list(value["speeds"], f"[{sub}] speeds", "velocity")
+        vals = value["values"]
+        if not isinstance(vals, list):
+            raise InputError(f"[{sub}] values = {vals!r} must be a list of numbers in (0, 1]")
+        values = tuple(_dimless(v, f"[{sub}] values[{k}]") for k, v in enumerate(vals))
+        return TabulatedRestitution(speeds=speeds, values=values)
+
+    def contact(self, t, material_names) -> ContactModel:
+        self._check_keys(t, "contact", SECTIONS["contact"])
+        kw = {}
+        if "friction" in t:
+            kw["friction"] = self.number(t, "contact", "friction")
+        if "restitution" in t:
+            kw["restitution"] = self.restitution(t["restitution"], "contact")
+        if "tau" in t:
+            kw["tau"] = self.number(t, "contact", "tau")
+        if "v_in_floor" in t:
+            kw["v_in_floor"] = self.quantity(t, "contact", "v_in_floor", "velocity")
+        if "damping" in t:
+            if not isinstance(t["damping"], str):
+                raise InputError(f"[contact] damping = {t['damping']!r} must be a string such as 'calibrated'")
+            kw["damping"] = t["damping"]
+        pairs = t.get("pair", [])
+        if isinstance(pairs, dict):
+            pairs = [pairs]
+        if not isinstance(pairs, list):
+            raise InputError("[[contact.pair]] must be tables with materials = ['a', 'b'] and friction and/or "
+                             "restitution")
+        pf, pr = {}, {}
+        known = list(dict.fromkeys(material_names))
+        for k, p in enumerate(pairs):
+            label = f"contact.pair #{k + 1}"
+            if not isinstance(p, dict):
+                raise InputError(f"[[contact.pair]] #{k + 1} must be a table, got {p!r}")
+            self._check_keys(p, label, _PAIR_KEYS)
+            mats = p.get("materials")
+            if not (isinstance(mats, list) and len(mats) == 2 and all(isinstance(m, str) for m in mats)):
+                raise InputError(f"[{label}] materials = {mats!r}: give two material names, e.g. ['steel', 'pvc']")
+            for m in mats:
+                if m not in known:
+                    near = difflib.get_close_matches(m, known, n=1, cutoff=0.5)
+                    hint = f"did you mean {near[0]!r}?" if near else "this case has " + ", ".join(map(repr, known))
+                    raise InputError(f"[{label}] materials: {m!r} is not a material of this case; {hint}")
+            key = (mats[0], mats[1])
+            if "friction" not in p and "restitution" not in p:
+                raise InputError(f"[{label}] sets nothing; give friction and/or restitution")
+            for store, field_ in ((pf, "friction"), (pr, "restitution")):
+                if field_ in p:
+                    if key in store or key[::-1] in store:
+                        raise InputError(f"[{label}] {field_} for {key[0]!r}-{key[1]!r} is given twice")
+                    store[key] = (self.number(p, label, "friction") if field_ == "friction"
+                                  else self.restitution(p["restitution"], label))
+        if pf:
+            kw["pair_friction"] = pf
+        if pr:
+            kw["pair_restitution"] = pr
+        return ContactModel(**kw)
+
+    def flat(self, t, section, cls):
+        """A section of plain scalars, one key per field of ``cls``, read by the field's default."""
+        self._check_keys(t, section, SECTIONS[section])
+        kw = {}
+        for f in dataclasses.fields(cls):
+            if f.name not in t:
+                continue
+            key, default, dim = f.name, f.default, _FLAT_DIMENSIONS.get(f.name)
+            if key in _CHOICES:
+                kw[key] = self.choice(t, section, key, _CHOICES[key], None)
+            elif isinstance(default, str):
+                if not isinstance(t[key], str):
+                    raise InputError(f"[{section}] {key} = {t[key]!r} must be a string")
+                kw[key] = t[key]
+            elif isinstance(default, int) and not isinstance(default, bool):
+                kw[key] = self.integer(t, section, key)
+            elif default is None and isinstance(t[key], str) and t[key].strip().lower() == "auto":
+                kw[key] = None
+            elif dim is not None:
+                kw[key] = self.quantity(t, section, key, dim)
+            else:
+                kw[key] = self.number(t, section, key)
+        return cls(**kw)
+
+    def numerics(self, t) -> Numerics:
+        return self.flat(t, "numerics", Numerics)
+
+    def recording(self, t) -> Recording:
+        return self.flat(t, "recording", Recording)
+
+    def initial(self, t) -> InitialState:
+        s = "initial"
+        self._check_keys(t, s, SECTIONS[s])
+        kw = {}
+        if "arrangement" in t:
+            kw["arrangement"] = self.choice(t, s, "arrangement", ("block", "scatter"), None)
+        if "layers" in t:
+            kw["layers"] = self.choice(t, s, "layers", ("one", "auto"), None)
+        if "jitter" in t:
+            kw["jitter"] = self.quantity(t, s, "jitter", "length")
+        if "settle_time" in t:
+            kw["settle_time"] = self.quantity(t, s, "settle_time", "time")
+        if "seed" in t:
+            kw["seed"] = self.integer(t, s, "seed")
+        for key, dim, unit in (("positions", "length", "'5mm'"), ("velocities", "velocity", "'0.1m/s'"),
+                               ("spins", "frequency", "'10rad/s'")):
+            if key in t:
+                kw[key] = self.vectors(t[key], f"[{s}] {key}", dim, unit)
+        return InitialState(**kw)
+
+
+class _context:
+    """Prefix ``[section]`` to an InputError raised by a parameter class that does not name it."""
+
+    def __init__(self, section: str):
+        self.section = section
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if isinstance(exc, InputError):
+            msg = _grammar(str(exc))
+            if self.section not in msg.lower():
+                msg = f"[{self.section}] {msg}"
+            raise InputError(msg) from None
+        return False
+
+
+def _q(value, name, index, dimension) -> float:
+    label = f"{name}[{index}]"
+    if isinstance(value, (dict, list)):
+        raise InputError(f"{label} = {value!r}: expected a {dimension} such as {_example(dimension)}")
+    return _parse(value, label, dimension)
+
+
+def _parse(value, label, dimension) -> float:
+    if isinstance(value, (dict, list)):
+        kind = "table" if isinstance(value, dict) else "list"
+        raise InputError(f"{label} = {value!r}: expected {_a(dimension)} such as {_example(dimension)}, not a {kind}")
+    try:
+        return parse_quantity(value, dimension, name=label)
+    except InputError as exc:
+        msg = _grammar(str(exc))
+        rest = msg[len(label) + 2:] if msg.startswith(label + ": ") else msg
+        raise InputError(f"{label} = {rest}" if rest.startswith(("'", '"')) else f"{label}: {rest}") from None
+
+
+def _a(word: str) -> str:
+    return ("an " if word[:1] in "aeiou" else "a ") + word
+
+
+def _grammar(msg: str) -> str:
+    for word in ("angle", "acceleration"):
+        msg = msg.replace(f" a {word}", f" an {word}")
+    return msg
+
+
+def _dimless(value, label) -> float:
+    if isinstance(value, bool) or isinstance(value, (dict, list)):
+        raise InputError(f"{label} = {value!r} must be a number")
+    return _parse(value, label, "dimensionless")
+
+
+def _example(dimension: str) -> str:
+    from .units import _example as ex
+
+    return ex(dimension)
+
+
+def read_motion_csv(path) -> dict:
+    """Read a prescribed motion from a CSV file: columns ``time``, ``position`` and optionally
+    ``velocity`` (units in brackets, e.g. ``time [s],position [mm]``; without a unit SI).
+
+    Returns ``{"time": tuple, "position": tuple[, "velocity": tuple]}`` in SI.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"[drive] samples: file not found: {path}")
+    if path.is_dir():
+        raise InputError(f"[drive] samples: {path} is a directory; give a CSV file")
+    lines = [(no, ln) for no, ln in enumerate(path.read_text(encoding="utf-8-sig").splitlines(), start=1)
+             if ln.strip() and not ln.lstrip().startswith("#")]
+    if len(lines) < 2:
+        raise InputError(f"{path}: expected a header row (time, position[, velocity]) and data rows")
+    header = lines[0][1]
+    delim = max((",", ";", "\t"), key=header.count)
+    rows = list(csv.reader([ln for _, ln in lines], delimiter=delim))
+    names, units = [], []
+    for h in rows[0]:
+        h = h.strip()
+        unit = ""
+        for o, c in (("[", "]"), ("(", ")")):
+            if h.endswith(c) and o in h:
+                h, unit = h[:h.rindex(o)].strip(), h[h.rindex(o) + 1:-1].strip()
+                break
+        names.append(h.lower())
+        units.append(unit)
+    dims = {"time": "time", "position": "length", "velocity": "velocity"}
+    out = {}
+    for role, dim in dims.items():
+        if role not in names:
+            if role == "velocity":
+                continue
+            raise InputError(f"{path}: no {role!r} column; the header has {rows[0]!r} "
+                             "(need time, position[, velocity], units in brackets)")
+        i = names.index(role)
+        factor = unit_factor(units[i], dim, name=f"{path}: column {role!r}") if units[i] else 1.0
+        col = []
+        for (no, _), row in zip(lines[1:], rows[1:]):
+            try:
+                v = float(row[i].strip().replace(",", ".") if delim != "," else row[i])
+            except (ValueError, IndexError):
+                raise InputError(f"{path}, line {no}, column {role!r}: cannot read "
+                                 f"{row[i] if i < len(row) else ''!r} as a number") from None
+            if not math.isfinite(v):
+                raise InputError(f"{path}, line {no}, column {role!r}: {v!r} is not a finite number")
+            col.append(v * factor)
+        out[role] = tuple(col)
+    return out
+
+
+# --------------------------------------------------------------------------- writing
+
+def _material_to(m: Material):
+    if LIBRARY.get(m.name) == m:
+        return m.name
+    return {"name": m.name, "youngs_modulus": float(m.youngs_modulus), "poisson_ratio": float(m.poisson_ratio),
+            "density": float(m.density)}
+
+
+def _law_to(law):
+    if isinstance(law, ConstantRestitution):
+        return float(law.value)
+    if isinstance(law, TabulatedRestitution):
+        return {"law": "table", "speeds": [float(v) for v in law.speeds], "values": [float(v) for v in law.values]}
+    if isinstance(law, ThorntonRestitution):
+        return {"law": "thornton", "yield_pressure": float(law.yield_pressure)}
+    raise InputError(f"cannot write restitution law {law!r} to a config file")
+
+
+def _num(v):
+    """Keep ints as ints (TOML integer), everything else a float."""
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, int):
+        return v
+    return float(v)
+
+
+def _flat_to(obj) -> dict:
+    out = {}
+    for f in dataclasses.fields(obj):
+        v = getattr(obj, f.name)
+        out[f.name] = "auto" if v is None else v if isinstance(v, str) else _num(v)
+    return out
+
+
+def case_to_dict(case: Case) -> dict:
+    """The full config of ``case`` as a TOML-ready dict, every quantity in plain SI units.
+
+    ``case_from_dict(case_to_dict(case)) == case``.
+    """
+    c = case.container
+    g = c.geometry
+    container = {"shape": g.shape}
+    for k in _SHAPE_KEYS[g.shape]:
+        container[k] = float(getattr(g, k))
+    container.update(material=_material_to(c.material), tilt=[float(a) for a in c.tilt], mass=float(c.mass))
+
+    parts = [{"count": int(p.count), "radius": float(p.radius), "material": _material_to(p.material)}
+             for p in case.particles]
+
+    d = case.drive
+    if isinstance(d, HarmonicDrive):
+        drive = {"kind": "harmonic", "stroke": float(d.stroke), "frequency": float(d.frequency),
+                 "angle": float(d.angle)}
+    elif isinstance(d, SampledDrive):
+        drive = {"kind": "samples", "angle": float(d.angle)}
+        if d.frequency is not None:
+            drive["frequency"] = float(d.frequency)
+        drive["time"] = [float(v) for v in d.time]
+        drive["position"] = [float(v) for v in d.position]
+        for k in ("velocity", "acceleration"):
+            if getattr(d, k) is not None:
+                drive[k] = [float(v) for v in getattr(d, k)]
+    elif isinstance(d, Still):
+        drive = {"kind": "still", "duration": float(d.duration_s), "angle": float(d.angle)}
+    else:
+        raise InputError(f"cannot write drive {type(d).__name__} to a config file")
+
+    ct = case.contact
+    contact = {"friction": _num(ct.friction), "restitution": _law_to(ct.restitution), "tau": _num(ct.tau),
+               "v_in_floor": float(ct.v_in_floor)}
+    if hasattr(ct, "damping"):
+        contact["damping"] = ct.damping
+    pairs = []
+    for key, mu in ct.pair_friction.items():
+        pairs.append({"materials": list(key), "friction": _num(mu)})
+    for key, law in ct.pair_restitution.items():
+        for p in pairs:
+            if tuple(p["materials"]) == tuple(key) and "restitution" not in p:
+                p["restitution"] = _law_to(law)
+                break
+        else:
+            pairs.append({"materials": list(key), "restitution": _law_to(law)})
+    if pairs:
+        contact["pair"] = pairs
+
+    numerics = _flat_to(case.numerics)
+    recording = _flat_to(case.recording)
+    i = case.initial
+    initial = {"arrangement": i.arrangement, "jitter": float(i.jitter), "seed": int(i.seed),
+               "settle_time": float(i.settle_time), "layers": i.layers}
+    for key in ("positions", "velocities", "spins"):
+        rows = getattr(i, key, None)
+        if rows is not None:
+            initial[key] = [[float(v) for v in row] for row in rows]
+    run = {"cycles": _num(case.cycles), "drop_cycles": int(case.drop_cycles), "gravity": float(case.gravity)}
+    return {"container": container, "particles": parts[0] if len(parts) == 1 else parts, "drive": drive,
+            "contact": contact, "numerics": numerics, "recording": recording, "initial": initial, "run": run}
+
+
+_HEADER = ("# pdamper case configuration (written by pdamper {version}).\n"
+           "# All quantities in SI units: m, s, Hz, kg, rad, Pa, kg/m^3, m/s, m/s^2.\n"
+           "# Re-run with: pdamper run {name}\n\n")
+
+
+def dumps_case(case: Case, *, name: str = "config.toml") -> str:
+    """``case`` as TOML text (see :func:`case_to_dict`), with a comment header."""
+    import tomli_w
+
+    from . import __version__
+
+    return _HEADER.format(version=__version__, name=name) + tomli_w.dumps(case_to_dict(case))
+
+
+def dump_case(case: Case, path) -> Path:
+    """Write ``case`` to the TOML file ``path`` atomically (temporary file + rename); returns the path."""
+    path = Path(path)
+    text = dumps_case(case, name=path.name)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        with open(tmp, "x", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path

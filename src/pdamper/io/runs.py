@@ -1,0 +1,245 @@
+"""Run directories: everything one simulated run produced, with the config that re-creates it.
+
+A run directory holds
+
+- ``config.toml``  -- the full case (every parameter, plain SI numbers); ``pdamper run
+  DIR/config.toml`` repeats the run bit for bit (:func:`pdamper.config.load_case`);
+- ``signals.csv``  -- ``time [s],force [N],velocity [m/s],position [m]``: the driving force on the
+  container and its motion, each sample the mean over its interval, stamped at its centre;
+- ``energy.csv``   -- the energy ledger, ``time [s]`` (interval ends) and the energies [J];
+- ``trajectory.npz`` -- decimated particle trajectories, only when they were recorded;
+- ``result.json``  -- the summary (eta*, energy per cycle, steps, wall time ...), the complex-power
+  analysis and the pdamper version; written last, so its presence marks a complete run.
+
+Every file is written to a temporary file in the same directory and moved into place with
+:func:`os.replace`, so a reader never sees a half-written file.
+
+Overwriting: :func:`write_run` writes into a new or empty directory, or into an existing run
+directory (one holding ``result.json`` written by pdamper, or a ``config.toml`` written by pdamper
+without a result yet), replacing its files. It refuses any other non-empty directory rather than
+mixing a run with unrelated files.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import os
+import uuid
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["write_run", "read_run", "check_run_dir", "StoredRun", "RUN_FORMAT", "FILES"]
+
+#: Marker and version of the run-directory layout, stored in ``result.json``.
+RUN_FORMAT = {"name": "pdamper-run", "version": 1}
+#: File names in a run directory.
+FILES = {"config": "config.toml", "signals": "signals.csv", "energy": "energy.csv",
+         "result": "result.json", "trajectory": "trajectory.npz"}
+SIGNAL_COLUMNS = ("time [s]", "force [N]", "velocity [m/s]", "position [m]")
+ENERGY_COLUMNS = ("time [s]", "kinetic [J]", "rotational [J]", "potential [J]", "elastic [J]", "work [J]",
+                  "damping [J]", "friction [J]")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class StoredRun:
+    """A run read back from its directory (see :func:`read_run`).
+
+    Attributes
+    ----------
+    path : the run directory.
+    case : :class:`pdamper.params.Case` from ``config.toml``.
+    signals : :class:`pdamper.recorders.signals.Signals` (SI).
+    energy : :class:`pdamper.recorders.energy.EnergyLedger` [J].
+    summary : dict, as :meth:`pdamper.simulation.RunResult.summary` (NaN stored as null -> NaN).
+    analysis : dict of the complex-power result (``PowerResult.to_dict()``) or None.
+    version : the pdamper version that wrote the run.
+    trajectory : dict of arrays or None.
+    """
+
+    path: Path
+    case: object
+    signals: object
+    energy: object
+    summary: dict
+    analysis: dict | None
+    version: str
+    trajectory: dict | None = None
+
+
+# --------------------------------------------------------------------------- writing
+
+def check_run_dir(out_dir) -> Path:
+    """Raise InputError unless ``out_dir`` can take a run (new, empty, or a pdamper run directory).
+
+    Call it before a long run so a bad ``--out`` fails at once; :func:`write_run` calls it too.
+    """
+    path = Path(out_dir)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"run directory {path} is a file; give a directory (it is created if missing)")
+    if path.is_dir() and any(path.iterdir()) and not _is_run_dir(path):
+        raise InputError(f"run directory {path} is not empty and is not a pdamper run directory; "
+                         "give a new or empty directory (an existing run directory is overwritten)")
+    return path
+
+
+def _is_run_dir(path: Path) -> bool:
+    result = path / FILES["result"]
+    if result.is_file():
+        try:
+            meta = json.loads(result.read_text(encoding="utf-8"))
+            return isinstance(meta, dict) and meta.get("format", {}).get("name") == RUN_FORMAT["name"]
+        except (OSError, ValueError, AttributeError):
+            return False
+    config = path / FILES["config"]
+    if config.is_file():
+        try:
+            with config.open(encoding="utf-8") as fh:
+                return "written by pdamper" in fh.readline()
+        except (OSError, UnicodeDecodeError):
+            return False
+    return False
+
+
+def _atomic_write(path: Path, data: bytes) -> None:
+    """Write ``data`` to a temporary file next to ``path`` (honouring the umask), then rename it."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        with open(tmp, "xb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def _csv_bytes(columns, arrays) -> bytes:
+    """CSV text; each number written as Python's shortest repr, which reads back to the same float."""
+    data = np.column_stack([np.asarray(a, dtype=float) for a in arrays]).tolist()
+    lines = [",".join(columns)] + [",".join(map(repr, row)) for row in data]
+    return ("\n".join(lines) + "\n").encode("utf-8")
+
+
+def _clean(obj):
+    """JSON-ready: numpy scalars/arrays to Python, NaN/inf to None."""
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    if isinstance(obj, complex):
+        return [_clean(obj.real), _clean(obj.imag)]
+    return obj
+
+
+def write_run(result, out_dir) -> Path:
+    """Write the run ``result`` (a :class:`pdamper.simulation.RunResult`) to the directory ``out_dir``.
+
+    Creates the directory (and its parents); see the module docstring for the files and for when an
+    existing directory is overwritten. Returns the directory.
+    """
+    from .. import __version__
+    from ..config import dumps_case
+    from ..recorders.energy import COLUMNS
+
+    path = check_run_dir(out_dir)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create run directory {path}: {exc.strerror or exc}") from None
+    # an old result.json would mark a half-rewritten directory as complete: remove it first
+    for stale in (FILES["result"], FILES["trajectory"]):
+        try:
+            (path / stale).unlink()
+        except FileNotFoundError:
+            pass
+    _atomic_write(path / FILES["config"], dumps_case(result.case, name=FILES["config"]).encode("utf-8"))
+    s = result.signals
+    _atomic_write(path / FILES["signals"], _csv_bytes(SIGNAL_COLUMNS, [s.time, s.force, s.velocity, s.position]))
+    e = result.energy
+    _atomic_write(path / FILES["energy"], _csv_bytes(ENERGY_COLUMNS, [e.time] + [getattr(e, c) for c in COLUMNS]))
+    files = [FILES["config"], FILES["signals"], FILES["energy"]]
+    if result.trajectory is not None:
+        buf = io.BytesIO()
+        np.savez_compressed(buf, **{k: np.asarray(v) for k, v in result.trajectory.items()})
+        _atomic_write(path / FILES["trajectory"], buf.getvalue())
+        files.append(FILES["trajectory"])
+    analysis = result.analysis.to_dict() if result.analysis is not None else None
+    meta = {"format": RUN_FORMAT, "pdamper_version": __version__,
+            "written": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "files": files + [FILES["result"]], "units": "SI (keys name their unit where it is not obvious)",
+            "summary": result.summary(), "analysis": analysis}
+    text = json.dumps(_clean(meta), indent=2, allow_nan=False) + "\n"
+    _atomic_write(path / FILES["result"], text.encode("utf-8"))
+    return path
+
+
+# --------------------------------------------------------------------------- reading
+
+def _read_csv(path: Path, columns) -> np.ndarray:
+    if not path.is_file():
+        raise InputError(f"run directory {path.parent}: missing {path.name}")
+    with path.open(encoding="utf-8") as fh:
+        header = fh.readline().strip()
+    if tuple(h.strip() for h in header.split(",")) != tuple(columns):
+        raise InputError(f"{path}: unexpected header {header!r}; expected {','.join(columns)}")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return data.reshape(-1, len(columns))
+
+
+def read_run(out_dir) -> StoredRun:
+    """Read a run directory written by :func:`write_run`."""
+    from ..config import load_case
+    from ..recorders.energy import COLUMNS, EnergyLedger
+    from ..recorders.signals import Signals
+
+    path = Path(out_dir)
+    if not path.is_dir():
+        raise InputError(f"run directory not found: {path}")
+    result = path / FILES["result"]
+    if not result.is_file():
+        raise InputError(f"{path} is not a complete pdamper run directory (no {FILES['result']}); "
+                         "the run may have been interrupted")
+    try:
+        meta = json.loads(result.read_text(encoding="utf-8"))
+    except ValueError as exc:
+        raise InputError(f"{result}: not valid JSON ({exc})") from None
+    if not isinstance(meta, dict) or meta.get("format", {}).get("name") != RUN_FORMAT["name"]:
+        raise InputError(f"{result} was not written by pdamper (no run format marker)")
+    case = load_case(path / FILES["config"])
+    sig = _read_csv(path / FILES["signals"], SIGNAL_COLUMNS)
+    eng = _read_csv(path / FILES["energy"], ENERGY_COLUMNS)
+    if eng.shape[0] != sig.shape[0]:
+        raise InputError(f"{path}: {FILES['signals']} has {sig.shape[0]} rows but {FILES['energy']} has "
+                         f"{eng.shape[0]}; the run directory is inconsistent")
+    signals = Signals(time=sig[:, 0], time_end=eng[:, 0].copy(), force=sig[:, 1], velocity=sig[:, 2],
+                      position=sig[:, 3])
+    energy = EnergyLedger(time=eng[:, 0], **{c: eng[:, k + 1] for k, c in enumerate(COLUMNS)})
+    trajectory = None
+    tpath = path / FILES["trajectory"]
+    if tpath.is_file():
+        with np.load(tpath) as z:
+            trajectory = {k: z[k] for k in z.files}
+    summary = {k: (math.nan if v is None else v) for k, v in (meta.get("summary") or {}).items()}
+    return StoredRun(path=path, case=case, signals=signals, energy=energy, summary=summary,
+                     analysis=meta.get("analysis"), version=str(meta.get("pdamper_version", "")),
+                     trajectory=trajectory)
