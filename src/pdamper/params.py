@@ -143,6 +143,7 @@ class Numerics:
     max_impact_speed : expected largest impact speed [m/s]; None: 2.5 X Omega + 0.1 m/s.
     max_time_step : upper bound on any step [s] (default 1e-5).
     gear_tolerance : Gear's local position error bound [m] per step (default 1e-10).
+    gear_max_step : Gear's longest step [s] (default 5e-5).
     neighbour_search : "auto", "direct" (all pairs) or "cells" (link cells) for building the Verlet list.
     skin : Verlet-list skin [m]; None: 0.2 r_max.
     overlap_limit : a run stops when an overlap exceeds this fraction of the radius (default 0.05).
@@ -154,6 +155,7 @@ class Numerics:
     max_impact_speed: float | None = None
     max_time_step: float = 1e-5
     gear_tolerance: float = 1e-10
+    gear_max_step: float = 5e-5
     neighbour_search: str = "auto"
     skin: float | None = None
     overlap_limit: float = 0.05
@@ -171,6 +173,7 @@ class Numerics:
             _positive(self, "max_impact_speed", "> 0 m/s")
         _positive(self, "max_time_step", "> 0 s")
         _positive(self, "gear_tolerance", "> 0 m")
+        _positive(self, "gear_max_step", "> 0 s")
         if self.skin is not None:
             _positive(self, "skin", "> 0 m")
         if not (0 < self.overlap_limit < 0.5):

@@ -259,6 +259,7 @@ class Simulation:
         n = self.n
         new = dict(row=np.zeros(n + 1, dtype=np.int64), pj=np.zeros(cap, dtype=np.int64),
                    pvin=np.zeros(cap), pd=np.zeros(cap), pk=np.zeros(cap), pmp=np.zeros(cap, dtype=np.int64),
+                   pms=np.zeros(cap),
                    row2=np.zeros(n + 1, dtype=np.int64), pj2=np.zeros(cap, dtype=np.int64),
                    pvin2=np.zeros(cap), pd2=np.zeros(cap))
         if keep is not None:
@@ -283,7 +284,7 @@ class Simulation:
                 self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
                 self.case.contact.tau, self.case.contact.v_in_floor, self.case.numerics.overlap_limit,
                 self.skin, self.search == "cells", self.lo, self.cell, self.ncell, self.head, self.nxt, self.counts,
-                self.ref, self.row, self.pj, self.pvin, self.pd, self.pk, self.pmp,
+                self.ref, self.row, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
                 self.row2, self.pj2, self.pvin2, self.pd2,
                 self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
                 self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj)
@@ -292,30 +293,65 @@ class Simulation:
                 self._primed = True
             if status == kf.STATUS_OK:
                 continue
-            if status == kf.STATUS_LIST_OVERFLOW:
-                self._alloc_pairs(2 * self.pj.shape[0], keep=True)
-                continue
-            if status == kf.STATUS_WALL_OVERFLOW:
-                self.wl_i = np.empty(2 * self.wl_i.shape[0], dtype=np.int64)
-                self.wl_w = np.empty(2 * self.wl_w.shape[0], dtype=np.int64)
-                continue
-            t_fail = t0 + done * self.dt
-            what = "an overlap beyond " + f"{100 * self.case.numerics.overlap_limit:g} % of the radius" \
-                if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
-            raise SimulationError(
-                f"the run became unstable at t = {t_fail:.6f} s: particle {culprit} reached {what} with time step "
-                f"{self.dt * 1e6:.3g} us; use a smaller numerics.time_step (e.g. {self.dt * 5e5:.3g} us), more "
-                "numerics.steps_per_contact, or a larger numerics.max_impact_speed")
+            self._handle_status(status, culprit, t0 + done * self.dt, self.dt)
         return done
+
+    def _advance_gear(self, t0, t_end, record, sig, eng, traj_every, traj):
+        """Gear steps from ``t0`` to ``t_end`` [s]; returns accepted steps."""
+        from .kernels.gear import run_gear
+
+        num = self.case.numerics
+        ts = 1.0 / self.case.recording.sample_rate
+        t = t0
+        steps = 0
+        while t < t_end - 1e-12 * ts:
+            status, k, culprit, t, self._h_next, rej = run_gear(
+                t_end, self._h_next, t, ts, record, not self._primed, num.gear_tolerance, self._dt_min,
+                self._dt_max, self.nord, self.save, self.h_state,
+                self.pos, self.vel, self.omg, self.rad, self.mass, self.inv_m, self.inv_i, self.mat,
+                self.force, self.torque, self.gvec, self.dvec, *self._drive,
+                self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
+                self.case.contact.tau, self.case.contact.v_in_floor, num.overlap_limit,
+                self.skin, self.search == "cells", self.lo, self.cell, self.ncell, self.head, self.nxt, self.counts,
+                self.ref, self.row, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
+                self.row2, self.pj2, self.pvin2, self.pd2,
+                self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
+                self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj, 10**9)
+            steps += k
+            self.rejected_steps += rej
+            if status == kf.STATUS_OK or k > 0:
+                self._primed = True
+            if status == kf.STATUS_OK:
+                continue
+            self._handle_status(status, culprit, t, self._h_next)
+        return steps
+
+    def _handle_status(self, status, culprit, t_fail, dt):
+        if status == kf.STATUS_LIST_OVERFLOW:
+            self._alloc_pairs(2 * self.pj.shape[0], keep=True)
+            return
+        if status == kf.STATUS_WALL_OVERFLOW:
+            self.wl_i = np.empty(2 * self.wl_i.shape[0], dtype=np.int64)
+            self.wl_w = np.empty(2 * self.wl_w.shape[0], dtype=np.int64)
+            return
+        what = "an overlap beyond " + f"{100 * self.case.numerics.overlap_limit:g} % of the radius" \
+            if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
+        if self.case.numerics.integrator == "gear":
+            fix = "a smaller numerics.gear_tolerance"
+        else:
+            fix = (f"a smaller numerics.time_step (e.g. {dt * 5e5:.3g} us), more numerics.steps_per_contact, "
+                   "or a larger numerics.max_impact_speed")
+        raise SimulationError(
+            f"the run became unstable at t = {t_fail:.6f} s: particle {culprit} reached {what} with time step "
+            f"{dt * 1e6:.3g} us; use {fix}")
 
     def run(self, *, progress=None, analyse: bool = True) -> RunResult:
         """Settle, drive for ``case.cycles`` cycles, record, analyse.
 
         ``progress(done_fraction)`` is called after every segment if given.
         """
-        from .kernels.drive import drive_motion  # noqa: F401  (compiled with the run)
-
         case = self.case
+        gear = case.numerics.integrator == "gear"
         wall0 = _time.perf_counter()
         fs = case.recording.sample_rate
         ts = 1.0 / fs
@@ -332,30 +368,47 @@ class Simulation:
         if case.recording.trajectory_fps > 0:
             traj_every = max(1, int(round(fs / case.recording.trajectory_fps)))
             traj = np.zeros((n_samples // traj_every, self.n, 9))
+        if gear:
+            self.nord = np.zeros((6, self.n, 6))
+            self.save = np.zeros((6, self.n, 6))
+            self.h_state = np.array([self.dt])
+            self._h_next = self.dt
+            self._dt_min = self.dt / 50.0
+            self._dt_max = case.numerics.gear_max_step
+            self.rejected_steps = 0
         steps = 0
         # settling: the container rests; whole samples so the drive starts on a sample boundary
-        settle_steps = int(math.ceil(case.initial.settle_time / ts)) * sub
-        t = -settle_steps * self.dt
+        settle_samples = int(math.ceil(case.initial.settle_time / ts))
+        settle_steps = settle_samples * sub
         empty_sig = np.zeros((0, 1))
         empty_eng = np.zeros((0, 7))
-        if settle_steps:
-            steps += self._advance(settle_steps, t, 0, sub, False, 0, empty_sig, empty_eng, 0, traj)
+        if settle_samples:
+            if gear:
+                steps += self._advance_gear(-settle_samples * ts, 0.0, False, empty_sig, empty_eng, 0, traj)
+            else:
+                steps += self._advance(settle_steps, -settle_steps * self.dt, 0, sub, False, 0, empty_sig,
+                                       empty_eng, 0, traj)
         # the drive starts: particles keep their lab velocity, so their velocity relative to
         # the container jumps by -v_c(0+)
         _, v0, _ = case.drive.motion(np.array([0.0]))
-        self.vel -= float(v0[0]) * self.dvec
+        jump = float(v0[0]) * self.dvec
+        self.vel -= jump
+        if gear and self._primed:
+            self.nord[1, :, 0:3] -= self.h_state[0] * jump
         self.ledger[:] = 0.0
-        rec_offset = settle_steps // sub
         total = n_samples * sub
-        seg = max(sub, (int(0.25 * fs) or 1) * sub)  # ~0.25 s of simulated time per call
+        seg_samples = max(1, int(0.25 * fs))  # ~0.25 s of simulated time per call
         done = 0
-        while done < total:
-            k = min(seg, total - done)
-            steps += self._advance(k, done * self.dt, settle_steps + done, sub, True, rec_offset,
-                                   sig, eng, traj_every, traj)
+        while done < n_samples:
+            k = min(seg_samples, n_samples - done)
+            if gear:
+                steps += self._advance_gear(done * ts, (done + k) * ts, True, sig, eng, traj_every, traj)
+            else:
+                steps += self._advance(k * sub, done * ts, settle_steps + done * sub, sub, True, settle_samples,
+                                       sig, eng, traj_every, traj)
             done += k
             if progress is not None:
-                progress(done / total)
+                progress(done / n_samples)
         wall = _time.perf_counter() - wall0
         signals = Signals.from_run(case, ts, sig[:, 0])
         energy = EnergyLedger.from_array(signals.time_end, eng)
@@ -366,8 +419,10 @@ class Simulation:
         analysis = None
         if analyse and case.drive.kind != "still":
             analysis = signals.analyse(case)
+        extras = {"rejected_steps": self.rejected_steps} if gear else {}
         return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,
-                         steps=steps, time_step=self.dt, wall_time_s=wall, neighbour_search=self.search)
+                         steps=steps, time_step=self.dt, wall_time_s=wall, neighbour_search=self.search,
+                         extras=extras)
 
 
 def run_case(case: Case, **kwargs) -> RunResult:

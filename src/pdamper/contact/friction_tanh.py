@@ -28,10 +28,23 @@ import math
 
 from ..kernels.jit import njit
 
-__all__ = ["DEFAULT_TAU", "friction_factor"]
+__all__ = ["DEFAULT_TAU", "friction_factor", "tanh_pos"]
 
 #: Default smoothing parameter tau [s/m].
 DEFAULT_TAU = 1000.0
+
+
+@njit
+def tanh_pos(x):
+    """tanh(x) for x >= 0, to ~1e-15 relative, faster than libm's tanh on the hot path:
+    1 beyond x = 19 (tanh(19) = 1 - 6e-17), a series below 1e-3, ``(1 - e^-2x)/(1 + e^-2x)`` between."""
+    if x > 19.0:
+        return 1.0
+    if x < 1e-3:
+        x2 = x * x
+        return x * (1.0 - x2 * (1.0 / 3.0 - x2 * (2.0 / 15.0)))
+    t = math.exp(-2.0 * x)
+    return (1.0 - t) / (1.0 + t)
 
 
 @njit
@@ -42,4 +55,4 @@ def friction_factor(mu, tau, vt_mag):
     """
     if vt_mag <= 0.0:
         return 0.0
-    return mu * math.tanh(tau * vt_mag) / vt_mag
+    return mu * tanh_pos(tau * vt_mag) / vt_mag

@@ -41,24 +41,24 @@ def cylinder_inside(point, axis, radius: float) -> np.ndarray:
 
 
 @njit
-def wall_distance(kind, data, px, py, pz):
-    """Signed distance [m] of point (px, py, pz) from a wall (> 0 inside) and the unit
-    normal (nx, ny, nz) pointing from the wall into the container at the nearest point.
+def wall_distance(kind, data, w, px, py, pz):
+    """Signed distance [m] of point (px, py, pz) from wall ``w`` (row of ``data``; > 0 inside)
+    and the unit normal (nx, ny, nz) pointing from the wall into the container at the nearest point.
 
     Returns ``(s, nx, ny, nz)``.
     """
     if kind == 0:
-        nx = data[0]
-        ny = data[1]
-        nz = data[2]
-        return nx * px + ny * py + nz * pz - data[3], nx, ny, nz
+        nx = data[w, 0]
+        ny = data[w, 1]
+        nz = data[w, 2]
+        return nx * px + ny * py + nz * pz - data[w, 3], nx, ny, nz
     # inside of a cylinder
-    dx = px - data[0]
-    dy = py - data[1]
-    dz = pz - data[2]
-    ax = data[3]
-    ay = data[4]
-    az = data[5]
+    dx = px - data[w, 0]
+    dy = py - data[w, 1]
+    dz = pz - data[w, 2]
+    ax = data[w, 3]
+    ay = data[w, 4]
+    az = data[w, 5]
     t = dx * ax + dy * ay + dz * az
     qx = dx - t * ax
     qy = dy - t * ay
@@ -66,14 +66,14 @@ def wall_distance(kind, data, px, py, pz):
     rho = math.sqrt(qx * qx + qy * qy + qz * qz)
     if rho > 0.0:
         inv = 1.0 / rho
-        return data[6] - rho, -qx * inv, -qy * inv, -qz * inv
+        return data[w, 6] - rho, -qx * inv, -qy * inv, -qz * inv
     # on the axis: any direction perpendicular to it will do
     if abs(ax) < 0.9:
         nx, ny, nz = 1.0 - ax * ax, -ax * ay, -ax * az
     else:
         nx, ny, nz = -ay * ax, 1.0 - ay * ay, -ay * az
     nrm = math.sqrt(nx * nx + ny * ny + nz * nz)
-    return data[6], nx / nrm, ny / nrm, nz / nrm
+    return data[w, 6], nx / nrm, ny / nrm, nz / nrm
 
 
 @njit
@@ -85,7 +85,7 @@ def wall_distances(kinds, data, points):
     nrm = np.empty((n, nw, 3))
     for i in range(n):
         for w in range(nw):
-            d, nx, ny, nz = wall_distance(kinds[w], data[w], points[i, 0], points[i, 1], points[i, 2])
+            d, nx, ny, nz = wall_distance(kinds[w], data, w, points[i, 0], points[i, 1], points[i, 2])
             s[i, w] = d
             nrm[i, w, 0] = nx
             nrm[i, w, 1] = ny

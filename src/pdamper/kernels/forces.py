@@ -70,10 +70,14 @@ def first_touch(v_approach, mp, e_star, r_star, m_star, cor_tab, cor_py, logv0, 
 
 @njit
 def compute_forces(pos, vel, omg, rad, mass, force, torque,
-                   row, pj, pvin, pd, pk, pmp,
+                   row, pj, pvin, pd, pk, pmp, pms,
                    wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
                    estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt):
     """Zero and fill ``force`` [N] and ``torque`` [N m]; update contact history in place.
+
+    Pair arrays aligned with the list ``row``/``pj``: history ``pvin`` (approach speed at first
+    touch, 0 = not touching) and ``pd`` (damping parameter), stiffness ``pk``, material-pair
+    index ``pmp`` and ``pms`` = FRICTION_CAP x the pair's reduced mass [kg].
 
     Returns ``(fwx, fwy, fwz, p_normal, p_friction, status, culprit)``: the total force of the
     walls on the particles [N], the power [W] dissipated by normal damping and by friction, a
@@ -90,6 +94,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         torque[i, 2] = 0.0
     p_n = 0.0
     p_f = 0.0
+    inv_dt = 1.0 / dt
     status = STATUS_OK
     culprit = -1
     # ---- particle pairs
@@ -107,7 +112,8 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             cut = ri + rj
             d2 = dx * dx + dy * dy + dz * dz
             if d2 >= cut * cut:
-                pvin[a] = 0.0
+                if pvin[a] != 0.0:
+                    pvin[a] = 0.0
                 continue
             dist = math.sqrt(d2)
             inv = 1.0 / dist
@@ -123,10 +129,8 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             rvz = vel[i, 2] - vel[j, 2]
             ddot = rvx * nx + rvy * ny + rvz * nz
             if pvin[a] == 0.0:
-                mi = mass[i]
-                mj = mass[j]
                 pvin[a] = max(ddot, v_floor)
-                pd[a] = first_touch(ddot, pmp[a], estar[pmp[a]], ri * rj / cut, mi * mj / (mi + mj),
+                pd[a] = first_touch(ddot, pmp[a], estar[pmp[a]], ri * rj / cut, pms[a] / FRICTION_CAP,
                                     cor_tab, cor_py, logv0, dlogv, v_floor)
             fn, fdamp = normal_force(pk[a], delta, ddot, pd[a])
             p_n += fdamp * ddot
@@ -143,9 +147,8 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             tz = cvz - cn * nz
             vt = math.sqrt(tx * tx + ty * ty + tz * tz)
             ff = friction_factor(mu[pmp[a]], tau, vt) * fn
-            cap = FRICTION_CAP * mass[i] * mass[j] / ((mass[i] + mass[j]) * dt)
-            if ff > cap:
-                ff = cap
+            if ff * dt > pms[a]:
+                ff = pms[a] * inv_dt
             p_f += ff * vt * vt
             ftx = -ff * tx
             fty = -ff * ty
@@ -176,7 +179,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
     for c in range(n_wl):
         i = wl_i[c]
         w = wl_w[c]
-        s, nx, ny, nz = wall_distance(wall_kind[w], wall_data[w], pos[i, 0], pos[i, 1], pos[i, 2])
+        s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
         ri = rad[i]
         delta = ri - s
         if delta <= 0.0:
@@ -206,9 +209,8 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         tz = cvz - cn * nz
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
         ff = friction_factor(mu[mp], tau, vt) * fn
-        cap = FRICTION_CAP * mass[i] / dt
-        if ff > cap:
-            ff = cap
+        if ff * dt > FRICTION_CAP * mass[i]:
+            ff = FRICTION_CAP * mass[i] * inv_dt
         p_f += ff * vt * vt
         ftx = -ff * tx
         fty = -ff * ty
@@ -246,7 +248,7 @@ def elastic_energy(pos, rad, row, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data
     for c in range(n_wl):
         i = wl_i[c]
         w = wl_w[c]
-        s, nx, ny, nz = wall_distance(wall_kind[w], wall_data[w], pos[i, 0], pos[i, 1], pos[i, 2])
+        s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
         delta = rad[i] - s
         if delta > 0.0:
             e += 0.4 * wk[i, w] * delta * delta * math.sqrt(delta)

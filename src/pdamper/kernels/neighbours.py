@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from ..geometry.walls import wall_distance
+from .forces import FRICTION_CAP
 from .jit import njit
 
 __all__ = ["build_direct", "build_cells", "transfer_history", "build_wall_list", "max_displacement_sq"]
@@ -139,7 +140,7 @@ def build_wall_list(pos, rad, skin, wall_kind, wall_data, wl_i, wl_w):
     cap = wl_i.shape[0]
     for i in range(pos.shape[0]):
         for w in range(wall_kind.shape[0]):
-            s, nx, ny, nz = wall_distance(wall_kind[w], wall_data[w], pos[i, 0], pos[i, 1], pos[i, 2])
+            s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
             if s < rad[i] + skin:
                 if m >= cap:
                     return -1
@@ -164,8 +165,8 @@ def max_displacement_sq(pos, ref):
 
 
 @njit
-def rebuild_lists(pos, rad, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
-                  row, pj, pvin, pd, pk, pmp, row2, pj2, pvin2, pd2,
+def rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
+                  row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                   wall_kind, wall_data, wl_i, wl_w, ref):
     """Rebuild the pair and wall lists, carrying contact history over.
 
@@ -199,6 +200,7 @@ def rebuild_lists(pos, rad, mat, nmat, estar, skin, use_cells, lo, cell, ncell, 
             pmp[a] = mp
             rs = rad[i] * rad[j] / (rad[i] + rad[j])
             pk[a] = 4.0 / 3.0 * estar[mp] * math.sqrt(rs)
+            pms[a] = FRICTION_CAP * mass[i] * mass[j] / (mass[i] + mass[j])
         ref[i, 0] = pos[i, 0]
         ref[i, 1] = pos[i, 1]
         ref[i, 2] = pos[i, 2]

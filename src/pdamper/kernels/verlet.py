@@ -29,7 +29,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
                force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
                nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
                skin, use_cells, lo, cell, ncell, head, nxt, counts, ref,
-               row, pj, pvin, pd, pk, pmp, row2, pj2, pvin2, pd2,
+               row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                wall_kind, wall_data, wl_i, wl_w, nwl, wk, wmp, wvin, wd, wrs,
                ledger, sig, eng, traj_every, traj):
     """Advance ``n_steps`` steps of ``dt`` [s] from time ``t0``; ``step0`` is the global step
@@ -50,8 +50,8 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
     skin2 = 0.25 * skin * skin
     n_wl = nwl[0]
     if prime:
-        r = rebuild_lists(pos, rad, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
-                          row, pj, pvin, pd, pk, pmp, row2, pj2, pvin2, pd2,
+        r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
+                          row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                           wall_kind, wall_data, wl_i, wl_w, ref)
         if r == -1:
             return STATUS_LIST_OVERFLOW, 0, -1
@@ -59,7 +59,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
             return STATUS_WALL_OVERFLOW, 0, -1
         n_wl = r
         nwl[0] = r
-        compute_forces(pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp,
+        compute_forces(pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp, pms,
                        wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
                        estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t0)
@@ -69,12 +69,27 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
                 alp[i, c] = torque[i, c] * inv_i[i]
                 acc_prev[i, c] = acc[i, c]
                 alp_prev[i, c] = alp[i, c]
+    # flat views (3N) of the per-particle vectors: simple, vectorisable loops
+    x = pos.reshape(-1)
+    v = vel.reshape(-1)
+    w = omg.reshape(-1)
+    a = acc.reshape(-1)
+    al = alp.reshape(-1)
+    ap = acc_prev.reshape(-1)
+    alp_ = alp_prev.reshape(-1)
+    x0 = ref.reshape(-1)
+    f = force.reshape(-1)
+    tq = torque.reshape(-1)
+    m3 = 3 * n
+    moved = max_displacement_sq(pos, ref) > skin2
     for s in range(n_steps):
         t = t0 + (s + 1) * dt
-        # -- neighbour lists (before anything moves, so an overflow can be resumed)
-        if max_displacement_sq(pos, ref) > skin2:
-            r = rebuild_lists(pos, rad, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
-                              row, pj, pvin, pd, pk, pmp, row2, pj2, pvin2, pd2,
+        # -- neighbour lists, when a particle moved more than ~half the skin since the last build
+        #    (decided during the previous drift; lists change before anything moves, so an
+        #    overflow can be resumed)
+        if moved:
+            r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
+                              row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                               wall_kind, wall_data, wl_i, wl_w, ref)
             if r == -1:
                 return STATUS_LIST_OVERFLOW, s, -1
@@ -82,53 +97,50 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
                 return STATUS_WALL_OVERFLOW, s, -1
             n_wl = r
             nwl[0] = r
-        # -- half kick + drift; keep full-step velocity prediction in force/torque buffers' place
-        for i in range(n):
-            for c in range(3):
-                vel[i, c] += half * acc[i, c]
-                omg[i, c] += half * alp[i, c]
-                pos[i, c] += dt * vel[i, c]
-        # predicted full-step velocities for the velocity-dependent forces: extrapolate the
-        # acceleration linearly, a(t+dt) ~ 2 a(t) - a(t-dt)
-        for i in range(n):
-            for c in range(3):
-                da = acc[i, c] - acc_prev[i, c]
-                dw = alp[i, c] - alp_prev[i, c]
-                acc_prev[i, c] = acc[i, c] + da
-                alp_prev[i, c] = alp[i, c] + dw
-                vel[i, c] += half * acc_prev[i, c]
-                omg[i, c] += half * alp_prev[i, c]
+        # -- drift with the half-step velocity v + dt/2 a; the velocities the damping and
+        #    friction see are predicted to the full step with a linearly extrapolated
+        #    acceleration: v + dt/2 a + dt/2 (2 a - a_prev)
+        disp = 0.0
+        for k in range(m3):
+            x[k] += dt * (v[k] + half * a[k])
+            v[k] += half * (3.0 * a[k] - ap[k])
+            w[k] += half * (3.0 * al[k] - alp_[k])
+            dd = x[k] - x0[k]
+            dd = dd * dd
+            if dd > disp:
+                disp = dd
+        # a component moved more than skin/(2 sqrt 3) in some direction: rebuild next step
+        moved = 3.0 * disp > skin2
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
-            pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp,
+            pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp, pms,
             wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
             estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t)
         gx = gvec[0] - ac * dvec[0]
         gy = gvec[1] - ac * dvec[1]
         gz = gvec[2] - ac * dvec[2]
-        bad = False
+        # -- new accelerations; correct the predicted velocities to v_half + dt/2 a_new
         for i in range(n):
-            # undo the prediction, then the second half kick with the new accelerations
-            for c in range(3):
-                vel[i, c] -= half * acc_prev[i, c]
-                omg[i, c] -= half * alp_prev[i, c]
-                acc_prev[i, c] = acc[i, c]
-                alp_prev[i, c] = alp[i, c]
-            acc[i, 0] = force[i, 0] * inv_m[i] + gx
-            acc[i, 1] = force[i, 1] * inv_m[i] + gy
-            acc[i, 2] = force[i, 2] * inv_m[i] + gz
-            alp[i, 0] = torque[i, 0] * inv_i[i]
-            alp[i, 1] = torque[i, 1] * inv_i[i]
-            alp[i, 2] = torque[i, 2] * inv_i[i]
-            vel[i, 0] += half * acc[i, 0]
-            vel[i, 1] += half * acc[i, 1]
-            vel[i, 2] += half * acc[i, 2]
-            omg[i, 0] += half * alp[i, 0]
-            omg[i, 1] += half * alp[i, 1]
-            omg[i, 2] += half * alp[i, 2]
-            if not (math.fabs(vel[i, 0]) + math.fabs(vel[i, 1]) + math.fabs(vel[i, 2]) < 1e6):
+            k = 3 * i
+            im = inv_m[i]
+            ii = inv_i[i]
+            f[k] = f[k] * im + gx
+            f[k + 1] = f[k + 1] * im + gy
+            f[k + 2] = f[k + 2] * im + gz
+            tq[k] = tq[k] * ii
+            tq[k + 1] = tq[k + 1] * ii
+            tq[k + 2] = tq[k + 2] * ii
+        bad = False
+        for k in range(m3):
+            v[k] += half * (f[k] - 2.0 * a[k] + ap[k])
+            w[k] += half * (tq[k] - 2.0 * al[k] + alp_[k])
+            ap[k] = a[k]
+            alp_[k] = al[k]
+            a[k] = f[k]
+            al[k] = tq[k]
+            if not (math.fabs(v[k]) < 1e6):
                 bad = True
-                culprit = i
+                culprit = k // 3
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         ledger[0] += vc * fd * dt
         ledger[1] += p_n * dt

@@ -1,0 +1,231 @@
+r"""Variable-step fifth-order Gear predictor-corrector (the paper's integrator, its ref. [9]).
+
+Each sphere has six second-order degrees of freedom: its position and a rotation "angle" vector
+whose rate is the spin (only the spin enters the physics). They are carried as a Nordsieck
+vector of scaled derivatives ``r_k = h^k / k! d^k x / dt^k``, k = 0..5, in ``nord[k, i, dof]``.
+
+Per step: Pascal-triangle prediction, forces at the predicted positions and velocities
+(``v = r_1 / h``), the corrector ``r_k += c_k Delta`` with ``Delta = h^2/2 a - r_2^pred`` and
+Gear's coefficients for velocity-dependent forces
+``c = (3/20, 251/360, 1, 11/18, 1/6, 1/60)`` (Allen & Tildesley, Computer Simulation of
+Liquids, App. E).
+
+**Error control.** ``|Delta|`` estimates the local error of a step [m] (spin DOFs are scaled by
+the radius). A step whose error exceeds 4x the tolerance is rejected and retried shorter; after
+an accepted step the next is ``h (tol/err)^(1/6)``, times 0.9, within [0.2, 1.5] h and within
+[dt_min, dt_max]. Steps end exactly on sample boundaries, where the Nordsieck vector is rescaled
+(``r_k *= (h_new/h_old)^k``).
+
+Reference: Gear, C. W. (1971). Numerical Initial Value Problems in Ordinary Differential
+Equations. Prentice-Hall.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .drive import drive_motion
+from .forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces
+from .jit import njit
+from .neighbours import max_displacement_sq, rebuild_lists
+from .record import record_sample
+
+__all__ = ["run_gear", "GEAR_C"]
+
+#: Corrector coefficients of the 6-value Gear scheme for second-order equations with
+#: velocity-dependent forces.
+GEAR_C = (3.0 / 20.0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0)
+
+
+@njit
+def _rescale(nord, ratio):
+    f = 1.0
+    for k in range(1, 6):
+        f *= ratio
+        for i in range(nord.shape[1]):
+            for c in range(6):
+                nord[k, i, c] *= f
+
+
+@njit
+def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, save, h_state,
+             pos, vel, omg, rad, mass, inv_m, inv_i, mat,
+             force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
+             nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
+             skin, use_cells, lo, cell, ncell, head, nxt, counts, ref,
+             row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
+             wall_kind, wall_data, wl_i, wl_w, nwl, wk, wmp, wvin, wd, wrs,
+             ledger, sig, eng, traj_every, traj, max_steps):
+    """Advance from ``t0`` to ``t_end`` [s] (or ``max_steps`` accepted steps).
+
+    ``h_state[0]`` is the step the Nordsieck vector is scaled to; ``h_try`` the next step to
+    try. Samples (interval ``ts``) are written as in :func:`pdamper.kernels.verlet.run_verlet`
+    when ``record`` is true (sample k ends at ``(k + 1) ts``).
+
+    Returns ``(status, accepted_steps, culprit, t, h_next, rejected_steps)``.
+    """
+    n = rad.shape[0]
+    c0, c1, c2, c3, c4, c5 = GEAR_C
+    skin2 = 0.25 * skin * skin
+    n_wl = nwl[0]
+    t = t0
+    h = h_try
+    hs = h_state[0]
+    steps = 0
+    rejected = 0
+    if prime:
+        r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
+                          row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
+                          wall_kind, wall_data, wl_i, wl_w, ref)
+        if r < 0:
+            return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), 0, -1, t, h, 0
+        n_wl = r
+        nwl[0] = r
+        compute_forces(pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp, pms,
+                       wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+                       estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, h)
+        xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t)
+        hs = h
+        for i in range(n):
+            for c in range(3):
+                nord[0, i, c] = pos[i, c]
+                nord[1, i, c] = hs * vel[i, c]
+                nord[2, i, c] = 0.5 * hs * hs * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c])
+                nord[0, i, 3 + c] = 0.0
+                nord[1, i, 3 + c] = hs * omg[i, c]
+                nord[2, i, 3 + c] = 0.5 * hs * hs * torque[i, c] * inv_i[i]
+                for k in range(3, 6):
+                    nord[k, i, c] = 0.0
+                    nord[k, i, 3 + c] = 0.0
+    while t < t_end - 1e-12 * ts and steps < max_steps:
+        # step length: end on the next sample boundary or t_end
+        kb = math.floor(t / ts + 1e-6) + 1
+        tb = kb * ts
+        hh = h
+        if hh > tb - t:
+            hh = tb - t
+        if hh > t_end - t:
+            hh = t_end - t
+        if hh != hs:
+            _rescale(nord, hh / hs)
+            hs = hh
+        # neighbour lists at the current positions
+        for i in range(n):
+            for c in range(3):
+                pos[i, c] = nord[0, i, c]
+        if max_displacement_sq(pos, ref) > skin2:
+            r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
+                              row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
+                              wall_kind, wall_data, wl_i, wl_w, ref)
+            if r < 0:
+                h_state[0] = hs
+                return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), steps, -1, t, h, rejected
+            n_wl = r
+            nwl[0] = r
+        # save and predict
+        for i in range(n):
+            for c in range(6):
+                for k in range(6):
+                    save[k, i, c] = nord[k, i, c]
+                r0 = nord[0, i, c]
+                r1 = nord[1, i, c]
+                r2 = nord[2, i, c]
+                r3 = nord[3, i, c]
+                r4 = nord[4, i, c]
+                r5 = nord[5, i, c]
+                nord[0, i, c] = r0 + r1 + r2 + r3 + r4 + r5
+                nord[1, i, c] = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
+                nord[2, i, c] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
+                nord[3, i, c] = r3 + 4.0 * r4 + 10.0 * r5
+                nord[4, i, c] = r4 + 5.0 * r5
+        inv_h = 1.0 / hs
+        for i in range(n):
+            for c in range(3):
+                pos[i, c] = nord[0, i, c]
+                vel[i, c] = nord[1, i, c] * inv_h
+                omg[i, c] = nord[1, i, 3 + c] * inv_h
+        tn = t + hs
+        fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
+            pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp, pms,
+            wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+            estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, hs)
+        xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, tn)
+        half_h2 = 0.5 * hs * hs
+        err = 0.0
+        for i in range(n):
+            for c in range(3):
+                dlt = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - nord[2, i, c]
+                force[i, c] = dlt
+                if math.fabs(dlt) > err:
+                    err = math.fabs(dlt)
+                dr = half_h2 * torque[i, c] * inv_i[i] - nord[2, i, 3 + c]
+                torque[i, c] = dr
+                if math.fabs(dr) * rad[i] > err:
+                    err = math.fabs(dr) * rad[i]
+        if not (err < 1e300):
+            h_state[0] = hs
+            return STATUS_NAN, steps, culprit, t, h, rejected
+        if err > 4.0 * tol and hs > dt_min * 1.000001:
+            # reject: restore and retry shorter
+            for i in range(n):
+                for c in range(6):
+                    for k in range(6):
+                        nord[k, i, c] = save[k, i, c]
+            fac = 0.9 * (tol / err) ** (1.0 / 6.0)
+            if fac < 0.2:
+                fac = 0.2
+            h = hs * fac
+            if h < dt_min:
+                h = dt_min
+            rejected += 1
+            continue
+        # accept: correct
+        for i in range(n):
+            for c in range(6):
+                dlt = force[i, c] if c < 3 else torque[i, c - 3]
+                nord[0, i, c] += c0 * dlt
+                nord[1, i, c] += c1 * dlt
+                nord[2, i, c] += c2 * dlt
+                nord[3, i, c] += c3 * dlt
+                nord[4, i, c] += c4 * dlt
+                nord[5, i, c] += c5 * dlt
+        t = tn
+        steps += 1
+        fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
+        ledger[0] += vc * fd * hs
+        ledger[1] += p_n * hs
+        ledger[2] += p_f * hs
+        ledger[3] += fd * hs
+        if status != STATUS_OK:
+            h_state[0] = hs
+            return status, steps, culprit, t, h, rejected
+        # next step
+        fac = 1.5 if err <= 0.0 else 0.9 * (tol / err) ** (1.0 / 6.0)
+        if fac > 1.5:
+            fac = 1.5
+        if fac < 0.2:
+            fac = 0.2
+        if not (hs < h and fac >= 1.0):
+            h = hs * fac
+        if h > dt_max:
+            h = dt_max
+        if h < dt_min:
+            h = dt_min
+        if record and math.fabs(t - tb) <= 1e-9 * ts:
+            for i in range(n):
+                for c in range(3):
+                    pos[i, c] = nord[0, i, c]
+                    vel[i, c] = nord[1, i, c] * inv_h
+                    omg[i, c] = nord[1, i, 3 + c] * inv_h
+            record_sample(kb - 1, ts, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
+                          row, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk,
+                          ledger, sig, eng, traj_every, traj)
+    # leave the state in pos/vel/omg
+    inv_h = 1.0 / hs
+    for i in range(n):
+        for c in range(3):
+            pos[i, c] = nord[0, i, c]
+            vel[i, c] = nord[1, i, c] * inv_h
+            omg[i, c] = nord[1, i, 3 + c] * inv_h
+    h_state[0] = hs
+    return STATUS_OK, steps, -1, t, h, rejected
