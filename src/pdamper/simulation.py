@@ -43,7 +43,9 @@ def _radii_masses(case):
 def auto_time_step(case: Case) -> float:
     """Time step [s] for the fixed-step integrator: the shortest Hertz contact time among the
     case's contact types at the expected largest impact speed, over ``steps_per_contact``,
-    capped by ``max_time_step``."""
+    capped by ``max_time_step``. The expected impact speed is ``numerics.max_impact_speed`` or
+    2.5 x the drive's largest velocity (2.5 x the largest initial velocity in a still
+    container) plus 0.1 m/s."""
     num = case.numerics
     if num.time_step is not None:
         return num.time_step
@@ -51,6 +53,9 @@ def auto_time_step(case: Case) -> float:
         v = num.max_impact_speed
     elif isinstance(case.drive, HarmonicDrive):
         v = 2.5 * case.drive.velocity_amplitude + 0.1
+    elif case.drive.kind == "still":
+        v0 = np.asarray(case.initial.velocities if case.initial.velocities is not None else [[0.0, 0.0, 0.0]])
+        v = 2.5 * float(np.max(np.linalg.norm(v0, axis=-1))) + 0.1
     else:
         _, vc, _ = case.drive.motion(np.asarray(case.drive.time))
         v = 2.5 * float(np.max(np.abs(vc))) + 0.1
@@ -237,7 +242,8 @@ class Simulation:
         self.nwl = np.zeros(1, dtype=np.int64)
         self.wvin = np.zeros((n, nw))
         self.wd = np.zeros((n, nw))
-        self.ledger = np.zeros(4)
+        # running sums: work, damping, friction, impulse; [4:8] Gear's integrands at the last step
+        self.ledger = np.zeros(8)
         self.dt = auto_time_step(case)
         self._primed = False  # initial accelerations not computed yet
 
@@ -268,6 +274,7 @@ class Simulation:
                 arr[: old.shape[0]] = old
         for k, arr in new.items():
             setattr(self, k, arr)
+        self.hist_p = np.zeros((2, cap))  # Gear: pair history saved before each step
 
     # ------------------------------------------------------------------ running
     def _advance(self, n_steps, t0, step0, sub, record, rec_offset, sig, eng, traj_every, traj):
@@ -307,7 +314,7 @@ class Simulation:
         while t < t_end - 1e-12 * ts:
             status, k, culprit, t, self._h_next, rej = run_gear(
                 t_end, self._h_next, t, ts, record, not self._primed, num.gear_tolerance, self._dt_min,
-                self._dt_max, self.nord, self.save, self.h_state,
+                self._dt_max, self.nord, self.save, self.hist_p, self.hist_w, self.h_state,
                 self.pos, self.vel, self.omg, self.rad, self.mass, self.inv_m, self.inv_i, self.mat,
                 self.force, self.torque, self.gvec, self.dvec, *self._drive,
                 self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
@@ -371,6 +378,7 @@ class Simulation:
         if gear:
             self.nord = np.zeros((6, self.n, 6))
             self.save = np.zeros((6, self.n, 6))
+            self.hist_w = np.zeros((2,) + self.wvin.shape)
             self.h_state = np.array([self.dt])
             self._h_next = self.dt
             self._dt_min = self.dt / 50.0
@@ -395,7 +403,7 @@ class Simulation:
         self.vel -= jump
         if gear and self._primed:
             self.nord[1, :, 0:3] -= self.h_state[0] * jump
-        self.ledger[:] = 0.0
+        self.ledger[:4] = 0.0
         total = n_samples * sub
         seg_samples = max(1, int(0.25 * fs))  # ~0.25 s of simulated time per call
         done = 0

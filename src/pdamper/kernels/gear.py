@@ -48,7 +48,7 @@ def _rescale(nord, ratio):
 
 
 @njit
-def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, save, h_state,
+def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, save, hist_p, hist_w, h_state,
              pos, vel, omg, rad, mass, inv_m, inv_i, mat,
              force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
              nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
@@ -58,6 +58,8 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
              ledger, sig, eng, traj_every, traj, max_steps):
     """Advance from ``t0`` to ``t_end`` [s] (or ``max_steps`` accepted steps).
 
+    ``save``, ``hist_p`` (2, list capacity) and ``hist_w`` (2, N, walls) hold the state and the
+    contact history before each step, restored when the step is rejected.
     ``h_state[0]`` is the step the Nordsieck vector is scaled to; ``h_try`` the next step to
     try. Samples (interval ``ts``) are written as in :func:`pdamper.kernels.verlet.run_verlet`
     when ``record`` is true (sample k ends at ``(k + 1) ts``).
@@ -73,6 +75,11 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
     hs = h_state[0]
     steps = 0
     rejected = 0
+    # integrands at the start of the step (kept between calls in ledger[4:8])
+    q_w = ledger[4]
+    q_n = ledger[5]
+    q_f = ledger[6]
+    q_i = ledger[7]
     if prime:
         r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
                           row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
@@ -99,10 +106,12 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
                     nord[k, i, 3 + c] = 0.0
     while t < t_end - 1e-12 * ts and steps < max_steps:
         # step length: end on the next sample boundary or t_end
-        kb = math.floor(t / ts + 1e-6) + 1
+        # (a step that would stop just short of the boundary is stretched onto it, so no
+        # boundary is ever passed over or approached by a sliver of a step)
+        kb = math.floor(t / ts + 1e-9) + 1
         tb = kb * ts
         hh = h
-        if hh > tb - t:
+        if hh > tb - t or tb - t - hh < 1e-3 * hh:
             hh = tb - t
         if hh > t_end - t:
             hh = t_end - t
@@ -144,6 +153,15 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
                 pos[i, c] = nord[0, i, c]
                 vel[i, c] = nord[1, i, c] * inv_h
                 omg[i, c] = nord[1, i, 3 + c] * inv_h
+        # contact history as it was, in case the step is rejected
+        npair = row[n]
+        for a in range(npair):
+            hist_p[0, a] = pvin[a]
+            hist_p[1, a] = pd[a]
+        for i in range(n):
+            for w in range(wvin.shape[1]):
+                hist_w[0, i, w] = wvin[i, w]
+                hist_w[1, i, w] = wd[i, w]
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp, pms,
@@ -166,11 +184,18 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
             h_state[0] = hs
             return STATUS_NAN, steps, culprit, t, h, rejected
         if err > 4.0 * tol and hs > dt_min * 1.000001:
-            # reject: restore and retry shorter
+            # reject: restore state and contact history, retry shorter
             for i in range(n):
                 for c in range(6):
                     for k in range(6):
                         nord[k, i, c] = save[k, i, c]
+            for a in range(npair):
+                pvin[a] = hist_p[0, a]
+                pd[a] = hist_p[1, a]
+            for i in range(n):
+                for w in range(wvin.shape[1]):
+                    wvin[i, w] = hist_w[0, i, w]
+                    wd[i, w] = hist_w[1, i, w]
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
             if fac < 0.2:
                 fac = 0.2
@@ -191,14 +216,24 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
                 nord[5, i, c] += c5 * dlt
         t = tn
         steps += 1
+        # trapezoidal sums over the (variable) steps: with unequal steps the end-point rule
+        # does not telescope and would bias the ledger
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
-        ledger[0] += vc * fd * hs
-        ledger[1] += p_n * hs
-        ledger[2] += p_f * hs
-        ledger[3] += fd * hs
+        ledger[0] += 0.5 * (vc * fd + q_w) * hs
+        ledger[1] += 0.5 * (p_n + q_n) * hs
+        ledger[2] += 0.5 * (p_f + q_f) * hs
+        ledger[3] += 0.5 * (fd + q_i) * hs
+        q_w = vc * fd
+        q_n = p_n
+        q_f = p_f
+        q_i = fd
         if status != STATUS_OK:
             h_state[0] = hs
             return status, steps, culprit, t, h, rejected
+        ledger[4] = q_w
+        ledger[5] = q_n
+        ledger[6] = q_f
+        ledger[7] = q_i
         # next step
         fac = 1.5 if err <= 0.0 else 0.9 * (tol / err) ** (1.0 / 6.0)
         if fac > 1.5:
