@@ -95,6 +95,17 @@ def test_plot_files_are_written(tmp_path):
     assert out["plots"] == [str(eta_png), str(fig5_svg)]
 
 
+@pytest.mark.parametrize("particles", ["30", "36", "42", "44"])
+def test_fig5_at_x_opt_for_any_filling(tmp_path, particles):
+    # X_opt/h recomputed from X_opt and h may fall an ulp below X_OPT_OVER_H (42 in a cylinder).
+    fig5 = tmp_path / "fig5.png"
+    for shape in (["--length", "120mm"], ["--shape", "cylinder", "--radius", "39mm"]):
+        result = run(["theory", *shape, "--particles", particles, "--max-particles", "48",
+                      "--frequency", "2Hz", "--fig5", str(fig5)])
+        assert result.exit_code == 0, result.output
+        assert fig5.stat().st_size > 1000
+
+
 OPTS = ["--max-particles", "48", "--frequency", "2Hz"]
 
 

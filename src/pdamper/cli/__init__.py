@@ -1,8 +1,10 @@
 """The ``pdamper`` command line: thin commands over the public API.
 
 Each command lives in its own module of this package and registers itself on
-:data:`main`. Errors a user can fix (:class:`pdamper.errors.InputError`) are
-printed as one line ``Error: ...`` with exit code 2, never as a traceback.
+:data:`main` (as a :class:`~pdamper.cli.common.OneLineCommand`). Errors a user can
+fix -- :class:`pdamper.errors.InputError` and click's usage errors (a bad unit, an
+unknown option, a missing argument) -- are printed as one line ``Error: ...`` with
+exit code 2, never as a traceback or a usage block.
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ from .. import __version__
 from ..analysis import DEFAULT_DROP_CYCLES, analyze_record
 from ..errors import InputError
 from ..io.records import read_record
-from .common import Quantity, echo_json, fail, main, user_errors
+from .common import Quantity, echo_json, main, user_errors
 
 __all__ = ["analyze_command", "STEADY_SPREAD"]
 
@@ -19,17 +19,7 @@ __all__ = ["analyze_command", "STEADY_SPREAD"]
 STEADY_SPREAD = 0.10
 
 
-class _OneLineCommand(click.Command):
-    """A command whose usage errors (bad option value, unknown option) print one ``Error:`` line."""
-
-    def parse_args(self, ctx, args):
-        try:
-            return super().parse_args(ctx, args)
-        except click.UsageError as exc:
-            fail(exc.format_message())
-
-
-@main.command("analyze", cls=_OneLineCommand)
+@main.command("analyze")
 @click.argument("record", type=click.Path(dir_okay=True))
 @click.option("--bed-mass", type=Quantity("mass"),
               help="Mass of all particles m_bed, e.g. 149g; needed for eta* (eq. 5).")

@@ -12,11 +12,52 @@ from .. import __version__
 from ..errors import InputError, SimulationError
 from ..units import parse_quantity
 
-__all__ = ["main", "Quantity", "user_errors", "echo_json"]
+__all__ = ["main", "OneLineCommand", "Quantity", "user_errors", "echo_json", "fail"]
+
+# Raised when a group is called without arguments (click >= 8.2): it carries the help text,
+# which must be shown as it is, not squeezed into one error line.
+_HELP_ERRORS = tuple(e for e in (getattr(click.exceptions, "NoArgsIsHelpError", None),) if e)
+
+
+class OneLineCommand(click.Command):
+    """A command whose usage errors print one ``Error: ...`` line on stderr, with exit code 2.
+
+    Click would print the usage and a "Try ... --help" hint above the message; for a bad
+    value (``--length 12kg``), an unknown option or a missing argument we print only the
+    message. It is the default class of every ``@main.command``.
+    """
+
+    def parse_args(self, ctx, args):
+        try:
+            return super().parse_args(ctx, args)
+        except _HELP_ERRORS:
+            raise
+        except click.UsageError as exc:
+            fail(exc.format_message())
 
 
 class _Group(click.Group):
-    """Command group that turns user-fixable errors into one-line messages with exit code 2."""
+    """Command group that turns user-fixable errors into one-line messages with exit code 2.
+
+    Its commands are :class:`OneLineCommand` s; an unknown command or group option is one
+    line too.
+    """
+
+    command_class = OneLineCommand
+
+    def parse_args(self, ctx, args):
+        try:
+            return super().parse_args(ctx, args)
+        except _HELP_ERRORS:
+            raise
+        except click.UsageError as exc:
+            fail(exc.format_message())
+
+    def resolve_command(self, ctx, args):
+        try:
+            return super().resolve_command(ctx, args)
+        except click.UsageError as exc:
+            fail(exc.format_message())
 
     def invoke(self, ctx):
         try:
@@ -49,8 +90,10 @@ class Quantity(click.ParamType):
         try:
             return parse_quantity(value, self.dimension, name=label)
         except InputError as exc:
-            # BadParameter exits with code 2; we want the message only once.
-            raise click.UsageError(str(exc), ctx) from None
+            # A UsageError (not BadParameter, which would prefix "Invalid value for ...") so the
+            # message, which already names the option, is printed once; OneLineCommand makes it
+            # one line, and outside pdamper's group click still exits with code 2.
+            raise click.UsageError(" ".join(str(exc).split()), ctx) from None
 
     def get_metavar(self, param, ctx=None):  # noqa: D401 - click API
         return self.dimension.upper()

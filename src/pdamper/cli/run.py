@@ -10,19 +10,9 @@ import tomllib
 import click
 
 from ..errors import InputError
-from .common import Quantity, echo_json, fail, main, user_errors
+from .common import Quantity, echo_json, main, user_errors
 
 __all__ = ["run_command", "parse_set"]
-
-
-class _OneLineCommand(click.Command):
-    """A command whose usage errors (bad option value, unknown option) print one ``Error:`` line."""
-
-    def parse_args(self, ctx, args):
-        try:
-            return super().parse_args(ctx, args)
-        except click.UsageError as exc:
-            fail(exc.format_message())
 
 
 def parse_set(items) -> dict:
@@ -44,7 +34,7 @@ def parse_set(items) -> dict:
     return out
 
 
-@main.command("run", cls=_OneLineCommand)
+@main.command("run")
 @click.argument("config", metavar="CONFIG.toml")
 @click.option("--stroke", type=Quantity("length"), help="Stroke X of the harmonic drive, e.g. 12mm.")
 @click.option("--frequency", type=Quantity("frequency"), help="Drive frequency f, e.g. 2Hz.")

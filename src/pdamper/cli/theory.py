@@ -6,7 +6,7 @@ import math
 
 import click
 
-from .. import __version__, theory as th
+from .. import __version__, theory as th  # its formulas load on first use (scipy)
 from ..errors import InputError
 from .common import Quantity, echo_json, main, user_errors
 
@@ -65,7 +65,8 @@ def theory_command(shape, length, radius, particles, max_particles, frequency, t
         from ..plotting.theory import rolling_phase_figure
 
         at = stroke if stroke is not None and stroke >= result["x_opt_m"] else result["x_opt_m"]
-        rolling_phase_figure(at / result["clearance_m"], path=fig5)
+        # X_opt/h recomputed from X_opt and h can fall an ulp below X_OPT_OVER_H: clamp.
+        rolling_phase_figure(max(at / result["clearance_m"], th.X_OPT_OVER_H), path=fig5)
         written.append(fig5)
     result["plots"] = written
     if as_json:

@@ -37,38 +37,80 @@ Examples
 
 from __future__ import annotations
 
-from .block_model import BlockImpact, integrate_rolling_block
-from .bouncing import (
-    ETA_MAX_BOUNCING,
-    energy_per_cycle_bouncing,
-    eta_bouncing,
-    impact_phase_bouncing,
-    optimal_stroke_bouncing,
-)
-from .bounds import (
-    GRAVITY,
-    acceleration_amplitude,
-    angular_frequency,
-    max_stroke_no_liftoff,
-    min_acceleration_tilt,
-    min_stroke_tilt,
-    velocity_amplitude,
-)
-from .clearance import SHAPES, clearance, container_length
-from .rolling import (
-    ETA_MAX,
-    X_OPT_OVER_H,
-    bed_position,
-    bed_velocity,
-    clearance_over_stroke,
-    energy_per_cycle_rolling,
-    eta_rolling,
-    eta_theory,
-    impact_phase_rolling,
-    optimal_stroke,
-    relative_velocity,
-)
-from .scattered import energy_per_cycle_scattered, eta_scattered
+import importlib
+from typing import TYPE_CHECKING
+
+# Imported now: the function ``clearance`` shares its name with its submodule, and binding it
+# here keeps a later ``import pdamper.theory.clearance`` from shadowing it. (numpy only.)
+from .clearance import SHAPES, clearance, container_length  # noqa: E402
+
+#: Public name -> submodule that defines it. The other submodules are imported on first use
+#: (PEP 562), so ``pdamper --help`` does not load scipy.
+_WHERE = {
+    "BlockImpact": "block_model", "integrate_rolling_block": "block_model",
+    "ETA_MAX_BOUNCING": "bouncing", "energy_per_cycle_bouncing": "bouncing",
+    "eta_bouncing": "bouncing", "impact_phase_bouncing": "bouncing",
+    "optimal_stroke_bouncing": "bouncing",
+    "GRAVITY": "bounds", "acceleration_amplitude": "bounds", "angular_frequency": "bounds",
+    "max_stroke_no_liftoff": "bounds", "min_acceleration_tilt": "bounds",
+    "min_stroke_tilt": "bounds", "velocity_amplitude": "bounds",
+    "ETA_MAX": "rolling", "X_OPT_OVER_H": "rolling", "bed_position": "rolling",
+    "bed_velocity": "rolling", "clearance_over_stroke": "rolling",
+    "energy_per_cycle_rolling": "rolling", "eta_rolling": "rolling", "eta_theory": "rolling",
+    "impact_phase_rolling": "rolling", "optimal_stroke": "rolling",
+    "relative_velocity": "rolling",
+    "energy_per_cycle_scattered": "scattered", "eta_scattered": "scattered",
+}
+_SUBMODULES = frozenset(_WHERE.values())
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f".{_WHERE[name]}", __name__), name)
+    elif name in _SUBMODULES:
+        value = importlib.import_module(f".{name}", __name__)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:  # for type checkers; at run time the names load on first use
+    from .block_model import BlockImpact, integrate_rolling_block
+    from .bouncing import (
+        ETA_MAX_BOUNCING,
+        energy_per_cycle_bouncing,
+        eta_bouncing,
+        impact_phase_bouncing,
+        optimal_stroke_bouncing,
+    )
+    from .bounds import (
+        GRAVITY,
+        acceleration_amplitude,
+        angular_frequency,
+        max_stroke_no_liftoff,
+        min_acceleration_tilt,
+        min_stroke_tilt,
+        velocity_amplitude,
+    )
+    from .rolling import (
+        ETA_MAX,
+        X_OPT_OVER_H,
+        bed_position,
+        bed_velocity,
+        clearance_over_stroke,
+        energy_per_cycle_rolling,
+        eta_rolling,
+        eta_theory,
+        impact_phase_rolling,
+        optimal_stroke,
+        relative_velocity,
+    )
+    from .scattered import energy_per_cycle_scattered, eta_scattered
 
 __all__ = [
     "SHAPES",

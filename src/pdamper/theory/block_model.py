@@ -23,8 +23,6 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from scipy.integrate import solve_ivp
-
 from ._common import positive
 from .bounds import angular_frequency
 
@@ -102,6 +100,8 @@ def integrate_rolling_block(stroke: float, clearance: float, *, frequency: float
 
     # A little past π so that an impact exactly at π (X = X_opt) is still found.
     t_end = math.pi * (1 + 1e-9) / omega
+    from scipy.integrate import solve_ivp  # here, not at import: scipy.integrate is slow to load
+
     sol = solve_ivp(rhs, (0.0, t_end), [0.0, v_amp], method="DOP853", rtol=rtol,
                     atol=rtol * max(h, x_amp), events=far_wall)
     if sol.t_events[0].size == 0:
