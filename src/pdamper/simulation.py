@@ -30,6 +30,9 @@ from .recorders.energy import EnergyLedger
 
 __all__ = ["Simulation", "RunResult", "run_case", "auto_time_step"]
 
+#: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
+GEAR_MIN_STEP = 1e-9
+
 #: Above this many spheres the Verlet list is built with link cells ("auto" search).
 CELLS_THRESHOLD = 150
 
@@ -381,7 +384,7 @@ class Simulation:
             self.hist_w = np.zeros((2,) + self.wvin.shape)
             self.h_state = np.array([self.dt])
             self._h_next = self.dt
-            self._dt_min = self.dt / 50.0
+            self._dt_min = GEAR_MIN_STEP
             self._dt_max = case.numerics.gear_max_step
             self.rejected_steps = 0
         steps = 0
