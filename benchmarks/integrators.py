@@ -1,6 +1,6 @@
 """Gear vs velocity Verlet on the paper's runs, at equal accuracy.
 
-Usage: python benchmarks/integrators.py [--quick]
+Usage: python benchmarks/integrators.py [--quick] [--strokes 13 30] [--seeds 0 1 2] [--settings verlet15 gear10]
 
 For each integrator setting this runs the paper's 36-sphere cuboid (examples/cuboid_36.toml)
 at two strokes and several seeds, and reports: wall time, steps, us/step, the energy-ledger
@@ -42,20 +42,23 @@ def impact_error(numerics):
 
 
 SETTINGS = {
-    "verlet, 15 steps/contact (default)": dict(integrator="verlet", steps_per_contact=15),
-    "verlet, 30 steps/contact": dict(integrator="verlet", steps_per_contact=30),
-    "gear, tol 1e-10 m": dict(integrator="gear", gear_tolerance=1e-10),
-    "gear, tol 1e-11 m": dict(integrator="gear", gear_tolerance=1e-11),
+    "verlet15": ("verlet, 15 steps/contact", dict(integrator="verlet", steps_per_contact=15)),
+    "verlet30": ("verlet, 30 steps/contact", dict(integrator="verlet", steps_per_contact=30)),
+    "gear10": ("gear, tol 1e-10 m (default)", dict(integrator="gear", gear_tolerance=1e-10)),
+    "gear11": ("gear, tol 1e-11 m", dict(integrator="gear", gear_tolerance=1e-11)),
 }
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="4 cycles, 1 seed, one stroke")
+    ap.add_argument("--strokes", nargs="+", type=float, default=[13.0, 30.0], help="strokes [mm]")
+    ap.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
+    ap.add_argument("--settings", nargs="+", choices=sorted(SETTINGS), default=list(SETTINGS))
     args = ap.parse_args()
     base = load_case(ROOT / "examples" / "cuboid_36.toml")
-    strokes = [0.013] if args.quick else [0.013, 0.030]
-    seeds = [0] if args.quick else [0, 1, 2]
+    strokes = [0.013] if args.quick else [x * 1e-3 for x in args.strokes]
+    seeds = [0] if args.quick else args.seeds
     cycles = 4 if args.quick else 20
     # compile everything once, outside the timings
     for kw in ({"integrator": "verlet"}, {"integrator": "gear"}):
@@ -65,7 +68,8 @@ def main():
     print(f"# Gear vs Verlet: cuboid_36, {cycles} cycles at 2 Hz, seeds {seeds}\n")
     print("| setting | stroke [mm] | wall [s] | steps | us/step | balance error | eta* mean | eta* spread | impact COR error |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name, kw in SETTINGS.items():
+    for key in args.settings:
+        name, kw = SETTINGS[key]
         num = dataclasses.replace(base.numerics, **kw)
         ierr = impact_error(num)
         for x in strokes:
