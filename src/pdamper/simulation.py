@@ -34,7 +34,7 @@ __all__ = ["Simulation", "RunResult", "run_case", "auto_time_step"]
 GEAR_MIN_STEP = 1e-9
 
 #: Above this many spheres the Verlet list is built with link cells ("auto" search).
-CELLS_THRESHOLD = 150
+CELLS_THRESHOLD = 200
 
 
 def _radii_masses(case):
