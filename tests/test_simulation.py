@@ -62,7 +62,6 @@ def test_different_seed_gives_a_different_run():
 
 
 def test_without_jitter_the_seed_does_not_matter_and_runs_repeat():
-    # (at 3 mm: a lattice start at 8 mm and above is unstable, see the xfail below)
     over = {"drive.stroke": "3mm"}
     a = Simulation(_short(seed=1, jitter=0, **over)).run(analyse=False)
     b = Simulation(_short(seed=2, jitter=0, **over)).run(analyse=False)
@@ -80,7 +79,8 @@ def _row_against_the_wall(n=4, integrator="verlet"):
 
 
 def test_a_row_resting_against_the_wall_survives_the_drive_start_in_the_controls():
-    # the controls for the xfail below: with eps = 1 (no damping) the same Verlet start is stable
+    # the controls of the lattice-start regression test below: with eps = 1 (no damping) the same
+    # Verlet start is stable
     from pdamper.contact import ConstantRestitution
 
     case = _row_against_the_wall()
@@ -97,12 +97,10 @@ def test_gear_runs_the_lattice_start_of_the_paper_case():
     Simulation(_short(jitter=0, cycles=0.2)).run(analyse=False)
 
 
-@pytest.mark.xfail(strict=True, raises=SimulationError, reason=(
-    "automatic Verlet step ignores the damping of resting contacts: contacts made while settling get "
-    "v_in = v_in_floor (1 mm/s), so d = chi/v_floor = 166 s/m at eps = 0.9; when the drive starts and the wall "
-    "hits the resting row at V = 0.16 m/s the damping rate c dt / m* = k delta^1.5 d dt / m* reaches ~5 > 2 "
-    "(dt = 2.31 us; 0.03 for a fresh contact at that speed) and the run blows up ('unstable at t = 0.000074 s'); the paper's 36-sphere case with initial.jitter = 0 fails the same "
-    "way at 8, 13 and 30 mm (Gear, dt = 1 us, eps = 1 or v_in_floor = 1 cm/s all run)"))
+# Regression (found in review): contacts made while settling had v_in = v_in_floor, so
+# d = chi / v_floor = 166 s/m, and the first wall impact made their damping too stiff for the
+# step ('unstable at t = 0.000074 s'). v_in now rises to the largest approach speed a contact
+# sees (kernels/forces.py), so a perfect-lattice start runs with the automatic step.
 @pytest.mark.parametrize("which", ["row of 4", "cuboid_36 lattice"])
 def test_a_lattice_start_runs_with_the_automatic_step(which):
     if which == "row of 4":

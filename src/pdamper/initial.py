@@ -42,10 +42,13 @@ def initial_positions(case, rng: np.random.Generator) -> np.ndarray:
 
 def _capacity_error(case, n_fit, rad):
     g = case.container.geometry
+    if case.initial.arrangement == "scatter":
+        more = "or arrangement = 'block' with initial.layers = 'auto' to stack layers (a scatter has one layer)"
+    else:
+        more = "or set initial.layers = 'auto' to stack layers"
     raise InputError(
         f"particles: {rad.size} spheres of r = {rad.max() * 1e3:g} mm do not fit on the floor of the {g.shape} "
-        f"in one layer (at most {n_fit}); use fewer particles, a larger container, or set initial.layers = 'auto' "
-        "to stack layers")
+        f"in one layer (at most {n_fit}); use fewer particles, a larger container, {more}")
 
 
 def _layer_sites(case, r, jitter, n_needed=None):

@@ -8,6 +8,7 @@ complex-power analysis.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -346,13 +347,16 @@ class Simulation:
             return
         what = "an overlap beyond " + f"{100 * self.case.numerics.overlap_limit:g} % of the radius" \
             if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
+        when = f"t = {t_fail:.6f} s" if t_fail >= 0 else f"t = {t_fail:.6f} s (during settling, before the drive)"
         if self.case.numerics.integrator == "gear":
-            fix = "a smaller numerics.gear_tolerance"
+            fix = "a smaller numerics.gear_tolerance or numerics.gear_max_step"
         else:
-            fix = (f"a smaller numerics.time_step (e.g. {dt * 5e5:.3g} us), more numerics.steps_per_contact, "
-                   "or a larger numerics.max_impact_speed")
+            suggest = min(dt, auto_time_step(dataclasses.replace(
+                self.case, numerics=dataclasses.replace(self.case.numerics, time_step=None)))) / 2
+            fix = (f"a smaller numerics.time_step (e.g. {suggest * 1e6:.3g} us), more numerics.steps_per_contact, "
+                   "a larger numerics.max_impact_speed, or integrator = 'gear'")
         raise SimulationError(
-            f"the run became unstable at t = {t_fail:.6f} s: particle {culprit} reached {what} with time step "
+            f"the run became unstable at {when}: particle {culprit} reached {what} with time step "
             f"{dt * 1e6:.3g} us; use {fix}")
 
     def run(self, *, progress=None, analyse: bool = True) -> RunResult:

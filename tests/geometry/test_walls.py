@@ -72,7 +72,7 @@ def test_plane_row_normalises_its_normal():
 
 def test_cylinder_walls_floor_lid_and_curved_wall():
     kinds, data, names = PAPER_CYL.walls()
-    assert names == ["floor", "lid", "wall"]
+    assert names == ["floor", "lid", "curved"]
     assert list(kinds) == [PLANE, PLANE, CYLINDER_INSIDE]
     np.testing.assert_allclose(data[2], [0, 0, 0, 0, 1, 0, PAPER_CYL.radius])
 

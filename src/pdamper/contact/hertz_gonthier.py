@@ -15,7 +15,8 @@ touch of that contact, kept as contact history.
 The force is clipped at zero: a contact never pulls.
 
 **Guard for resting contacts.** As :math:`v_{in}\to 0` the damping parameter diverges. pdamper
-uses :math:`v_{in} \leftarrow \max(v_{in}, v_\text{floor})` with the default
+uses :math:`v_{in} \leftarrow \max(v_{in}, v_\text{floor})`, and raises :math:`v_{in}` to any
+larger approach speed the contact sees later (see :mod:`pdamper.kernels.forces`), with the default
 :data:`V_IN_FLOOR` = 1 mm/s. Below that speed a contact is slightly less dissipative than
 Gonthier's law says; a sphere resting on the floor then sits in a damped Hertz well whose
 damping rate ``g d`` is bounded, so explicit integrators stay stable. Tested in

@@ -49,7 +49,7 @@ class Cylinder:
         rows = [plane((0, 1, 0), 0.0), plane((0, -1, 0), -self.height),
                 cylinder_inside((0, 0, 0), (0, 1, 0), self.radius)]
         kinds = np.array([PLANE, PLANE, CYLINDER_INSIDE], dtype=np.int64)
-        return kinds, np.array(rows), ["floor", "lid", "wall"]
+        return kinds, np.array(rows), ["floor", "lid", "curved"]
 
     def floor_sites(self, radius: float, spacing: float) -> np.ndarray:
         """Sites (x, z) of one layer for spheres of ``radius`` at centre distance >= ``spacing``,

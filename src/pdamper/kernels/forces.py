@@ -5,6 +5,16 @@ tangential law tanh-regularised Coulomb friction (:mod:`pdamper.contact.friction
 COR law reaches the kernels as a table of the dimensionless damping chi(eps(v)) over log-spaced
 speeds (for Thornton's law over v / v_y, with the yield speed computed per contact at first touch).
 
+**Contact history.** ``v_in`` of a contact is the largest normal approach speed it has seen
+since it began (floored at ``v_floor``), and the damping parameter is ``d = chi(eps(v_in)) /
+v_in``. For a single impact the approach speed is largest at the first touch, so this is
+Gonthier's first-touch speed; a resting contact that is struck again (a bed settled against a
+wall when the drive starts, a chain of spheres hit by a neighbour) is treated as a new impact
+at the new speed. Without that, a resting contact keeps ``d = chi / v_floor`` and its damping
+``k delta^1.5 d delta_dot`` becomes too stiff for any explicit step when it is loaded fast
+(found in review: a perfect-lattice start blew up at the first wall impact). With it the
+damping force never exceeds ``chi`` times the elastic force while the contact is compressed.
+
 Conventions: pair normal n points from i to j, the overlap is ``delta = r_i + r_j - |x_j - x_i|``
 and its rate ``delta_dot = (v_i - v_j).n`` (> 0 approaching). Wall normals point into the
 container. Friction acts at ``r_i n`` from each centre (contact point), making torques.
@@ -128,7 +138,8 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             rvy = vel[i, 1] - vel[j, 1]
             rvz = vel[i, 2] - vel[j, 2]
             ddot = rvx * nx + rvy * ny + rvz * nz
-            if pvin[a] == 0.0:
+            if pvin[a] == 0.0 or ddot > pvin[a]:
+                # first touch, or struck harder than ever before in this contact
                 pvin[a] = max(ddot, v_floor)
                 pd[a] = first_touch(ddot, pmp[a], estar[pmp[a]], ri * rj / cut, pms[a] / FRICTION_CAP,
                                     cor_tab, cor_py, logv0, dlogv, v_floor)
@@ -193,7 +204,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         vz = vel[i, 2]
         ddot = -(vx * nx + vy * ny + vz * nz)
         mp = wmp[i, w]
-        if wvin[i, w] == 0.0:
+        if wvin[i, w] == 0.0 or ddot > wvin[i, w]:
             wvin[i, w] = max(ddot, v_floor)
             wd[i, w] = first_touch(ddot, mp, estar[mp], wrs[i, w], mass[i],
                                    cor_tab, cor_py, logv0, dlogv, v_floor)
