@@ -62,15 +62,14 @@ import csv
 import dataclasses
 import difflib
 import math
-import os
 import tomllib
-import uuid
 from pathlib import Path
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.cor_table import TabulatedRestitution
 from .contact.cor_thornton import ThorntonRestitution
 from .errors import InputError
+from .io.files import atomic_write
 from .excitation import HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
@@ -815,18 +814,5 @@ def dumps_case(case: Case, *, name: str = "config.toml") -> str:
 def dump_case(case: Case, path) -> Path:
     """Write ``case`` to the TOML file ``path`` atomically (temporary file + rename); returns the path."""
     path = Path(path)
-    text = dumps_case(case, name=path.name)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
-    try:
-        with open(tmp, "x", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    atomic_write(path, dumps_case(case, name=path.name))
     return path

@@ -46,7 +46,18 @@ def test_sphere_on_tilted_floor_accelerates_at_five_sevenths_g_sin_alpha(axis):
 
 
 def test_friction_factor_limits():
-    assert friction_factor(0.1, 1000.0, 0.0) == 0.0
+    # no slip: the factor stays finite (mu tau), so the friction force factor * v_t vanishes
+    assert friction_factor(0.1, 1000.0, 0.0) == pytest.approx(0.1 * 1000.0, rel=1e-6)
     # saturates at mu / |v| for fast slip, linear (mu tau) for slow slip
     assert friction_factor(0.1, 1000.0, 1.0) == pytest.approx(0.1)
     assert friction_factor(0.1, 1000.0, 1e-7) == pytest.approx(0.1 * 1000.0, rel=1e-6)
+
+
+def test_tanh_approximation_is_accurate_everywhere():
+    import math
+
+    from pdamper.contact.friction_tanh import tanh_pos
+
+    xs = np.geomspace(1e-12, 50.0, 20001)
+    err = max(abs(tanh_pos(x) - math.tanh(x)) / math.tanh(x) for x in xs)
+    assert err < 3e-7

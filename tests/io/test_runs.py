@@ -98,7 +98,9 @@ def test_a_failed_write_leaves_no_result_json_and_no_temp_file(tmp_path, monkeyp
             raise OSError("disk full")
         return real(src, dst)
 
-    monkeypatch.setattr(runs.os, "replace", boom)
+    from pdamper.io import files
+
+    monkeypatch.setattr(files.os, "replace", boom)
     with pytest.raises(OSError):
         write_run(synthetic_result(), tmp_path / "r")
     names = sorted(p.name for p in (tmp_path / "r").iterdir())

@@ -9,6 +9,7 @@ import sys
 import click
 
 from .. import __version__
+from ..io.files import json_safe
 from ..errors import InputError, SimulationError
 from ..units import parse_quantity
 
@@ -120,25 +121,6 @@ def fail(message: str, code: int = 2):
 
 def echo_json(obj) -> None:
     """Print one JSON object (NaN/inf written as null) to stdout."""
-    click.echo(json.dumps(_clean(obj), indent=2, sort_keys=False))
+    click.echo(json.dumps(json_safe(obj), indent=2, sort_keys=False))
 
 
-def _clean(obj):
-    import math
-
-    import numpy as np
-
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return [_clean(v) for v in obj.tolist()]
-    if isinstance(obj, (np.floating, float)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    return obj

@@ -28,31 +28,48 @@ import math
 
 from ..kernels.jit import njit
 
-__all__ = ["DEFAULT_TAU", "friction_factor", "tanh_pos"]
+__all__ = ["DEFAULT_TAU", "friction_factor", "tanh_pos", "TANH_SATURATION"]
 
 #: Default smoothing parameter tau [s/m].
 DEFAULT_TAU = 1000.0
 
 
+# Rational minimax approximation of tanh on [0, 7.9053] (the coefficients Eigen uses for its
+# vectorised tanh): x P(x^2) / Q(x^2), relative error < 3e-7; beyond 7.9053 tanh = 1 - 3e-7 is
+# taken as 1. No exp, no branch but the clamp: cheaper than libm on the contact hot path.
+_TP = (4.89352455891786e-03, 6.37261928875436e-04, 1.48572235717979e-05, 5.12229709037114e-08,
+       -8.60467152213735e-11, 2.00018790482477e-13, -2.76076847742355e-16)
+_TQ = (4.89352518554385e-03, 2.26843463243900e-03, 1.18534705686654e-04, 1.19825839466702e-06)
+#: Beyond this argument the approximation returns 1.
+TANH_SATURATION = 7.90531110763549805
+
+
+@njit
+def _tanh_ratio(x):
+    """tanh(x)/x for 0 <= x <= TANH_SATURATION (rational approximation, relative error < 3e-7)."""
+    x2 = x * x
+    p = ((((((_TP[6] * x2 + _TP[5]) * x2 + _TP[4]) * x2 + _TP[3]) * x2 + _TP[2]) * x2 + _TP[1]) * x2 + _TP[0])
+    q = (((_TQ[3] * x2 + _TQ[2]) * x2 + _TQ[1]) * x2 + _TQ[0])
+    return p / q
+
+
 @njit
 def tanh_pos(x):
-    """tanh(x) for x >= 0, to ~1e-15 relative, faster than libm's tanh on the hot path:
-    1 beyond x = 19 (tanh(19) = 1 - 6e-17), a series below 1e-3, ``(1 - e^-2x)/(1 + e^-2x)`` between."""
-    if x > 19.0:
+    """tanh(x) for x >= 0 to a relative error below 3e-7 (see :data:`TANH_SATURATION`)."""
+    if x >= TANH_SATURATION:
         return 1.0
-    if x < 1e-3:
-        x2 = x * x
-        return x * (1.0 - x2 * (1.0 / 3.0 - x2 * (2.0 / 15.0)))
-    t = math.exp(-2.0 * x)
-    return (1.0 - t) / (1.0 + t)
+    return x * _tanh_ratio(x)
 
 
 @njit
 def friction_factor(mu, tau, vt_mag):
     """Scalar -|F_R|/(|F_N| |v_t|) factor: the friction vector is ``-factor * F_N * v_t``.
 
-    Returns 0 for ``vt_mag == 0`` (the limit of tanh(tau v)/v is tau, but times v_t = 0).
+    For slow slip it tends to ``mu tau`` (the friction force ``-factor F_N v_t`` then vanishes
+    with v_t). tanh is evaluated by :func:`tanh_pos` (relative error < 3e-7).
     """
-    if vt_mag <= 0.0:
-        return 0.0
-    return mu * tanh_pos(tau * vt_mag) / vt_mag
+    x = tau * vt_mag
+    if x >= TANH_SATURATION:
+        return mu / vt_mag
+    # tanh(x)/v = tau tanh(x)/x: finite (mu tau) as the slip vanishes, no division by v
+    return mu * tau * _tanh_ratio(x)

@@ -25,8 +25,6 @@ from __future__ import annotations
 import io
 import json
 import math
-import os
-import uuid
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
@@ -34,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .files import atomic_write, json_safe
 
 __all__ = ["write_run", "read_run", "check_run_dir", "StoredRun", "RUN_FORMAT", "FILES"]
 
@@ -107,48 +106,11 @@ def _is_run_dir(path: Path) -> bool:
     return False
 
 
-def _atomic_write(path: Path, data: bytes) -> None:
-    """Write ``data`` to a temporary file next to ``path`` (honouring the umask), then rename it."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
-    try:
-        with open(tmp, "xb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
 def _csv_bytes(columns, arrays) -> bytes:
     """CSV text; each number written as Python's shortest repr, which reads back to the same float."""
     data = np.column_stack([np.asarray(a, dtype=float) for a in arrays]).tolist()
     lines = [",".join(columns)] + [",".join(map(repr, row)) for row in data]
     return ("\n".join(lines) + "\n").encode("utf-8")
-
-
-def _clean(obj):
-    """JSON-ready: numpy scalars/arrays to Python, NaN/inf to None."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if isinstance(obj, complex):
-        return [_clean(obj.real), _clean(obj.imag)]
-    return obj
 
 
 def write_run(result, out_dir) -> Path:
@@ -172,24 +134,24 @@ def write_run(result, out_dir) -> Path:
             (path / stale).unlink()
         except FileNotFoundError:
             pass
-    _atomic_write(path / FILES["config"], dumps_case(result.case, name=FILES["config"]).encode("utf-8"))
+    atomic_write(path / FILES["config"], dumps_case(result.case, name=FILES["config"]).encode("utf-8"))
     s = result.signals
-    _atomic_write(path / FILES["signals"], _csv_bytes(SIGNAL_COLUMNS, [s.time, s.force, s.velocity, s.position]))
+    atomic_write(path / FILES["signals"], _csv_bytes(SIGNAL_COLUMNS, [s.time, s.force, s.velocity, s.position]))
     e = result.energy
-    _atomic_write(path / FILES["energy"], _csv_bytes(ENERGY_COLUMNS, [e.time] + [getattr(e, c) for c in COLUMNS]))
+    atomic_write(path / FILES["energy"], _csv_bytes(ENERGY_COLUMNS, [e.time] + [getattr(e, c) for c in COLUMNS]))
     files = [FILES["config"], FILES["signals"], FILES["energy"]]
     if result.trajectory is not None:
         buf = io.BytesIO()
         np.savez_compressed(buf, **{k: np.asarray(v) for k, v in result.trajectory.items()})
-        _atomic_write(path / FILES["trajectory"], buf.getvalue())
+        atomic_write(path / FILES["trajectory"], buf.getvalue())
         files.append(FILES["trajectory"])
     analysis = result.analysis.to_dict() if result.analysis is not None else None
     meta = {"format": RUN_FORMAT, "pdamper_version": __version__,
             "written": datetime.now(timezone.utc).isoformat(timespec="seconds"),
             "files": files + [FILES["result"]], "units": "SI (keys name their unit where it is not obvious)",
             "summary": result.summary(), "analysis": analysis}
-    text = json.dumps(_clean(meta), indent=2, allow_nan=False) + "\n"
-    _atomic_write(path / FILES["result"], text.encode("utf-8"))
+    text = json.dumps(json_safe(meta), indent=2, allow_nan=False) + "\n"
+    atomic_write(path / FILES["result"], text.encode("utf-8"))
     return path
 
 

@@ -48,6 +48,16 @@ def _rescale(nord, ratio):
 
 
 @njit
+def _unpack(nord, inv_h, pos, vel, omg):
+    """Positions, velocities and spins from the Nordsieck vector (scaled to step 1/inv_h)."""
+    for i in range(pos.shape[0]):
+        for c in range(3):
+            pos[i, c] = nord[0, i, c]
+            vel[i, c] = nord[1, i, c] * inv_h
+            omg[i, c] = nord[1, i, 3 + c] * inv_h
+
+
+@njit
 def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, save, hist_p, hist_w, h_state,
              pos, vel, omg, rad, mass, inv_m, inv_i, mat,
              force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
@@ -148,11 +158,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
                 nord[3, i, c] = r3 + 4.0 * r4 + 10.0 * r5
                 nord[4, i, c] = r4 + 5.0 * r5
         inv_h = 1.0 / hs
-        for i in range(n):
-            for c in range(3):
-                pos[i, c] = nord[0, i, c]
-                vel[i, c] = nord[1, i, c] * inv_h
-                omg[i, c] = nord[1, i, 3 + c] * inv_h
+        _unpack(nord, inv_h, pos, vel, omg)
         # contact history as it was, in case the step is rejected
         npair = row[n]
         for a in range(npair):
@@ -247,20 +253,11 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
         if h < dt_min:
             h = dt_min
         if record and math.fabs(t - tb) <= 1e-9 * ts:
-            for i in range(n):
-                for c in range(3):
-                    pos[i, c] = nord[0, i, c]
-                    vel[i, c] = nord[1, i, c] * inv_h
-                    omg[i, c] = nord[1, i, 3 + c] * inv_h
+            _unpack(nord, inv_h, pos, vel, omg)
             record_sample(kb - 1, ts, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
                           row, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk,
                           ledger, sig, eng, traj_every, traj)
     # leave the state in pos/vel/omg
-    inv_h = 1.0 / hs
-    for i in range(n):
-        for c in range(3):
-            pos[i, c] = nord[0, i, c]
-            vel[i, c] = nord[1, i, c] * inv_h
-            omg[i, c] = nord[1, i, 3 + c] * inv_h
+    _unpack(nord, 1.0 / hs, pos, vel, omg)
     h_state[0] = hs
     return STATUS_OK, steps, -1, t, h, rejected

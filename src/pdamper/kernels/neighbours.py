@@ -112,6 +112,16 @@ def build_cells(pos, rad, skin, lo, cell, ncell, row, pj, head, nxt, counts):
                                         pj[row[i] + counts[i]] = j
                                     counts[i] += 1
                             j = nxt[j]
+    # partners in ascending order, as the direct build gives them: the force sums then run in
+    # the same order whichever search built the list, so results do not depend on it
+    for i in range(n):
+        for a in range(row[i] + 1, row[i + 1]):
+            v = pj[a]
+            b = a - 1
+            while b >= row[i] and pj[b] > v:
+                pj[b + 1] = pj[b]
+                b -= 1
+            pj[b + 1] = v
     return row[n]
 
 
