@@ -87,7 +87,8 @@ class RunResult:
     analysis : complex-power result (``pdamper.analysis.PowerResult``) or None.
     trajectory : dict of arrays (``time`` [s], ``position`` [m], ``velocity`` [m/s], ``spin``
         [rad/s], container frame) or None.
-    steps : time steps taken; time_step : the (initial) step [s]; wall_time_s : run time [s].
+    steps : time steps taken; time_step : the step [s] (Verlet) or the mean accepted step (Gear);
+    wall_time_s : run time [s].
     """
 
     case: Case
@@ -435,8 +436,10 @@ class Simulation:
         if analyse and case.drive.kind != "still":
             analysis = signals.analyse(case)
         extras = {"rejected_steps": self.rejected_steps} if gear else {}
+        # Gear: report the mean accepted step over the whole run (settling included)
+        step = (settle_samples + n_samples) * ts / max(steps, 1) if gear else self.dt
         return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,
-                         steps=steps, time_step=self.dt, wall_time_s=wall, neighbour_search=self.search,
+                         steps=steps, time_step=step, wall_time_s=wall, neighbour_search=self.search,
                          extras=extras)
 
 

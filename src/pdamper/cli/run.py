@@ -139,7 +139,8 @@ def _table(config, case, s, written) -> str:
         ("energy balance error", _fmt(s["energy_balance_error"], 2), "[-]",
          "max |residual| / energy exchanged"),
         ("steps", f"{s['steps']:,}", "",
-         f"{s['integrator']}, dt = {s['time_step_s'] * 1e6:.3g} us, {s['neighbour_search']} search"),
+         f"{s['integrator']}, {'mean ' if s['integrator'] == 'gear' else ''}dt = {s['time_step_s'] * 1e6:.3g} us, "
+         f"{s['neighbour_search']} search"),
         ("speed", _fmt(s["us_per_step"], 3), "[us/step]", f"{s['particles']} spheres"),
         ("wall time", _fmt(s["wall_time_s"], 3), "[s]", ""),
     ]
