@@ -268,7 +268,7 @@ class Simulation:
 
     def _alloc_pairs(self, cap, keep=None):
         n = self.n
-        new = dict(row=np.zeros(n + 1, dtype=np.int64), pj=np.zeros(cap, dtype=np.int64),
+        new = dict(row=np.zeros(n + 1, dtype=np.int64), pi=np.zeros(cap, dtype=np.int64), pj=np.zeros(cap, dtype=np.int64),
                    pvin=np.zeros(cap), pd=np.zeros(cap), pk=np.zeros(cap), pmp=np.zeros(cap, dtype=np.int64),
                    pms=np.zeros(cap),
                    row2=np.zeros(n + 1, dtype=np.int64), pj2=np.zeros(cap, dtype=np.int64),
@@ -296,7 +296,7 @@ class Simulation:
                 self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
                 self.case.contact.tau, self.case.contact.v_in_floor, self.case.numerics.overlap_limit,
                 self.skin, self.search == "cells", self.lo, self.cell, self.ncell, self.head, self.nxt, self.counts,
-                self.ref, self.row, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
+                self.ref, self.row, self.pi, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
                 self.row2, self.pj2, self.pvin2, self.pd2,
                 self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
                 self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj)
@@ -325,7 +325,7 @@ class Simulation:
                 self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
                 self.case.contact.tau, self.case.contact.v_in_floor, num.overlap_limit,
                 self.skin, self.search == "cells", self.lo, self.cell, self.ncell, self.head, self.nxt, self.counts,
-                self.ref, self.row, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
+                self.ref, self.row, self.pi, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
                 self.row2, self.pj2, self.pvin2, self.pd2,
                 self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
                 self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj, 10**9)

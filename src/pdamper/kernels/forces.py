@@ -80,7 +80,7 @@ def first_touch(v_approach, mp, e_star, r_star, m_star, cor_tab, cor_py, logv0, 
 
 @njit
 def compute_forces(pos, vel, omg, rad, mass, force, torque,
-                   row, pj, pvin, pd, pk, pmp, pms,
+                   row, pi_, pj, pvin, pd, pk, pmp, pms,
                    wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
                    estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt):
     """Zero and fill ``force`` [N] and ``torque`` [N m]; update contact history in place.
@@ -108,81 +108,79 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
     status = STATUS_OK
     culprit = -1
     # ---- particle pairs
-    for i in range(n):
-        xi = pos[i, 0]
-        yi = pos[i, 1]
-        zi = pos[i, 2]
+    # one flat loop over the list (pi_[a], pj[a]): no short inner loops whose exits mispredict
+    for a in range(row[n]):
+        i = pi_[a]
+        j = pj[a]
         ri = rad[i]
-        for a in range(row[i], row[i + 1]):
-            j = pj[a]
-            dx = pos[j, 0] - xi
-            dy = pos[j, 1] - yi
-            dz = pos[j, 2] - zi
-            rj = rad[j]
-            cut = ri + rj
-            d2 = dx * dx + dy * dy + dz * dz
-            if d2 >= cut * cut:
-                if pvin[a] != 0.0:
-                    pvin[a] = 0.0
-                continue
-            dist = math.sqrt(d2)
-            inv = 1.0 / dist
-            nx = dx * inv
-            ny = dy * inv
-            nz = dz * inv
-            delta = cut - dist
-            if delta > overlap_limit * min(ri, rj):
-                status = STATUS_OVERLAP
-                culprit = i
-            rvx = vel[i, 0] - vel[j, 0]
-            rvy = vel[i, 1] - vel[j, 1]
-            rvz = vel[i, 2] - vel[j, 2]
-            ddot = rvx * nx + rvy * ny + rvz * nz
-            if pvin[a] == 0.0 or ddot > pvin[a]:
-                # first touch, or struck harder than ever before in this contact
-                pvin[a] = max(ddot, v_floor)
-                pd[a] = first_touch(ddot, pmp[a], estar[pmp[a]], ri * rj / cut, pms[a] / FRICTION_CAP,
-                                    cor_tab, cor_py, logv0, dlogv, v_floor)
-            fn, fdamp = normal_force(pk[a], delta, ddot, pd[a])
-            p_n += fdamp * ddot
-            # contact-point relative velocity: v_i - v_j + r_i w_i x n + r_j w_j x n
-            wx = ri * omg[i, 0] + rj * omg[j, 0]
-            wy = ri * omg[i, 1] + rj * omg[j, 1]
-            wz = ri * omg[i, 2] + rj * omg[j, 2]
-            cvx = rvx + wy * nz - wz * ny
-            cvy = rvy + wz * nx - wx * nz
-            cvz = rvz + wx * ny - wy * nx
-            cn = cvx * nx + cvy * ny + cvz * nz
-            tx = cvx - cn * nx
-            ty = cvy - cn * ny
-            tz = cvz - cn * nz
-            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-            ff = friction_factor(mu[pmp[a]], tau, vt) * fn
-            if ff * dt > pms[a]:
-                ff = pms[a] * inv_dt
-            p_f += ff * vt * vt
-            ftx = -ff * tx
-            fty = -ff * ty
-            ftz = -ff * tz
-            fx = -fn * nx + ftx
-            fy = -fn * ny + fty
-            fz = -fn * nz + ftz
-            force[i, 0] += fx
-            force[i, 1] += fy
-            force[i, 2] += fz
-            force[j, 0] -= fx
-            force[j, 1] -= fy
-            force[j, 2] -= fz
-            # torque on i: (r_i n) x Ft ; on j: (-r_j n) x (-Ft) = r_j n x Ft
-            cx = ny * ftz - nz * fty
-            cy = nz * ftx - nx * ftz
-            cz = nx * fty - ny * ftx
-            torque[i, 0] += ri * cx
-            torque[i, 1] += ri * cy
-            torque[i, 2] += ri * cz
-            torque[j, 0] += rj * cx
-            torque[j, 1] += rj * cy
-            torque[j, 2] += rj * cz
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dz = pos[j, 2] - pos[i, 2]
+        rj = rad[j]
+        cut = ri + rj
+        d2 = dx * dx + dy * dy + dz * dz
+        if d2 >= cut * cut:
+            if pvin[a] != 0.0:
+                pvin[a] = 0.0
+            continue
+        dist = math.sqrt(d2)
+        inv = 1.0 / dist
+        nx = dx * inv
+        ny = dy * inv
+        nz = dz * inv
+        delta = cut - dist
+        if delta > overlap_limit * min(ri, rj):
+            status = STATUS_OVERLAP
+            culprit = i
+        rvx = vel[i, 0] - vel[j, 0]
+        rvy = vel[i, 1] - vel[j, 1]
+        rvz = vel[i, 2] - vel[j, 2]
+        ddot = rvx * nx + rvy * ny + rvz * nz
+        if pvin[a] == 0.0 or ddot > pvin[a]:
+            # first touch, or struck harder than ever before in this contact
+            pvin[a] = max(ddot, v_floor)
+            pd[a] = first_touch(ddot, pmp[a], estar[pmp[a]], ri * rj / cut, pms[a] / FRICTION_CAP,
+                                cor_tab, cor_py, logv0, dlogv, v_floor)
+        fn, fdamp = normal_force(pk[a], delta, ddot, pd[a])
+        p_n += fdamp * ddot
+        # contact-point relative velocity: v_i - v_j + r_i w_i x n + r_j w_j x n
+        wx = ri * omg[i, 0] + rj * omg[j, 0]
+        wy = ri * omg[i, 1] + rj * omg[j, 1]
+        wz = ri * omg[i, 2] + rj * omg[j, 2]
+        cvx = rvx + wy * nz - wz * ny
+        cvy = rvy + wz * nx - wx * nz
+        cvz = rvz + wx * ny - wy * nx
+        cn = cvx * nx + cvy * ny + cvz * nz
+        tx = cvx - cn * nx
+        ty = cvy - cn * ny
+        tz = cvz - cn * nz
+        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        ff = friction_factor(mu[pmp[a]], tau, vt) * fn
+        if ff * dt > pms[a]:
+            ff = pms[a] * inv_dt
+        p_f += ff * vt * vt
+        ftx = -ff * tx
+        fty = -ff * ty
+        ftz = -ff * tz
+        fx = -fn * nx + ftx
+        fy = -fn * ny + fty
+        fz = -fn * nz + ftz
+        force[i, 0] += fx
+        force[i, 1] += fy
+        force[i, 2] += fz
+        force[j, 0] -= fx
+        force[j, 1] -= fy
+        force[j, 2] -= fz
+        # torque on i: (r_i n) x Ft ; on j: (-r_j n) x (-Ft) = r_j n x Ft
+        cx = ny * ftz - nz * fty
+        cy = nz * ftx - nx * ftz
+        cz = nx * fty - ny * ftx
+        torque[i, 0] += ri * cx
+        torque[i, 1] += ri * cy
+        torque[i, 2] += ri * cz
+        torque[j, 0] += rj * cx
+        torque[j, 1] += rj * cy
+        torque[j, 2] += rj * cz
     # ---- walls
     fwx = 0.0
     fwy = 0.0
@@ -243,19 +241,19 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
 
 
 @njit
-def elastic_energy(pos, rad, row, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk):
+def elastic_energy(pos, rad, row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk):
     """Energy [J] stored in the Hertz springs, sum of 2/5 k delta^(5/2)."""
     e = 0.0
     n = pos.shape[0]
-    for i in range(n):
-        for a in range(row[i], row[i + 1]):
-            j = pj[a]
-            dx = pos[j, 0] - pos[i, 0]
-            dy = pos[j, 1] - pos[i, 1]
-            dz = pos[j, 2] - pos[i, 2]
-            delta = rad[i] + rad[j] - math.sqrt(dx * dx + dy * dy + dz * dz)
-            if delta > 0.0:
-                e += 0.4 * pk[a] * delta * delta * math.sqrt(delta)
+    for a in range(row[n]):
+        i = pi_[a]
+        j = pj[a]
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dz = pos[j, 2] - pos[i, 2]
+        delta = rad[i] + rad[j] - math.sqrt(dx * dx + dy * dy + dz * dz)
+        if delta > 0.0:
+            e += 0.4 * pk[a] * delta * delta * math.sqrt(delta)
     for c in range(n_wl):
         i = wl_i[c]
         w = wl_w[c]

@@ -176,7 +176,7 @@ def max_displacement_sq(pos, ref):
 
 @njit
 def rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
-                  row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
+                  row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                   wall_kind, wall_data, wl_i, wl_w, ref):
     """Rebuild the pair and wall lists, carrying contact history over.
 
@@ -206,6 +206,7 @@ def rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, n
         mi = mat[i]
         for a in range(row[i], row[i + 1]):
             j = pj[a]
+            pi_[a] = i
             mp = mi * nmat + mat[j]
             pmp[a] = mp
             rs = rad[i] * rad[j] / (rad[i] + rad[j])

@@ -29,7 +29,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
                force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
                nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
                skin, use_cells, lo, cell, ncell, head, nxt, counts, ref,
-               row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
+               row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                wall_kind, wall_data, wl_i, wl_w, nwl, wk, wmp, wvin, wd, wrs,
                ledger, sig, eng, traj_every, traj):
     """Advance ``n_steps`` steps of ``dt`` [s] from time ``t0``; ``step0`` is the global step
@@ -51,7 +51,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
     n_wl = nwl[0]
     if prime:
         r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
-                          row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
+                          row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                           wall_kind, wall_data, wl_i, wl_w, ref)
         if r == -1:
             return STATUS_LIST_OVERFLOW, 0, -1
@@ -59,7 +59,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
             return STATUS_WALL_OVERFLOW, 0, -1
         n_wl = r
         nwl[0] = r
-        compute_forces(pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp, pms,
+        compute_forces(pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
                        wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
                        estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t0)
@@ -89,7 +89,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         #    overflow can be resumed)
         if moved:
             r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
-                              row, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
+                              row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
                               wall_kind, wall_data, wl_i, wl_w, ref)
             if r == -1:
                 return STATUS_LIST_OVERFLOW, s, -1
@@ -112,7 +112,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         # a component moved more than skin/(2 sqrt 3) in some direction: rebuild next step
         moved = 3.0 * disp > skin2
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
-            pos, vel, omg, rad, mass, force, torque, row, pj, pvin, pd, pk, pmp, pms,
+            pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
             wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
             estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t)
@@ -154,6 +154,6 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         if record and g % sub == 0:
             k = g // sub - 1 - rec_offset
             record_sample(k, sub * dt, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
-                          row, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk,
+                          row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk,
                           ledger, sig, eng, traj_every, traj)
     return STATUS_OK, n_steps, -1
