@@ -20,7 +20,19 @@ __all__ = ["main", "OneLineCommand", "Quantity", "user_errors", "echo_json", "fa
 _HELP_ERRORS = tuple(e for e in (getattr(click.exceptions, "NoArgsIsHelpError", None),) if e)
 
 
-class OneLineCommand(click.Command):
+class _OneLineUsage:
+    """Mixin: click usage errors become one ``Error: ...`` line on stderr with exit code 2."""
+
+    def parse_args(self, ctx, args):
+        try:
+            return super().parse_args(ctx, args)
+        except _HELP_ERRORS:
+            raise
+        except click.UsageError as exc:
+            fail(exc.format_message())
+
+
+class OneLineCommand(_OneLineUsage, click.Command):
     """A command whose usage errors print one ``Error: ...`` line on stderr, with exit code 2.
 
     Click would print the usage and a "Try ... --help" hint above the message; for a bad
@@ -28,16 +40,8 @@ class OneLineCommand(click.Command):
     message. It is the default class of every ``@main.command``.
     """
 
-    def parse_args(self, ctx, args):
-        try:
-            return super().parse_args(ctx, args)
-        except _HELP_ERRORS:
-            raise
-        except click.UsageError as exc:
-            fail(exc.format_message())
 
-
-class _Group(click.Group):
+class _Group(_OneLineUsage, click.Group):
     """Command group that turns user-fixable errors into one-line messages with exit code 2.
 
     Its commands are :class:`OneLineCommand` s; an unknown command or group option is one
@@ -45,14 +49,6 @@ class _Group(click.Group):
     """
 
     command_class = OneLineCommand
-
-    def parse_args(self, ctx, args):
-        try:
-            return super().parse_args(ctx, args)
-        except _HELP_ERRORS:
-            raise
-        except click.UsageError as exc:
-            fail(exc.format_message())
 
     def resolve_command(self, ctx, args):
         try:
