@@ -195,6 +195,11 @@ class Simulation:
         kinds, data, names = geo.walls()
         self.wall_kind, self.wall_data, self.wall_names = kinds, np.ascontiguousarray(data), names
         nw = len(kinds)
+        # the floor (plane y = 0, normal +y) gets the force loop's direct path
+        self.floor = -1
+        for w in range(nw):
+            if kinds[w] == 0 and np.allclose(data[w, :4], [0.0, 1.0, 0.0, 0.0]):
+                self.floor = w
         self.wk = np.empty((n, nw))
         self.wrs = np.empty((n, nw))
         self.wmp = np.empty((n, nw), dtype=np.int64)
@@ -298,7 +303,7 @@ class Simulation:
                 self.skin, self.search == "cells", self.lo, self.cell, self.ncell, self.head, self.nxt, self.counts,
                 self.ref, self.row, self.pi, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
                 self.row2, self.pj2, self.pvin2, self.pd2,
-                self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
+                self.wall_kind, self.wall_data, self.floor, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
                 self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj)
             done += steps
             if status == kf.STATUS_OK or steps > 0:
@@ -327,7 +332,7 @@ class Simulation:
                 self.skin, self.search == "cells", self.lo, self.cell, self.ncell, self.head, self.nxt, self.counts,
                 self.ref, self.row, self.pi, self.pj, self.pvin, self.pd, self.pk, self.pmp, self.pms,
                 self.row2, self.pj2, self.pvin2, self.pd2,
-                self.wall_kind, self.wall_data, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
+                self.wall_kind, self.wall_data, self.floor, self.wl_i, self.wl_w, self.nwl, self.wk, self.wmp, self.wvin,
                 self.wd, self.wrs, self.ledger, sig, eng, traj_every, traj, 10**9)
             steps += k
             self.rejected_steps += rej

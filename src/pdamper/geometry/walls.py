@@ -64,7 +64,8 @@ def wall_distance(kind, data, w, px, py, pz):
     qy = dy - t * ay
     qz = dz - t * az
     rho = math.sqrt(qx * qx + qy * qy + qz * qz)
-    if rho > 0.0:
+    # (within rounding of the axis the radial direction is noise: take the on-axis branch)
+    if rho > 1e-9 * data[w, 6]:
         inv = 1.0 / rho
         return data[w, 6] - rho, -qx * inv, -qy * inv, -qz * inv
     # on the axis: any direction perpendicular to it will do

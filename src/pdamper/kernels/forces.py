@@ -81,13 +81,18 @@ def first_touch(v_approach, mp, e_star, r_star, m_star, cor_tab, cor_py, logv0, 
 @njit
 def compute_forces(pos, vel, omg, rad, mass, force, torque,
                    row, pi_, pj, pvin, pd, pk, pmp, pms,
-                   wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+                   wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
                    estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt):
     """Zero and fill ``force`` [N] and ``torque`` [N m]; update contact history in place.
 
     Pair arrays aligned with the list ``row``/``pj``: history ``pvin`` (approach speed at first
     touch, 0 = not touching) and ``pd`` (damping parameter), stiffness ``pk``, material-pair
     index ``pmp`` and ``pms`` = FRICTION_CAP x the pair's reduced mass [kg].
+
+    ``floor`` is the index of the floor wall (the plane y = 0 with normal +y in the container
+    frame), which every resting sphere touches: it is handled by its own direct loop over the
+    particles (no candidate list, the normal known), about three times cheaper per contact than
+    the general wall loop; the wall candidate list leaves it out. ``floor < 0``: no such wall.
 
     Returns ``(fwx, fwy, fwz, p_normal, p_friction, status, culprit)``: the total force of the
     walls on the particles [N], the power [W] dissipated by normal damping and by friction, a
@@ -181,10 +186,48 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         torque[j, 0] += rj * cx
         torque[j, 1] += rj * cy
         torque[j, 2] += rj * cz
-    # ---- walls
+    # ---- the floor: n = +y, so the signed distance is y, the approach speed -v_y, the slip
+    #      (v_x + r w_z, 0, v_z - r w_x) and the torque of the friction (-r F_z, 0, r F_x)
     fwx = 0.0
     fwy = 0.0
     fwz = 0.0
+    if floor >= 0:
+        for i in range(n):
+            ri = rad[i]
+            delta = ri - pos[i, 1]
+            if delta <= 0.0:
+                if wvin[i, floor] != 0.0:
+                    wvin[i, floor] = 0.0
+                continue
+            if delta > overlap_limit * ri:
+                status = STATUS_OVERLAP
+                culprit = i
+            ddot = -vel[i, 1]
+            mp = wmp[i, floor]
+            if wvin[i, floor] == 0.0 or ddot > wvin[i, floor]:
+                wvin[i, floor] = max(ddot, v_floor)
+                wd[i, floor] = first_touch(ddot, mp, estar[mp], wrs[i, floor], mass[i],
+                                           cor_tab, cor_py, logv0, dlogv, v_floor)
+            fn, fdamp = normal_force(wk[i, floor], delta, ddot, wd[i, floor])
+            p_n += fdamp * ddot
+            tx = vel[i, 0] + ri * omg[i, 2]
+            tz = vel[i, 2] - ri * omg[i, 0]
+            vt = math.sqrt(tx * tx + tz * tz)
+            ff = friction_factor(mu[mp], tau, vt) * fn
+            if ff * dt > FRICTION_CAP * mass[i]:
+                ff = FRICTION_CAP * mass[i] * inv_dt
+            p_f += ff * vt * vt
+            ftx = -ff * tx
+            ftz = -ff * tz
+            force[i, 0] += ftx
+            force[i, 1] += fn
+            force[i, 2] += ftz
+            fwx += ftx
+            fwy += fn
+            fwz += ftz
+            torque[i, 0] -= ri * ftz
+            torque[i, 2] += ri * ftx
+    # ---- the other walls, from the candidate list
     for c in range(n_wl):
         i = wl_i[c]
         w = wl_w[c]
@@ -241,7 +284,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
 
 
 @njit
-def elastic_energy(pos, rad, row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk):
+def elastic_energy(pos, rad, row, pi_, pj, pk, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk):
     """Energy [J] stored in the Hertz springs, sum of 2/5 k delta^(5/2)."""
     e = 0.0
     n = pos.shape[0]
@@ -261,4 +304,9 @@ def elastic_energy(pos, rad, row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall
         delta = rad[i] - s
         if delta > 0.0:
             e += 0.4 * wk[i, w] * delta * delta * math.sqrt(delta)
+    if floor >= 0:
+        for i in range(n):
+            delta = rad[i] - pos[i, 1]
+            if delta > 0.0:
+                e += 0.4 * wk[i, floor] * delta * delta * math.sqrt(delta)
     return e

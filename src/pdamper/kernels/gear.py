@@ -64,7 +64,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
              nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
              skin, use_cells, lo, cell, ncell, head, nxt, counts, ref,
              row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-             wall_kind, wall_data, wl_i, wl_w, nwl, wk, wmp, wvin, wd, wrs,
+             wall_kind, wall_data, floor, wl_i, wl_w, nwl, wk, wmp, wvin, wd, wrs,
              ledger, sig, eng, traj_every, traj, max_steps):
     """Advance from ``t0`` to ``t_end`` [s] (or ``max_steps`` accepted steps).
 
@@ -93,13 +93,13 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
     if prime:
         r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
                           row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-                          wall_kind, wall_data, wl_i, wl_w, ref)
+                          wall_kind, wall_data, wl_i, wl_w, floor, ref)
         if r < 0:
             return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), 0, -1, t, h, 0
         n_wl = r
         nwl[0] = r
         compute_forces(pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
-                       wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+                       wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
                        estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, h)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t)
         hs = h
@@ -135,7 +135,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
         if max_displacement_sq(pos, ref) > skin2:
             r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
                               row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-                              wall_kind, wall_data, wl_i, wl_w, ref)
+                              wall_kind, wall_data, wl_i, wl_w, floor, ref)
             if r < 0:
                 h_state[0] = hs
                 return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), steps, -1, t, h, rejected
@@ -171,7 +171,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
-            wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+            wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
             estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, hs)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, tn)
         half_h2 = 0.5 * hs * hs
@@ -255,7 +255,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
         if record and math.fabs(t - tb) <= 1e-9 * ts:
             _unpack(nord, inv_h, pos, vel, omg)
             record_sample(kb - 1, ts, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
-                          row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk,
+                          row, pi_, pj, pk, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk,
                           ledger, sig, eng, traj_every, traj)
     # leave the state in pos/vel/omg
     _unpack(nord, 1.0 / hs, pos, vel, omg)

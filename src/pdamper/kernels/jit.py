@@ -3,7 +3,10 @@
 Every kernel is compiled with :data:`JIT` options: ``cache=True`` so the machine code is
 written to disk and later runs start without compiling; ``nogil=True`` so threads can run
 kernels side by side; ``error_model='numpy'`` so a division by zero gives inf instead of
-raising from inside numba.
+raising from inside numba; ``fastmath={"contract"}`` lets LLVM fuse multiply-adds into FMA
+instructions (shorter latency chains in the contact loops: one 36-sphere step went from 1.50 to
+1.43 us) and nothing else: no reassociation, no assumptions about NaN or infinities, so results
+stay deterministic on a given machine.
 
 **Cache directory.** numba checks only the source file of a cached function, not the files of
 the functions it calls, so an edited contact law could be served stale from a caller's cache.
@@ -20,7 +23,7 @@ from pathlib import Path
 
 import numba
 
-JIT = dict(cache=True, nogil=True, error_model="numpy", fastmath=False)
+JIT = dict(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
 
 _PKG = Path(__file__).resolve().parent.parent
 #: Folders whose sources hold compiled code (their hash names the cache directory).

@@ -144,12 +144,15 @@ def transfer_history(old_row, old_pj, old_vin, old_d, row, pj, vin, d):
 
 
 @njit
-def build_wall_list(pos, rad, skin, wall_kind, wall_data, wl_i, wl_w):
-    """(particle, wall) candidates with signed distance < r + skin. Returns count or -1 on overflow."""
+def build_wall_list(pos, rad, skin, wall_kind, wall_data, wl_i, wl_w, skip=-1):
+    """(particle, wall) candidates with signed distance < r + skin, leaving out wall ``skip``
+    (the floor, which the force loop handles directly). Returns count or -1 on overflow."""
     m = 0
     cap = wl_i.shape[0]
     for i in range(pos.shape[0]):
         for w in range(wall_kind.shape[0]):
+            if w == skip:
+                continue
             s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
             if s < rad[i] + skin:
                 if m >= cap:
@@ -177,7 +180,7 @@ def max_displacement_sq(pos, ref):
 @njit
 def rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
                   row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-                  wall_kind, wall_data, wl_i, wl_w, ref):
+                  wall_kind, wall_data, wl_i, wl_w, floor, ref):
     """Rebuild the pair and wall lists, carrying contact history over.
 
     The new pair list is built into the scratch arrays (``*2``) first, so on overflow (return
@@ -191,7 +194,7 @@ def rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, n
         m = build_direct(pos, rad, skin, row2, pj2)
     if m < 0:
         return -1
-    nw = build_wall_list(pos, rad, skin, wall_kind, wall_data, wl_i, wl_w)
+    nw = build_wall_list(pos, rad, skin, wall_kind, wall_data, wl_i, wl_w, floor)
     if nw < 0:
         return -2
     transfer_history(row, pj, pvin, pd, row2, pj2, pvin2, pd2)

@@ -14,7 +14,7 @@ N_ENERGY = 7
 
 @njit
 def record_sample(k, interval, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
-                  row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk,
+                  row, pi_, pj, pk, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk,
                   ledger, sig, eng, traj_every, traj):
     """Write sample ``k``: the mean wall force along the drive over the interval (impulse /
     interval) [N] into ``sig[k, 0]``, the energies into ``eng[k]``, and every ``traj_every``-th
@@ -37,7 +37,7 @@ def record_sample(k, interval, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
     eng[k, 0] = ekin
     eng[k, 1] = erot
     eng[k, 2] = epot
-    eng[k, 3] = elastic_energy(pos, rad, row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk)
+    eng[k, 3] = elastic_energy(pos, rad, row, pi_, pj, pk, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk)
     eng[k, 4] = ledger[0]
     eng[k, 5] = ledger[1]
     eng[k, 6] = ledger[2]

@@ -30,7 +30,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
                nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
                skin, use_cells, lo, cell, ncell, head, nxt, counts, ref,
                row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-               wall_kind, wall_data, wl_i, wl_w, nwl, wk, wmp, wvin, wd, wrs,
+               wall_kind, wall_data, floor, wl_i, wl_w, nwl, wk, wmp, wvin, wd, wrs,
                ledger, sig, eng, traj_every, traj):
     """Advance ``n_steps`` steps of ``dt`` [s] from time ``t0``; ``step0`` is the global step
     count (samples end every ``sub`` steps). Arrays are updated in place.
@@ -52,7 +52,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
     if prime:
         r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
                           row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-                          wall_kind, wall_data, wl_i, wl_w, ref)
+                          wall_kind, wall_data, wl_i, wl_w, floor, ref)
         if r == -1:
             return STATUS_LIST_OVERFLOW, 0, -1
         if r == -2:
@@ -60,7 +60,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         n_wl = r
         nwl[0] = r
         compute_forces(pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
-                       wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+                       wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
                        estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t0)
         for i in range(n):
@@ -90,7 +90,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         if moved:
             r = rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
                               row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-                              wall_kind, wall_data, wl_i, wl_w, ref)
+                              wall_kind, wall_data, wl_i, wl_w, floor, ref)
             if r == -1:
                 return STATUS_LIST_OVERFLOW, s, -1
             if r == -2:
@@ -106,41 +106,39 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
             v[k] += half * (3.0 * a[k] - ap[k])
             w[k] += half * (3.0 * al[k] - alp_[k])
             dd = x[k] - x0[k]
-            dd = dd * dd
-            if dd > disp:
-                disp = dd
+            disp = max(disp, dd * dd)
         # a component moved more than skin/(2 sqrt 3) in some direction: rebuild next step
         moved = 3.0 * disp > skin2
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
-            wl_i, wl_w, n_wl, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
+            wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
             estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t)
         gx = gvec[0] - ac * dvec[0]
         gy = gvec[1] - ac * dvec[1]
         gz = gvec[2] - ac * dvec[2]
         # -- new accelerations; correct the predicted velocities to v_half + dt/2 a_new
+        vsum = 0.0
         for i in range(n):
             k = 3 * i
             im = inv_m[i]
             ii = inv_i[i]
-            f[k] = f[k] * im + gx
-            f[k + 1] = f[k + 1] * im + gy
-            f[k + 2] = f[k + 2] * im + gz
-            tq[k] = tq[k] * ii
-            tq[k + 1] = tq[k + 1] * ii
-            tq[k + 2] = tq[k + 2] * ii
-        bad = False
-        for k in range(m3):
-            v[k] += half * (f[k] - 2.0 * a[k] + ap[k])
-            w[k] += half * (tq[k] - 2.0 * al[k] + alp_[k])
-            ap[k] = a[k]
-            alp_[k] = al[k]
-            a[k] = f[k]
-            al[k] = tq[k]
-            if not (math.fabs(v[k]) < 1e6):
-                bad = True
-                culprit = k // 3
+            for c in range(3):
+                an = f[k + c] * im + (gx if c == 0 else (gy if c == 1 else gz))
+                v[k + c] += half * (an - 2.0 * a[k + c] + ap[k + c])
+                ap[k + c] = a[k + c]
+                a[k + c] = an
+                wn = tq[k + c] * ii
+                w[k + c] += half * (wn - 2.0 * al[k + c] + alp_[k + c])
+                alp_[k + c] = al[k + c]
+                al[k + c] = wn
+                vsum += math.fabs(v[k + c])
+        bad = not (vsum < 1e6)
+        if bad:
+            for k in range(m3):
+                if not (math.fabs(v[k]) < 1e6):
+                    culprit = k // 3
+                    break
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         ledger[0] += vc * fd * dt
         ledger[1] += p_n * dt
@@ -154,6 +152,6 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         if record and g % sub == 0:
             k = g // sub - 1 - rec_offset
             record_sample(k, sub * dt, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
-                          row, pi_, pj, pk, wl_i, wl_w, n_wl, wall_kind, wall_data, wk,
+                          row, pi_, pj, pk, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk,
                           ledger, sig, eng, traj_every, traj)
     return STATUS_OK, n_steps, -1
