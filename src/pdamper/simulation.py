@@ -417,7 +417,6 @@ class Simulation:
         if gear and self._primed:
             self.nord[1, :, 0:3] -= self.h_state[0] * jump
         self.ledger[:4] = 0.0
-        total = n_samples * sub
         seg_samples = max(1, int(0.25 * fs))  # ~0.25 s of simulated time per call
         done = 0
         while done < n_samples:

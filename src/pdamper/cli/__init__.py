@@ -9,8 +9,6 @@ exit code 2, never as a traceback or a usage block.
 
 from __future__ import annotations
 
-import click
-
 from .common import main
 
 # Importing the command modules registers their commands on ``main``.

@@ -24,8 +24,6 @@ deformation description and contact models. Virtual Nonlinear Multibody Systems,
 
 from __future__ import annotations
 
-import math
-
 from ..kernels.jit import njit
 
 __all__ = ["DEFAULT_TAU", "friction_factor", "tanh_pos", "TANH_SATURATION"]

@@ -13,8 +13,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from ..geometry.walls import wall_distance
 from .forces import FRICTION_CAP
 from .jit import njit
