@@ -1,0 +1,520 @@
+"""Figures of a stroke sweep: η*(X) like the paper's Fig. 4, and the energy per cycle over X.
+
+Both take the results dataset of a sweep or study (:mod:`xarray`): dimensions ``stroke``
+(strokes in m) and ``seed``, optionally one study dimension such as ``setting``; data variables
+``eta_star`` and ``energy_per_cycle`` [J], NaN where a case has not been computed yet. A partly
+computed sweep plots what is there.
+
+* :func:`sweep_figure` -- η* over X on a log axis: per setting the mean over seeds (line with
+  markers), the min-max spread across seeds (band) and the single seeds (faint dots); the
+  analytical laws for the clearance (scattered eq. (8) below X_opt, rolling eq. (14) above,
+  X_opt eq. (17) marked) and η*_max = 20/(7π) as a faint line.
+* :func:`energy_figure` -- energy dissipated per cycle [mJ] over X, log-log, mean and band; the
+  laws too when the dataset knows the bed mass (attribute ``bed_mass_kg``).
+
+Figures are built with :class:`matplotlib.figure.Figure` (no pyplot, no display needed) and
+saved to the format the file name says (``.png``, ``.svg``, ``.pdf``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .. import theory as _th
+from ..errors import InputError
+from .theory import draw_theory_curves
+
+__all__ = ["sweep_figure", "energy_figure", "FORMATS"]
+
+#: File formats the figures are written in, by extension.
+FORMATS = (".png", ".svg", ".pdf")
+
+_MM = 1e3  # metres -> millimetres on the stroke axis
+_STROKE_UNITS = {"m": 1.0, "mm": 1e-3}  # stroke coordinate units -> metres
+_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "h")
+
+
+# --------------------------------------------------------------------------- public figures
+
+def sweep_figure(ds, path=None, *, title: str | None = None, theory: bool = True,
+                 figsize=(7.5, 4.8), dpi: int = 150):
+    """η*(X) of a stroke sweep, with the analytical laws (the paper's Fig. 4).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Sweep results: variable ``eta_star`` with dimensions ``stroke`` [m] and ``seed``
+        (optionally one more study dimension, e.g. ``setting``); NaN marks cases not yet
+        computed. Attributes used if present: ``clearance_m`` (or a variable ``clearance``
+        along the study dimension), ``x_opt_m``, ``frequency_hz``, ``particles``,
+        ``max_particles``, ``shape``, ``title``, ``pdamper_version``.
+    path : str or os.PathLike, optional
+        Save the figure there; the extension picks the format (``.png``, ``.svg``, ``.pdf``).
+    title : str, optional
+        Figure title; default ``ds.attrs["title"]`` or one built from the attributes.
+    theory : bool
+        Draw the analytical laws (needs the clearance, or ``x_opt_m``) and η*_max.
+    figsize : tuple of float
+        Figure size [inch].
+    dpi : int
+        Resolution of raster output [dots per inch].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        ``ds`` is not a sweep dataset (no ``eta_star``, no ``stroke`` dimension, ...) or
+        ``path`` has an unknown extension or a missing folder.
+    """
+    target = _check_path(path)
+    sw = _Sweep(ds, "eta_star")
+    fig, ax = _new_figure(figsize)
+    handles = _draw_data(ax, sw, scale=1.0)
+
+    if theory:
+        for h, label, colour in sw.theory_clearances():
+            draw_theory_curves(ax, h, sw.strokes_m, bouncing=False, color=colour,
+                               label=label, mark_x_opt=True)
+        ax.axhline(_th.ETA_MAX, color="0.6", lw=0.9, ls=(0, (6, 3)), zorder=0.5,
+                   label=f"$η^*_{{max}}$ = 20/(7π) = {_th.ETA_MAX:.3f}, eq. (16)")
+
+    ax.set_xscale("log")
+    _stroke_axis(ax, sw.strokes_m)
+    ax.set_xlabel("stroke X [mm]")
+    ax.set_ylabel("reduced loss factor η* [-]")
+    lo, hi = sw.finite_range()
+    top = max(1.05, 1.08 * hi) if hi is not None else 1.05
+    bottom = min(0.0, lo - 0.05 * (top - lo)) if lo is not None else 0.0
+    ax.set_ylim(bottom, top)
+    _grid(ax)
+    if not sw.any_data:
+        _no_data_note(ax)
+    _legend(fig, ax, handles)
+    _titles(fig, ax, sw, title)
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+def energy_figure(ds, path=None, *, title: str | None = None, theory: bool = True,
+                  figsize=(7.5, 4.8), dpi: int = 150):
+    """Energy dissipated per cycle [mJ] over the stroke X of a sweep, log-log.
+
+    Per setting the mean over seeds (line with markers), the min-max spread across seeds
+    (band) and the single seeds (faint dots); X_opt of each clearance marked. When the dataset
+    knows the bed mass (attribute ``bed_mass_kg``) and ``frequency_hz``, the scattered and
+    rolling laws ``Ẽ = η* π m_bed V²`` with V = 2πfX are drawn too.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Sweep results with ``energy_per_cycle`` [J] along ``stroke`` [m] and ``seed``
+        (optionally one more study dimension); see :func:`sweep_figure`.
+    path, title, figsize, dpi
+        As in :func:`sweep_figure`.
+    theory : bool
+        Mark X_opt and draw the laws when the bed mass is known.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        As :func:`sweep_figure`, for ``energy_per_cycle``.
+    """
+    target = _check_path(path)
+    sw = _Sweep(ds, "energy_per_cycle")
+    fig, ax = _new_figure(figsize)
+    handles = _draw_data(ax, sw, scale=1e3, log=True)
+
+    if theory:
+        mass = _attr_float(sw.ds, "bed_mass_kg")
+        freq = _attr_float(sw.ds, "frequency_hz")
+        for h, label, colour in sw.theory_clearances():
+            x_opt = _th.optimal_stroke(h)
+            lo, hi = float(sw.strokes_m.min()), float(sw.strokes_m.max())
+            if mass is not None and freq is not None:
+                _draw_energy_laws(ax, h, lo, hi, mass, freq, colour, label)
+            if lo <= x_opt <= hi:
+                ax.axvline(x_opt * _MM, color=colour, lw=1.0, ls=":",
+                           label=f"$X_{{opt}}$ = {x_opt * _MM:.3g} mm, eq. (17){label}")
+
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    _stroke_axis(ax, sw.strokes_m)
+    ax.set_xlabel("stroke X [mm]")
+    ax.set_ylabel("energy dissipated per cycle [mJ]")
+    lo, hi = sw.positive_range()
+    if lo is not None:
+        ax.set_ylim(lo * 1e3 / 2.0, hi * 1e3 * 2.0)
+    _grid(ax)
+    if not sw.any_data:
+        _no_data_note(ax)
+    _legend(fig, ax, handles)
+    _titles(fig, ax, sw, title, log_note=True)
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+# --------------------------------------------------------------------------- the dataset
+
+class _Sweep:
+    """A validated view of a sweep dataset: strokes in m, values as (setting, stroke, seed)."""
+
+    def __init__(self, ds, var: str):
+        try:
+            import xarray as xr
+        except ImportError:  # pragma: no cover - xarray is a dependency
+            raise InputError("plotting a sweep needs xarray; pip install xarray") from None
+        if not isinstance(ds, xr.Dataset):
+            raise InputError(f"sweep results: expected an xarray.Dataset (from "
+                             f"pdamper.open_results), got {type(ds).__name__}")
+        if var not in ds.data_vars:
+            have = ", ".join(map(str, ds.data_vars)) or "none"
+            raise InputError(f"sweep results: no variable {var!r} in the dataset (variables: "
+                             f"{have}); give the dataset of a stroke sweep")
+        da = ds[var]
+        if "stroke" not in da.dims:
+            raise InputError(f"sweep results: {var!r} has dimensions {tuple(da.dims)} but no "
+                             "'stroke' dimension; a sweep dataset has dimensions ('stroke', "
+                             "'seed') and optionally one study dimension such as 'setting'")
+        extra = [d for d in da.dims if d not in ("stroke", "seed")]
+        if len(extra) > 1:
+            raise InputError(f"sweep results: {var!r} has dimensions {tuple(da.dims)}; at most "
+                             "one study dimension besides 'stroke' and 'seed' can be plotted "
+                             f"(select one of {extra} first, e.g. ds.isel({extra[-1]}=0))")
+        if "seed" not in da.dims:
+            da = da.expand_dims("seed", axis=-1)
+        self.dim = extra[0] if extra else None
+        da = da.transpose(*([self.dim] if self.dim else []), "stroke", "seed")
+        self.ds = ds
+
+        strokes = np.asarray(ds["stroke"].values)
+        units = str(ds["stroke"].attrs.get("units", "m")).strip()
+        if units not in _STROKE_UNITS:
+            raise InputError(f"sweep results: stroke units {units!r} are not understood; "
+                             "use 'm' (or 'mm')")
+        try:
+            strokes = strokes.astype(float) * _STROKE_UNITS[units]
+        except (TypeError, ValueError):
+            raise InputError("sweep results: the 'stroke' coordinate must hold numbers "
+                             f"(strokes in m), got dtype {strokes.dtype}") from None
+        if strokes.size == 0:
+            raise InputError("sweep results: the 'stroke' dimension is empty")
+        if not np.all(np.isfinite(strokes) & (strokes > 0)):
+            raise InputError("sweep results: every stroke must be finite and > 0 m (log axis); "
+                             f"got {strokes.min():g} .. {strokes.max():g}")
+        order = np.argsort(strokes)
+        self.strokes_m = strokes[order]
+
+        try:
+            vals = np.asarray(da.values, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"sweep results: {var!r} must hold numbers, got dtype "
+                             f"{da.dtype}") from None
+        if self.dim is None:
+            vals = vals[None, ...]
+        vals = vals[:, order, :].copy()
+        vals[~np.isfinite(vals)] = np.nan
+        self.values = vals  # (setting, stroke, seed)
+        self.n_seeds = vals.shape[2]
+        self.any_data = bool(np.isfinite(vals).any())
+        self.labels = self._setting_labels(da)
+
+    def _setting_labels(self, da) -> list[str]:
+        if self.dim is None:
+            return [""]
+        n = da.sizes[self.dim]
+        if self.dim in da.coords:
+            out = []
+            for v in np.asarray(da[self.dim].values):
+                if isinstance(v, (str, np.str_)):
+                    out.append(str(v))
+                elif isinstance(v, (float, np.floating)):
+                    out.append(f"{self.dim} = {float(v):g}")
+                else:
+                    out.append(f"{self.dim} = {v}")
+            return out
+        return [f"{self.dim} = {i}" for i in range(n)]
+
+    def finite_range(self):
+        v = self.values[np.isfinite(self.values)]
+        return (float(v.min()), float(v.max())) if v.size else (None, None)
+
+    def positive_range(self):
+        v = self.values[np.isfinite(self.values) & (self.values > 0)]
+        return (float(v.min()), float(v.max())) if v.size else (None, None)
+
+    @property
+    def nonpositive(self) -> int:
+        """How many computed cases are <= 0 (not drawable on a log axis)."""
+        with np.errstate(invalid="ignore"):
+            return int((self.values <= 0).sum())
+
+    def clearances(self) -> list[float | None]:
+        """Clearance [m] per setting (None if unknown)."""
+        n = self.values.shape[0]
+        if self.dim is not None and "clearance" in self.ds.variables:
+            c = self.ds["clearance"]
+            if self.dim in c.dims and c.ndim == 1:
+                vals = np.asarray(c.values, dtype=float)
+                units = str(c.attrs.get("units", "m")).strip()
+                vals = vals * _STROKE_UNITS.get(units, 1.0)
+                return [float(v) if np.isfinite(v) and v > 0 else None for v in vals]
+            if c.ndim == 0:
+                return [_positive(float(c.values))] * n
+        h = _attr_float(self.ds, "clearance_m")
+        if h is None:
+            x_opt = _attr_float(self.ds, "x_opt_m")
+            if x_opt is not None:
+                h = x_opt / _th.X_OPT_OVER_H
+        return [h] * n
+
+    def theory_clearances(self) -> list[tuple[float, str, object]]:
+        """Distinct clearances, their legend suffix and the colour of their laws.
+
+        One clearance: black, no suffix. Several: the colour of the setting that has it when
+        only one setting does (so a law sits next to its data), else black / greys.
+        """
+        groups: list[tuple[float, list[int]]] = []
+        for k, h in enumerate(self.clearances()):
+            if h is None:
+                continue
+            for d, members in groups:
+                if math.isclose(h, d, rel_tol=1e-6):
+                    members.append(k)
+                    break
+            else:
+                groups.append((h, [k]))
+        if len(groups) == 1:
+            return [(groups[0][0], "", "black")]
+        colours = self.colours()
+        neutral = iter(("black", "0.4", "0.6") * len(groups))
+        return [(h, f", h = {h * _MM:.3g} mm",
+                 colours[members[0]] if len(members) == 1 else next(neutral))
+                for h, members in groups]
+
+    def colours(self) -> list:
+        """One colour per setting."""
+        from matplotlib import colormaps
+
+        n = self.values.shape[0]
+        if n == 1:
+            return ["tab:blue"]
+        cmap = colormaps["tab10"]
+        order = (0, 3, 2, 1, 4, 5, 6, 8, 9, 7)  # blue, red, green, orange, ...: far apart first
+        return [cmap(order[i % 10]) for i in range(n)]
+
+
+# --------------------------------------------------------------------------- drawing
+
+def _new_figure(figsize):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    return fig, fig.add_subplot()
+
+
+def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
+    """Mean line, min-max band and single seeds per setting; returns legend handles.
+
+    The mean is over every computed seed. With ``log`` (a log y axis) a mean <= 0 leaves a gap,
+    a band reaching <= 0 runs to the bottom of the axes and dots <= 0 are left out.
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    x_mm = sw.strokes_m * _MM
+    colours = sw.colours()
+    handles = []
+    seeds_drawn = False
+    floor = None
+    if log:
+        pos = sw.positive_range()[0]
+        floor = pos * scale / 2.0 if pos is not None else None
+    for k, (vals, label, colour) in enumerate(zip(sw.values, sw.labels, colours)):
+        vals = vals * scale
+        have = np.isfinite(vals)
+        count = have.sum(axis=1)
+        rows = count > 0  # strokes with at least one computed seed
+        marker = _MARKERS[k % len(_MARKERS)]
+        name = "DEM" if not label else f"DEM, {label}"
+        if not rows.any():
+            handles.append((Line2D([], [], color=colour, marker=marker, lw=1.4, ms=4.5),
+                            f"{name} (no data yet)"))
+            continue
+        with np.errstate(all="ignore"):
+            mean = np.nanmean(vals[rows], axis=1)
+            lo = np.nanmin(vals[rows], axis=1)
+            hi = np.nanmax(vals[rows], axis=1)
+        xs = x_mm[rows]
+        if log:
+            mean = np.where(mean > 0, mean, np.nan)
+            lo = np.maximum(lo, floor) if floor is not None else lo
+        line, = ax.plot(xs, mean, color=colour, lw=1.4, marker=marker, ms=4.5, mfc=colour,
+                        mec="white", mew=0.6, zorder=3)
+        handle = line
+        spread = count[rows] > 1
+        if spread.any():
+            ax.fill_between(xs, np.where(spread, lo, mean), np.where(spread, hi, mean),
+                            color=colour, alpha=0.18, lw=0, zorder=1)
+            dots = have & (vals > 0) if log else have
+            sx = np.repeat(x_mm[:, None], sw.n_seeds, axis=1)[dots]
+            ax.scatter(sx, vals[dots], s=7, color=colour, alpha=0.35, lw=0, zorder=2)
+            seeds_drawn = True
+            handle = (Patch(color=colour, alpha=0.18, lw=0), line)
+        handles.append((handle, name))
+    if seeds_drawn:
+        handles.append((Line2D([], [], ls="", marker="o", ms=3, color="0.45", alpha=0.6,
+                               mew=0), "single seeds"))
+    return handles
+
+
+def _draw_energy_laws(ax, h, lo, hi, mass, freq, colour, label):
+    x = np.geomspace(lo, hi, 400)
+    x_opt = _th.optimal_stroke(h)
+    scale = math.pi * mass * (2.0 * math.pi * freq) ** 2  # Ẽ = η* π m V², V = ΩX
+    below, above = x[x < x_opt], x[x >= x_opt]
+    if lo <= x_opt <= hi:
+        below, above = np.append(below, x_opt), np.insert(above, 0, x_opt)
+    if below.size:
+        ax.plot(below * _MM, _th.eta_scattered(below, h) * scale * below ** 2 * 1e3,
+                color=colour, lw=1.5, ls="-.", label=f"scattered, eq. (8), κ = 1{label}")
+    if above.size:
+        ax.plot(above * _MM, _th.eta_rolling(above, h) * scale * above ** 2 * 1e3,
+                color=colour, lw=1.8, label=f"rolling collect-and-collide, eq. (14){label}")
+
+
+def _stroke_axis(ax, strokes_m):
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    lo, hi = float(strokes_m.min()) * _MM, float(strokes_m.max()) * _MM
+    pad = (hi / lo) ** 0.04 if hi > lo else 1.5
+    ax.set_xlim(lo / pad, hi * pad)
+    decades = math.log10(hi * pad) - math.log10(lo / pad)
+    if decades < 0.7:  # a narrow sweep: label every 1..9 x 10^n
+        subs = tuple(np.arange(1.0, 10.0))
+    else:
+        subs = (1.0, 2.0, 5.0) if decades <= 3.5 else (1.0,)
+    ax.xaxis.set_major_locator(LogLocator(base=10.0, subs=subs))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+    ax.xaxis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(1.0, 10.0)))
+    ax.xaxis.set_minor_formatter(NullFormatter())
+
+
+def _grid(ax):
+    ax.grid(True, which="major", alpha=0.3)
+    ax.grid(True, which="minor", axis="x", alpha=0.1)
+
+
+def _no_data_note(ax):
+    ax.text(0.5, 0.5, "no computed cases yet", transform=ax.transAxes, ha="center",
+            va="center", color="0.4", fontsize="medium")
+
+
+def _legend(fig, ax, data_handles):
+    """One legend outside the axes (right), data first, then the laws: never over data."""
+    from matplotlib.legend_handler import HandlerTuple
+
+    handles = [h for h, _ in data_handles]
+    labels = [s for _, s in data_handles]
+    for h, s in zip(*ax.get_legend_handles_labels()):
+        if not s.startswith("_"):
+            handles.append(h)
+            labels.append(s)
+    if not handles:
+        return
+    fig.legend(handles, labels, loc="outside lower center", ncols=2, fontsize="small",
+               frameon=False, handler_map={tuple: HandlerTuple(ndivide=1)},
+               handlelength=2.4, columnspacing=1.5)
+
+
+def _titles(fig, ax, sw: _Sweep, title, log_note=False):
+    if title is None:
+        title = sw.ds.attrs.get("title") or _auto_title(sw)
+    if title:
+        fig.suptitle(str(title), fontsize="medium")
+    total = sw.values.size
+    done = int(np.isfinite(sw.values).sum())
+    version = sw.ds.attrs.get("pdamper_version")
+    text = f"DEM (pdamper {version})" if version else "DEM"
+    if sw.n_seeds > 1:
+        text += f": line = mean of {sw.n_seeds} seeds, band = min-max, dots = single seeds"
+    else:
+        text += ": 1 seed per stroke"
+    text += f"; {done}/{total} cases computed" if done < total else f"; {total} cases"
+    if log_note and sw.nonpositive:
+        text += f"\n{sw.nonpositive} single value(s) <= 0 not shown as dots (log axis)"
+    ax.set_title(text, fontsize="small", color="0.35")
+
+
+def _auto_title(sw: _Sweep) -> str:
+    a = sw.ds.attrs
+    parts = []
+    shape = a.get("shape")
+    parts.append(f"{shape} damper" if shape else "particle damper")
+    n, nmax = a.get("particles"), a.get("max_particles")
+    if n is not None:
+        parts.append(f"$N_p$ = {_int_text(n)}" + (f" of {_int_text(nmax)}" if nmax is not None
+                                                  else ""))
+    hs = [h for h in sw.clearances() if h is not None]
+    if hs and all(math.isclose(h, hs[0], rel_tol=1e-6) for h in hs):
+        parts.append(f"h = {hs[0] * _MM:.3g} mm")
+    f = _attr_float(sw.ds, "frequency_hz")
+    if f is not None:
+        parts.append(f"f = {f:g} Hz")
+    return ", ".join(parts)
+
+
+def _int_text(v) -> str:
+    try:
+        return f"{int(v)}"
+    except (TypeError, ValueError):
+        return str(v)
+
+
+def _attr_float(ds, name: str):
+    v = ds.attrs.get(name)
+    if v is None:
+        return None
+    try:
+        return _positive(float(v))
+    except (TypeError, ValueError):
+        return None
+
+
+def _positive(v: float):
+    return v if math.isfinite(v) and v > 0 else None
+
+
+# --------------------------------------------------------------------------- files
+
+def _check_path(path):
+    if path is None:
+        return None
+    target = Path(path)
+    if target.suffix.lower() not in FORMATS:
+        raise InputError(f"plot file {str(target)!r}: unknown format "
+                         f"{target.suffix or '(no extension)'!r}; end the name with one of "
+                         f"{', '.join(FORMATS)}")
+    if not target.parent.is_dir():
+        raise InputError(f"plot file {str(target)!r}: folder {str(target.parent)!r} does not "
+                         "exist; create it or choose another path")
+    return target
+
+
+def _save(fig, target: Path, dpi: int) -> None:
+    try:
+        fig.savefig(target, dpi=dpi)
+    except OSError as exc:
+        raise InputError(f"plot file {str(target)!r} cannot be written: "
+                         f"{exc.strerror or exc}") from None
