@@ -24,6 +24,8 @@ Run it:
 
 - :func:`load_case` -- a TOML config file to a :class:`Case`.
 - :class:`Simulation`, :func:`run_case` -> :class:`RunResult` (signals, energies, eta*).
+- :class:`SweepSpec`, :func:`run_sweep` -- a stroke sweep over seeds on all cores or a Dask
+  cluster, written to a resumable store; :func:`open_results` -- its labelled dataset.
 
 Evaluate and design:
 
@@ -87,6 +89,9 @@ _LAZY = {
     "complex_power": "analysis",
     "analyze_record": "analysis",
     "theory": None,
+    "SweepSpec": "studies",
+    "run_sweep": "studies",
+    "open_results": "studies",
 }
 
 __all__ = [
@@ -99,6 +104,8 @@ __all__ = [
     "ConstantRestitution", "TabulatedRestitution", "ThorntonRestitution",
     # run it
     "load_case", "Simulation", "RunResult", "run_case",
+    # sweep it
+    "SweepSpec", "run_sweep", "open_results",
     # evaluate and design
     "complex_power", "analyze_record", "theory",
     # units and errors

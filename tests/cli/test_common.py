@@ -36,6 +36,11 @@ BAD = {
         (["case.toml", "--bogus"], "No such option"),
         ([], "Missing argument 'CONFIG.toml'"),
     ],
+    "sweep": [
+        (["case.toml", "--seeds", "0"], "0 is not in the range"),
+        (["case.toml", "--bogus"], "No such option"),
+        ([], "Missing argument 'CONFIG.toml'"),
+    ],
 }
 
 

@@ -1,0 +1,112 @@
+"""The result store: one atomic file per case, resume, refusal of another configuration,
+and a real local Dask cluster (processes) behind the sweep."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from pdamper.config import load_case
+from pdamper.errors import InputError
+from pdamper.studies import ResultStore, SweepSpec, open_results, run_sweep
+
+
+def _spec(cfg, strokes=(0.002, 0.012), seeds=(0, 1), **over):
+    return SweepSpec(base=load_case(cfg, over or None), strokes=strokes, seeds=seeds)
+
+
+def test_a_sweep_on_a_local_cluster_stores_every_case_and_resumes_without_recomputing(tiny_config, tmp_path):
+    store = tmp_path / "store"
+    ds = run_sweep(_spec(tiny_config), store, workers=2, progress=False)
+    assert ds.eta_star.shape == (2, 2) and np.all(np.isfinite(ds.eta_star.values))
+    assert ds.eta_star.attrs["units"] == "1" and ds.energy_per_cycle.attrs["units"] == "J"
+    assert ds.stroke.attrs["units"] == "m"
+    assert "[particles]" in ds.attrs["config"] and ds.attrs["pdamper_version"]
+    files = sorted((store / "cases").glob("*.json"))
+    assert len(files) == 4
+    stamps = {f.name: f.stat().st_mtime_ns for f in files}
+    # same command again: nothing is recomputed, the dataset is the same
+    again = run_sweep(_spec(tiny_config), store, workers=2, progress=False)
+    assert {f.name: f.stat().st_mtime_ns for f in (store / "cases").glob("*.json")} == stamps
+    np.testing.assert_array_equal(again.eta_star.values, ds.eta_star.values)
+    # one more seed: only the two new cases run
+    more = run_sweep(_spec(tiny_config, seeds=(0, 1, 2)), store, workers=2, progress=False)
+    assert more.eta_star.shape == (2, 3) and len(list((store / "cases").glob("*.json"))) == 6
+    np.testing.assert_array_equal(more.eta_star.values[:, :2], ds.eta_star.values)
+    # the files a user opens
+    reopened = open_results(store)
+    np.testing.assert_array_equal(reopened.eta_star.values, more.eta_star.values)
+    nc = open_results(store / "results.nc")
+    np.testing.assert_array_equal(nc.eta_star.values, more.eta_star.values)
+    csv = (store / "results.csv").read_text().splitlines()
+    assert csv[0].startswith("stroke [m],seed,eta_star [1],energy_per_cycle [J]") and len(csv) == 1 + 6
+
+
+def test_same_seeds_same_numbers_on_an_external_dask_cluster(tiny_config, tmp_path):
+    from dask.distributed import LocalCluster
+
+    spec = _spec(tiny_config, strokes=(0.012,), seeds=(0, 1))
+    local = run_sweep(spec, tmp_path / "a", workers=1, progress=False)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+        remote = run_sweep(spec, tmp_path / "b", scheduler=cluster.scheduler_address, progress=False)
+    np.testing.assert_array_equal(local.eta_star.values, remote.eta_star.values)
+    np.testing.assert_array_equal(local.steps.values, remote.steps.values)
+
+
+def test_a_store_of_another_configuration_is_refused_with_the_difference_named(tiny_config, tmp_path):
+    store = tmp_path / "store"
+    ResultStore.create_or_open(store, _spec(tiny_config))
+    with pytest.raises(InputError, match=r"different configuration \(contact.friction = 0.1 there, 0.2 now\)"):
+        ResultStore.create_or_open(store, _spec(tiny_config, **{"contact.friction": 0.2}))
+    # strokes, seeds, the stroke of the config file and its seed do not count as configuration
+    ResultStore.create_or_open(store, _spec(tiny_config, strokes=(0.005,), seeds=(4,),
+                                            **{"drive.stroke": "9mm", "initial.seed": 3}))
+
+
+def test_a_directory_that_is_not_a_store_is_refused(tiny_config, tmp_path):
+    d = tmp_path / "busy"
+    d.mkdir()
+    (d / "thesis.tex").write_text("...")
+    with pytest.raises(InputError, match="not a pdamper result store"):
+        ResultStore.create_or_open(d, _spec(tiny_config))
+    with pytest.raises(InputError, match="no pdamper result store"):
+        open_results(d)
+
+
+def test_a_partial_store_gives_nan_for_the_missing_cases(tiny_config, tmp_path):
+    store = ResultStore.create_or_open(tmp_path / "s", _spec(tiny_config))
+    store.save("X0.002_seed0", 0.002, 0, {"eta_star": 0.1, "energy_per_cycle_J": 1e-5})
+    ds = store.dataset()
+    assert ds.eta_star.sel(stroke=0.002, seed=0) == pytest.approx(0.1)
+    assert np.isnan(ds.eta_star.sel(stroke=0.012, seed=1))
+
+
+def test_kill_minus_nine_loses_nothing_finished_and_the_rerun_completes(tiny_config, tmp_path):
+    store = tmp_path / "store"
+    cmd = [sys.executable, "-m", "pdamper.cli", "sweep", str(tiny_config), "--strokes", "1mm:20mm:6",
+           "--seeds", "1", "--workers", "1", "--out", str(store), "--json"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        deadline = time.time() + 120
+        while time.time() < deadline and len(list((store / "cases").glob("*.json"))) < 2:
+            time.sleep(0.1)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    done_before = {f.name: f.read_bytes() for f in (store / "cases").glob("*.json")}
+    assert 2 <= len(done_before) < 6
+    for blob in done_before.values():
+        json.loads(blob)  # every stored case is whole
+    out = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    after = {f.name: f.read_bytes() for f in (store / "cases").glob("*.json")}
+    assert len(after) == 6
+    assert all(after[k] == v for k, v in done_before.items())  # finished cases were not recomputed
+    assert json.loads(out.stdout)["failed_cases"] == 0
