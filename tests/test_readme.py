@@ -49,17 +49,22 @@ def test_ci_runs_the_second_set_up_command():
 
 
 def test_main_job_arguments_are_valid_and_the_figure_is_in_the_repo(tmp_path):
+    """The main job's command line runs (cut down to one short case here; the full sweep is
+    what the README promises a user, minutes on two cores) and writes its figure."""
     from pdamper.cli import main
 
     line = _blocks(_section("Set up"))[0].strip()
     args = shlex.split(line.split("&&", 1)[1])[1:]
-    assert args[args.index("--plot") + 1] == "theory_36.png"
-    args[args.index("--plot") + 1] = str(tmp_path / "theory_36.png")
+    assert args[0] == "sweep" and args[args.index("--plot") + 1] == "sweep_36.png"
+    args[args.index("--plot") + 1] = str(tmp_path / "sweep_36.png")
+    args += ["--strokes", "13mm", "--cycles", "2.5", "--set", "run.drop_cycles=1", "--workers", "1",
+             "--out", str(tmp_path / "store"), "--json"]
     result = CliRunner().invoke(main, args)
     assert result.exit_code == 0, result.output
-    assert (tmp_path / "theory_36.png").stat().st_size > 10_000
-    assert (ROOT / "docs" / "img" / "theory_36.png").exists()
-    assert "docs/img/theory_36.png" in README
+    assert (tmp_path / "sweep_36.png").stat().st_size > 10_000
+    for img in ("sweep_36.png", "theory_36.png"):
+        assert (ROOT / "docs" / "img" / img).exists()
+        assert f"docs/img/{img}" in README
 
 
 def test_quoted_theory_output_is_real():
