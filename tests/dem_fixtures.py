@@ -43,3 +43,22 @@ def run(case, analyse=True):
 
 def sphere_mass(material=STEEL_S235, r=R):
     return material.density * 4.0 / 3.0 * math.pi * r**3
+
+
+#: A tiny damper case (8 spheres, 3 cycles, 1 dropped) for CLI and sweep tests: a few seconds a run.
+TINY_CONFIG = """\
+# a tiny case for the CLI and sweep tests
+[particles]
+count = 8
+
+[drive]
+stroke = "13mm"
+frequency = "2Hz"
+
+[initial]
+settle_time = "50ms"
+
+[run]
+cycles = 3
+drop_cycles = 1
+"""

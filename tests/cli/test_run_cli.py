@@ -13,22 +13,7 @@ from pdamper.cli import main
 from pdamper.config import load_case
 from pdamper.io.runs import read_run
 
-TINY = """\
-# a tiny case for the CLI tests
-[particles]
-count = 8
-
-[drive]
-stroke = "13mm"
-frequency = "2Hz"
-
-[initial]
-settle_time = "50ms"
-
-[run]
-cycles = 3
-drop_cycles = 1
-"""
+from dem_fixtures import TINY_CONFIG as TINY  # noqa: E402
 
 
 def invoke(args):

@@ -1,21 +1,10 @@
 import pytest
 
-TINY = """\
-[particles]
-count = 8
-[drive]
-stroke = "13mm"
-frequency = "2Hz"
-[initial]
-settle_time = "50ms"
-[run]
-cycles = 3
-drop_cycles = 1
-"""
+from dem_fixtures import TINY_CONFIG
 
 
 @pytest.fixture
 def tiny_config(tmp_path):
     p = tmp_path / "tiny.toml"
-    p.write_text(TINY)
+    p.write_text(TINY_CONFIG)
     return p
