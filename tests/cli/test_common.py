@@ -36,6 +36,11 @@ BAD = {
         (["case.toml", "--bogus"], "No such option"),
         ([], "Missing argument 'CONFIG.toml'"),
     ],
+    "study": [
+        (["frction"], "did you mean 'friction'"),
+        (["fig4", "--bogus"], "No such option"),
+        ([], "Missing argument 'NAME'"),
+    ],
     "sweep": [
         (["case.toml", "--seeds", "0"], "0 is not in the range"),
         (["case.toml", "--bogus"], "No such option"),

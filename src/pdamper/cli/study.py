@@ -1,0 +1,92 @@
+"""``pdamper study NAME``: one of the paper's studies (SPEC Sect. 5) with its dataset and figure."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import click
+import numpy as np
+
+from .common import echo_json, main, user_errors
+
+__all__ = ["study_command"]
+
+#: --quick: 8 strokes from 0.5 to 50 mm, 6 cycles (2 dropped), one seed -- a first look.
+QUICK = dict(strokes=(0.5e-3, 50e-3, 8), cycles=6, drop_cycles=2)
+
+
+def _names():
+    from ..studies.named import STUDIES
+
+    return list(STUDIES)
+
+
+@main.command("study")
+@click.argument("name", metavar="NAME")
+@click.option("--quick", is_flag=True, help="8 strokes, 6 cycles, 1 seed: about a minute for a first look.")
+@click.option("--strokes", help="FIRST:LAST:COUNT or a list (default 0.5mm:50mm:40; --quick: 0.5mm:50mm:8).")
+@click.option("--seeds", type=click.IntRange(min=1), default=1, show_default=True, help="Seeds per stroke.")
+@click.option("--cycles", type=click.FloatRange(min=0, min_open=True), help="Drive cycles per case (default 20).")
+@click.option("--out", type=click.Path(), help="Study directory (default study_<NAME>[_quick]).")
+@click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
+@click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
+@click.option("--plot", type=click.Path(dir_okay=False), help="Figure file (default <out>/<NAME>.png).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
+@user_errors
+def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, as_json):
+    """Run the paper's study NAME and write its dataset and figure.
+
+    NAME is one of: fig4, friction, modulus, density, restitution, radius, tilt, cylinder,
+    cylinder-tilt. Every setting is swept over the strokes into its own resumable store under
+    the study directory; study.nc holds them all with a 'setting' dimension.
+
+    Example: pdamper study fig4 --quick
+    """
+    from ..errors import InputError
+    from ..plotting.sweep import sweep_figure
+    from ..studies.named import run_study, study_settings
+    from ..studies.sweep import parse_strokes, stroke_grid
+
+    if workers and scheduler:
+        raise InputError("--workers and --scheduler exclude each other: local processes, or a Dask cluster")
+    study_settings(name)  # unknown names fail here, with a suggestion
+    if strokes:
+        xs = parse_strokes(strokes)
+    else:
+        lo, hi, n = QUICK["strokes"] if quick else (0.5e-3, 50e-3, 40)
+        xs = stroke_grid(lo, hi, n)
+    if cycles is None and quick:
+        cycles = QUICK["cycles"]
+    drop = QUICK["drop_cycles"] if quick else None
+    out = Path(out) if out else Path(f"study_{name}{'_quick' if quick else ''}")
+    ds = run_study(name, out, strokes=tuple(xs), seeds=tuple(range(seeds)), cycles=cycles, drop_cycles=drop,
+                   workers=workers, scheduler=scheduler, progress=False if as_json else None)
+    plot = Path(plot) if plot else out / f"{name}.png"
+    sweep_figure(ds, plot)
+    mean = ds.eta_star.mean("seed", skipna=True)
+    rows = []
+    for k, label in enumerate(ds.setting.values.tolist()):
+        m = mean.values[k]
+        if np.all(np.isnan(m)):
+            continue
+        i = int(np.nanargmax(m))
+        rows.append({"setting": label, "eta_star_peak": float(m[i]), "stroke_at_peak_m": float(ds.stroke.values[i]),
+                     "x_opt_theory_m": float(ds.x_opt.values[k]), "clearance_m": float(ds.clearance.values[k])})
+    summary = {"study": name, "title": ds.attrs.get("title", ""), "dataset": str(out / "study.nc"),
+               "plot": str(plot), "strokes_m": ds.stroke.values.tolist(), "seeds": ds.seed.values.tolist(),
+               "settings": rows, "eta_star_mean": {r: mean.sel(setting=r).values.tolist()
+                                                   for r in ds.setting.values.tolist()},
+               "failed_cases": int(ds["failed"].sum())}
+    if as_json:
+        echo_json(summary)
+        return
+    click.echo(f"pdamper study {name}: {summary['title']}")
+    click.echo(f"  {len(ds.stroke)} strokes x {len(ds.seed)} seeds per setting")
+    for r in rows:
+        click.echo(f"  {r['setting']:<32} peak eta* = {r['eta_star_peak']:.3f} at X = {r['stroke_at_peak_m'] * 1e3:.3g} mm"
+                   f"   (theory X_opt = {r['x_opt_theory_m'] * 1e3:.3g} mm)" if math.isfinite(r['x_opt_theory_m'])
+                   else f"  {r['setting']:<32} peak eta* = {r['eta_star_peak']:.3f} at X = {r['stroke_at_peak_m'] * 1e3:.3g} mm")
+    if summary["failed_cases"]:
+        click.echo(f"  {summary['failed_cases']} case(s) failed numerically (see the stores under {out})")
+    click.echo(f"  dataset: {out / 'study.nc'}; figure: {plot}")
