@@ -41,6 +41,11 @@ BAD = {
         (["fig4", "--bogus"], "No such option"),
         ([], "Missing argument 'NAME'"),
     ],
+    "validate": [
+        (["--seeds", "0"], "0 is not in the range"),
+        (["--bogus"], "No such option"),
+        (["--out"], "requires an argument"),
+    ],
     "sweep": [
         (["case.toml", "--seeds", "0"], "0 is not in the range"),
         (["case.toml", "--bogus"], "No such option"),

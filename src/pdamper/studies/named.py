@@ -143,9 +143,10 @@ def _slug(label: str) -> str:
 
 
 def run_study(name, out, *, strokes, seeds, cycles=None, drop_cycles=None, workers=None, scheduler=None,
-              progress=None):
+              progress=None, only=None):
     """Sweep every setting of study ``name`` (one store per setting under ``out``) on one
-    cluster; return the combined dataset with a ``setting`` dimension."""
+    cluster; return the combined dataset with a ``setting`` dimension. ``only``: a list of
+    setting labels to run (default: all)."""
     import numpy as np
     import xarray as xr
 
@@ -154,6 +155,11 @@ def run_study(name, out, *, strokes, seeds, cycles=None, drop_cycles=None, worke
     from .sweep import SweepSpec, run_one
 
     settings = study_settings(name)
+    if only is not None:
+        unknown = set(only) - {lbl for lbl, _ in settings}
+        if unknown:
+            raise InputError(f"study {name!r} has no setting {sorted(unknown)}")
+        settings = [(lbl, c) for lbl, c in settings if lbl in only]
     out = Path(out)
     stores, items, total = [], [], 0
     for label, case in settings:

@@ -1,0 +1,51 @@
+"""``pdamper validate``: the paper-level checks of SPEC Sect. 9, as a table and docs/validation.md."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from .common import echo_json, main, user_errors
+
+__all__ = ["validate_command"]
+
+
+@main.command("validate")
+@click.option("--quick", is_flag=True, help="12 strokes and 8 cycles per study (a rough first look).")
+@click.option("--seeds", type=click.IntRange(min=1), default=1, show_default=True, help="Seeds per stroke.")
+@click.option("--out", type=click.Path(), default="validation", show_default=True, help="Directory of the study stores.")
+@click.option("--report", type=click.Path(dir_okay=False), default="docs/validation.md", show_default=True,
+              help="Markdown report to write (its figures go beside it, in img/validation/).")
+@click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
+@click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
+@click.option("--json", "as_json", is_flag=True, help="Print the checks as JSON.")
+@user_errors
+def validate_command(quick, seeds, out, report, workers, scheduler, as_json):
+    """Run the paper-level validation (Fig. 4, friction, tilt, E, rho, eps) and report pass/fail.
+
+    Takes tens of minutes on two cores (--quick: a few); resumable like every study.
+    """
+    from ..plotting.sweep import sweep_figure
+    from ..studies.validate import run_validation, write_report
+
+    checks, datasets, seconds = run_validation(out, quick=quick, seeds=seeds, workers=workers, scheduler=scheduler,
+                                               progress=False if as_json else None)
+    report = Path(report)
+    img = report.parent / "img" / "validation"
+    img.mkdir(parents=True, exist_ok=True)
+    figures = []
+    for name, ds in datasets.items():
+        f = img / f"{name}.png"
+        sweep_figure(ds, f)
+        figures.append((ds.attrs.get("title", name), f.relative_to(report.parent).as_posix()))
+    cmd = "pdamper validate" + (" --quick" if quick else "") + (f" --seeds {seeds}" if seeds != 1 else "")
+    write_report(report, checks, figures, cmd, seconds)
+    if as_json:
+        echo_json({"checks": [c.__dict__ for c in checks], "passed": sum(c.passed for c in checks),
+                   "total": len(checks), "report": str(report), "seconds": seconds})
+        return
+    w = max(len(c.name) for c in checks)
+    for c in checks:
+        click.echo(f"{'PASS' if c.passed else 'FAIL'}  {c.name:<{w}}  expected {c.expected}; measured {c.measured}")
+    click.echo(f"{sum(c.passed for c in checks)} of {len(checks)} checks pass ({seconds / 60:.1f} min); report: {report}")
