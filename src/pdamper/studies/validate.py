@@ -83,7 +83,7 @@ def run_validation(out, *, quick=False, seeds=1, workers=None, scheduler=None, p
                             f"max eta* = {np.nanmax(below):.3f} ({below.size} strokes)", bool(np.nanmax(below) < 0.5)))
         above = xs >= 2 * xo
         dev = np.abs(m[above] - theory.eta_rolling(xs[above], h))
-        checks.append(Check(f"Fig. 4, {n} spheres: rolling branch", f"|eta* - eq. (14)| <= 0.2 for X >= {2 * xo * 1e3:.3g} mm",
+        checks.append(Check(f"Fig. 4, {n} spheres: rolling branch", f"abs(eta* - eq. (14)) <= 0.2 for X >= {2 * xo * 1e3:.3g} mm",
                             f"max deviation {np.nanmax(dev):.3f} ({dev.size} strokes)", bool(np.nanmax(dev) <= 0.2)))
     fr = ds["friction"]
     for n in (36, 44):
