@@ -24,7 +24,7 @@ from .. import theory
 from .named import run_study
 from .sweep import stroke_grid
 
-__all__ = ["Check", "run_validation", "write_report"]
+__all__ = ["Check", "run_validation", "evaluate_checks", "write_report"]
 
 
 @dataclass(frozen=True)
@@ -67,6 +67,13 @@ def run_validation(out, *, quick=False, seeds=1, workers=None, scheduler=None, p
         "restitution": run_study("restitution", out / "restitution", strokes=coarse,
                                  only=["eps = 0.8", "eps = 0.9", "eps = 0.95"], **kw),
     }
+    return evaluate_checks(ds), ds, time.perf_counter() - t0
+
+
+def evaluate_checks(ds: dict) -> list:
+    """The checks of the module docstring on the study datasets ``ds`` (keys fig4, friction,
+    tilt, modulus, density, restitution; each with a ``setting`` dimension as
+    :func:`~pdamper.studies.named.run_study` returns)."""
     checks = []
     f4 = ds["fig4"]
     for label, n, (lo, hi), (xlo, xhi) in [("N_p = 36", 36, (0.75, 1.05), (10e-3, 16e-3)),
@@ -107,7 +114,7 @@ def run_validation(out, *, quick=False, seeds=1, workers=None, scheduler=None, p
         checks.append(Check(f"Sensitivity: {study}", f"peak eta* within 0.1 of the baseline ({base})",
                             ", ".join(f"{o}: {_peak(d, o)[0]:.3f}" for o in others) + f"; baseline {b:.3f}",
                             max(diffs) <= 0.1))
-    return checks, ds, time.perf_counter() - t0
+    return checks
 
 
 def write_report(path, checks, figures, command, seconds):
