@@ -34,6 +34,10 @@ __all__ = ["Simulation", "RunResult", "run_case", "auto_time_step"]
 #: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
 GEAR_MIN_STEP = 1e-9
 
+#: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
+#: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
+MODE_FPS = 50.0
+
 #: Above this many spheres the Verlet list is built with link cells ("auto" search).
 CELLS_THRESHOLD = 200
 
@@ -385,8 +389,10 @@ class Simulation:
         eng = np.zeros((n_samples, 7))
         traj_every = 0
         traj = np.zeros((1, 1, 9))
-        if case.recording.trajectory_fps > 0:
-            traj_every = max(1, int(round(fs / case.recording.trajectory_fps)))
+        periodic = float(getattr(case.drive, "frequency", 0.0) or 0.0) > 0
+        fps = case.recording.trajectory_fps or (min(MODE_FPS, fs) if periodic and analyse else 0.0)
+        if fps > 0:
+            traj_every = max(1, int(round(fs / fps)))
             traj = np.zeros((n_samples // traj_every, self.n, 9))
         if gear:
             self.nord = np.zeros((6, self.n, 6))
@@ -440,6 +446,13 @@ class Simulation:
         if analyse and case.drive.kind != "still":
             analysis = signals.analyse(case)
         extras = {"rejected_steps": self.rejected_steps} if gear else {}
+        if periodic and analyse and trajectory is not None:
+            from .analysis.modes import classify_trajectory
+
+            mode, feats = classify_trajectory(trajectory, case)
+            extras.update(mode=mode, mode_features=feats.to_dict())
+        if not case.recording.trajectory_fps:
+            trajectory = None  # recorded only to classify the motion mode
         # Gear: report the mean accepted step over the whole run (settling included)
         step = (settle_samples + n_samples) * ts / max(steps, 1) if gear else self.dt
         return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,

@@ -1,0 +1,209 @@
+"""Motion modes of the particle bed from its trajectory (SPEC Sect. 8, paper Figs. 2, 3, 5, Sect. 6.2).
+
+Pure functions on trajectory arrays in the **container frame** (x along the container's length,
+y up from the floor, z across), as :class:`pdamper.simulation.RunResult` records them; they know
+nothing of the simulator. :func:`mode_features` measures, over the analysed (steady) part of a
+run, what a person watching the bed would judge by; :func:`classify_features` turns them into one
+of :data:`MODES` with the thresholds of :data:`THRESHOLDS` (their measurements are in
+docs/motion.md).
+
+Measured quantities (``s`` is a sphere centre's coordinate along the drive direction, the two
+end walls sit at ``s = -L/2`` and ``+L/2``, h is the clearance of eq. (6)):
+
+- ``spread``: the median over frames of std(s) of the bed, over the std of a compact block that
+  fills ``L - h`` (``(L - h)/sqrt(12)``); ~1 for a collected bed, ~L/(L - h) for a bed spread
+  over the whole floor.
+- ``swing``: the range (5th to 95th percentile) of the bed centre mean(s) over h: ~1 when the
+  bed travels from wall to wall, ~0 when it stays put.
+- ``touch_lo``, ``touch_hi``: the fraction of frames in which a sphere touches the -L/2 (lo) or
+  the +L/2 (hi) end wall (gap below :data:`THRESHOLDS` ``touch_gap`` x r).
+- ``impacts_lo``, ``impacts_hi``: arrivals at that wall per drive cycle (frames where the bed
+  starts touching it after not touching it).
+- ``sync``: the share of the bed centre's variance at the drive frequency (1: the bed moves as
+  one with the drive, 0: no relation); ``phase_deg``: the phase of that component against the
+  container position x_c = X sin(Omega t) [deg].
+- ``airborne``: the fraction of sphere-frames whose centre is more than ``lift_gap`` x r above
+  the floor contact height (y > r (1 + lift_gap)); ``max_height``: the largest (y - r)/r.
+
+Modes (:func:`classify_features`, checked in this order):
+
+``lift-off``
+    ``airborne`` >= ``lift_fraction``: the bed leaves the floor (container acceleration near or
+    above g; fluidised or bouncing).
+``rolling-collect-and-collide``
+    both end walls hit at least ``impacts_min`` times per cycle and ``swing`` >= ``swing_min``:
+    the bed crosses the clearance and collides with each wall once a cycle (Fig. 3b, Fig. 5).
+``single-sided``
+    one end wall touched in at least ``touch_one`` of the frames and the other in at most
+    ``touch_other``: the bed stays at (or keeps returning to) one wall, the low one under a tilt
+    (Sect. 6.2); includes a bed resting on the low wall.
+``scattered``
+    anything else with the bed on the floor: the spheres move each their own way, with few wall
+    collisions (Fig. 3a), including a bed swaying in the middle without reaching the walls.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+__all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_features", "classify_trajectory",
+           "case_clearance", "bed_centre"]
+
+#: The motion modes, in the order the classifier checks them (plus "unknown" when no trajectory).
+MODES = ("lift-off", "rolling-collect-and-collide", "single-sided", "scattered")
+
+#: Thresholds of :func:`classify_features` (see the module docstring; measured in docs/motion.md).
+THRESHOLDS = {
+    "touch_gap": 0.1,       # a sphere touches an end wall when its gap is below 0.1 r
+    "lift_gap": 0.2,        # a sphere is airborne when its centre is more than 0.2 r above y = r
+    "lift_fraction": 0.15,  # lift-off: at least 15 % of sphere-frames airborne
+    "impacts_min": 0.5,     # rolling collect-and-collide: at least 0.5 arrivals per cycle at each end wall
+    "swing_min": 0.5,       # ... and the bed centre travels at least half the clearance
+    "touch_one": 0.5,       # single-sided: one end wall touched in at least half the frames
+    "touch_other": 0.05,    # ... and the other in at most 5 %
+}
+
+
+@dataclass(frozen=True)
+class ModeFeatures:
+    """What :func:`mode_features` measured (see the module docstring for each field)."""
+
+    spread: float
+    swing: float
+    touch_lo: float
+    touch_hi: float
+    impacts_lo: float
+    impacts_hi: float
+    sync: float
+    phase_deg: float
+    airborne: float
+    max_height: float
+    frames: int
+    cycles: float
+
+    def to_dict(self) -> dict:
+        """Plain dict of floats for JSON."""
+        return {k: float(v) if not isinstance(v, int) else v for k, v in asdict(self).items()}
+
+
+def case_clearance(case) -> tuple[float, float]:
+    """(L, h) [m] of a case's container: the length along the drive and the clearance of eq. (6)
+    (the cylinder's N_p,max is the floor area over (2r)^2, the paper's 48 for R = 39 mm)."""
+    from ..theory import clearance
+
+    geo = case.container.geometry
+    r0 = max(p.radius for p in case.particles)
+    if geo.shape == "cuboid":
+        n_max = geo.max_particles(r0)
+    else:
+        n_max = int(round(math.pi * geo.radius**2 / (2 * r0) ** 2))
+    n = case.n_particles
+    length = geo.drive_length
+    h = float(clearance(length, n, n_max)) if n <= n_max else float("nan")
+    return float(length), h
+
+
+def bed_centre(position, drive_dir=(1.0, 0.0, 0.0)) -> np.ndarray:
+    """Bed centre along the drive direction [m] per frame: the mean of the sphere centres' s."""
+    d = _unit_horizontal(drive_dir)
+    return (np.asarray(position, dtype=float) @ d).mean(axis=1)
+
+
+def _unit_horizontal(drive_dir) -> np.ndarray:
+    d = np.array(drive_dir, dtype=float)
+    d[1] = 0.0  # the floor-plane part: the end walls are vertical
+    n = np.linalg.norm(d)
+    return d / n if n > 0 else np.array([1.0, 0.0, 0.0])
+
+
+def mode_features(time, position, radius, *, length: float, clearance: float, frequency: float,
+                  drive_dir=(1.0, 0.0, 0.0), start_time: float = 0.0,
+                  thresholds: dict | None = None) -> ModeFeatures:
+    """Measure the bed's motion over the frames at ``time >= start_time``.
+
+    Parameters
+    ----------
+    time : (F,) frame times [s]; position : (F, N, 3) sphere centres [m], container frame;
+    radius : (N,) or scalar [m]; length : L [m], end walls at s = +-L/2 along ``drive_dir``;
+    clearance : h [m] (eq. 6); frequency : drive frequency f [Hz];
+    drive_dir : drive direction in the container frame (its floor-plane part is used);
+    start_time : the transient to leave out [s] (e.g. drop_cycles / f).
+    """
+    th = {**THRESHOLDS, **(thresholds or {})}
+    t = np.asarray(time, dtype=float)
+    pos = np.asarray(position, dtype=float)
+    if pos.ndim != 3 or pos.shape[2] != 3 or pos.shape[0] != t.shape[0]:
+        raise ValueError(f"position must be (frames, N, 3) matching time, got {pos.shape} and {t.shape}")
+    rad = np.broadcast_to(np.asarray(radius, dtype=float), pos.shape[1])
+    keep = t >= start_time - 1e-12
+    if keep.sum() < 4:
+        keep = np.ones_like(t, dtype=bool)  # too short a run to drop a transient: use it all
+    t, pos = t[keep], pos[keep]
+    nf = t.shape[0]
+    d = _unit_horizontal(drive_dir)
+    s = pos @ d                                   # (F, N) along the drive
+    centre = s.mean(axis=1)
+    compact = max(length - clearance, 2 * float(rad.max())) / math.sqrt(12.0)
+    spread = float(np.median(s.std(axis=1)) / compact)
+    h = clearance if clearance > 0 else 2 * float(rad.max())
+    swing = float((np.percentile(centre, 95) - np.percentile(centre, 5)) / h)
+    gap = th["touch_gap"] * rad
+    on_lo = np.any(s - rad <= -length / 2 + gap, axis=1)
+    on_hi = np.any(s + rad >= length / 2 - gap, axis=1)
+    dt = float(np.median(np.diff(t))) if nf > 1 else 0.0
+    cycles = max((t[-1] - t[0] + dt) * frequency, 1e-12)
+
+    def arrivals(on):
+        return float(np.count_nonzero(on[1:] & ~on[:-1]) / cycles)
+
+    # the drive-frequency share of the centre's variance, over whole cycles
+    n_whole = int(math.floor(cycles + 1e-9))
+    sync, phase = 0.0, float("nan")
+    if n_whole >= 1 and nf >= 4:
+        sel = t <= t[0] - dt / 2 + n_whole / frequency
+        c = centre[sel] - centre[sel].mean()
+        w = 2 * math.pi * frequency * t[sel]
+        a = 2 * np.mean(c * np.sin(w))
+        b = 2 * np.mean(c * np.cos(w))
+        var = float(np.mean(c * c))
+        sync = float(min(1.0, 0.5 * (a * a + b * b) / var)) if var > 0 else 0.0
+        phase = float(math.degrees(math.atan2(b, a)))  # centre ~ A sin(wt + phase)
+    y = pos[:, :, 1]
+    height = (y - rad) / rad
+    airborne = float(np.mean(height > th["lift_gap"]))
+    return ModeFeatures(spread=spread, swing=swing, touch_lo=float(on_lo.mean()), touch_hi=float(on_hi.mean()),
+                        impacts_lo=arrivals(on_lo), impacts_hi=arrivals(on_hi), sync=sync, phase_deg=phase,
+                        airborne=airborne, max_height=float(height.max()), frames=int(nf), cycles=float(cycles))
+
+
+def classify_features(f: ModeFeatures, thresholds: dict | None = None) -> str:
+    """The motion mode (one of :data:`MODES`) of measured features (see the module docstring)."""
+    th = {**THRESHOLDS, **(thresholds or {})}
+    if f.airborne >= th["lift_fraction"]:
+        return "lift-off"
+    if min(f.impacts_lo, f.impacts_hi) >= th["impacts_min"] and f.swing >= th["swing_min"]:
+        return "rolling-collect-and-collide"
+    hi, lo = max(f.touch_lo, f.touch_hi), min(f.touch_lo, f.touch_hi)
+    if hi >= th["touch_one"] and lo <= th["touch_other"]:
+        return "single-sided"
+    return "scattered"
+
+
+def classify_trajectory(trajectory: dict, case, *, thresholds: dict | None = None) -> tuple[str, ModeFeatures]:
+    """(mode, features) of a recorded trajectory (``time``, ``position``, ``radius``) of ``case``
+    (a :class:`pdamper.params.Case`: container, drive and the transient ``drop_cycles`` to skip)."""
+    from ..geometry.tilt import container_vectors
+
+    length, h = case_clearance(case)
+    drive = case.drive
+    freq = float(getattr(drive, "frequency", 0.0) or 0.0)
+    if freq <= 0:
+        raise ValueError("motion modes need a periodic drive with a frequency")
+    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(drive, "angle", 0.0))
+    feats = mode_features(trajectory["time"], trajectory["position"], trajectory["radius"], length=length,
+                          clearance=h, frequency=freq, drive_dir=dvec, start_time=case.drop_cycles / freq,
+                          thresholds=thresholds)
+    return classify_features(feats, thresholds), feats
