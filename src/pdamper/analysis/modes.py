@@ -31,8 +31,9 @@ Modes (:func:`classify_features`, checked in this order):
     ``airborne`` >= ``lift_fraction``: the bed leaves the floor (container acceleration near or
     above g; fluidised or bouncing).
 ``rolling-collect-and-collide``
-    both end walls hit at least ``impacts_min`` times per cycle and ``swing`` >= ``swing_min``:
-    the bed crosses the clearance and collides with each wall once a cycle (Fig. 3b, Fig. 5).
+    both end walls hit at least ``impacts_min`` times per cycle, ``swing`` >= ``swing_min`` and
+    ``sync`` >= ``sync_min``: the bed crosses the clearance in step with the drive and collides
+    with each wall once a cycle (Fig. 3b, Fig. 5).
 ``single-sided``
     one end wall touched in at least ``touch_one`` of the frames and the other in at most
     ``touch_other``: the bed stays at (or keeps returning to) one wall, the low one under a tilt
@@ -59,10 +60,11 @@ MODES = ("lift-off", "rolling-collect-and-collide", "single-sided", "scattered")
 THRESHOLDS = {
     "touch_gap": 0.1,       # a sphere touches an end wall when its gap is below 0.1 r
     "lift_gap": 0.2,        # a sphere is airborne when its centre is more than 0.2 r above y = r
-    "lift_fraction": 0.15,  # lift-off: at least 15 % of sphere-frames airborne
+    "lift_fraction": 0.05,  # lift-off: at least 5 % of sphere-frames airborne
     "impacts_min": 0.5,     # rolling collect-and-collide: at least 0.5 arrivals per cycle at each end wall
-    "swing_min": 0.5,       # ... and the bed centre travels at least half the clearance
-    "touch_one": 0.5,       # single-sided: one end wall touched in at least half the frames
+    "swing_min": 0.5,       # ... the bed centre travels at least half the clearance
+    "sync_min": 0.8,        # ... and at least 80 % of its motion is at the drive frequency
+    "touch_one": 0.6,       # single-sided: one end wall touched in at least 60 % of the frames
     "touch_other": 0.05,    # ... and the other in at most 5 %
 }
 
@@ -184,7 +186,8 @@ def classify_features(f: ModeFeatures, thresholds: dict | None = None) -> str:
     th = {**THRESHOLDS, **(thresholds or {})}
     if f.airborne >= th["lift_fraction"]:
         return "lift-off"
-    if min(f.impacts_lo, f.impacts_hi) >= th["impacts_min"] and f.swing >= th["swing_min"]:
+    if (min(f.impacts_lo, f.impacts_hi) >= th["impacts_min"] and f.swing >= th["swing_min"]
+            and f.sync >= th["sync_min"]):
         return "rolling-collect-and-collide"
     hi, lo = max(f.touch_lo, f.touch_hi), min(f.touch_lo, f.touch_hi)
     if hi >= th["touch_one"] and lo <= th["touch_other"]:

@@ -1,0 +1,135 @@
+"""Motion modes: the classifier on synthetic trajectories with known answers, and on short DEM runs."""
+
+import math
+
+import numpy as np
+import pytest
+
+from pdamper.analysis.modes import (MODES, THRESHOLDS, bed_centre, case_clearance, classify_features,
+                                    classify_trajectory, mode_features)
+
+R = 0.005
+L = 0.120
+H_CLEAR = 0.030          # 36 of 48 spheres: h = 30 mm
+F = 2.0
+FPS = 100.0
+
+
+def block(n_cols=9, n_rows=4):
+    """A compact block's (x, z) sites centred on x = 0: 9 x 4 spheres, 90 mm = L - h long."""
+    xs = (np.arange(n_cols) - (n_cols - 1) / 2) * 2 * R
+    zs = (np.arange(n_rows) - (n_rows - 1) / 2) * 2 * R
+    return np.array([(x, z) for x in xs for z in zs])
+
+
+def frames(centre, *, jitter=None, height=None, cycles=4):
+    """Trajectory of the block moved to ``centre(t)`` [m] along x, with optional per-sphere
+    offsets ``jitter(t)`` (F, N) along x and heights ``height(t)`` (F, N) above y = r."""
+    t = np.arange(1, int(cycles * FPS / F) + 1) / FPS
+    sites = block()
+    n = len(sites)
+    pos = np.zeros((len(t), n, 3))
+    pos[:, :, 0] = sites[:, 0] + centre(t)[:, None]
+    if jitter is not None:
+        pos[:, :, 0] += jitter(t)
+    pos[:, :, 1] = R + (height(t) if height is not None else 0.0)
+    pos[:, :, 2] = sites[:, 1]
+    return t, pos
+
+
+def features(t, pos):
+    return mode_features(t, pos, R, length=L, clearance=H_CLEAR, frequency=F)
+
+
+def rolling_centre(t):
+    # wall to wall once per cycle, pressed against each wall for a while (clipped sine)
+    return H_CLEAR / 2 * np.clip(1.6 * np.sin(2 * np.pi * F * t - 2.0), -1, 1)
+
+
+def test_rolling_collect_and_collide():
+    f = features(*frames(rolling_centre))
+    assert f.impacts_lo == pytest.approx(1.0, abs=0.3) and f.impacts_hi == pytest.approx(1.0, abs=0.3)
+    assert f.swing == pytest.approx(1.0, abs=0.05)
+    assert f.sync > 0.9
+    assert f.spread == pytest.approx(1.0, abs=0.05)
+    assert classify_features(f) == "rolling-collect-and-collide"
+
+
+def test_single_sided_bed_resting_on_the_low_wall():
+    f = features(*frames(lambda t: np.full_like(t, -H_CLEAR / 2)))
+    assert f.touch_lo == 1.0 and f.touch_hi == 0.0 and f.swing == pytest.approx(0.0, abs=1e-9)
+    assert classify_features(f) == "single-sided"
+    # the mirror image: resting on the +x wall
+    assert classify_features(features(*frames(lambda t: np.full_like(t, H_CLEAR / 2)))) == "single-sided"
+
+
+def test_single_sided_bed_leaving_and_returning_to_one_wall():
+    # leaves the -x wall for a third of each cycle, never reaches the other
+    centre = lambda t: -H_CLEAR / 2 + 0.3 * H_CLEAR * np.clip(2 * np.sin(2 * np.pi * F * t) - 1, 0, 1)  # noqa: E731
+    f = features(*frames(centre))
+    assert f.impacts_lo == pytest.approx(1.0, abs=0.3) and f.touch_hi == 0.0
+    assert classify_features(f) == "single-sided"
+
+
+def test_scattered_spheres_each_their_own_way():
+    rng = np.random.default_rng(1)
+    phases = rng.uniform(0, 2 * np.pi, 36)
+    amps = rng.uniform(0, 0.4 * H_CLEAR, 36)
+    freqs = rng.uniform(0.3, 1.7, 36) * F
+
+    def jitter(t):
+        return amps * np.sin(2 * np.pi * freqs * t[:, None] + phases) * 0.5
+
+    f = features(*frames(lambda t: np.zeros_like(t), jitter=jitter))
+    assert f.touch_lo < 0.5 and f.touch_hi < 0.5
+    assert classify_features(f) == "scattered"
+
+
+def test_swaying_in_the_middle_is_not_rolling():
+    # in step with the drive, but never reaching the walls (the marginal low state at X_opt)
+    f = features(*frames(lambda t: 0.3 * H_CLEAR * np.sin(2 * np.pi * F * t)))
+    assert f.sync > 0.95 and f.impacts_lo == 0 and f.impacts_hi == 0
+    assert classify_features(f) == "scattered"
+
+
+def test_wall_to_wall_out_of_step_with_the_drive_is_not_rolling():
+    # reaches both walls, but at a third of the drive frequency: no synchrony
+    f = features(*frames(lambda t: H_CLEAR / 2 * np.clip(1.6 * np.sin(2 * np.pi * F / 3 * t), -1, 1), cycles=6))
+    assert f.touch_lo > 0.1 and f.touch_hi > 0.1 and f.sync < THRESHOLDS["sync_min"]
+    assert classify_features(f) == "scattered"
+
+
+def test_lift_off():
+    rng = np.random.default_rng(2)
+    f = features(*frames(rolling_centre, height=lambda t: rng.uniform(0, 2 * R, (len(t), 36))))
+    assert f.airborne > 0.5 and f.max_height > 1.5
+    assert classify_features(f) == "lift-off"
+
+
+def test_features_ignore_the_transient_and_follow_the_drive_direction():
+    t, pos = frames(rolling_centre)
+    # a drive along z of a container turned by 90 deg: swap x and z
+    turned = pos[:, :, [2, 1, 0]]
+    f = mode_features(t, turned, R, length=L, clearance=H_CLEAR, frequency=F, drive_dir=(0, 0, 1), start_time=1.0)
+    assert f.cycles == pytest.approx(2.0, abs=0.05)
+    assert classify_features(f) == "rolling-collect-and-collide"
+    assert bed_centre(turned, (0, 0, 1)) == pytest.approx(pos[:, :, 0].mean(axis=1))
+
+
+def test_bad_shapes_are_refused():
+    with pytest.raises(ValueError, match="frames, N, 3"):
+        mode_features(np.arange(3.0), np.zeros((3, 4)), R, length=L, clearance=H_CLEAR, frequency=F)
+
+
+def test_modes_listed():
+    assert set(MODES) == {"scattered", "rolling-collect-and-collide", "single-sided", "lift-off"}
+
+
+def test_case_clearance_of_the_paper_cases():
+    from pdamper.params import Case, Container, ParticleSet
+    from pdamper.geometry import Cylinder
+
+    assert case_clearance(Case(particles=(ParticleSet(count=36),))) == pytest.approx((0.12, 0.03))
+    assert case_clearance(Case(particles=(ParticleSet(count=44),)))[1] == pytest.approx(0.01)
+    length, h = case_clearance(Case(particles=(ParticleSet(count=42),), container=Container(geometry=Cylinder())))
+    assert length == pytest.approx(0.078) and h == pytest.approx(0.078 * 6 / 48)
