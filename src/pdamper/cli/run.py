@@ -158,12 +158,20 @@ def _table(config, case, s, written) -> str:
         ("speed", _fmt(s["us_per_step"], 3), "[us/step]", f"{s['particles']} spheres"),
         ("wall time", _fmt(s["wall_time_s"], 3), "[s]", ""),
     ]
+    if s.get("mode"):
+        f = s.get("mode_features") or {}
+        rows.insert(2, ("motion mode", s["mode"], "", ""))
+        rows.insert(3, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
+                                    f"wall arrivals/cycle -x {f.get('impacts_lo', math.nan):.2f} "
+                                    f"+x {f.get('impacts_hi', math.nan):.2f}; docs/motion.md"))
     if written is not None:
         rows.append(("run directory", str(written), "", ""))
     lines = [f"pdamper run {config}"]
     for name, value, unit, note in rows:
-        if name == "case" or name == "run directory":
+        if name in ("case", "run directory", "motion mode"):
             lines.append(f"  {name:<21}{value}")
+        elif not name:
+            lines.append(f"  {'':<21}{note}")
         else:
             lines.append(f"  {name:<21}{value:<12}{unit:<11}{note}".rstrip())
     return "\n".join(lines)

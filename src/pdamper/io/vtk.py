@@ -29,7 +29,7 @@ import numpy as np
 
 from .files import atomic_write
 
-__all__ = ["write_vtk_series", "polydata_xml", "pvd_xml"]
+__all__ = ["write_vtk_series", "write_case_vtk", "polydata_xml", "pvd_xml"]
 
 
 def _array(name, values, components=1, dtype="Float64"):
@@ -119,3 +119,21 @@ def write_vtk_series(out_dir, trajectory: dict, *, mesh, drive_position, drive_v
     atomic_write(out / "particles.pvd", pvd_xml(p_entries).encode())
     atomic_write(out / "container.pvd", pvd_xml(c_entries).encode())
     return {"particles": str(out / "particles.pvd"), "container": str(out / "container.pvd"), "frames": len(t)}
+
+
+def write_case_vtk(out_dir, trajectory: dict, case, *, cycles: float | None = None) -> dict:
+    """:func:`write_vtk_series` for a trajectory of ``case`` (a :class:`pdamper.params.Case`):
+    the container mesh, the drive's motion at the frame times and its direction are taken from
+    the case. ``cycles``: only the last ``cycles`` drive cycles."""
+    from ..geometry.tilt import container_vectors
+
+    t = np.asarray(trajectory["time"], dtype=float)
+    keep = np.ones(t.size, dtype=bool)
+    f = float(getattr(case.drive, "frequency", 0.0) or 0.0)
+    if cycles is not None and f > 0:
+        keep = t >= t[-1] - cycles / f - 1e-12
+    traj = {k: (np.asarray(v)[keep] if k != "radius" else v) for k, v in trajectory.items()}
+    xc, vc, _ = case.drive.motion(traj["time"])
+    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
+    return write_vtk_series(out_dir, traj, mesh=case.container.geometry.mesh(), drive_position=xc,
+                            drive_velocity=vc, drive_dir=dvec)
