@@ -133,3 +133,42 @@ def test_case_clearance_of_the_paper_cases():
     assert case_clearance(Case(particles=(ParticleSet(count=44),)))[1] == pytest.approx(0.01)
     length, h = case_clearance(Case(particles=(ParticleSet(count=42),), container=Container(geometry=Cylinder())))
     assert length == pytest.approx(0.078) and h == pytest.approx(0.078 * 6 / 48)
+
+
+# --------------------------------------------------------------------------- short DEM runs
+# 4 cycles (the first dropped) of the paper's cases: about 1-6 s each. The numbers behind the
+# thresholds (more strokes, seeds and cycles) are in docs/motion.md.
+
+from pathlib import Path  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def _dem_mode(name, stroke, **over):
+    from pdamper import load_case, run_case
+
+    case = load_case(EXAMPLES / f"{name}.toml", {"drive.stroke": stroke, "run.cycles": 4, "run.drop_cycles": 1,
+                                                 **over})
+    res = run_case(case)
+    s = res.summary()
+    assert res.trajectory is None  # recorded for the mode only, not returned
+    return s["mode"], s["mode_features"]
+
+
+@pytest.mark.parametrize("stroke, mode", [("4mm", "scattered"), ("15mm", "rolling-collect-and-collide")])
+def test_dem_36_spheres_scattered_below_and_rolling_above_x_opt(stroke, mode):
+    got, feats = _dem_mode("cuboid_36", stroke)
+    assert got == mode, feats
+
+
+def test_dem_44_spheres_tilted_3deg_below_g_tan_alpha_is_single_sided():
+    # X = 2 mm at 2 Hz: A = 0.32 m/s^2 < g tan 3 deg = 0.51 m/s^2; the bed stays on the low wall
+    got, feats = _dem_mode("cuboid_44", "2mm", **{"container.tilt": ["0.1deg", "0.1deg", "3deg"]})
+    assert got == "single-sided", feats
+    assert feats["touch_lo"] == 1.0 and feats["touch_hi"] == 0.0
+
+
+def test_dem_36_spheres_thrown_off_the_floor_at_5hz():
+    # X = 15 mm at 5 Hz: A = 14.8 m/s^2 = 1.5 g; spheres fly at the wall impacts
+    got, feats = _dem_mode("cuboid_36", "15mm", **{"drive.frequency": "5Hz"})
+    assert got == "lift-off", feats

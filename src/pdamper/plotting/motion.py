@@ -300,7 +300,7 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
         return tc, sc, top_box, side_box, label
 
     dt = float(np.median(np.diff(t))) if t.size > 1 else 0.1
-    fps = max(1.0, 1.0 / dt * speed)
+    fps = max(1.0, round(speed / dt, 3))  # rounded: GIF delays are whole centiseconds, int(1000/fps) truncates
     anim = manim.FuncAnimation(fig, draw, frames=len(t), blit=False)
     writer = manim.PillowWriter(fps=fps) if ext == ".gif" else manim.FFMpegWriter(fps=fps, bitrate=1800)
     try:
