@@ -1,0 +1,117 @@
+"""``pdamper run --trajectory``, ``pdamper animate``, ``pdamper export`` and ``pdamper plot modes``.
+
+One tiny DEM run (8 spheres, 3 cycles at 2 Hz = 1.5 s) with a trajectory at 20 frames/s (30 frames) is shared.
+"""
+
+import json
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from PIL import Image
+
+from pdamper.analysis.modes import MODES
+from pdamper.cli import main
+from pdamper.io.runs import read_run
+
+from dem_fixtures import TINY_CONFIG as TINY  # noqa: E402
+
+
+def invoke(args):
+    return CliRunner().invoke(main, args)
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cfg") / "tiny.toml"
+    path.write_text(TINY)
+    return path
+
+
+@pytest.fixture(scope="module")
+def traj_run(tiny, tmp_path_factory):
+    out = tmp_path_factory.mktemp("runs") / "r"
+    result = invoke(["run", str(tiny), "--trajectory", "--fps", "20", "--json", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    return json.loads(result.stdout), out
+
+
+def test_run_with_trajectory_stores_frames_and_reports_the_mode(traj_run):
+    data, out = traj_run
+    assert data["mode"] in MODES and 0 <= data["mode_features"]["sync"] <= 1
+    run = read_run(out)
+    tr = run.trajectory
+    assert tr["position"].shape == (30, 8, 3) and tr["velocity"].shape == (30, 8, 3) and tr["spin"].shape == (30, 8, 3)
+    np.testing.assert_allclose(np.diff(tr["time"]), 0.05)
+    assert run.case.recording.trajectory_fps == 20
+    assert run.summary["mode"] == data["mode"]
+
+
+def test_run_without_trajectory_still_reports_a_mode(tiny):
+    result = invoke(["run", str(tiny), "--cycles", "2"])
+    assert result.exit_code == 0, result.output
+    assert "motion mode" in result.output
+
+
+def test_fps_without_trajectory_is_an_error(tiny):
+    result = invoke(["run", str(tiny), "--fps", "50"])
+    assert result.exit_code == 2 and result.output.strip() == \
+        "Error: --fps sets the frame rate of --trajectory; add --trajectory"
+
+
+def test_animate_writes_gif_paths_and_walls(traj_run, tmp_path):
+    _, out = traj_run
+    result = invoke(["animate", str(out), "--out", str(tmp_path / "a.gif"), "--cycles", "1", "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["mode"] in MODES
+    with Image.open(tmp_path / "a.gif") as im:
+        assert im.n_frames == 11   # the last cycle (0.5 s) at 20 frames/s, both ends
+    assert (out / "paths.png").is_file() and (out / "walls.png").is_file()
+
+
+def test_export_writes_a_pvd_series(traj_run, tmp_path):
+    _, out = traj_run
+    result = invoke(["export", str(out), "--out", str(tmp_path / "vtk"), "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["frames"] == 30
+    sets = ET.parse(data["particles"]).getroot().findall("Collection/DataSet")
+    assert len(sets) == 30
+    piece = ET.parse(tmp_path / "vtk" / sets[0].get("file")).getroot().find("PolyData/Piece")
+    assert piece.get("NumberOfPoints") == "8"
+
+
+def test_animate_and_export_of_a_run_without_trajectory_say_how_to_record_one(tiny, tmp_path):
+    out = tmp_path / "plain"
+    assert invoke(["run", str(tiny), "--cycles", "2", "--out", str(out)]).exit_code == 0
+    for cmd in ("animate", "export"):
+        result = invoke([cmd, str(out)])
+        assert result.exit_code == 2
+        assert result.output.startswith("Error: ") and "--trajectory --out" in result.output
+        assert len(result.output.strip().splitlines()) == 1
+
+
+def test_animate_of_a_missing_directory(tmp_path):
+    result = invoke(["animate", str(tmp_path / "nope")])
+    assert result.exit_code == 2 and "run directory not found" in result.output
+
+
+def test_plot_modes_of_a_store(tiny, tmp_path):
+    store = tmp_path / "store"
+    result = invoke(["sweep", str(tiny), "--strokes", "2mm,13mm", "--cycles", "2", "--workers", "1", "--out", str(store),
+                     "--json"])
+    assert result.exit_code == 0, result.output
+    result = invoke(["plot", "modes", str(store), "--out", str(tmp_path / "m.png"), "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["rows"][0]["label"] == "N_p = 8" and all(m in MODES for m in data["rows"][0]["modes"])
+    assert (tmp_path / "m.png").is_file()
+
+
+def test_plot_modes_errors(tmp_path):
+    result = invoke(["plot", "modes", str(tmp_path / "none")])
+    assert result.exit_code == 2 and result.output.startswith("Error: ")
+    result = invoke(["plot", "nothing"])
+    assert result.exit_code == 2 and result.output.startswith("Error: No such command")
