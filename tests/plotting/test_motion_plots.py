@@ -119,6 +119,15 @@ def test_mode_map_of_a_study_has_a_row_per_setting():
     assert [r["label"] for r in mode_rows([both])] == ["mu = 0.01", "mu = 1"]
 
 
+def test_mode_map_row_labels_same_filling_and_given():
+    a = _sweep([["scattered"] * 2] * 4, particles=44)
+    b = _sweep([["single-sided"] * 2] * 4, particles=44)
+    assert [r["label"] for r in mode_rows([a, b], ["s44", "s44t"])] == ["N_p = 44 (s44)", "N_p = 44 (s44t)"]
+    assert [r["label"] for r in mode_rows([a, b], ["s44", "s44t"], ["flat", "tilted"])] == ["flat", "tilted"]
+    with pytest.raises(InputError, match="1 row label"):
+        mode_rows([a, b], labels=["only one"])
+
+
 def test_results_without_modes_are_refused_with_a_way_out():
     ds = _sweep([["scattered"] * 2] * 4).drop_vars("mode")
     with pytest.raises(InputError, match="re-run the sweep"):

@@ -21,9 +21,11 @@ def plot_group():
 @click.option("--out", "out", type=click.Path(dir_okay=False), default="modes.png", show_default=True,
               help="Figure file (.png, .svg or .pdf).")
 @click.option("--title", help="Figure title.")
+@click.option("--label", "labels", multiple=True, help="Row label, one per row in order (repeatable), "
+              "e.g. --label 'N_p = 44, 3 deg tilt'.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the map as data).")
 @user_errors
-def modes_command(results, out, title, as_json):
+def modes_command(results, out, title, labels, as_json):
     """Mode map of sweeps or studies: stroke x filling (or study setting), beside eta*.
 
     RESULTS are sweep stores (the --out of pdamper sweep), their results.nc, or a study's
@@ -37,8 +39,8 @@ def modes_command(results, out, title, as_json):
 
     datasets = [open_results(p) for p in results]
     names = [Path(p).name if Path(p).is_dir() else Path(p).stem for p in results]
-    mode_map_figure(datasets, out, names=names, title=title)
-    rows = mode_rows(datasets, names)
+    mode_map_figure(datasets, out, names=names, labels=labels or None, title=title)
+    rows = mode_rows(datasets, names, labels or None)
     if as_json:
         echo_json({"plot": out, "rows": [{"label": r["label"], "strokes_m": r["stroke"].tolist(),
                                           "modes": [_majority(c)[0] for c in r["modes"]],

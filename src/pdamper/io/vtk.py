@@ -106,6 +106,9 @@ def write_vtk_series(out_dir, trajectory: dict, *, mesh, drive_position, drive_v
     verts, quads = mesh
     ids = np.arange(pos.shape[1], dtype=np.int64)
     width = max(5, len(str(len(t))))
+    for pattern in ("particles_*.vtp", "container_*.vtp"):  # frames of an earlier, longer export
+        for stale in out.glob(pattern):
+            stale.unlink()
     p_entries, c_entries = [], []
     for k in range(len(t)):
         shift = xc[k] * d

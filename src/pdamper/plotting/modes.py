@@ -37,9 +37,9 @@ def _label(ds, default):
     return f"N_p = {int(n)}" if n is not None else default
 
 
-def mode_rows(datasets, names=None) -> list[dict]:
+def mode_rows(datasets, names=None, labels=None) -> list[dict]:
     """One dict per row (``label``, ``stroke`` [m], ``modes`` (strokes, seeds) text, ``eta`` mean
-    over seeds, ``x_opt`` [m]) from sweep or study datasets."""
+    over seeds, ``x_opt`` [m]) from sweep or study datasets; ``labels`` replace the row labels."""
     rows = []
     names = list(names) if names is not None else [f"results {k + 1}" for k in range(len(datasets))]
     for ds, name in zip(datasets, names):
@@ -53,14 +53,20 @@ def mode_rows(datasets, names=None) -> list[dict]:
                 rows.append(_row(sub, str(lbl), x_opt))
         else:
             rows.append(_row(ds, _label(ds, name), float(ds.attrs.get("x_opt_m", math.nan))))
-    labels = [r["label"] for r in rows]
-    if len(set(labels)) < len(labels):  # two sweeps of the same filling: tell them apart by file
+    auto = [r["label"] for r in rows]
+    if len(set(auto)) < len(auto):  # two sweeps of the same filling: tell them apart by file
         k = 0
         for ds, name in zip(datasets, names):
             count = ds.sizes.get("setting", 1)
             for _ in range(count):
                 rows[k]["label"] = f"{rows[k]['label']} ({name})"
                 k += 1
+    if labels:
+        if len(labels) != len(rows):
+            raise InputError(f"{len(labels)} row label(s) given for {len(rows)} row(s) of the mode map; "
+                             "give one per sweep or study setting")
+        for r, lbl in zip(rows, labels):
+            r["label"] = str(lbl)
     return rows
 
 
@@ -91,13 +97,14 @@ def _edges(x):
     return np.concatenate([[x[0] ** 2 / mid[0]], mid, [x[-1] ** 2 / mid[-1]]])
 
 
-def mode_map_figure(datasets, path=None, *, names=None, title: str | None = None, figsize=None, dpi: int = 150):
+def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str | None = None, figsize=None,
+                    dpi: int = 150):
     """η*(X) and the mode map of sweep/study datasets (see the module docstring); returns the Figure."""
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch, Rectangle
 
     target = _check_path(path)
-    rows = mode_rows(datasets, names)
+    rows = mode_rows(datasets, names, labels)
     if not rows:
         raise InputError("mode map: no results given")
     n = len(rows)
@@ -142,8 +149,8 @@ def mode_map_figure(datasets, path=None, *, names=None, title: str | None = None
         from matplotlib.lines import Line2D
 
         handles.append(Line2D([], [], marker="o", ls="", color="k", ms=3, label="seeds disagree"))
-    bottom.legend(handles=handles, fontsize=8, frameon=False, loc="upper center", bbox_to_anchor=(0.5, -0.55 / max(1, n) - 0.35),
-                  ncol=min(4, max(1, len(handles))))
+    fig.legend(handles=handles, fontsize=8.5, frameon=False, loc="outside lower center",
+               ncol=min(5, max(1, len(handles))))
     fig.suptitle(title or "Motion modes over the stroke (docs/motion.md)", fontsize=10.5)
     if target is not None:
         _save(fig, target, dpi)
