@@ -64,7 +64,7 @@ THRESHOLDS = {
     "impacts_min": 0.5,     # rolling collect-and-collide: at least 0.5 arrivals per cycle at each end wall
     "swing_min": 0.5,       # ... the bed centre travels at least half the clearance
     "sync_min": 0.8,        # ... and at least 80 % of its motion is at the drive frequency
-    "touch_one": 0.6,       # single-sided: one end wall touched in at least 60 % of the frames
+    "touch_one": 0.5,       # single-sided: one end wall touched in at least half the frames
     "touch_other": 0.05,    # ... and the other in at most 5 %
 }
 
