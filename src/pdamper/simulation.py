@@ -90,7 +90,10 @@ class RunResult:
     energy : :class:`pdamper.recorders.energy.EnergyLedger`.
     analysis : complex-power result (``pdamper.analysis.PowerResult``) or None.
     trajectory : dict of arrays (``time`` [s], ``position`` [m], ``velocity`` [m/s], ``spin``
-        [rad/s], container frame) or None.
+        [rad/s], container frame; ``radius`` [m]) when ``case.recording.trajectory_fps > 0``, else None.
+    extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
+        the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
+        ``rejected_steps``.
     steps : time steps taken; time_step : the step [s] (Verlet) or the mean accepted step (Gear);
     wall_time_s : run time [s].
     """
@@ -110,6 +113,11 @@ class RunResult:
     def eta_star(self) -> float:
         """Reduced loss factor eta* [-] (eq. 5)."""
         return float(self.analysis.eta_star) if self.analysis is not None else math.nan
+
+    @property
+    def mode(self) -> str | None:
+        """Motion mode of the bed (:mod:`pdamper.analysis.modes`), None without a periodic drive."""
+        return self.extras.get("mode")
 
     @property
     def energy_per_cycle(self) -> float:

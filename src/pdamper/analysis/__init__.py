@@ -12,6 +12,13 @@ Pure functions on arrays; they know nothing of the simulator, files or plots.
   :func:`pdamper.io.records.read_record`.
 - :func:`detect_frequency` -- the drive frequency of a motion signal.
 - :class:`PowerResult` -- the frozen result, with ``to_dict()`` for JSON.
+
+Motion modes (:mod:`.modes`, docs/motion.md), from particle trajectories:
+
+- :func:`classify_trajectory` -- the mode (:data:`MODES`: scattered, rolling collect-and-collide,
+  single-sided, lift-off) and the measured features of a recorded trajectory of a case;
+- :func:`mode_features`, :func:`classify_features` -- the same in two steps, on plain arrays;
+  :data:`THRESHOLDS` the thresholds.
 """
 
 from __future__ import annotations
@@ -26,6 +33,7 @@ from .complex_power import (
     complex_power,
     detect_frequency,
 )
+from .modes import MODES, THRESHOLDS, ModeFeatures, classify_features, classify_trajectory, mode_features
 
 __all__ = [
     "complex_power",
@@ -36,4 +44,10 @@ __all__ = [
     "DEFAULT_DROP_CYCLES",
     "TIME_TOLERANCE",
     "MOTIONS",
+    "classify_trajectory",
+    "mode_features",
+    "classify_features",
+    "ModeFeatures",
+    "MODES",
+    "THRESHOLDS",
 ]
