@@ -15,18 +15,9 @@ from pdamper.analysis.modes import MODES
 from pdamper.cli import main
 from pdamper.io.runs import read_run
 
-from dem_fixtures import TINY_CONFIG as TINY  # noqa: E402
-
 
 def invoke(args):
     return CliRunner().invoke(main, args)
-
-
-@pytest.fixture(scope="module")
-def tiny(tmp_path_factory):
-    path = tmp_path_factory.mktemp("cfg") / "tiny.toml"
-    path.write_text(TINY)
-    return path
 
 
 @pytest.fixture(scope="module")

@@ -51,7 +51,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 __all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_features", "classify_trajectory",
-           "case_clearance", "bed_centre"]
+           "case_clearance", "floor_capacity", "bed_centre"]
 
 #: The motion modes, in the order the classifier checks them (plus "unknown" when no trajectory).
 MODES = ("lift-off", "rolling-collect-and-collide", "single-sided", "scattered")
@@ -91,17 +91,23 @@ class ModeFeatures:
         return {k: float(v) if not isinstance(v, int) else v for k, v in asdict(self).items()}
 
 
-def case_clearance(case) -> tuple[float, float]:
-    """(L, h) [m] of a case's container: the length along the drive and the clearance of eq. (6)
-    (the cylinder's N_p,max is the floor area over (2r)^2, the paper's 48 for R = 39 mm)."""
-    from ..theory import clearance
-
+def floor_capacity(case) -> int:
+    """N_p,max of eq. (6) for a case: the cuboid's floor lattice of its largest spheres; for the
+    cylinder the floor area over (2r)^2, the paper's 48 for R = 39 mm (as the paper counts)."""
     geo = case.container.geometry
     r0 = max(p.radius for p in case.particles)
     if geo.shape == "cuboid":
-        n_max = geo.max_particles(r0)
-    else:
-        n_max = int(round(math.pi * geo.radius**2 / (2 * r0) ** 2))
+        return int(geo.max_particles(r0))
+    return int(round(math.pi * geo.radius**2 / (2 * r0) ** 2))
+
+
+def case_clearance(case) -> tuple[float, float]:
+    """(L, h) [m] of a case's container: the length along the drive and the clearance of eq. (6)
+    with N_p,max from :func:`floor_capacity` (NaN when the bed does not fit in one layer)."""
+    from ..theory import clearance
+
+    geo = case.container.geometry
+    n_max = floor_capacity(case)
     n = case.n_particles
     length = geo.drive_length
     h = float(clearance(length, n, n_max)) if n <= n_max else float("nan")

@@ -159,6 +159,7 @@ class ResultStore:
 
         from .. import __version__
         from .. import theory
+        from ..analysis.modes import case_clearance, floor_capacity
 
         recs = self.records()
         strokes = sorted(set(self.meta.get("strokes", [])) | {r["stroke"] for r in recs})
@@ -180,15 +181,9 @@ class ResultStore:
                 data[name][i, j] = np.nan if v is None else float(v)
         base = self.case()
         geo = base.container.geometry
-        r0 = max(p.radius for p in base.particles)
-        if geo.shape == "cuboid":
-            n_max = geo.max_particles(r0)
-        else:
-            # the paper's count for the cylinder: the floor area over (2r)^2 (48 for R = 39 mm)
-            n_max = int(round(math.pi * geo.radius**2 / (2 * r0) ** 2))
+        n_max = floor_capacity(base)
         n = base.n_particles
-        length = geo.drive_length
-        h = float(theory.clearance(length, n, n_max)) if n <= n_max else float("nan")
+        _, h = case_clearance(base)
         ds = xr.Dataset(
             {name: (("stroke", "seed"), data[name], {"units": u, "long_name": d})
              for name, (_, u, d) in VARIABLES.items()},
