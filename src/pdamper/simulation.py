@@ -457,8 +457,11 @@ class Simulation:
         if periodic and analyse and trajectory is not None:
             from .analysis.modes import classify_trajectory
 
-            mode, feats = classify_trajectory(trajectory, case)
-            extras.update(mode=mode, mode_features=feats.to_dict())
+            try:
+                mode, feats = classify_trajectory(trajectory, case)
+                extras.update(mode=mode, mode_features=feats.to_dict())
+            except ValueError:  # too short a run for two frames
+                extras.update(mode="unknown", mode_features={})
         if not case.recording.trajectory_fps:
             trajectory = None  # recorded only to classify the motion mode
         # Gear: report the mean accepted step over the whole run (settling included)

@@ -116,9 +116,11 @@ def test_features_ignore_the_transient_and_follow_the_drive_direction():
     assert bed_centre(turned, (0, 0, 1)) == pytest.approx(pos[:, :, 0].mean(axis=1))
 
 
-def test_bad_shapes_are_refused():
+def test_bad_shapes_and_too_few_frames_are_refused():
     with pytest.raises(ValueError, match="frames, N, 3"):
         mode_features(np.arange(3.0), np.zeros((3, 4)), R, length=L, clearance=H_CLEAR, frequency=F)
+    with pytest.raises(ValueError, match="at least 2 trajectory frames"):
+        mode_features(np.zeros(1), np.zeros((1, 4, 3)), R, length=L, clearance=H_CLEAR, frequency=F)
 
 
 def test_modes_listed():

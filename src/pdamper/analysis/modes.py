@@ -151,6 +151,9 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
         keep = np.ones_like(t, dtype=bool)  # too short a run to drop a transient: use it all
     t, pos = t[keep], pos[keep]
     nf = t.shape[0]
+    if nf < 2:
+        raise ValueError(f"a motion mode needs at least 2 trajectory frames, got {nf}; record more frames "
+                         "(a higher trajectory_fps or a longer run)")
     d = _unit_horizontal(drive_dir)
     s = pos @ d                                   # (F, N) along the drive
     centre = s.mean(axis=1)

@@ -6,7 +6,7 @@
   (vertices) with point data ``radius`` [m], ``velocity`` [m/s] and ``spin`` [rad/s] (lab
   frame velocity: the container-frame velocity plus the container's), ``id``;
 - ``container_NNNNN.vtp`` -- the container's inner surface as quads at its position in that
-  frame (a cuboid's six faces, a cylinder's floor ring and side wall);
+  frame (a cuboid's six faces, a cylinder's side wall);
 - ``particles.pvd``, ``container.pvd`` -- the ParaView collection files that index the frames
   by time [s]; open them in ParaView (File > Open, both files) and press Play. Show the
   particles with the "Point Gaussian" representation and "Scale by" ``radius`` (Gaussian
