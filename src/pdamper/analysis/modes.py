@@ -51,7 +51,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 __all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_features", "classify_trajectory",
-           "case_clearance", "floor_capacity", "bed_centre"]
+           "case_clearance", "floor_capacity", "bed_centre", "majority_mode"]
 
 #: The motion modes, in the order the classifier checks them (plus "unknown" when no trajectory).
 MODES = ("lift-off", "rolling-collect-and-collide", "single-sided", "scattered")
@@ -112,6 +112,21 @@ def case_clearance(case) -> tuple[float, float]:
     length = geo.drive_length
     h = float(clearance(length, n, n_max)) if n <= n_max else float("nan")
     return float(length), h
+
+
+def majority_mode(modes) -> tuple[str, bool]:
+    """(the mode most of ``modes`` are, whether they disagree) over e.g. the seeds of one stroke;
+    empty entries (cases not computed) are left out, ``("", False)`` if nothing is left.
+
+    >>> majority_mode(["scattered", "single-sided", "scattered", ""])
+    ('scattered', True)
+    """
+    from collections import Counter
+
+    counts = Counter(str(m) for m in modes if str(m)).most_common()
+    if not counts:
+        return "", False
+    return counts[0][0], len(counts) > 1
 
 
 def bed_centre(position, drive_dir=(1.0, 0.0, 0.0)) -> np.ndarray:

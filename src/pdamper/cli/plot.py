@@ -34,7 +34,8 @@ def modes_command(results, out, title, labels, as_json):
 
     Example: pdamper plot modes cuboid_36_sweep cuboid_44_sweep --out modes.png
     """
-    from ..plotting.modes import _majority, mode_map_figure, mode_rows
+    from ..analysis.modes import majority_mode
+    from ..plotting.modes import mode_map_figure, mode_rows
     from ..studies.store import open_results
 
     datasets = [open_results(p) for p in results]
@@ -43,13 +44,13 @@ def modes_command(results, out, title, labels, as_json):
     rows = mode_rows(datasets, names, labels or None)
     if as_json:
         echo_json({"plot": out, "rows": [{"label": r["label"], "strokes_m": r["stroke"].tolist(),
-                                          "modes": [_majority(c)[0] for c in r["modes"]],
+                                          "modes": [majority_mode(c)[0] for c in r["modes"]],
                                           "x_opt_m": r["x_opt"]} for r in rows]})
         return
     click.echo(f"pdamper plot modes: {len(rows)} row(s) -> {out}")
     for r in rows:
         click.echo(f"  {r['label']}")
         for x, cell in zip(r["stroke"], r["modes"]):
-            mode, mixed = _majority(cell)
+            mode, mixed = majority_mode(cell)
             if mode:
                 click.echo(f"    X = {x * 1e3:8.3g} mm  {mode}" + ("  (seeds disagree)" if mixed else ""))

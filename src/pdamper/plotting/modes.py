@@ -12,10 +12,9 @@
 from __future__ import annotations
 
 import math
-from collections import Counter
-
 import numpy as np
 
+from ..analysis.modes import majority_mode
 from ..errors import InputError
 from .sweep import _check_path, _save
 
@@ -79,15 +78,6 @@ def _row(ds, label, x_opt):
             "eta": mean, "x_opt": x_opt}
 
 
-def _majority(cell) -> tuple[str, bool]:
-    """(most common mode among the seeds, whether they disagree); '' if none computed."""
-    got = [m for m in cell if m]
-    if not got:
-        return "", False
-    counts = Counter(got).most_common()
-    return counts[0][0], len(counts) > 1
-
-
 def _edges(x):
     """Cell edges around log-spaced strokes (geometric midpoints)."""
     x = np.asarray(x, dtype=float)
@@ -120,7 +110,7 @@ def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str 
             bottom.plot([r["x_opt"] * 1e3] * 2, [k - 0.5, k + 0.5], color="k", ls=":", lw=1.2)
         edges = _edges(r["stroke"]) * 1e3
         for i in range(len(xs)):
-            mode, mixed = _majority(r["modes"][i])
+            mode, mixed = majority_mode(r["modes"][i])
             if not mode:
                 continue
             bottom.add_patch(Rectangle((edges[i], k - 0.42), edges[i + 1] - edges[i], 0.84,
@@ -142,10 +132,10 @@ def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str 
 
     bottom.xaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
     bottom.xaxis.set_minor_formatter(NullFormatter())
-    present = sorted({_majority(c)[0] for r in rows for c in r["modes"]} - {""},
+    present = sorted({majority_mode(c)[0] for r in rows for c in r["modes"]} - {""},
                      key=lambda m: list(MODE_COLOURS).index(m) if m in MODE_COLOURS else 99)
     handles = [Patch(facecolor=MODE_COLOURS.get(m, "#dddddd"), edgecolor="0.5", label=m) for m in present]
-    if any(_majority(c)[1] for r in rows for c in r["modes"]):
+    if any(majority_mode(c)[1] for r in rows for c in r["modes"]):
         from matplotlib.lines import Line2D
 
         handles.append(Line2D([], [], marker="o", ls="", color="k", ms=3, label="seeds disagree"))
