@@ -90,7 +90,9 @@ class RunResult:
     energy : :class:`pdamper.recorders.energy.EnergyLedger`.
     analysis : complex-power result (``pdamper.analysis.PowerResult``) or None.
     trajectory : dict of arrays (``time`` [s], ``position`` [m], ``velocity`` [m/s], ``spin``
-        [rad/s], container frame; ``radius`` [m]) when ``case.recording.trajectory_fps > 0``, else None.
+        [rad/s], container frame; ``radius`` [m]; the container's pose ``container_position`` [m]
+        and ``container_velocity`` [m/s], (frames, 3): x_c d and v_c d, d the drive direction in
+        the container frame) when ``case.recording.trajectory_fps > 0``, else None.
     extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
         the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
         ``rejected_steps``.
@@ -448,8 +450,13 @@ class Simulation:
         energy = EnergyLedger.from_array(signals.time_end, eng)
         trajectory = None
         if traj_every:
-            trajectory = {"time": (np.arange(traj.shape[0]) + 1) * traj_every * ts, "position": traj[:, :, 0:3],
-                          "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy()}
+            t_frames = (np.arange(traj.shape[0]) + 1) * traj_every * ts
+            xc, vc, _ = case.drive.motion(t_frames)
+            trajectory = {"time": t_frames, "position": traj[:, :, 0:3],
+                          "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy(),
+                          # the container's pose: its displacement x_c d (container-frame axes; the
+                          # tilt is constant) and velocity at each frame
+                          "container_position": np.outer(xc, self.dvec), "container_velocity": np.outer(vc, self.dvec)}
         analysis = None
         if analyse and case.drive.kind != "still":
             analysis = signals.analyse(case)

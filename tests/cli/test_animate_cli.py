@@ -35,6 +35,10 @@ def test_run_with_trajectory_stores_frames_and_reports_the_mode(traj_run):
     tr = run.trajectory
     assert tr["position"].shape == (30, 8, 3) and tr["velocity"].shape == (30, 8, 3) and tr["spin"].shape == (30, 8, 3)
     np.testing.assert_allclose(np.diff(tr["time"]), 0.05)
+    # the container pose: x_c = X sin(2 pi f t) along the drive (x, up to the 0.1 deg tilts)
+    xc = 0.013 * np.sin(2 * np.pi * 2.0 * tr["time"])
+    np.testing.assert_allclose(tr["container_position"][:, 0], xc, rtol=1e-5, atol=1e-9)
+    assert np.abs(tr["container_position"][:, 1:]).max() < 1e-4
     assert run.case.recording.trajectory_fps == 20
     assert run.summary["mode"] == data["mode"]
 
