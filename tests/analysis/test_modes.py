@@ -116,6 +116,28 @@ def test_features_ignore_the_transient_and_follow_the_drive_direction():
     assert bed_centre(turned, (0, 0, 1)) == pytest.approx(pos[:, :, 0].mean(axis=1))
 
 
+def test_rolling_in_a_cylinder_touches_the_curved_wall_off_the_axis():
+    # 2 rows of 4 spheres at z = +-8.5 mm in a cylinder of R = 39 mm: the front spheres touch the
+    # curved wall at x = sqrt((R - r)^2 - z^2) < R - r, where a flat end wall would not be
+    big_r, z = 0.039, 0.0085
+    x_front = math.sqrt((big_r - R) ** 2 - z**2)
+    c = x_front - 3 * R                   # the block centre when it rests on the +x side
+    t = np.arange(1, 201) / FPS
+    centre = c * np.clip(1.6 * np.sin(2 * np.pi * F * t - 2.0), -1, 1)
+    xs = (np.arange(4) - 1.5) * 2 * R
+    sites = np.array([(x, zz) for x in xs for zz in (-z, z)])
+    pos = np.zeros((t.size, 8, 3))
+    pos[:, :, 0] = sites[:, 0] + centre[:, None]
+    pos[:, :, 1] = R
+    pos[:, :, 2] = sites[:, 1]
+    kw = dict(length=2 * big_r, clearance=2 * c, frequency=F)
+    round_ = mode_features(t, pos, R, round_wall=True, **kw)
+    flat = mode_features(t, pos, R, round_wall=False, **kw)
+    assert round_.impacts_lo == pytest.approx(1.0, abs=0.3) and flat.touch_lo == 0.0
+    assert classify_features(round_) == "rolling-collect-and-collide"
+    assert classify_features(flat) == "scattered"
+
+
 def test_bad_shapes_and_too_few_frames_are_refused():
     with pytest.raises(ValueError, match="frames, N, 3"):
         mode_features(np.arange(3.0), np.zeros((3, 4)), R, length=L, clearance=H_CLEAR, frequency=F)

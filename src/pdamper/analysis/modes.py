@@ -16,7 +16,8 @@ end walls sit at ``s = -L/2`` and ``+L/2``, h is the clearance of eq. (6)):
 - ``swing``: the range (5th to 95th percentile) of the bed centre mean(s) over h: ~1 when the
   bed travels from wall to wall, ~0 when it stays put.
 - ``touch_lo``, ``touch_hi``: the fraction of frames in which a sphere touches the -L/2 (lo) or
-  the +L/2 (hi) end wall (gap below :data:`THRESHOLDS` ``touch_gap`` x r).
+  the +L/2 (hi) end wall (gap below :data:`THRESHOLDS` ``touch_gap`` x r); in a cylinder (L = 2R)
+  the curved wall within 60 deg of the drive axis behind or ahead of the centre.
 - ``impacts_lo``, ``impacts_hi``: arrivals at that wall per drive cycle (frames where the bed
   starts touching it after not touching it).
 - ``sync``: the share of the bed centre's variance at the drive frequency (1: the bed moves as
@@ -143,7 +144,7 @@ def _unit_horizontal(drive_dir) -> np.ndarray:
 
 
 def mode_features(time, position, radius, *, length: float, clearance: float, frequency: float,
-                  drive_dir=(1.0, 0.0, 0.0), start_time: float = 0.0,
+                  drive_dir=(1.0, 0.0, 0.0), start_time: float = 0.0, round_wall: bool = False,
                   thresholds: dict | None = None) -> ModeFeatures:
     """Measure the bed's motion over the frames at ``time >= start_time``.
 
@@ -153,7 +154,9 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     radius : (N,) or scalar [m]; length : L [m], end walls at s = +-L/2 along ``drive_dir``;
     clearance : h [m] (eq. 6); frequency : drive frequency f [Hz];
     drive_dir : drive direction in the container frame (its floor-plane part is used);
-    start_time : the transient to leave out [s] (e.g. drop_cycles / f).
+    start_time : the transient to leave out [s] (e.g. drop_cycles / f);
+    round_wall : a cylinder of radius L/2 about the y axis: a sphere touches the "end wall" ahead of
+        (behind) it when it touches the curved wall within 60 deg of the drive axis.
     """
     th = {**THRESHOLDS, **(thresholds or {})}
     t = np.asarray(time, dtype=float)
@@ -177,8 +180,15 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     h = clearance if clearance > 0 else 2 * float(rad.max())
     swing = float((np.percentile(centre, 95) - np.percentile(centre, 5)) / h)
     gap = th["touch_gap"] * rad
-    on_lo = np.any(s - rad <= -length / 2 + gap, axis=1)
-    on_hi = np.any(s + rad >= length / 2 - gap, axis=1)
+    if round_wall:
+        rho = np.hypot(pos[:, :, 0], pos[:, :, 2])
+        at_wall = rho + rad >= length / 2 - gap
+        ahead = np.abs(s) >= 0.5 * rho              # within 60 deg of the drive axis
+        on_lo = np.any(at_wall & ahead & (s < 0), axis=1)
+        on_hi = np.any(at_wall & ahead & (s > 0), axis=1)
+    else:
+        on_lo = np.any(s - rad <= -length / 2 + gap, axis=1)
+        on_hi = np.any(s + rad >= length / 2 - gap, axis=1)
     dt = float(np.median(np.diff(t))) if nf > 1 else 0.0
     cycles = max((t[-1] - t[0] + dt) * frequency, 1e-12)
 
@@ -232,5 +242,5 @@ def classify_trajectory(trajectory: dict, case, *, thresholds: dict | None = Non
     _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(drive, "angle", 0.0))
     feats = mode_features(trajectory["time"], trajectory["position"], trajectory["radius"], length=length,
                           clearance=h, frequency=freq, drive_dir=dvec, start_time=case.drop_cycles / freq,
-                          thresholds=thresholds)
+                          round_wall=case.container.geometry.shape == "cylinder", thresholds=thresholds)
     return classify_features(feats, thresholds), feats
