@@ -150,12 +150,13 @@ def _circles(ax, x, y, r, **kw):
     return coll
 
 
-def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(7.5, 4.2), dpi: int = 150):
+def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(7.5, 5.4), dpi: int = 150):
     """The bed between the two end walls over the drive phase, lab frame (the paper's Fig. 5a).
 
     Draws the container's -x and +x end walls x_c -+ L/2, the bed's rear and front edges
     (min and max of x -+ r over the spheres) as a band and the bed centre [mm] over
-    Omega t / (2 pi) (drive cycles) for the last ``cycles`` cycles; the mode in the title.
+    Omega t / (2 pi) (drive cycles) for the last ``cycles`` cycles; below, the gaps between the
+    bed and each end wall [mm] (0 while it touches that wall); the mode in the title.
     """
     from matplotlib.figure import Figure
 
@@ -175,14 +176,22 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
     f = float(getattr(drive, "frequency", 0.0) or 0.0)
     phase = t * f if f > 0 else t
     fig = Figure(figsize=figsize, layout="constrained")
-    ax = fig.subplots()
+    ax, gaps = fig.subplots(2, 1, sharex=True, height_ratios=[2.2, 1.0])
     ax.plot(phase, (xc - length / 2) * _MM, color=_WALL, lw=2.0, label="-x wall")
     ax.plot(phase, (xc + length / 2) * _MM, color=_WALL, lw=2.0, ls="--", label="+x wall")
     rear = (s - rad).min(axis=1) + xc
     front = (s + rad).max(axis=1) + xc
     ax.fill_between(phase, rear * _MM, front * _MM, color=_BED, alpha=0.25, lw=0, label="bed (rear to front edge)")
     ax.plot(phase, (s.mean(axis=1) + xc) * _MM, color=_BED, lw=1.5, label="bed centre")
-    ax.set_xlabel("drive cycles  Ωt / 2π [-]" if f > 0 else "time [s]")
+    # the gaps between the bed and each end wall (container frame): 0 while the bed touches it
+    gaps.plot(phase, ((s - rad).min(axis=1) + length / 2) * _MM, color="C3", lw=1.3, label="bed to -x wall")
+    gaps.plot(phase, (length / 2 - (s + rad).max(axis=1)) * _MM, color="C2", lw=1.3, ls="--", label="bed to +x wall")
+    gaps.axhline(h * _MM, color="0.6", lw=0.8, ls=":", label="clearance h")
+    gaps.set_ylabel("gap [mm]")
+    gaps.set_ylim(bottom=-0.03 * h * _MM)
+    gaps.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8.5, frameon=False)
+    gaps.set_xlabel("drive cycles  Ωt / 2π [-]" if f > 0 else "time [s]")
+    gaps.grid(True, color="0.9", lw=0.6)
     ax.set_ylabel("position in the lab frame [mm]")
     ax.grid(True, color="0.9", lw=0.6)
     try:
