@@ -49,10 +49,14 @@ def test_run_without_trajectory_still_reports_a_mode(tiny):
     assert "motion mode" in result.output
 
 
-def test_fps_without_trajectory_is_an_error(tiny):
+def test_fps_without_trajectory_or_not_positive_is_an_error(tiny):
     result = invoke(["run", str(tiny), "--fps", "50"])
     assert result.exit_code == 2 and result.output.strip() == \
         "Error: --fps sets the frame rate of --trajectory; add --trajectory"
+    result = invoke(["run", str(tiny), "--trajectory", "--fps", "0"])
+    assert result.exit_code == 2 and "give a positive frame rate" in result.output
+    result = invoke(["run", str(tiny), "--trajectory", "--fps", "2kHz"])
+    assert result.exit_code == 2 and "exceeds sample_rate" in result.output
 
 
 def test_animate_writes_gif_paths_and_walls(traj_run, tmp_path):

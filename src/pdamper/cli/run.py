@@ -80,6 +80,8 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
             overrides[key] = value
     if fps is not None and not trajectory:
         raise InputError("--fps sets the frame rate of --trajectory; add --trajectory")
+    if fps is not None and not fps > 0:
+        raise InputError(f"--fps {fps:g}: give a positive frame rate, e.g. 100 (frames per second)")
     if trajectory:
         overrides["recording.trajectory_fps"] = fps if fps is not None else DEFAULT_FPS
     case = load_case(config, overrides)
