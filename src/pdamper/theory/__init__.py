@@ -26,6 +26,9 @@ Operating bounds (:mod:`.bounds`)
     :func:`min_stroke_tilt` (A cos α > g sin α), :data:`GRAVITY`.
 Block model (:mod:`.block_model`)
     :func:`integrate_rolling_block` -- the rolling block integrated in time, an oracle for (14).
+Structure without a damper (:mod:`.oscillator`, beyond the paper)
+    :func:`natural_frequency`, :func:`free_decay`, :func:`steady_amplitude`,
+    :func:`oscillator_response` -- the linear damped oscillator in closed form.
 
 Examples
 --------
@@ -60,6 +63,8 @@ _WHERE = {
     "impact_phase_rolling": "rolling", "optimal_stroke": "rolling",
     "relative_velocity": "rolling",
     "energy_per_cycle_scattered": "scattered", "eta_scattered": "scattered",
+    "natural_frequency": "oscillator", "free_decay": "oscillator", "steady_amplitude": "oscillator",
+    "oscillator_response": "oscillator",
 }
 _SUBMODULES = frozenset(_WHERE.values())
 
@@ -110,6 +115,7 @@ if TYPE_CHECKING:  # for type checkers; at run time the names load on first use
         optimal_stroke,
         relative_velocity,
     )
+    from .oscillator import free_decay, natural_frequency, oscillator_response, steady_amplitude
     from .scattered import energy_per_cycle_scattered, eta_scattered
 
 __all__ = [
@@ -143,4 +149,8 @@ __all__ = [
     "min_stroke_tilt",
     "BlockImpact",
     "integrate_rolling_block",
+    "natural_frequency",
+    "free_decay",
+    "steady_amplitude",
+    "oscillator_response",
 ]
