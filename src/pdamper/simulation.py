@@ -30,7 +30,7 @@ from .recorders.signals import Signals
 from .recorders.energy import EnergyLedger
 from .recorders.structure import StructureRecord
 
-__all__ = ["Simulation", "RunResult", "run_case", "auto_time_step"]
+__all__ = ["Simulation", "RunResult", "run_case", "auto_time_step", "run_bare_structure"]
 
 #: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
 GEAR_MIN_STEP = 1e-9
@@ -467,3 +467,30 @@ class Simulation:
 def run_case(case: Case, **kwargs) -> RunResult:
     """Build and run ``case`` (see :meth:`Simulation.run`)."""
     return Simulation(case).run(**kwargs)
+
+
+def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_rate: float = 1000.0,
+                       time_step: float | None = None) -> StructureRecord:
+    """The structure of ``structure`` without a bed, for ``duration`` [s]: the same compiled step
+    as the coupled run (:func:`pdamper.kernels.structure.structure_step`) with no wall force.
+
+    ``time_step`` [s] defaults to a tenth of the sample interval (and at most 1/2000 of the
+    shortest period). Returns a :class:`~pdamper.recorders.structure.StructureRecord`.
+    """
+    from .kernels.structure import run_structure_alone
+
+    if not (duration > 0 and math.isfinite(duration)):
+        raise InputError(f"duration = {duration!r} s; must be > 0")
+    ts = 1.0 / sample_rate
+    fmax = max(structure.natural_frequency, structure.force_frequency or 0.0)
+    dt = time_step if time_step is not None else min(ts / 10, 1.0 / (2000.0 * fmax))
+    sub = max(1, int(math.ceil(ts / dt - 1e-9)))
+    dt = ts / sub
+    n = int(math.floor(duration * sample_rate + 1e-9))
+    _, par, st = structure.kernel_args()
+    structure.start_state(st)
+    sig = np.zeros((n, 5))
+    run_structure_alone(n * sub, dt, 0.0, sub, par, st, sig)
+    return StructureRecord(time=(np.arange(n) + 1) * ts, displacement=sig[:, 1].copy(), velocity=sig[:, 2].copy(),
+                           external_work=sig[:, 3].copy(), damping_loss=sig[:, 4].copy(), mass=structure.mass,
+                           stiffness=structure.stiffness, x0=structure.displacement, v0=structure.velocity)
