@@ -12,9 +12,9 @@ from .common import Quantity, echo_json, main, user_errors
 
 __all__ = ["theory_command"]
 
-#: "A cos α >> g sin α" (paper Sect. 6.2) read as: A at X_opt at least this many times g tan α.
-#: A heuristic: the paper's 36-sphere case (factor 3.7) still loses much of its peak to a 3° tilt.
-TILT_MARGIN = 10.0
+#: "A cos α >> g sin α" (paper Sect. 6.2): A at X_opt at least this many times g tan α (shared
+#: with ``pdamper design``).
+from ..design import TILT_MARGIN  # noqa: E402
 
 
 @main.command("theory")
