@@ -231,17 +231,19 @@ def design_command(frequency, stroke, shape, length, width, container_radius, ra
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
     box = (f"cuboid {mm(d.length_m)} x {mm(d.width_m)}" if d.shape == "cuboid"
            else f"cylinder R = {mm(d.length_m / 2)} (L = 2R)")
-    lines = [
-        f"pdamper design: X = {mm(d.stroke_m)} at f = {d.frequency_hz:.4g} Hz, {box}, spheres r = {mm(d.sphere_radius_m)}",
-        f"  filling               {d.particles} of {d.max_particles} spheres ({d.rows} rows; exact {d.exact_particles:.3f})",
-        f"  clearance h           {mm(d.clearance_m)}        eq. (6)",
-        f"  X_opt                 {mm(d.x_opt_m)}        eq. (17); X/X_opt = {d.stroke_over_x_opt:.3f}",
-        f"  expected eta*         {d.eta_star:.3f}           {d.regime} (eqs. 8/14)",
-        f"  energy per cycle      {1e3 * d.energy_per_cycle_J:.4g} mJ      pi eta* m_bed (X Omega)^2, eqs. (4), (5)",
-        f"  bed mass              {1e3 * d.bed_mass_kg:.4g} g        {d.particles} x {1e3 * d.sphere_mass_kg:.3g} g",
-        f"  acceleration          {d.acceleration_amplitude_m_s2:.3g} m/s^2     A = X Omega^2 (lift-off above "
-        f"{mm(d.max_stroke_no_liftoff_m)})",
+    rows = [
+        ("filling", f"{d.particles} of {d.max_particles}", f"spheres, {d.rows} rows (exact {d.exact_particles:.3f})"),
+        ("clearance h", mm(d.clearance_m), "eq. (6)"),
+        ("X_opt", mm(d.x_opt_m), f"eq. (17); X/X_opt = {d.stroke_over_x_opt:.3f}"),
+        ("expected eta*", f"{d.eta_star:.3f}", f"{d.regime} (eqs. 8/14)"),
+        ("energy per cycle", f"{1e3 * d.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2, eqs. (4), (5)"),
+        ("bed mass", f"{1e3 * d.bed_mass_kg:.4g} g", f"{d.particles} x {1e3 * d.sphere_mass_kg:.3g} g"),
+        ("acceleration", f"{d.acceleration_amplitude_m_s2:.3g} m/s^2",
+         f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"),
     ]
+    lines = [f"pdamper design: X = {mm(d.stroke_m)} at f = {d.frequency_hz:.4g} Hz, {box}, "
+             f"spheres r = {mm(d.sphere_radius_m)}"]
+    lines += [f"  {name:<20}{value:<14}{note}" for name, value, note in rows]
     lines += [f"warning: {w}" for w in d.warnings]
     if verify:
         v = out["verify"]
