@@ -23,12 +23,10 @@ from . import theory as th
 from .errors import InputError
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
+from .theory.bounds import TILT_MARGIN  # the margin `pdamper theory` uses
 
 __all__ = ["Design", "design_filling", "TILT_MARGIN", "MIN_ROWS", "MARGINAL"]
 
-#: "A cos α >> g sin α" (paper Sect. 6.2) read as: A at least this many times g tan α.
-#: A heuristic: the paper's 36-sphere case (factor 3.7 at 3°) still loses much of its peak to a 3° tilt.
-TILT_MARGIN = 10.0
 #: Fewer rows of spheres along the drive than this: the bed is a thin slab, little mass per wall.
 MIN_ROWS = 3
 #: X below this factor times X_opt: the collect-and-collide orbit is marginal (SPEC Sect. 10).

@@ -54,7 +54,7 @@ _WHERE = {
     "ETA_MAX_BOUNCING": "bouncing", "energy_per_cycle_bouncing": "bouncing",
     "eta_bouncing": "bouncing", "impact_phase_bouncing": "bouncing",
     "optimal_stroke_bouncing": "bouncing",
-    "GRAVITY": "bounds", "acceleration_amplitude": "bounds", "angular_frequency": "bounds",
+    "GRAVITY": "bounds", "TILT_MARGIN": "bounds", "acceleration_amplitude": "bounds", "angular_frequency": "bounds",
     "max_stroke_no_liftoff": "bounds", "min_acceleration_tilt": "bounds",
     "min_stroke_tilt": "bounds", "velocity_amplitude": "bounds",
     "ETA_MAX": "rolling", "X_OPT_OVER_H": "rolling", "bed_position": "rolling",
@@ -95,6 +95,7 @@ if TYPE_CHECKING:  # for type checkers; at run time the names load on first use
     )
     from .bounds import (
         GRAVITY,
+        TILT_MARGIN,
         acceleration_amplitude,
         angular_frequency,
         max_stroke_no_liftoff,
@@ -141,6 +142,7 @@ __all__ = [
     "eta_bouncing",
     "energy_per_cycle_bouncing",
     "GRAVITY",
+    "TILT_MARGIN",
     "angular_frequency",
     "velocity_amplitude",
     "acceleration_amplitude",
