@@ -54,6 +54,18 @@ def _progress_bar(desc, total, enabled):
     return bar, progress
 
 
+def _report(res, case, config, plot, figure, as_json):
+    """Add X_opt to the summary, draw the figure, print JSON (then return None) or return the summary."""
+    res.summary["x_opt_m"] = _x_opt(case)
+    if plot:
+        figure(res, plot)
+    s = dict(res.summary, config=str(config), plot=plot)
+    if as_json:
+        echo_json(s)
+        return None
+    return s
+
+
 _COMMON = [
     click.argument("config", metavar="CONFIG.toml"),
     click.option("--cycles", type=click.FloatRange(min=0, min_open=True),
@@ -95,12 +107,8 @@ def decay_command(config, cycles, seed, settings, plot, as_json):
     finally:
         if bar is not None:
             bar.close()
-    res.summary["x_opt_m"] = _x_opt(case)
-    if plot:
-        decay_figure(res, plot)
-    s = dict(res.summary, config=str(config), plot=plot)
-    if as_json:
-        echo_json(s)
+    s = _report(res, case, config, plot, decay_figure, as_json)
+    if s is None:
         return
     pct = lambda z: "n/a" if not math.isfinite(z) else f"{100 * z:.3g} %"  # noqa: E731
     mm = lambda x: "n/a" if x is None or not math.isfinite(x) else f"{1e3 * x:.3g} mm"  # noqa: E731
@@ -162,12 +170,8 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
                          "([structure] force_amplitude is 0)")
     res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
                        scheduler=scheduler, progress=None if not as_json else False)
-    res.summary["x_opt_m"] = _x_opt(case)
-    if plot:
-        response_figure(res, plot)
-    s = dict(res.summary, config=str(config), plot=plot)
-    if as_json:
-        echo_json(s)
+    s = _report(res, case, config, plot, response_figure, as_json)
+    if s is None:
         return
     lines = [f"pdamper response {config}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
              f"{100 * s['mass_ratio']:.3g} % of M; {s['measure_cycles']} of {s['cycles']:g} cycles measured)",
