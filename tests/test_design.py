@@ -78,3 +78,28 @@ def test_cylinder_and_bad_inputs():
                                   "--width", "40mm", "--radius", "5mm"])
     assert r.exit_code == 2 and r.output.startswith("Error:") and "--stroke" in r.output
     assert len(r.output.strip().splitlines()) == 1
+
+
+def test_verify_runs_a_sweep_of_the_proposal(monkeypatch):
+    import numpy as np
+    import xarray as xr
+
+    import pdamper.studies
+
+    seen = {}
+
+    def fake_sweep(spec, path, **kw):
+        seen["spec"] = spec
+        xs = np.array(spec.strokes)
+        return xr.Dataset({"eta_star": (("stroke", "seed"), np.full((xs.size, 2), 0.8))},
+                          coords={"stroke": xs, "seed": [0, 1]})
+
+    monkeypatch.setattr(pdamper.studies, "run_sweep", fake_sweep)
+    r = CliRunner().invoke(main, ["design", "--frequency", "2Hz", "--stroke", "13mm", "--length", "120mm",
+                                  "--width", "40.4mm", "--radius", "5mm", "--verify", "--json"])
+    assert r.exit_code == 0, r.output
+    v = json.loads(r.stdout)["verify"]
+    spec = seen["spec"]
+    assert spec.base.n_particles == 36 and spec.base.drive.stroke == pytest.approx(0.013)
+    assert len(v["strokes_m"]) == 4 and v["eta_star_mean"] == [0.8] * 4
+    assert v["eta_theory"][1] == pytest.approx(th.eta_theory(0.013, 0.03))
