@@ -19,7 +19,7 @@ from .contact.cor_table import SPEED_GRID, tabulate_law
 from .contact.cor_thornton import ThorntonRestitution
 from .contact.hertz_gonthier import chi_for_restitution, contact_time, effective_radius
 from .errors import InputError, SimulationError
-from .excitation import HarmonicDrive
+from .excitation import CoupledStructure, HarmonicDrive
 from .geometry.tilt import container_vectors
 from .geometry.walls import CYLINDER_INSIDE
 from .initial import initial_positions
@@ -28,8 +28,9 @@ from .materials import effective_modulus
 from .params import Case
 from .recorders.signals import Signals
 from .recorders.energy import EnergyLedger
+from .recorders.structure import StructureRecord
 
-__all__ = ["Simulation", "RunResult", "run_case", "auto_time_step"]
+__all__ = ["Simulation", "RunResult", "run_case", "auto_time_step", "run_bare_structure"]
 
 #: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
 GEAR_MIN_STEP = 1e-9
@@ -57,6 +58,8 @@ def auto_time_step(case: Case) -> float:
         v = num.max_impact_speed
     elif isinstance(case.drive, HarmonicDrive):
         v = 2.5 * case.drive.velocity_amplitude + 0.1
+    elif isinstance(case.drive, CoupledStructure):
+        v = 2.5 * case.drive.velocity_bound + 0.1
     elif case.drive.kind == "still":
         v0 = np.asarray(case.initial.velocities if case.initial.velocities is not None else [[0.0, 0.0, 0.0]])
         v = 2.5 * float(np.max(np.linalg.norm(v0, axis=-1))) + 0.1
@@ -87,6 +90,8 @@ class RunResult:
     analysis : complex-power result (``pdamper.analysis.PowerResult``) or None.
     trajectory : dict of arrays (``time`` [s], ``position`` [m], ``velocity`` [m/s], ``spin``
         [rad/s], container frame) or None.
+    structure : :class:`pdamper.recorders.structure.StructureRecord` when the container rides on
+        a coupled structure, else None.
     steps : time steps taken; time_step : the step [s] (Verlet) or the mean accepted step (Gear);
     wall_time_s : run time [s].
     """
@@ -101,6 +106,7 @@ class RunResult:
     wall_time_s: float = 0.0
     neighbour_search: str = ""
     extras: dict = field(default_factory=dict)
+    structure: object = None
 
     @property
     def eta_star(self) -> float:
@@ -381,7 +387,8 @@ class Simulation:
         n_samples = int(math.floor(case.duration * fs + 1e-9))
         if n_samples < 2:
             raise InputError(f"run: {case.duration:g} s at {fs:g} Hz gives fewer than 2 samples; run longer")
-        sig = np.zeros((n_samples, 1))
+        coupled = isinstance(case.drive, CoupledStructure)
+        sig = np.zeros((n_samples, 5 if coupled else 1))
         eng = np.zeros((n_samples, 7))
         traj_every = 0
         traj = np.zeros((1, 1, 9))
@@ -414,6 +421,11 @@ class Simulation:
         _, v0, _ = case.drive.motion(np.array([0.0]))
         jump = float(v0[0]) * self.dvec
         self.vel -= jump
+        if coupled:
+            # release the structure; the particles' accelerations get its a(0)
+            a0 = case.drive.start_state(self._drive[2])
+            self.acc -= a0 * self.dvec
+            self.acc_prev -= a0 * self.dvec
         if gear and self._primed:
             self.nord[1, :, 0:3] -= self.h_state[0] * jump
         self.ledger[:4] = 0.0
@@ -430,23 +442,55 @@ class Simulation:
             if progress is not None:
                 progress(done / n_samples)
         wall = _time.perf_counter() - wall0
-        signals = Signals.from_run(case, ts, sig[:, 0])
+        structure = None
+        if coupled:
+            structure = StructureRecord.from_run(case, ts, sig)
+            signals = Signals.from_run(case, ts, sig[:, 0], motion=structure.edges())
+        else:
+            signals = Signals.from_run(case, ts, sig[:, 0])
         energy = EnergyLedger.from_array(signals.time_end, eng)
         trajectory = None
         if traj_every:
             trajectory = {"time": (np.arange(traj.shape[0]) + 1) * traj_every * ts, "position": traj[:, :, 0:3],
                           "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy()}
         analysis = None
-        if analyse and case.drive.kind != "still":
+        if analyse and case.drive.kind not in ("still", "structure"):
             analysis = signals.analyse(case)
         extras = {"rejected_steps": self.rejected_steps} if gear else {}
         # Gear: report the mean accepted step over the whole run (settling included)
         step = (settle_samples + n_samples) * ts / max(steps, 1) if gear else self.dt
         return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,
                          steps=steps, time_step=step, wall_time_s=wall, neighbour_search=self.search,
-                         extras=extras)
+                         extras=extras, structure=structure)
 
 
 def run_case(case: Case, **kwargs) -> RunResult:
     """Build and run ``case`` (see :meth:`Simulation.run`)."""
     return Simulation(case).run(**kwargs)
+
+
+def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_rate: float = 1000.0,
+                       time_step: float | None = None) -> StructureRecord:
+    """The structure of ``structure`` without a bed, for ``duration`` [s]: the same compiled step
+    as the coupled run (:func:`pdamper.kernels.structure.structure_step`) with no wall force.
+
+    ``time_step`` [s] defaults to a tenth of the sample interval (and at most 1/2000 of the
+    shortest period). Returns a :class:`~pdamper.recorders.structure.StructureRecord`.
+    """
+    from .kernels.structure import run_structure_alone
+
+    if not (duration > 0 and math.isfinite(duration)):
+        raise InputError(f"duration = {duration!r} s; must be > 0")
+    ts = 1.0 / sample_rate
+    fmax = max(structure.natural_frequency, structure.force_frequency or 0.0)
+    dt = time_step if time_step is not None else min(ts / 10, 1.0 / (2000.0 * fmax))
+    sub = max(1, int(math.ceil(ts / dt - 1e-9)))
+    dt = ts / sub
+    n = int(math.floor(duration * sample_rate + 1e-9))
+    _, par, st = structure.kernel_args()
+    structure.start_state(st)
+    sig = np.zeros((n, 5))
+    run_structure_alone(n * sub, dt, 0.0, sub, par, st, sig)
+    return StructureRecord(time=(np.arange(n) + 1) * ts, displacement=sig[:, 1].copy(), velocity=sig[:, 2].copy(),
+                           external_work=sig[:, 3].copy(), damping_loss=sig[:, 4].copy(), mass=structure.mass,
+                           stiffness=structure.stiffness, x0=structure.displacement, v0=structure.velocity)

@@ -12,6 +12,8 @@ Pure functions on arrays; they know nothing of the simulator, files or plots.
   :func:`pdamper.io.records.read_record`.
 - :func:`detect_frequency` -- the drive frequency of a motion signal.
 - :class:`PowerResult` -- the frozen result, with ``to_dict()`` for JSON.
+- :func:`extrema`, :func:`decay_damping`, :func:`harmonic_amplitude` -- a structure's free
+  decay (envelope, equivalent damping ratio against amplitude) and forced steady amplitude.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from .complex_power import (
     complex_power,
     detect_frequency,
 )
+from .decay import decay_damping, extrema, harmonic_amplitude
 
 __all__ = [
     "complex_power",
@@ -36,4 +39,7 @@ __all__ = [
     "DEFAULT_DROP_CYCLES",
     "TIME_TOLERANCE",
     "MOTIONS",
+    "extrema",
+    "decay_damping",
+    "harmonic_amplitude",
 ]
