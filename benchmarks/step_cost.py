@@ -1,11 +1,12 @@
-"""Cost of one time step of the paper's 36-sphere cuboid (single core).
+"""Cost of one time step of a damper system (single core, kernel only).
 
 Usage: python benchmarks/step_cost.py [--dt 1e-6] [--steps 200000]
 
 Drives examples/cuboid_36.toml at X = 14 mm with velocity Verlet at a fixed step (default
-1 us, the step LIGGGHTS is quoted at) until the bed is in the rolling collect-and-collide
+1 us, the step LIGGGHTS is compared at) until the bed is in the rolling collect-and-collide
 state, then times the kernel alone over --steps steps (best of 3) and prints microseconds per
-step with the number of contacts at that moment.
+step with the number of contacts at that moment. :func:`measure` does the same for any case
+(``benchmarks/run.py`` uses it for every system of its table).
 """
 
 from __future__ import annotations
@@ -24,29 +25,40 @@ from pdamper.simulation import Simulation
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def measure(case, *, dt=1e-6, steps=200_000, warm_cycles=0.2, repeats=3) -> dict:
+    """Run ``case`` with Verlet at ``dt`` [s] for ``warm_cycles`` drive cycles (compile, settle,
+    set the bed in motion), then time ``steps`` more kernel steps ``repeats`` times; return the
+    best microseconds per step and the contacts at the end."""
+    case = dataclasses.replace(case, cycles=warm_cycles, drop_cycles=0,
+                               numerics=dataclasses.replace(case.numerics, integrator="verlet", time_step=dt))
+    sim = Simulation(case)
+    sim.run(analyse=False)
+    sub = int(round(1.0 / (case.recording.sample_rate * sim.dt)))
+    sig = np.zeros((1, 1))
+    eng = np.zeros((1, 7))
+    traj = np.zeros((1, 1, 9))
+    best = float("inf")
+    t_start = case.duration + 1.0
+    for _ in range(repeats):
+        t = time.perf_counter()
+        sim._advance(steps, t_start, 10**12, sub, False, 0, sig, eng, 0, traj)
+        best = min(best, time.perf_counter() - t)
+        t_start += steps * sim.dt
+    m = sim.row[-1]
+    return {"us_per_step": best / steps * 1e6, "particles": sim.n, "dt": sim.dt, "search": sim.search,
+            "pairs_listed": int(m), "pairs_touching": int(np.count_nonzero(sim.pvin[:m])),
+            "walls_touching": int(np.count_nonzero(sim.wvin))}
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--dt", type=float, default=1e-6, help="time step [s]")
     ap.add_argument("--steps", type=int, default=200000)
     args = ap.parse_args()
-    base = load_case(ROOT / "examples" / "cuboid_36.toml")
-    case = dataclasses.replace(with_stroke(base, 0.014), cycles=2.2, drop_cycles=2,
-                               numerics=dataclasses.replace(base.numerics, integrator="verlet", time_step=args.dt))
-    sim = Simulation(case)
-    sim.run(analyse=False)  # compiles (or loads the cache) and brings the bed into motion
-    sub = int(round(1e-3 / sim.dt))
-    sig = np.zeros((10**7, 1))
-    eng = np.zeros((10**7, 7))
-    traj = np.zeros((1, 1, 9))
-    best = float("inf")
-    for _ in range(3):
-        t = time.perf_counter()
-        sim._advance(args.steps, 1.1, 10**8, sub, False, 0, sig, eng, 0, traj)
-        best = min(best, time.perf_counter() - t)
-    m = sim.row[-1]
-    print(f"36-sphere cuboid, verlet, dt = {sim.dt * 1e6:.3g} us: {best / args.steps * 1e6:.3f} us/step "
-          f"(pairs in list {m}, touching {np.count_nonzero(sim.pvin[:m])}, wall candidates {sim.nwl[0]}, "
-          f"touching walls {np.count_nonzero(sim.wvin)})")
+    case = with_stroke(load_case(ROOT / "examples" / "cuboid_36.toml"), 0.014)
+    r = measure(case, dt=args.dt, steps=args.steps, warm_cycles=2.2)
+    print(f"36-sphere cuboid, verlet, dt = {r['dt'] * 1e6:.3g} us: {r['us_per_step']:.3f} us/step "
+          f"(pairs in list {r['pairs_listed']}, touching {r['pairs_touching']}, touching walls {r['walls_touching']})")
 
 
 if __name__ == "__main__":

@@ -15,7 +15,8 @@ Describe a case (frozen, keyword-only dataclasses; SI units):
   jitter, seed), cycles and gravity.
 - Geometry: :class:`Cuboid`, :class:`Cylinder`.
 - Drive: :class:`HarmonicDrive` (``x_c = X sin(Omega t)``), :class:`SampledDrive` (a motion
-  given as samples), :class:`Still`.
+  given as samples), :class:`Still`, :class:`CoupledStructure` (the container rides on a
+  structure, two-way coupled).
 - Materials: :class:`Material`, :data:`STEEL_S235`, :data:`PVC`.
 - Restitution laws: :class:`ConstantRestitution`, :class:`TabulatedRestitution`,
   :class:`ThorntonRestitution`.
@@ -33,6 +34,8 @@ Evaluate and design:
   force/motion record (paper eqs. 3-5).
 - :mod:`theory` -- the paper's closed forms: clearance, scattered and rolling
   collect-and-collide laws, X_opt, eta*_max, the bouncing law, operating bounds.
+- :func:`run_decay`, :func:`run_response` -- free decay and frequency response of a structure
+  with and without the damper; :func:`design_filling` -- the filling for a stroke.
 - :func:`parse_quantity` -- ``"120mm"`` -> ``0.12``.
 - :class:`InputError` (bad input, one-line message), :class:`SimulationError` (a run that
   cannot continue).
@@ -76,6 +79,10 @@ _LAZY = {
     "HarmonicDrive": "excitation",
     "SampledDrive": "excitation",
     "Still": "excitation",
+    "CoupledStructure": "excitation",
+    "run_decay": "studies.structure",
+    "run_response": "studies.structure",
+    "design_filling": "design",
     "Material": "materials",
     "STEEL_S235": "materials",
     "PVC": "materials",
@@ -99,7 +106,7 @@ __all__ = [
     # describe a case
     "Case", "ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState",
     "Cuboid", "Cylinder",
-    "HarmonicDrive", "SampledDrive", "Still",
+    "HarmonicDrive", "SampledDrive", "Still", "CoupledStructure",
     "Material", "STEEL_S235", "PVC",
     "ConstantRestitution", "TabulatedRestitution", "ThorntonRestitution",
     # run it
@@ -107,7 +114,7 @@ __all__ = [
     # sweep it
     "SweepSpec", "run_sweep", "open_results",
     # evaluate and design
-    "complex_power", "analyze_record", "theory",
+    "complex_power", "analyze_record", "theory", "run_decay", "run_response", "design_filling",
     # units and errors
     "parse_quantity", "InputError", "SimulationError", "PdamperError",
 ]
@@ -136,7 +143,9 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .analysis import analyze_record, complex_power
     from .config import load_case
     from .contact import ConstantRestitution, TabulatedRestitution, ThorntonRestitution
-    from .excitation import HarmonicDrive, SampledDrive, Still
+    from .design import design_filling
+    from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
+    from .studies.structure import run_decay, run_response
     from .geometry import Cuboid, Cylinder
     from .materials import PVC, STEEL_S235, Material
     from .params import (Case, ContactModel, Container, InitialState, Numerics, ParticleSet,

@@ -50,6 +50,12 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
                                 # per-sphere rows [x, y, z]: positions, velocities, spins [rad/s]
     [run]                       # cycles, drop_cycles, gravity
 
+    [structure]                 # instead of [drive]: the container rides on a structure
+    mass = "7kg"                # modal mass incl. the empty container (see docs/structure.md)
+    natural_frequency = "2Hz"   # or stiffness = 1105 (N/m)
+    damping_ratio = 0.005
+    displacement = "12mm"       # initial; and/or force_amplitude = "0.5N", force_frequency = "2Hz"
+
 :func:`load_case` reads a file (with optional overrides such as ``{"drive.stroke": "3mm"}``);
 :func:`case_to_dict` / :func:`dump_case` write a case back in plain SI numbers, so that
 ``load_case(dump_case(case, p)) == case`` exactly. Every problem raises
@@ -70,7 +76,7 @@ from .contact.cor_table import TabulatedRestitution
 from .contact.cor_thornton import ThorntonRestitution
 from .errors import InputError
 from .io.files import atomic_write
-from .excitation import HarmonicDrive, SampledDrive, Still
+from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .materials import LIBRARY, Material
@@ -92,6 +98,8 @@ SECTIONS = {
     "recording": tuple(f.name for f in dataclasses.fields(Recording)),
     "initial": ("arrangement", "jitter", "seed", "settle_time", "layers", "positions", "velocities", "spins"),
     "run": ("cycles", "drop_cycles", "gravity"),
+    "structure": ("mass", "stiffness", "natural_frequency", "damping_ratio", "force_amplitude",
+                  "force_frequency", "displacement", "velocity", "angle"),
 }
 #: Dimensions of the plain keys of [numerics] and [recording] (a key missing here takes plain SI
 #: numbers); a key whose default is None also takes "auto".
@@ -283,8 +291,12 @@ class _Reader:
             container = self.container(self._table(data, "container"))
         with _context("particles"):
             particles = self.particles(data.get("particles"))
-        with _context("drive"):
-            drive = self.drive(self._table(data, "drive"))
+        if "structure" in data:
+            with _context("structure"):
+                drive = self.structure(self._table(data, "structure"), self._table(data, "drive"))
+        else:
+            with _context("drive"):
+                drive = self.drive(self._table(data, "drive"))
         mats = [p.material for p in particles] + [container.material]
         for m in mats:
             if any(o.name == m.name and o != m for o in mats):
@@ -430,6 +442,37 @@ class _Reader:
             dims = {"time": "time", "position": "length", "velocity": "velocity", "acceleration": "acceleration"}
             kw.update({k: self.quantity_list(t[k], f"[drive] {k}", dims[k]) for k in dims if k in t})
         return SampledDrive(**kw)
+
+    def structure(self, t, drive_table) -> CoupledStructure:
+        """[structure]: the container rides on a coupled oscillator (replaces [drive])."""
+        if drive_table:
+            raise InputError(f"[drive] {', '.join(drive_table)} cannot be combined with [structure]: the "
+                             "structure moves the container; remove [drive] (the direction is [structure] angle)")
+        self._check_keys(t, "structure", SECTIONS["structure"])
+        for req in ("mass",):
+            if req not in t:
+                raise InputError("[structure] mass is missing: give the structure's modal mass including the "
+                                 "empty container, e.g. mass = '7kg'")
+        kw = {"mass": self.quantity(t, "structure", "mass", "mass")}
+        if ("stiffness" in t) == ("natural_frequency" in t):
+            raise InputError("[structure] give exactly one of stiffness (N/m, e.g. 1105) or natural_frequency "
+                             "(e.g. '2Hz')")
+        if "stiffness" in t:
+            kw["stiffness"] = self.number(t, "structure", "stiffness")
+        else:
+            fn = self.quantity(t, "structure", "natural_frequency", "frequency")
+            if not (fn > 0 and math.isfinite(fn)):
+                raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r}; must be > 0, e.g. '2Hz'")
+            if not (kw["mass"] > 0 and math.isfinite(kw["mass"])):
+                raise InputError(f"[structure] mass = {t['mass']!r}; must be > 0, e.g. '7kg'")
+            kw["stiffness"] = kw["mass"] * (2.0 * math.pi * fn) ** 2
+        if "damping_ratio" in t:
+            kw["damping_ratio"] = self.number(t, "structure", "damping_ratio")
+        for key, dim in (("force_amplitude", "force"), ("force_frequency", "frequency"), ("displacement", "length"),
+                         ("velocity", "velocity"), ("angle", "angle")):
+            if key in t:
+                kw[key] = self.quantity(t, "structure", key, dim)
+        return CoupledStructure(**kw)
 
     def _samples_file(self, value) -> dict:
         if not isinstance(value, str) or not value.strip():
@@ -762,6 +805,13 @@ def case_to_dict(case: Case) -> dict:
                 drive[k] = [float(v) for v in getattr(d, k)]
     elif isinstance(d, Still):
         drive = {"kind": "still", "duration": float(d.duration_s), "angle": float(d.angle)}
+    elif isinstance(d, CoupledStructure):
+        drive = None
+        structure = {"mass": float(d.mass), "stiffness": float(d.stiffness), "damping_ratio": float(d.damping_ratio),
+                     "force_amplitude": float(d.force_amplitude), "displacement": float(d.displacement),
+                     "velocity": float(d.velocity), "angle": float(d.angle)}
+        if d.force_frequency is not None:
+            structure["force_frequency"] = float(d.force_frequency)
     else:
         raise InputError(f"cannot write drive {type(d).__name__} to a config file")
 
@@ -793,8 +843,12 @@ def case_to_dict(case: Case) -> dict:
         if rows is not None:
             initial[key] = [[float(v) for v in row] for row in rows]
     run = {"cycles": _num(case.cycles), "drop_cycles": int(case.drop_cycles), "gravity": float(case.gravity)}
-    return {"container": container, "particles": parts[0] if len(parts) == 1 else parts, "drive": drive,
-            "contact": contact, "numerics": numerics, "recording": recording, "initial": initial, "run": run}
+    out = {"container": container, "particles": parts[0] if len(parts) == 1 else parts, "drive": drive,
+           "contact": contact, "numerics": numerics, "recording": recording, "initial": initial, "run": run}
+    if drive is None:
+        del out["drive"]
+        out["structure"] = structure
+    return out
 
 
 _HEADER = ("# pdamper case configuration (written by pdamper {version}).\n"

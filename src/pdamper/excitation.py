@@ -1,4 +1,5 @@
-"""Prescribed container motion: harmonic ``x_c = X sin(Omega t)`` or a motion given as samples.
+"""Prescribed container motion: harmonic ``x_c = X sin(Omega t)``, a motion given as samples, or
+the motion of a structure the container rides on (:class:`CoupledStructure`, two-way coupled).
 
 The drive acts along a direction in the lab's horizontal plane, given as an angle [rad] from
 the lab x axis (the container's length when untilted) towards the lab z axis.
@@ -13,7 +14,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["HarmonicDrive", "SampledDrive", "Still"]
+__all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -169,3 +170,132 @@ class Still:
     def kernel_args(self):
         """(kind, par, tab) for :func:`pdamper.kernels.drive.drive_motion`."""
         return 0, np.zeros(3), np.zeros((1, 5))
+
+
+@dataclass(frozen=True, kw_only=True)
+class CoupledStructure:
+    """The container rides rigidly on a single-degree-of-freedom structure, two-way coupled.
+
+    ``M x_s'' + c x_s' + K x_s = F0 sin(2 pi f_F t) - F_w`` with ``c = 2 zeta sqrt(K M)`` and F_w
+    the force of the walls on the particles along the drive; the structure's motion is the
+    container's (see :mod:`pdamper.kernels.structure` and docs/structure.md). Only the
+    fixed-step Verlet integrator advances it (``numerics.integrator = "verlet"``).
+
+    Parameters
+    ----------
+    mass : float
+        M [kg], > 0: the structure's modal mass *including the empty container*
+        (``container.mass`` is then only reported, not added again).
+    stiffness : float
+        K [N/m], > 0.
+    damping_ratio : float
+        zeta [-], in [0, 1): the structure's own damping.
+    force_amplitude : float
+        F0 [N], >= 0 (0: free motion).
+    force_frequency : float or None
+        f_F [Hz], > 0, needed when F0 > 0.
+    displacement, velocity : float
+        Initial x_s [m] and v_s [m/s] when the drive starts (t = 0).
+    angle : float
+        Direction of the motion in the horizontal plane [rad], as for :class:`HarmonicDrive`.
+
+    >>> s = CoupledStructure(mass=7.0, stiffness=1105.0, damping_ratio=0.005, displacement=0.01)
+    >>> round(s.natural_frequency, 3)
+    2.0
+    """
+
+    mass: float
+    stiffness: float
+    damping_ratio: float = 0.005
+    force_amplitude: float = 0.0
+    force_frequency: float | None = None
+    displacement: float = 0.0
+    velocity: float = 0.0
+    angle: float = 0.0
+    kind: str = "structure"
+
+    def __post_init__(self):
+        for name, unit, ex in (("mass", "kg", "'7kg'"), ("stiffness", "N/m", "1105 (N/m)")):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):
+                raise InputError(f"structure.{name} = {v!r} {unit}; must be > 0, e.g. {ex}")
+        z = self.damping_ratio
+        if isinstance(z, bool) or not isinstance(z, (int, float)) or not (0.0 <= z < 1.0):
+            raise InputError(f"structure.damping_ratio = {z!r}; must be in [0, 1), e.g. 0.005 (0.5 %)")
+        f0 = self.force_amplitude
+        if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 >= 0 and math.isfinite(f0)):
+            raise InputError(f"structure.force_amplitude = {f0!r} N; must be >= 0 (0: free motion)")
+        ff = self.force_frequency
+        if ff is not None and not (isinstance(ff, (int, float)) and ff > 0 and math.isfinite(ff)):
+            raise InputError(f"structure.force_frequency = {ff!r} Hz; must be > 0, e.g. '2Hz'")
+        if f0 > 0 and ff is None:
+            raise InputError("structure.force_frequency is missing: a force_amplitude > 0 needs its "
+                             "frequency, e.g. force_frequency = '2Hz'")
+        for name in ("displacement", "velocity", "angle"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise InputError(f"structure.{name} = {v!r}; must be a finite number")
+        if f0 == 0 and self.displacement == 0 and self.velocity == 0:
+            raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm') "
+                             "or a force_amplitude with force_frequency (forced response)")
+
+    @property
+    def damping(self) -> float:
+        """c = 2 zeta sqrt(K M) [N s/m]."""
+        return 2.0 * self.damping_ratio * math.sqrt(self.stiffness * self.mass)
+
+    @property
+    def natural_frequency(self) -> float:
+        """f_n = sqrt(K/M) / 2 pi [Hz] (without the bed)."""
+        return math.sqrt(self.stiffness / self.mass) / (2.0 * math.pi)
+
+    @property
+    def frequency(self) -> float:
+        """The frequency [Hz] that counts the run's cycles: f_F when forced, else f_n."""
+        return self.force_frequency if self.force_amplitude > 0 else self.natural_frequency
+
+    @property
+    def velocity_bound(self) -> float:
+        """An upper estimate [m/s] of |v_s| without the bed (for the time step)."""
+        from .theory.oscillator import steady_amplitude
+
+        w = 2.0 * math.pi * self.natural_frequency
+        free = abs(self.velocity) + w * abs(self.displacement)
+        forced = 0.0
+        if self.force_amplitude > 0:
+            wf = 2.0 * math.pi * self.force_frequency
+            res = self.force_amplitude / self.stiffness / max(2.0 * self.damping_ratio, 0.02)
+            forced = max(wf, w) * max(res, steady_amplitude(self.force_frequency, mass=self.mass,
+                                                            stiffness=self.stiffness, damping_ratio=self.damping_ratio,
+                                                            force_amplitude=self.force_amplitude))
+        return free + 2.0 * forced
+
+    def duration(self, cycles: float) -> float:
+        """Time [s] of ``cycles`` periods of :attr:`frequency`."""
+        return cycles / self.frequency
+
+    def motion(self, t):
+        """(x, v, a) at times t [s] of the structure *without* the bed (closed form); the
+        coupled motion is recorded by the run."""
+        from .theory.oscillator import oscillator_response
+
+        return oscillator_response(t, mass=self.mass, stiffness=self.stiffness, damping_ratio=self.damping_ratio,
+                                   force_amplitude=self.force_amplitude, force_frequency=self.force_frequency or 0.0,
+                                   displacement=self.displacement, velocity=self.velocity)
+
+    def kernel_args(self):
+        """(kind, par, state) for the kernels (:mod:`pdamper.kernels.structure`); the state
+        starts at rest at the initial displacement (held during settling)."""
+        om = 2.0 * math.pi * (self.force_frequency or 0.0)
+        par = np.array([self.mass, self.stiffness, self.damping, self.force_amplitude, om])
+        st = np.zeros((2, 5))
+        st[0, 0] = self.displacement
+        return 3, par, st
+
+    def start_state(self, st, wall_force: float = 0.0) -> float:
+        """Release the structure at t = 0: set (x0, v0, a0) in the kernel state ``st``, with
+        ``wall_force`` [N] the bed's wall force along the drive at that moment; returns a0."""
+        a0 = (-self.damping * self.velocity - self.stiffness * self.displacement - wall_force) / self.mass
+        st[0, 0:4] = (self.displacement, self.velocity, a0, 0.0)
+        st[1, :] = 0.0
+        return a0

@@ -58,7 +58,9 @@ def _layer_sites(case, r, jitter, n_needed=None):
     spheres of r = 5 mm fill 120 mm x 40.4 mm with no room to spare)."""
     g = case.container.geometry
     if g.shape == "cuboid":
-        nz = int(np.floor(g.width / (2 * r) + 1e-9))
+        # rows across the width, each with its start clearance: a width of exactly k diameters
+        # holds k - 1 rows (k rows would leave the outer spheres 1 um inside the walls)
+        nz = int(np.floor((g.width - _GAP) / (2 * r + _GAP) + 1e-9))
         if nz < 1:
             return np.zeros((0, 2)), 0.0, 0.0
         # rows across the width: room for jitter only where the width leaves some

@@ -15,7 +15,7 @@ from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
 from .contact.hertz_gonthier import DAMPING_CHOICES, V_IN_FLOOR
 from .errors import InputError
-from .excitation import HarmonicDrive, SampledDrive, Still
+from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .materials import PVC, STEEL_S235, Material
@@ -254,7 +254,7 @@ class Case:
 
     particles: tuple
     container: Container = field(default_factory=Container)
-    drive: HarmonicDrive | SampledDrive | Still = field(default_factory=lambda: HarmonicDrive(stroke=0.012))
+    drive: HarmonicDrive | SampledDrive | Still | CoupledStructure = field(default_factory=lambda: HarmonicDrive(stroke=0.012))
     contact: ContactModel = field(default_factory=ContactModel)
     numerics: Numerics = field(default_factory=Numerics)
     recording: Recording = field(default_factory=Recording)
@@ -280,6 +280,10 @@ class Case:
                              "run more cycles or drop fewer")
         if not (self.gravity >= 0 and math.isfinite(self.gravity)):
             raise InputError(f"gravity = {self.gravity!r} m/s^2; must be >= 0")
+        if getattr(self.drive, "kind", None) == "structure" and self.numerics.integrator != "verlet":
+            raise InputError(f"numerics.integrator = {self.numerics.integrator!r} cannot carry a coupled [structure]: "
+                             "only the fixed-step Verlet integrator advances the structure with the particles; "
+                             "set integrator = 'verlet' in [numerics]")
 
     @property
     def n_particles(self) -> int:

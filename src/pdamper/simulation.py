@@ -19,7 +19,7 @@ from .contact.cor_table import SPEED_GRID, tabulate_law
 from .contact.cor_thornton import ThorntonRestitution
 from .contact.hertz_gonthier import chi_for_restitution, contact_time, effective_radius
 from .errors import InputError, SimulationError
-from .excitation import HarmonicDrive
+from .excitation import CoupledStructure, HarmonicDrive
 from .geometry.tilt import container_vectors
 from .geometry.walls import CYLINDER_INSIDE
 from .initial import initial_positions
@@ -28,8 +28,9 @@ from .materials import effective_modulus
 from .params import Case
 from .recorders.signals import Signals
 from .recorders.energy import EnergyLedger
+from .recorders.structure import StructureRecord
 
-__all__ = ["Simulation", "RunResult", "run_case", "auto_time_step"]
+__all__ = ["Simulation", "RunResult", "run_case", "auto_time_step", "run_bare_structure"]
 
 #: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
 GEAR_MIN_STEP = 1e-9
@@ -61,6 +62,8 @@ def auto_time_step(case: Case) -> float:
         v = num.max_impact_speed
     elif isinstance(case.drive, HarmonicDrive):
         v = 2.5 * case.drive.velocity_amplitude + 0.1
+    elif isinstance(case.drive, CoupledStructure):
+        v = 2.5 * case.drive.velocity_bound + 0.1
     elif case.drive.kind == "still":
         v0 = np.asarray(case.initial.velocities if case.initial.velocities is not None else [[0.0, 0.0, 0.0]])
         v = 2.5 * float(np.max(np.linalg.norm(v0, axis=-1))) + 0.1
@@ -93,6 +96,8 @@ class RunResult:
         [rad/s], container frame; ``radius`` [m]; the container's pose ``container_position`` [m]
         and ``container_velocity`` [m/s], (frames, 3): x_c d and v_c d, d the drive direction in
         the container frame) when ``case.recording.trajectory_fps > 0``, else None.
+    structure : :class:`pdamper.recorders.structure.StructureRecord` when the container rides on
+        a coupled structure, else None.
     extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
         the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
         ``rejected_steps``.
@@ -110,6 +115,7 @@ class RunResult:
     wall_time_s: float = 0.0
     neighbour_search: str = ""
     extras: dict = field(default_factory=dict)
+    structure: object = None
 
     @property
     def eta_star(self) -> float:
@@ -395,7 +401,8 @@ class Simulation:
         n_samples = int(math.floor(case.duration * fs + 1e-9))
         if n_samples < 2:
             raise InputError(f"run: {case.duration:g} s at {fs:g} Hz gives fewer than 2 samples; run longer")
-        sig = np.zeros((n_samples, 1))
+        coupled = isinstance(case.drive, CoupledStructure)
+        sig = np.zeros((n_samples, 5 if coupled else 1))
         eng = np.zeros((n_samples, 7))
         traj_every = 0
         traj = np.zeros((1, 1, 9))
@@ -430,6 +437,11 @@ class Simulation:
         _, v0, _ = case.drive.motion(np.array([0.0]))
         jump = float(v0[0]) * self.dvec
         self.vel -= jump
+        if coupled:
+            # release the structure; the particles' accelerations get its a(0)
+            a0 = case.drive.start_state(self._drive[2])
+            self.acc -= a0 * self.dvec
+            self.acc_prev -= a0 * self.dvec
         if gear and self._primed:
             self.nord[1, :, 0:3] -= self.h_state[0] * jump
         self.ledger[:4] = 0.0
@@ -446,7 +458,12 @@ class Simulation:
             if progress is not None:
                 progress(done / n_samples)
         wall = _time.perf_counter() - wall0
-        signals = Signals.from_run(case, ts, sig[:, 0])
+        structure = None
+        if coupled:
+            structure = StructureRecord.from_run(case, ts, sig)
+            signals = Signals.from_run(case, ts, sig[:, 0], motion=structure.edges())
+        else:
+            signals = Signals.from_run(case, ts, sig[:, 0])
         energy = EnergyLedger.from_array(signals.time_end, eng)
         trajectory = None
         if traj_every:
@@ -458,7 +475,7 @@ class Simulation:
                           # tilt is constant) and velocity at each frame
                           "container_position": np.outer(xc, self.dvec), "container_velocity": np.outer(vc, self.dvec)}
         analysis = None
-        if analyse and case.drive.kind != "still":
+        if analyse and case.drive.kind not in ("still", "structure"):
             analysis = signals.analyse(case)
         extras = {"rejected_steps": self.rejected_steps} if gear else {}
         if periodic and analyse and trajectory is not None:
@@ -475,9 +492,36 @@ class Simulation:
         step = (settle_samples + n_samples) * ts / max(steps, 1) if gear else self.dt
         return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,
                          steps=steps, time_step=step, wall_time_s=wall, neighbour_search=self.search,
-                         extras=extras)
+                         extras=extras, structure=structure)
 
 
 def run_case(case: Case, **kwargs) -> RunResult:
     """Build and run ``case`` (see :meth:`Simulation.run`)."""
     return Simulation(case).run(**kwargs)
+
+
+def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_rate: float = 1000.0,
+                       time_step: float | None = None) -> StructureRecord:
+    """The structure of ``structure`` without a bed, for ``duration`` [s]: the same compiled step
+    as the coupled run (:func:`pdamper.kernels.structure.structure_step`) with no wall force.
+
+    ``time_step`` [s] defaults to a tenth of the sample interval (and at most 1/2000 of the
+    shortest period). Returns a :class:`~pdamper.recorders.structure.StructureRecord`.
+    """
+    from .kernels.structure import run_structure_alone
+
+    if not (duration > 0 and math.isfinite(duration)):
+        raise InputError(f"duration = {duration!r} s; must be > 0")
+    ts = 1.0 / sample_rate
+    fmax = max(structure.natural_frequency, structure.force_frequency or 0.0)
+    dt = time_step if time_step is not None else min(ts / 10, 1.0 / (2000.0 * fmax))
+    sub = max(1, int(math.ceil(ts / dt - 1e-9)))
+    dt = ts / sub
+    n = int(math.floor(duration * sample_rate + 1e-9))
+    _, par, st = structure.kernel_args()
+    structure.start_state(st)
+    sig = np.zeros((n, 5))
+    run_structure_alone(n * sub, dt, 0.0, sub, par, st, sig)
+    return StructureRecord(time=(np.arange(n) + 1) * ts, displacement=sig[:, 1].copy(), velocity=sig[:, 2].copy(),
+                           external_work=sig[:, 3].copy(), damping_loss=sig[:, 4].copy(), mass=structure.mass,
+                           stiffness=structure.stiffness, x0=structure.displacement, v0=structure.velocity)

@@ -66,6 +66,21 @@ BAD = {
         (["modes", "results", "--bogus"], "No such option"),
         (["nosuch"], "No such command 'nosuch'"),
     ],
+    "decay": [
+        (["case.toml", "--cycles", "0"], "is not in the range"),
+        (["case.toml", "--bogus"], "No such option"),
+        ([], "Missing argument 'CONFIG.toml'"),
+    ],
+    "response": [
+        (["case.toml", "--force", "3mm"], "'3mm' is not a force"),
+        (["case.toml", "--measure-cycles", "0"], "0 is not in the range"),
+        ([], "Missing argument 'CONFIG.toml'"),
+    ],
+    "design": [
+        (["--frequency", "2Hz", "--stroke", "10kg", "--radius", "5mm"], "'10kg' is not a length"),
+        (["--stroke", "10mm", "--radius", "5mm"], "Missing option '--frequency'"),
+        (["--frequency", "2Hz", "--stroke", "10mm", "--radius", "5mm", "--shape", "sphere"], "sphere"),
+    ],
 }
 
 

@@ -19,6 +19,8 @@ Motion modes (:mod:`.modes`, docs/motion.md), from particle trajectories:
   single-sided, lift-off) and the measured features of a recorded trajectory of a case;
 - :func:`mode_features`, :func:`classify_features` -- the same in two steps, on plain arrays;
   :data:`THRESHOLDS` the thresholds.
+- :func:`extrema`, :func:`decay_damping`, :func:`harmonic_amplitude` -- a structure's free
+  decay (envelope, equivalent damping ratio against amplitude) and forced steady amplitude.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from .complex_power import (
     detect_frequency,
 )
 from .modes import MODES, THRESHOLDS, ModeFeatures, classify_features, classify_trajectory, mode_features
+from .decay import decay_damping, extrema, harmonic_amplitude
 
 __all__ = [
     "complex_power",
@@ -50,4 +53,7 @@ __all__ = [
     "ModeFeatures",
     "MODES",
     "THRESHOLDS",
+    "extrema",
+    "decay_damping",
+    "harmonic_amplitude",
 ]

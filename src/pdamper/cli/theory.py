@@ -12,10 +12,6 @@ from .common import Quantity, echo_json, main, user_errors
 
 __all__ = ["theory_command"]
 
-#: "A cos α >> g sin α" (paper Sect. 6.2) read as: A at X_opt at least this many times g tan α.
-#: A heuristic: the paper's 36-sphere case (factor 3.7) still loses much of its peak to a 3° tilt.
-TILT_MARGIN = 10.0
-
 
 @main.command("theory")
 @click.option("--shape", type=click.Choice(th.SHAPES), default="cuboid", show_default=True,
@@ -135,10 +131,10 @@ def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt
                 f"at X_opt A = {a_opt:.3g} m/s^2 does not exceed g tan({tilt_text}) = {a_min:.3g} "
                 "m/s^2: the bed stays at the low wall (paper Sect. 6.2); level the container or "
                 "raise the frequency")
-        elif tilt > 0 and a_opt < TILT_MARGIN * a_min:
+        elif tilt > 0 and a_opt < th.TILT_MARGIN * a_min:
             warnings.append(
                 f"tilt-sensitive: at X_opt A = {a_opt:.3g} m/s^2 is only {a_opt / a_min:.2g} times "
-                f"g tan({tilt_text}) = {a_min:.3g} m/s^2 (want >> 1, say >= {TILT_MARGIN:g}); "
+                f"g tan({tilt_text}) = {a_min:.3g} m/s^2 (want >> 1, say >= {th.TILT_MARGIN:g}); "
                 "expect a lower eta* peak at a larger stroke (paper Sect. 6.2)")
     if stroke is not None:
         out.update(_at_stroke(stroke, h, frequency, bed_mass, kappa, x_opt))

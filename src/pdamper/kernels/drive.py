@@ -3,6 +3,8 @@
 ``kind`` 0: at rest. 1: harmonic ``x = X sin(Omega t + phase)`` with ``par = (X, Omega, phase)``.
 2: piecewise cubic through samples, ``tab`` rows ``(t_k, c0, c1, c2, c3)`` so that
 ``x = c0 + c1 s + c2 s^2 + c3 s^3`` with ``s = t - t_k`` on ``[t_k, t_{k+1})``.
+3: the coupled structure (:mod:`pdamper.kernels.structure`): the state ``(x, v, a)`` is read from
+``tab[0, 0:3]``, which the time loop advances with :func:`~pdamper.kernels.structure.structure_step`.
 Before ``t = 0`` (the settling phase) the container is at rest at ``x(0)``... with zero speed.
 """
 
@@ -43,4 +45,6 @@ def drive_motion(kind, par, tab, t):
         v = tab[k, 2] + s * (2.0 * tab[k, 3] + 3.0 * s * tab[k, 4])
         a = 2.0 * tab[k, 3] + 6.0 * s * tab[k, 4]
         return x, v, a
+    if kind == 3:
+        return tab[0, 0], tab[0, 1], tab[0, 2]
     return 0.0, 0.0, 0.0

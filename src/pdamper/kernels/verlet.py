@@ -19,6 +19,7 @@ from .forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVE
 from .jit import njit
 from .neighbours import max_displacement_sq, rebuild_lists
 from .record import record_sample
+from .structure import DRIVE_STRUCTURE, record_structure, structure_step
 
 __all__ = ["run_verlet"]
 
@@ -113,6 +114,9 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
             wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
             estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
+        fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
+        if drive_kind == DRIVE_STRUCTURE:
+            structure_step(drive_par, drive_tab, t, dt, fd)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t)
         gx = gvec[0] - ac * dvec[0]
         gy = gvec[1] - ac * dvec[1]
@@ -139,7 +143,6 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
                 if not (math.fabs(v[k]) < 1e6):
                     culprit = k // 3
                     break
-        fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         ledger[0] += vc * fd * dt
         ledger[1] += p_n * dt
         ledger[2] += p_f * dt
@@ -154,4 +157,6 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
             record_sample(k, sub * dt, vc, dvec, gvec, pos, vel, omg, mass, rad, inv_i,
                           row, pi_, pj, pk, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk,
                           ledger, sig, eng, traj_every, traj)
+            if drive_kind == DRIVE_STRUCTURE:
+                record_structure(k, drive_tab, sig)
     return STATUS_OK, n_steps, -1

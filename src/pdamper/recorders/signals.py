@@ -36,11 +36,17 @@ class Signals:
     position: np.ndarray
 
     @classmethod
-    def from_run(cls, case, interval: float, wall_force: np.ndarray) -> "Signals":
+    def from_run(cls, case, interval: float, wall_force: np.ndarray, motion=None) -> "Signals":
+        """``motion``: recorded (x, v) of the container at the n + 1 interval edges [m, m/s]
+        (a coupled structure); else the drive's prescribed motion."""
         n = wall_force.size
         edges = np.arange(n + 1) * interval
-        x, v, _ = case.drive.motion(edges)
-        xm, _, _ = case.drive.motion((np.arange(n) + 0.5) * interval)
+        if motion is None:
+            x, v, _ = case.drive.motion(edges)
+            xm, _, _ = case.drive.motion((np.arange(n) + 0.5) * interval)
+        else:
+            x, v = motion
+            xm = 0.5 * (x[:-1] + x[1:])
         vel = np.diff(x) / interval
         acc = np.diff(v) / interval
         acc[0] = (v[1] - v[0]) / interval  # v(0+) is the start of the drive (no jump counted)

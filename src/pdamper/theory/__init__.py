@@ -26,6 +26,9 @@ Operating bounds (:mod:`.bounds`)
     :func:`min_stroke_tilt` (A cos α > g sin α), :data:`GRAVITY`.
 Block model (:mod:`.block_model`)
     :func:`integrate_rolling_block` -- the rolling block integrated in time, an oracle for (14).
+Structure without a damper (:mod:`.oscillator`, beyond the paper)
+    :func:`natural_frequency`, :func:`free_decay`, :func:`steady_amplitude`,
+    :func:`oscillator_response` -- the linear damped oscillator in closed form.
 
 Examples
 --------
@@ -51,7 +54,7 @@ _WHERE = {
     "ETA_MAX_BOUNCING": "bouncing", "energy_per_cycle_bouncing": "bouncing",
     "eta_bouncing": "bouncing", "impact_phase_bouncing": "bouncing",
     "optimal_stroke_bouncing": "bouncing",
-    "GRAVITY": "bounds", "acceleration_amplitude": "bounds", "angular_frequency": "bounds",
+    "GRAVITY": "bounds", "TILT_MARGIN": "bounds", "acceleration_amplitude": "bounds", "angular_frequency": "bounds",
     "max_stroke_no_liftoff": "bounds", "min_acceleration_tilt": "bounds",
     "min_stroke_tilt": "bounds", "velocity_amplitude": "bounds",
     "ETA_MAX": "rolling", "X_OPT_OVER_H": "rolling", "bed_position": "rolling",
@@ -60,6 +63,8 @@ _WHERE = {
     "impact_phase_rolling": "rolling", "optimal_stroke": "rolling",
     "relative_velocity": "rolling",
     "energy_per_cycle_scattered": "scattered", "eta_scattered": "scattered",
+    "natural_frequency": "oscillator", "free_decay": "oscillator", "steady_amplitude": "oscillator",
+    "oscillator_response": "oscillator",
 }
 _SUBMODULES = frozenset(_WHERE.values())
 
@@ -90,6 +95,7 @@ if TYPE_CHECKING:  # for type checkers; at run time the names load on first use
     )
     from .bounds import (
         GRAVITY,
+        TILT_MARGIN,
         acceleration_amplitude,
         angular_frequency,
         max_stroke_no_liftoff,
@@ -110,6 +116,7 @@ if TYPE_CHECKING:  # for type checkers; at run time the names load on first use
         optimal_stroke,
         relative_velocity,
     )
+    from .oscillator import free_decay, natural_frequency, oscillator_response, steady_amplitude
     from .scattered import energy_per_cycle_scattered, eta_scattered
 
 __all__ = [
@@ -135,6 +142,7 @@ __all__ = [
     "eta_bouncing",
     "energy_per_cycle_bouncing",
     "GRAVITY",
+    "TILT_MARGIN",
     "angular_frequency",
     "velocity_amplitude",
     "acceleration_amplitude",
@@ -143,4 +151,8 @@ __all__ = [
     "min_stroke_tilt",
     "BlockImpact",
     "integrate_rolling_block",
+    "natural_frequency",
+    "free_decay",
+    "steady_amplitude",
+    "oscillator_response",
 ]

@@ -36,6 +36,10 @@ __all__ = [
 GRAVITY = 9.81
 
 
+#: "A cos α >> g sin α" (Sect. 6.2) read as: A at least this many times g tan α. A heuristic: the
+#: paper's 36-sphere case (factor 3.7 at 3°) still loses much of its peak to a 3° tilt.
+TILT_MARGIN = 10.0
+
 def angular_frequency(frequency: float) -> float:
     """Angular frequency Ω = 2πf [rad/s] of the drive frequency ``frequency`` f [Hz].
 

@@ -1,0 +1,254 @@
+"""pdamper's performance benchmark, side by side with LIGGGHTS, in one run.
+
+Usage: python benchmarks/run.py [--quick] [--no-liggghts] [--report docs/performance.md]
+
+Measures on this machine, in this one invocation:
+
+1. **Step cost** (velocity Verlet, fixed dt = 1 us, kernel only, best of 3, bed in motion):
+   the paper's 36- and 44-sphere cuboids, the 30-sphere cylinder, and a multi-layer bed of
+   5,000 spheres (link cells; per-particle cost reported).
+2. **LIGGGHTS** (when ``liggghts`` is on PATH; ``apt-get install liggghts`` installs it): the
+   same 36-sphere scenario (``benchmarks/liggghts.py``: box as a moving mesh, Hertz, mu = 0.1,
+   same dt) — its own loop time per step, and the ratio to pdamper's step.
+3. **Cross-validation**: eta* of LIGGGHTS (seed 0) and of pdamper (seeds 0-2, default
+   integrator) at a few strokes of the 36-sphere cuboid, same cycles.
+4. **Sweep wall time**: ``pdamper study fig4`` (2 fillings x 40 strokes x 20 cycles, one seed;
+   ``--quick``: 8 strokes) on all cores, from an empty store.
+5. **Compile and warm start**: ``pdamper run`` of a tiny case in a fresh kernel cache (compiles)
+   and again (cached kernels).
+
+Prints a table with each target of issue 5 and writes it to ``--report`` (Markdown). Times are
+wall-clock on a shared machine: run it with nothing else running.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+BENCH = Path(__file__).resolve().parent
+ROOT = BENCH.parent
+sys.path.insert(0, str(BENCH))
+
+import liggghts  # noqa: E402
+from step_cost import measure  # noqa: E402
+
+from pdamper.config import load_case  # noqa: E402
+from pdamper.geometry import Cuboid  # noqa: E402
+from pdamper.params import with_stroke  # noqa: E402
+
+#: Issue 5's targets.
+TARGET_STEP_US = 0.7
+TARGET_RATIO = 20.0
+TARGET_FIG4_S = 60.0
+TARGET_COMPILE_S = 20.0
+TARGET_WARM_S = 2.0
+
+
+def example(name, stroke):
+    return with_stroke(load_case(ROOT / "examples" / f"{name}.toml"), stroke)
+
+
+def big_bed(n=5000):
+    """A multi-layer bed of ``n`` spheres (r = 5 mm) in a 400 x 200 mm cuboid, 100 mm high."""
+    base = example("cuboid_36", 0.01)
+    geo = Cuboid(length=0.4, width=0.2, height=0.1)
+    parts = (dataclasses.replace(base.particles[0], count=n),)
+    return dataclasses.replace(base, particles=parts,
+                               container=dataclasses.replace(base.container, geometry=geo),
+                               initial=dataclasses.replace(base.initial, layers="auto", settle_time=0.02),
+                               numerics=dataclasses.replace(base.numerics, neighbour_search="cells"))
+
+
+def step_costs(quick):
+    steps = 50_000 if quick else 200_000
+    rows = []
+    for label, case in [("cuboid, 36 spheres, X = 14 mm", example("cuboid_36", 0.014)),
+                        ("cuboid, 44 spheres, X = 4.7 mm", example("cuboid_44", 0.0047)),
+                        ("cylinder, 30 spheres, X = 12 mm", example("cylinder_30", 0.012))]:
+        r = measure(case, steps=steps, warm_cycles=1.0 if quick else 2.2)
+        rows.append((label, r))
+        print(f"  {label}: {r['us_per_step']:.3f} us/step", flush=True)
+    r = measure(big_bed(), steps=500 if quick else 2000, warm_cycles=0.01, repeats=2)
+    rows.append(("multi-layer bed, 5,000 spheres (cells)", r))
+    print(f"  5,000 spheres: {r['us_per_step']:.1f} us/step, {1e3 * r['us_per_step'] / r['particles']:.1f} ns per "
+          "particle-step", flush=True)
+    return rows
+
+
+def cross_validation(quick, workdir, use_liggghts):
+    """eta* of both codes at a few strokes; LIGGGHTS step cost from its longest run."""
+    from pdamper.simulation import run_case
+
+    cycles = 6 if quick else 20
+    strokes = (0.003, 0.014, 0.03)
+    out = []
+    for x in strokes:
+        case = dataclasses.replace(example("cuboid_36", x), cycles=cycles)
+        etas = []
+        t = time.perf_counter()
+        for seed in (0, 1, 2):
+            c = dataclasses.replace(case, initial=dataclasses.replace(case.initial, seed=seed))
+            etas.append(run_case(c).eta_star)
+        pd_wall = (time.perf_counter() - t) / 3
+        lig = None
+        if use_liggghts:
+            lig = liggghts.run(case, Path(workdir) / f"liggghts_{x * 1e3:g}mm")
+        out.append({"stroke": x, "cycles": cycles, "pdamper_eta": etas, "pdamper_wall_s": pd_wall, "liggghts": lig})
+        msg = f"  X = {x * 1e3:g} mm: pdamper eta* {statistics.mean(etas):.3f} (seeds {min(etas):.3f}-{max(etas):.3f}, " \
+              f"{pd_wall:.1f} s per run)"
+        if lig:
+            msg += f"; LIGGGHTS eta* {lig['eta_star']:.3f} ({lig['us_per_step']:.2f} us/step, {lig['wall_time_s']:.0f} s)"
+        print(msg, flush=True)
+    return out
+
+
+def sweep_time(quick, workdir):
+    from pdamper.studies.named import run_study
+    from pdamper.studies.sweep import stroke_grid
+
+    n = 8 if quick else 40
+    t = time.perf_counter()
+    ds = run_study("fig4", Path(workdir) / "fig4", strokes=tuple(stroke_grid(0.5e-3, 50e-3, n)), seeds=(0,),
+                   progress=False)
+    wall = time.perf_counter() - t
+    peaks = {}
+    for label in ds.setting.values:
+        m = ds.eta_star.sel(setting=label).mean("seed").values
+        i = int(m.argmax())
+        peaks[str(label)] = (float(m[i]), float(ds.stroke.values[i]))
+    print(f"  fig4, {2 * n} cases: {wall:.1f} s", flush=True)
+    return {"cases": 2 * n, "wall_s": wall, "peaks": peaks, "workers": os.cpu_count()}
+
+
+def start_times():
+    """Wall time of a tiny `pdamper run` in a fresh kernel cache, then again (cached)."""
+    cmd = [sys.executable, "-m", "pdamper.cli", "run", str(ROOT / "examples" / "cuboid_36.toml"), "--cycles", "1", "--stroke", "3mm",
+           "--set", "run.drop_cycles=0", "--set", "initial.settle_time=0.01", "--json"]
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as runs:
+        env = {**os.environ, "PDAMPER_CACHE_DIR": cache}
+        env.pop("NUMBA_CACHE_DIR", None)
+        times = []
+        for _ in range(2):
+            t = time.perf_counter()
+            subprocess.run(cmd, env=env, cwd=runs, check=True, capture_output=True)
+            times.append(time.perf_counter() - t)
+    print(f"  first run (compiles): {times[0]:.1f} s; warm start: {times[1]:.2f} s", flush=True)
+    return {"compile_s": times[0], "warm_s": times[1]}
+
+
+def _ok(flag):
+    return "met" if flag else "**not met**"
+
+
+def report(res, quick, cmd):
+    steps = res["steps"]
+    s36 = steps[0][1]["us_per_step"]
+    lines = [f"Produced by `{cmd}` on {res['machine']} ({res['date']}); {res['seconds'] / 60:.1f} min in all.", ""]
+    lines += ["## Targets (issue 5)", "", "| target | measured | ratio / baseline | result |", "|---|---|---|---|"]
+    lig = [c["liggghts"] for c in res["cross"] if c["liggghts"]]
+    if lig:
+        lig_us = statistics.median(c["us_per_step"] for c in lig)
+        ratio = lig_us / s36
+        lines.append(f"| one 36-sphere step >= {TARGET_RATIO:g}x faster than LIGGGHTS (<= ~{TARGET_STEP_US} us) | "
+                     f"{s36:.3f} us/step | LIGGGHTS {lig_us:.2f} us/step: **{ratio:.1f}x** | "
+                     f"{_ok(ratio >= TARGET_RATIO)} |")
+    else:
+        lines.append(f"| one 36-sphere step <= ~{TARGET_STEP_US} us | {s36:.3f} us/step | LIGGGHTS not installed "
+                     f"({liggghts.INSTALL_HINT}) | {_ok(s36 <= TARGET_STEP_US)} |")
+    sw = res["sweep"]
+    full = not quick
+    lines.append(f"| `pdamper study fig4` (80 cases, 20 cycles, 1 seed) <= {TARGET_FIG4_S:g} s | {sw['wall_s']:.0f} s "
+                 f"for {sw['cases']} cases on {sw['workers']} cores | {sw['wall_s'] / TARGET_FIG4_S:.1f}x the target | "
+                 + (_ok(sw['wall_s'] <= TARGET_FIG4_S) if full else "quick run: 16 cases only") + " |")
+    st = res["start"]
+    lines.append(f"| first run (compile) <= {TARGET_COMPILE_S:g} s | {st['compile_s']:.1f} s | | "
+                 f"{_ok(st['compile_s'] <= TARGET_COMPILE_S)} |")
+    lines.append(f"| later start (cached) <= {TARGET_WARM_S:g} s | {st['warm_s']:.2f} s | | {_ok(st['warm_s'] <= TARGET_WARM_S)} |")
+    big = steps[-1][1]
+    lines.append(f"| 5,000-sphere multi-layer bed runs | {big['us_per_step']:.0f} us/step = "
+                 f"{1e3 * big['us_per_step'] / big['particles']:.1f} ns per particle-step | | met |")
+    lines += ["", "## Step cost", "", "Velocity Verlet at dt = 1 us, kernel only (no recording), best of the repeats, "
+              "after the bed is set in motion.", "",
+              "| system | us/step | ns per particle-step | search | pairs listed / touching | wall contacts |",
+              "|---|---|---|---|---|---|"]
+    for label, r in steps:
+        lines.append(f"| {label} | {r['us_per_step']:.3f} | {1e3 * r['us_per_step'] / r['particles']:.1f} | {r['search']} | "
+                     f"{r['pairs_listed']} / {r['pairs_touching']} | {r['walls_touching']} |")
+    lines += ["", "## Cross-validation with LIGGGHTS", "",
+              "The 36-sphere cuboid at three strokes, same cycles (first 2 dropped), same seeded initial positions "
+              "for seed 0; pdamper with its default integrator, seeds 0-2 (mean and range).", "",
+              "| X [mm] | cycles | pdamper eta* (mean, range) | pdamper s/run | LIGGGHTS eta* (seed 0) | LIGGGHTS us/step | LIGGGHTS s/run |",
+              "|---|---|---|---|---|---|---|"]
+    for c in res["cross"]:
+        e = c["pdamper_eta"]
+        lg = c["liggghts"]
+        lg_cols = (f"{lg['eta_star']:.3f} | {lg['us_per_step']:.2f} | {lg['wall_time_s']:.0f}" if lg else "not run | | ")
+        lines.append(f"| {c['stroke'] * 1e3:g} | {c['cycles']} | {statistics.mean(e):.3f} ({min(e):.3f}-{max(e):.3f}) | "
+                     f"{c['pdamper_wall_s']:.1f} | {lg_cols} |")
+    lines += ["", "## Sweep", "", f"`run_study('fig4', ...)` from an empty store, {sw['cases']} cases, one seed, "
+              f"20 cycles, embedded local Dask cluster ({sw['workers']} workers): {sw['wall_s']:.1f} s. Peaks: "
+              + "; ".join(f"{k}: eta* = {v[0]:.3f} at {v[1] * 1e3:.3g} mm" for k, v in sw["peaks"].items()) + "."]
+    return "\n".join(lines) + "\n"
+
+
+START, END = "<!-- benchmarks/run.py: start -->", "<!-- benchmarks/run.py: end -->"
+
+
+def write_section(path, text):
+    """Put ``text`` between the START/END markers of ``path`` (appended when they are missing),
+    leaving the hand-written rest of the page as it is."""
+    old = path.read_text() if path.exists() else ""
+    block = f"{START}\n{text}{END}"
+    if START in old and END in old:
+        head, rest = old.split(START, 1)
+        new = head + block + rest.split(END, 1)[1]
+    else:
+        new = old.rstrip("\n") + "\n\n" + block + "\n"
+    path.write_text(new)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="shorter runs (a few minutes)")
+    ap.add_argument("--no-liggghts", action="store_true", help="skip the LIGGGHTS rows")
+    ap.add_argument("--report", help="Markdown file for the results (default: print only)")
+    ap.add_argument("--json", help="also write the raw results as JSON here")
+    args = ap.parse_args()
+    use_lig = not args.no_liggghts and liggghts.available() is not None
+    if not args.no_liggghts and not use_lig:
+        print(f"LIGGGHTS not found: its rows are skipped; {liggghts.INSTALL_HINT}")
+    t0 = time.perf_counter()
+    res = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
+           "date": time.strftime("%Y-%m-%d")}
+    with tempfile.TemporaryDirectory(prefix="pdamper-bench-") as work:
+        print("compile and warm start", flush=True)
+        res["start"] = start_times()
+        print("step cost", flush=True)
+        res["steps"] = step_costs(args.quick)
+        print("cross-validation" + (" with LIGGGHTS" if use_lig else ""), flush=True)
+        res["cross"] = cross_validation(args.quick, work, use_lig)
+        print("sweep", flush=True)
+        res["sweep"] = sweep_time(args.quick, work)
+    res["seconds"] = time.perf_counter() - t0
+    cmd = "python benchmarks/run.py" + (" --quick" if args.quick else "") + (" --no-liggghts" if args.no_liggghts else "")
+    text = report(res, args.quick, cmd)
+    print()
+    print(text)
+    if args.report:
+        write_section(Path(args.report), text)
+    if args.json:
+        Path(args.json).write_text(json.dumps(res, indent=1, default=str))
+
+
+if __name__ == "__main__":
+    main()

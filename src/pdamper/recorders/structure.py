@@ -1,0 +1,74 @@
+"""What a run on a coupled structure records about the structure, and the coupled energy ledger.
+
+The kernels write, at the end of each sample interval, the structure's displacement x_s [m],
+velocity v_s [m/s], the work done on it by the external force [J] and the energy its own
+damping dissipated [J] (both since the drive started). With the particles' ledger
+(:class:`pdamper.recorders.energy.EnergyLedger`, whose ``work`` is the work the container
+walls did on the bed, the same sum the structure lost to the bed) the whole system balances:
+
+    E_struct + E_bed + D_struct + D_bed - W_ext = const,
+
+``E_struct = 1/2 M v_s^2 + 1/2 K x_s^2``, ``E_bed`` the bed's mechanical energy (lab frame),
+``D_bed`` its damping and friction losses.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["StructureRecord"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class StructureRecord:
+    """The structure's motion and energies at the sample ends ``time`` [s] (``x0``, ``v0``: at t = 0).
+
+    Attributes: time [s], displacement [m], velocity [m/s], external_work [J], damping_loss [J],
+    mass [kg], stiffness [N/m].
+    """
+
+    time: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    external_work: np.ndarray
+    damping_loss: np.ndarray
+    mass: float
+    stiffness: float
+    x0: float = 0.0
+    v0: float = 0.0
+
+    @classmethod
+    def from_run(cls, case, interval: float, sig: np.ndarray) -> "StructureRecord":
+        n = sig.shape[0]
+        d = case.drive
+        return cls(time=(np.arange(n) + 1) * interval, displacement=sig[:, 1].copy(), velocity=sig[:, 2].copy(),
+                   external_work=sig[:, 3].copy(), damping_loss=sig[:, 4].copy(), mass=d.mass,
+                   stiffness=d.stiffness, x0=d.displacement, v0=d.velocity)
+
+    def edges(self):
+        """(x, v) at the n + 1 interval edges, t = 0 included."""
+        return np.concatenate([[self.x0], self.displacement]), np.concatenate([[self.v0], self.velocity])
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Mechanical energy of the structure 1/2 M v^2 + 1/2 K x^2 [J]."""
+        return 0.5 * self.mass * self.velocity**2 + 0.5 * self.stiffness * self.displacement**2
+
+    @property
+    def initial_energy(self) -> float:
+        return 0.5 * self.mass * self.v0**2 + 0.5 * self.stiffness * self.x0**2
+
+    def residual(self, ledger=None) -> np.ndarray:
+        """Balance of the whole system (structure + bed, see the module docstring) relative to
+        the first sample [J]; without ``ledger`` the structure alone (a run without a bed)."""
+        r = self.energy + self.damping_loss - self.external_work
+        if ledger is not None:
+            r = r + ledger.mechanical + ledger.damping + ledger.friction
+        return r - r[0]
+
+    def balance_error(self, ledger=None) -> float:
+        """Largest |residual| relative to the energy put in (initial energy + external work) [-]."""
+        scale = max(self.initial_energy + float(np.max(np.abs(self.external_work))), 1e-300)
+        return float(np.max(np.abs(self.residual(ledger))) / scale)
