@@ -468,7 +468,11 @@ class Simulation:
         trajectory = None
         if traj_every:
             t_frames = (np.arange(traj.shape[0]) + 1) * traj_every * ts
-            xc, vc, _ = case.drive.motion(t_frames)
+            if structure is not None:  # the container rides on the structure: its recorded motion
+                at = (np.arange(traj.shape[0]) + 1) * traj_every - 1
+                xc, vc = structure.displacement[at], structure.velocity[at]
+            else:
+                xc, vc, _ = case.drive.motion(t_frames)
             trajectory = {"time": t_frames, "position": traj[:, :, 0:3],
                           "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy(),
                           # the container's pose: its displacement x_c d (container-frame axes; the

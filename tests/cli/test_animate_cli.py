@@ -114,3 +114,22 @@ def test_plot_modes_errors(tmp_path):
     assert result.exit_code == 2 and result.output.startswith("Error: ")
     result = invoke(["plot", "nothing"])
     assert result.exit_code == 2 and result.output.startswith("Error: No such command")
+
+
+def test_a_container_on_a_coupled_structure_records_its_own_motion(tmp_path):
+    """With [structure] the container pose in the trajectory is the structure's recorded motion,
+    not a prescribed drive; the run has no periodic drive, so no motion mode."""
+    from pathlib import Path
+
+    from pdamper import load_case, run_case
+
+    cfg = Path(__file__).resolve().parents[2] / "examples" / "structure_36.toml"
+    case = load_case(cfg, {"particles.count": 8, "run.cycles": 0.5, "recording.trajectory_fps": 50,
+                           "initial.settle_time": "20ms"})
+    res = run_case(case)
+    tr = res.trajectory
+    at = np.searchsorted(res.structure.time, tr["time"] - 1e-12)
+    np.testing.assert_allclose(tr["container_position"][:, 0], res.structure.displacement[at], rtol=1e-4)
+    # released from 20 mm at t = 0: ~20 mm cos(2 pi 2 Hz t) at the first frame
+    assert tr["container_position"][0, 0] == pytest.approx(0.02 * np.cos(2 * np.pi * 2 * tr["time"][0]), rel=0.01)
+    assert res.mode is None

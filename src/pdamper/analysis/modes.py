@@ -52,7 +52,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 __all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_features", "classify_trajectory",
-           "case_clearance", "floor_capacity", "bed_centre", "majority_mode"]
+           "case_clearance", "floor_capacity", "bed_centre", "majority_mode", "container_track"]
 
 #: The motion modes, in the order the classifier checks them (plus "unknown" when no trajectory).
 MODES = ("lift-off", "rolling-collect-and-collide", "single-sided", "scattered")
@@ -113,6 +113,21 @@ def case_clearance(case) -> tuple[float, float]:
     length = geo.drive_length
     h = float(clearance(length, n, n_max)) if n <= n_max else float("nan")
     return float(length), h
+
+
+def container_track(trajectory: dict, case) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(displacement (F, 3) [m], velocity (F, 3) [m/s], drive direction d (3,)) of the container at
+    the trajectory's frames, in the container's axes: the recorded ``container_position`` and
+    ``container_velocity`` when the trajectory has them (a coupled structure's motion included),
+    else x_c d and v_c d of the case's prescribed drive."""
+    from ..geometry.tilt import container_vectors
+
+    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
+    if "container_position" in trajectory and "container_velocity" in trajectory:
+        return (np.asarray(trajectory["container_position"], dtype=float),
+                np.asarray(trajectory["container_velocity"], dtype=float), dvec)
+    xc, vc, _ = case.drive.motion(np.asarray(trajectory["time"], dtype=float))
+    return np.outer(xc, dvec), np.outer(vc, dvec), dvec
 
 
 def majority_mode(modes) -> tuple[str, bool]:

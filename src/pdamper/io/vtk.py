@@ -84,13 +84,15 @@ def pvd_xml(entries) -> str:
             f"  <Collection>\n{rows}  </Collection>\n</VTKFile>\n")
 
 
-def write_vtk_series(out_dir, trajectory: dict, *, mesh, drive_position, drive_velocity, drive_dir) -> dict:
+def write_vtk_series(out_dir, trajectory: dict, *, mesh, drive_position=None, drive_velocity=None, drive_dir=None,
+                     offsets=None) -> dict:
     """Write the VTK time series of ``trajectory`` (container frame: ``time``, ``position``,
     ``velocity``, ``spin``, ``radius``) into ``out_dir``.
 
     ``mesh``: (vertices (V, 3), quads (Q, 4)) of the container in its frame; ``drive_position``,
     ``drive_velocity``: the container's x_c [m] and v_c [m/s] at each frame; ``drive_dir``: the
-    drive direction in the container frame. Returns ``{"particles": pvd path, "container": pvd
+    drive direction in the container frame; or instead ``offsets``: (displacement (F, 3) [m],
+    velocity (F, 3) [m/s]) of the container at each frame. Returns ``{"particles": pvd path, "container": pvd
     path, "frames": F}``.
     """
     out = Path(out_dir)
@@ -100,9 +102,12 @@ def write_vtk_series(out_dir, trajectory: dict, *, mesh, drive_position, drive_v
     vel = np.asarray(trajectory["velocity"], dtype=float)
     spin = np.asarray(trajectory["spin"], dtype=float)
     rad = np.broadcast_to(np.asarray(trajectory["radius"], dtype=float), pos.shape[1])
-    d = np.asarray(drive_dir, dtype=float)
-    xc = np.asarray(drive_position, dtype=float)
-    vc = np.asarray(drive_velocity, dtype=float)
+    if offsets is not None:
+        shifts, cvel = (np.asarray(a, dtype=float) for a in offsets)
+    else:
+        d = np.asarray(drive_dir, dtype=float)
+        shifts = np.outer(np.asarray(drive_position, dtype=float), d)
+        cvel = np.outer(np.asarray(drive_velocity, dtype=float), d)
     verts, quads = mesh
     ids = np.arange(pos.shape[1], dtype=np.int64)
     width = max(5, len(str(len(t))))
@@ -111,11 +116,11 @@ def write_vtk_series(out_dir, trajectory: dict, *, mesh, drive_position, drive_v
             stale.unlink()
     p_entries, c_entries = [], []
     for k in range(len(t)):
-        shift = xc[k] * d
+        shift = shifts[k]
         pname = f"particles_{k:0{width}d}.vtp"
         cname = f"container_{k:0{width}d}.vtp"
         (out / pname).write_text(polydata_xml(pos[k] + shift, verts=True, point_data={
-            "radius": rad, "velocity": vel[k] + vc[k] * d, "spin": spin[k], "id": ids}), encoding="utf-8")
+            "radius": rad, "velocity": vel[k] + cvel[k], "spin": spin[k], "id": ids}), encoding="utf-8")
         (out / cname).write_text(polydata_xml(np.asarray(verts) + shift, polys=list(quads)), encoding="utf-8")
         p_entries.append((t[k], pname))
         c_entries.append((t[k], cname))
@@ -126,17 +131,15 @@ def write_vtk_series(out_dir, trajectory: dict, *, mesh, drive_position, drive_v
 
 def write_case_vtk(out_dir, trajectory: dict, case, *, cycles: float | None = None) -> dict:
     """:func:`write_vtk_series` for a trajectory of ``case`` (a :class:`pdamper.params.Case`):
-    the container mesh, the drive's motion at the frame times and its direction are taken from
-    the case. ``cycles``: only the last ``cycles`` drive cycles."""
-    from ..geometry.tilt import container_vectors
+    the container mesh from the case, its motion from the trajectory's recorded pose (or the
+    case's drive). ``cycles``: only the last ``cycles`` drive cycles."""
+    from ..analysis.modes import container_track
 
     t = np.asarray(trajectory["time"], dtype=float)
     keep = np.ones(t.size, dtype=bool)
     f = float(getattr(case.drive, "frequency", 0.0) or 0.0)
     if cycles is not None and f > 0:
         keep = t >= t[-1] - cycles / f - 1e-12
+    off, vel, _ = container_track(trajectory, case)
     traj = {k: (np.asarray(v)[keep] if k != "radius" else v) for k, v in trajectory.items()}
-    xc, vc, _ = case.drive.motion(traj["time"])
-    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
-    return write_vtk_series(out_dir, traj, mesh=case.container.geometry.mesh(), drive_position=xc,
-                            drive_velocity=vc, drive_dir=dvec)
+    return write_vtk_series(out_dir, traj, mesh=case.container.geometry.mesh(), offsets=(off[keep], vel[keep]))

@@ -42,14 +42,6 @@ def ffmpeg_available() -> bool:
     return shutil.which("ffmpeg") is not None
 
 
-def _frame(case):
-    """(drive direction in the container frame, drive) of ``case``."""
-    from ..geometry.tilt import container_vectors
-
-    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
-    return dvec, case.drive
-
-
 def _outline_top(ax, geo, shift=0.0, **kw):
     """The container's floor outline (x-z, top view) [mm], moved by ``shift`` [m] along x."""
     from matplotlib.patches import Circle, Rectangle
@@ -160,10 +152,11 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
     """
     from matplotlib.figure import Figure
 
-    from ..analysis.modes import case_clearance, classify_trajectory
+    from ..analysis.modes import case_clearance, classify_trajectory, container_track
 
     target = _check_path(path)
-    dvec, drive = _frame(case)
+    drive = case.drive
+    off, _, dvec = container_track(traj, case)
     idx = _window(traj, case, cycles)
     t = np.asarray(traj["time"])[idx]
     pos = np.asarray(traj["position"])[idx]
@@ -171,7 +164,7 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
     d = np.array([dvec[0], 0.0, dvec[2]])
     d /= np.linalg.norm(d)
     s = pos @ d
-    xc, _, _ = drive.motion(t)
+    xc = off[idx] @ d
     length, h = case_clearance(case)
     f = float(getattr(drive, "frequency", 0.0) or 0.0)
     phase = t * f if f > 0 else t
@@ -243,9 +236,11 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
     pos = np.asarray(traj["position"])[idx]
     vel = np.asarray(traj["velocity"])[idx] if "velocity" in traj else np.zeros_like(pos)
     rad = np.broadcast_to(np.asarray(traj["radius"], dtype=float), pos.shape[1])
-    dvec, drive = _frame(case)
-    xc, _, _ = drive.motion(t)
-    shift = xc[:, None] * dvec[None, :]          # container origin in the lab frame (F, 3)
+    from ..analysis.modes import container_track
+
+    drive = case.drive
+    shift = container_track(traj, case)[0][idx]   # container origin in the lab frame (F, 3)
+    xc = shift[:, 0]
     geo = case.container.geometry
     lx, lz, hy = _extent(geo)
     reach = lx + float(np.max(np.abs(xc))) + 0.004
