@@ -118,7 +118,7 @@ def test_plot_modes_errors(tmp_path):
 
 def test_a_container_on_a_coupled_structure_records_its_own_motion(tmp_path):
     """With [structure] the container pose in the trajectory is the structure's recorded motion,
-    not a prescribed drive; the run has no periodic drive, so no motion mode."""
+    not a prescribed drive; the mode is judged at the structure's frequency (f_n in free decay)."""
     from pathlib import Path
 
     from pdamper import load_case, run_case
@@ -132,4 +132,4 @@ def test_a_container_on_a_coupled_structure_records_its_own_motion(tmp_path):
     np.testing.assert_allclose(tr["container_position"][:, 0], res.structure.displacement[at], rtol=1e-4)
     # released from 20 mm at t = 0: ~20 mm cos(2 pi 2 Hz t) at the first frame
     assert tr["container_position"][0, 0] == pytest.approx(0.02 * np.cos(2 * np.pi * 2 * tr["time"][0]), rel=0.01)
-    assert res.mode is None
+    assert res.mode in MODES
