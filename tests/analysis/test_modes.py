@@ -37,8 +37,17 @@ def frames(centre, *, jitter=None, height=None, cycles=4):
     return t, pos
 
 
-def features(t, pos):
-    return mode_features(t, pos, R, length=L, clearance=H_CLEAR, frequency=F)
+def features(t, pos, **kw):
+    return mode_features(t, pos, R, length=L, clearance=H_CLEAR, frequency=F, **kw)
+
+
+def tilted(t, stroke, g_s):
+    """Keyword arguments for a container driven at ``stroke`` [m] with gravity ``g_s`` [m/s^2]
+    along the drive (a tilt about z; < 0 pulls towards the -x wall)."""
+    return dict(gravity_along=g_s, container_position=stroke * np.sin(2 * np.pi * F * t))
+
+
+G_TAN_3 = 9.81 * math.sin(math.radians(3.0))
 
 
 def rolling_centre(t):
@@ -56,17 +65,31 @@ def test_rolling_collect_and_collide():
 
 
 def test_single_sided_bed_resting_on_the_low_wall():
-    f = features(*frames(lambda t: np.full_like(t, -H_CLEAR / 2)))
+    t, pos = frames(lambda t: np.full_like(t, -H_CLEAR / 2))
+    # 3 deg tilt towards -x, X = 2 mm at 2 Hz: A = 0.32 m/s^2 < g sin 3 deg = 0.51 m/s^2
+    f = features(t, pos, **tilted(t, 0.002, -G_TAN_3))
     assert f.touch_lo == 1.0 and f.touch_hi == 0.0 and f.swing == pytest.approx(0.0, abs=1e-9)
+    assert f.tilt_pull == pytest.approx(G_TAN_3 / (0.002 * (2 * np.pi * F) ** 2), rel=0.01) and f.downhill == -1
     assert classify_features(f) == "single-sided"
-    # the mirror image: resting on the +x wall
-    assert classify_features(features(*frames(lambda t: np.full_like(t, H_CLEAR / 2)))) == "single-sided"
+    # the mirror image: tilted the other way, resting on the +x wall
+    t, pos = frames(lambda t: np.full_like(t, H_CLEAR / 2))
+    assert classify_features(features(t, pos, **tilted(t, 0.002, G_TAN_3))) == "single-sided"
+
+
+def test_a_bed_at_one_wall_without_a_tilt_holding_it_there_is_scattered():
+    t, pos = frames(lambda t: np.full_like(t, -H_CLEAR / 2))
+    assert classify_features(features(t, pos)) == "scattered"                                   # no tilt
+    untilted = features(t, pos, **tilted(t, 0.001, -9.81 * math.sin(math.radians(0.1))))      # 0.1 deg
+    assert untilted.tilt_pull == pytest.approx(0.108, abs=0.005)
+    assert classify_features(untilted) == "scattered"
+    assert classify_features(features(t, pos, **tilted(t, 0.002, +G_TAN_3))) == "scattered"    # the high wall
 
 
 def test_single_sided_bed_leaving_and_returning_to_one_wall():
     # leaves the -x wall for a third of each cycle, never reaches the other
     centre = lambda t: -H_CLEAR / 2 + 0.3 * H_CLEAR * np.clip(2 * np.sin(2 * np.pi * F * t) - 1, 0, 1)  # noqa: E731
-    f = features(*frames(centre))
+    t, pos = frames(centre)
+    f = features(t, pos, **tilted(t, 0.005, -G_TAN_3))     # A = 0.79 m/s^2: pull 0.65
     assert f.impacts_lo == pytest.approx(1.0, abs=0.3) and f.touch_hi == 0.0
     assert classify_features(f) == "single-sided"
 

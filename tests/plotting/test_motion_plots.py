@@ -1,5 +1,7 @@
 """Motion figures (sphere paths, bed against the walls, animation) and the mode map, on synthetic data."""
 
+import math
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -11,7 +13,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from PIL import Image  # noqa: E402
 
 from pdamper.errors import InputError  # noqa: E402
-from pdamper.params import Case, ParticleSet  # noqa: E402
+from pdamper.params import Case, Container, ParticleSet  # noqa: E402
 from pdamper.excitation import HarmonicDrive  # noqa: E402
 from pdamper.plotting.modes import MODE_COLOURS, mode_map_figure, mode_rows  # noqa: E402
 from pdamper.plotting.motion import animate, paths_figure, walls_figure  # noqa: E402
@@ -43,7 +45,9 @@ def test_paths_figure_one_panel_per_run_with_the_mode(tmp_path):
     tr = rolling_trajectory()
     still = {**tr, "position": np.repeat(tr["position"][:1], len(tr["time"]), axis=0)}
     still["position"][:, :, 0] -= still["position"][0, :, 0].min() + 0.06 - R  # on the -x wall
-    fig = paths_figure([("moving", tr, CASE), ("resting", still, CASE)], tmp_path / "paths.png")
+    tilted = Case(particles=(ParticleSet(count=36),), drive=HarmonicDrive(stroke=0.002), cycles=3, drop_cycles=1,
+                  container=Container(tilt=(0.0, 0.0, math.radians(3.0))))   # the -x wall is the low one
+    fig = paths_figure([("moving", tr, CASE), ("resting", still, tilted)], tmp_path / "paths.png")
     assert isinstance(fig, Figure) and len(fig.axes) == 2
     assert "rolling-collect-and-collide" in fig.axes[0].get_title()
     assert "single-sided" in fig.axes[1].get_title()

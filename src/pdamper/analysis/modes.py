@@ -25,6 +25,9 @@ end walls sit at ``s = -L/2`` and ``+L/2``, h is the clearance of eq. (6)):
   container position x_c = X sin(Omega t) [deg].
 - ``airborne``: the fraction of sphere-frames whose centre is more than ``lift_gap`` x r above
   the floor contact height (y > r (1 + lift_gap)); ``max_height``: the largest (y - r)/r.
+- ``tilt_pull``: |g_s| / A, the pull of gravity along the drive (from the tilt) over the
+  container's measured acceleration amplitude; ``downhill``: +1 if it pulls towards +L/2, -1
+  towards -L/2, 0 without a pull.
 
 Modes (:func:`classify_features`, checked in this order):
 
@@ -37,8 +40,11 @@ Modes (:func:`classify_features`, checked in this order):
     with each wall once a cycle (Fig. 3b, Fig. 5).
 ``single-sided``
     one end wall touched in at least ``touch_one`` of the frames and the other in at most
-    ``touch_other``: the bed stays at (or keeps returning to) one wall, the low one under a tilt
-    (Sect. 6.2); includes a bed resting on the low wall.
+    ``touch_other``, that wall is the low one and the tilt pulls the bed towards it with at least
+    ``tilt_pull`` times the container's acceleration amplitude (g_s >= 0.3 A): the tilt keeps the
+    bed at (or returning to) the low wall (Sect. 6.2); includes a bed resting on the low wall. An
+    untilted bed that merely stays at the wall it started from is ``scattered`` (the paper's
+    "almost no particle movement").
 ``scattered``
     anything else with the bed on the floor: the spheres move each their own way, with few wall
     collisions (Fig. 3a), including a bed swaying in the middle without reaching the walls.
@@ -67,6 +73,7 @@ THRESHOLDS = {
     "sync_min": 0.8,        # ... and at least 80 % of its motion is at the drive frequency
     "touch_one": 0.5,       # single-sided: one end wall touched in at least half the frames
     "touch_other": 0.05,    # ... and the other in at most 5 %
+    "tilt_pull": 0.3,       # ... the low wall, with the tilt's pull g_s >= 0.3 A (else: scattered)
 }
 
 
@@ -84,6 +91,8 @@ class ModeFeatures:
     phase_deg: float
     airborne: float
     max_height: float
+    tilt_pull: float
+    downhill: int
     frames: int
     cycles: float
 
@@ -160,6 +169,7 @@ def _unit_horizontal(drive_dir) -> np.ndarray:
 
 def mode_features(time, position, radius, *, length: float, clearance: float, frequency: float,
                   drive_dir=(1.0, 0.0, 0.0), start_time: float = 0.0, round_wall: bool = False,
+                  gravity_along: float = 0.0, container_position=None,
                   thresholds: dict | None = None) -> ModeFeatures:
     """Measure the bed's motion over the frames at ``time >= start_time``.
 
@@ -171,7 +181,11 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     drive_dir : drive direction in the container frame (its floor-plane part is used);
     start_time : the transient to leave out [s] (e.g. drop_cycles / f);
     round_wall : a cylinder of radius L/2 about the y axis: a sphere touches the "end wall" ahead of
-        (behind) it when it touches the curved wall within 60 deg of the drive axis.
+        (behind) it when it touches the curved wall within 60 deg of the drive axis;
+    gravity_along : the component of gravity along the drive direction in the container frame
+        [m/s^2] (g sin(tilt about z) for the paper's tilt; > 0 pulls towards the +L/2 wall);
+    container_position : (F,) or (F, 3) the container's displacement at the frames [m], for its
+        acceleration amplitude A = (2 pi f)^2 x half its range (the tilt's pull is |gravity_along| / A).
     """
     th = {**THRESHOLDS, **(thresholds or {})}
     t = np.asarray(time, dtype=float)
@@ -184,6 +198,13 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
         keep = np.ones_like(t, dtype=bool)  # too short a run to drop a transient: use it all
     t, pos = t[keep], pos[keep]
     nf = t.shape[0]
+    pull, downhill = 0.0, 0
+    if container_position is not None and gravity_along != 0.0:
+        xc = np.asarray(container_position, dtype=float)
+        xc = (xc @ _unit_horizontal(drive_dir) if xc.ndim == 2 else xc)[keep]
+        accel = (2 * math.pi * frequency) ** 2 * 0.5 * float(np.ptp(xc)) if xc.size else 0.0
+        pull = abs(gravity_along) / accel if accel > 0 else math.inf
+        downhill = 1 if gravity_along > 0 else -1
     if nf < 2:
         raise ValueError(f"a motion mode needs at least 2 trajectory frames, got {nf}; record more frames "
                          "(a higher trajectory_fps or a longer run)")
@@ -227,7 +248,8 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     airborne = float(np.mean(height > th["lift_gap"]))
     return ModeFeatures(spread=spread, swing=swing, touch_lo=float(on_lo.mean()), touch_hi=float(on_hi.mean()),
                         impacts_lo=arrivals(on_lo), impacts_hi=arrivals(on_hi), sync=sync, phase_deg=phase,
-                        airborne=airborne, max_height=float(height.max()), frames=int(nf), cycles=float(cycles))
+                        airborne=airborne, max_height=float(height.max()), tilt_pull=float(pull),
+                        downhill=int(downhill), frames=int(nf), cycles=float(cycles))
 
 
 def classify_features(f: ModeFeatures, thresholds: dict | None = None) -> str:
@@ -239,7 +261,9 @@ def classify_features(f: ModeFeatures, thresholds: dict | None = None) -> str:
             and f.sync >= th["sync_min"]):
         return "rolling-collect-and-collide"
     hi, lo = max(f.touch_lo, f.touch_hi), min(f.touch_lo, f.touch_hi)
-    if hi >= th["touch_one"] and lo <= th["touch_other"]:
+    low_wall = f.touch_hi if f.downhill > 0 else f.touch_lo
+    if (hi >= th["touch_one"] and lo <= th["touch_other"] and f.downhill != 0 and low_wall == hi
+            and f.tilt_pull >= th["tilt_pull"]):
         return "single-sided"
     return "scattered"
 
@@ -254,8 +278,11 @@ def classify_trajectory(trajectory: dict, case, *, thresholds: dict | None = Non
     freq = float(getattr(drive, "frequency", 0.0) or 0.0)
     if freq <= 0:
         raise ValueError("motion modes need a periodic drive with a frequency")
-    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(drive, "angle", 0.0))
+    gvec, dvec = container_vectors(case.container.tilt, case.gravity, getattr(drive, "angle", 0.0))
+    off, _, _ = container_track(trajectory, case)
     feats = mode_features(trajectory["time"], trajectory["position"], trajectory["radius"], length=length,
                           clearance=h, frequency=freq, drive_dir=dvec, start_time=case.drop_cycles / freq,
-                          round_wall=case.container.geometry.shape == "cylinder", thresholds=thresholds)
+                          round_wall=case.container.geometry.shape == "cylinder",
+                          gravity_along=float(gvec @ _unit_horizontal(dvec)), container_position=off,
+                          thresholds=thresholds)
     return classify_features(feats, thresholds), feats
