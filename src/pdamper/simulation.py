@@ -35,6 +35,10 @@ __all__ = ["Simulation", "RunResult", "run_case", "auto_time_step", "run_bare_st
 #: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
 GEAR_MIN_STEP = 1e-9
 
+#: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
+#: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
+MODE_FPS = 50.0
+
 #: Above this many spheres the Verlet list is built with link cells ("auto" search).
 CELLS_THRESHOLD = 200
 
@@ -89,9 +93,14 @@ class RunResult:
     energy : :class:`pdamper.recorders.energy.EnergyLedger`.
     analysis : complex-power result (``pdamper.analysis.PowerResult``) or None.
     trajectory : dict of arrays (``time`` [s], ``position`` [m], ``velocity`` [m/s], ``spin``
-        [rad/s], container frame) or None.
+        [rad/s], container frame; ``radius`` [m]; the container's pose ``container_position`` [m]
+        and ``container_velocity`` [m/s], (frames, 3): x_c d and v_c d, d the drive direction in
+        the container frame) when ``case.recording.trajectory_fps > 0``, else None.
     structure : :class:`pdamper.recorders.structure.StructureRecord` when the container rides on
         a coupled structure, else None.
+    extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
+        the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
+        ``rejected_steps``.
     steps : time steps taken; time_step : the step [s] (Verlet) or the mean accepted step (Gear);
     wall_time_s : run time [s].
     """
@@ -112,6 +121,11 @@ class RunResult:
     def eta_star(self) -> float:
         """Reduced loss factor eta* [-] (eq. 5)."""
         return float(self.analysis.eta_star) if self.analysis is not None else math.nan
+
+    @property
+    def mode(self) -> str | None:
+        """Motion mode of the bed (:mod:`pdamper.analysis.modes`), None without a periodic drive."""
+        return self.extras.get("mode")
 
     @property
     def energy_per_cycle(self) -> float:
@@ -392,8 +406,10 @@ class Simulation:
         eng = np.zeros((n_samples, 7))
         traj_every = 0
         traj = np.zeros((1, 1, 9))
-        if case.recording.trajectory_fps > 0:
-            traj_every = max(1, int(round(fs / case.recording.trajectory_fps)))
+        periodic = float(getattr(case.drive, "frequency", 0.0) or 0.0) > 0
+        fps = case.recording.trajectory_fps or (min(MODE_FPS, fs) if periodic and analyse else 0.0)
+        if fps > 0:
+            traj_every = max(1, int(round(fs / fps)))
             traj = np.zeros((n_samples // traj_every, self.n, 9))
         if gear:
             self.nord = np.zeros((6, self.n, 6))
@@ -451,12 +467,31 @@ class Simulation:
         energy = EnergyLedger.from_array(signals.time_end, eng)
         trajectory = None
         if traj_every:
-            trajectory = {"time": (np.arange(traj.shape[0]) + 1) * traj_every * ts, "position": traj[:, :, 0:3],
-                          "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy()}
+            t_frames = (np.arange(traj.shape[0]) + 1) * traj_every * ts
+            if structure is not None:  # the container rides on the structure: its recorded motion
+                at = (np.arange(traj.shape[0]) + 1) * traj_every - 1
+                xc, vc = structure.displacement[at], structure.velocity[at]
+            else:
+                xc, vc, _ = case.drive.motion(t_frames)
+            trajectory = {"time": t_frames, "position": traj[:, :, 0:3],
+                          "velocity": traj[:, :, 3:6], "spin": traj[:, :, 6:9], "radius": self.rad.copy(),
+                          # the container's pose: its displacement x_c d (container-frame axes; the
+                          # tilt is constant) and velocity at each frame
+                          "container_position": np.outer(xc, self.dvec), "container_velocity": np.outer(vc, self.dvec)}
         analysis = None
         if analyse and case.drive.kind not in ("still", "structure"):
             analysis = signals.analyse(case)
         extras = {"rejected_steps": self.rejected_steps} if gear else {}
+        if periodic and analyse and trajectory is not None:
+            from .analysis.modes import classify_trajectory
+
+            try:
+                mode, feats = classify_trajectory(trajectory, case)
+                extras.update(mode=mode, mode_features=feats.to_dict())
+            except ValueError:  # too short a run for two frames
+                extras.update(mode="unknown", mode_features={})
+        if not case.recording.trajectory_fps:
+            trajectory = None  # recorded only to classify the motion mode
         # Gear: report the mean accepted step over the whole run (settling included)
         step = (settle_samples + n_samples) * ts / max(steps, 1) if gear else self.dt
         return RunResult(case=case, signals=signals, energy=energy, analysis=analysis, trajectory=trajectory,

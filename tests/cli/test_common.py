@@ -51,6 +51,21 @@ BAD = {
         (["case.toml", "--bogus"], "No such option"),
         ([], "Missing argument 'CONFIG.toml'"),
     ],
+    "animate": [
+        (["run_dir", "--speed", "0"], "0.0 is not in the range"),
+        (["run_dir", "--bogus"], "No such option"),
+        ([], "Missing argument 'RUN_DIR'"),
+    ],
+    "export": [
+        (["run_dir", "--cycles", "0"], "0.0 is not in the range"),
+        (["run_dir", "--bogus"], "No such option"),
+        ([], "Missing argument 'RUN_DIR'"),
+    ],
+    "plot": [
+        (["modes"], "Missing argument 'RESULTS...'"),
+        (["modes", "results", "--bogus"], "No such option"),
+        (["nosuch"], "No such command 'nosuch'"),
+    ],
     "decay": [
         (["case.toml", "--cycles", "0"], "is not in the range"),
         (["case.toml", "--bogus"], "No such option"),
@@ -75,7 +90,12 @@ def test_every_command_is_covered():
 
 def test_every_command_is_a_one_line_command():
     for name, cmd in main.commands.items():
-        assert isinstance(cmd, OneLineCommand), name
+        if isinstance(cmd, click.Group):  # a group of commands (pdamper plot ...): its own and theirs
+            assert type(cmd) is type(main), name
+            for sub, subcmd in cmd.commands.items():
+                assert isinstance(subcmd, OneLineCommand), f"{name} {sub}"
+        else:
+            assert isinstance(cmd, OneLineCommand), name
 
 
 def _check_one_line(result, expected):

@@ -21,13 +21,6 @@ def invoke(args):
 
 
 @pytest.fixture(scope="module")
-def tiny(tmp_path_factory):
-    path = tmp_path_factory.mktemp("cfg") / "tiny.toml"
-    path.write_text(TINY)
-    return path
-
-
-@pytest.fixture(scope="module")
 def json_run(tiny, tmp_path_factory):
     out = tmp_path_factory.mktemp("runs") / "r1"
     result = invoke(["run", str(tiny), "--json", "--out", str(out)])

@@ -47,6 +47,14 @@ def test_a_sweep_on_a_local_cluster_stores_every_case_and_resumes_without_recomp
     np.testing.assert_array_equal(nc.eta_star.values, more.eta_star.values)
     csv = (store / "results.csv").read_text().splitlines()
     assert csv[0].startswith("stroke [m],seed,eta_star [1],energy_per_cycle [J]") and len(csv) == 1 + 6
+    assert csv[0].endswith(",failed,mode")
+    # every case has its motion mode, in the case file, the dataset and results.nc
+    from pdamper.analysis.modes import MODES
+
+    case_file = json.loads(next((store / "cases").glob("*.json")).read_text())
+    assert case_file["mode"] in MODES and "sync" in case_file["mode_features"]
+    assert set(nc["mode"].values.ravel()) <= set(MODES)
+    assert all(line.rsplit(",", 1)[1] in MODES for line in csv[1:])
 
 
 def test_same_seeds_same_numbers_on_an_external_dask_cluster(tiny_config, tmp_path):
@@ -110,3 +118,19 @@ def test_kill_minus_nine_loses_nothing_finished_and_the_rerun_completes(tiny_con
     assert len(after) == 6
     assert all(after[k] == v for k, v in done_before.items())  # finished cases were not recomputed
     assert json.loads(out.stdout)["failed_cases"] == 0
+
+
+def test_a_store_without_modes_opens_with_unknown_modes(tiny_config, tmp_path):
+    # a store written before mode classification: its case files have no "mode"
+    spec = _spec(tiny_config, strokes=(0.002, 0.012), seeds=(0,))
+    store = ResultStore.create_or_open(tmp_path / "old", spec)
+    store.save("X0.002_seed0", 0.002, 0, {"eta_star": 0.1, "energy_per_cycle_J": 1e-3, "steps": 10})
+    store.save("X0.012_seed0", 0.012, 0, {"failed": "unstable"})
+    ds = ResultStore.open(tmp_path / "old").dataset()
+    assert ds["mode"].values.tolist() == [["unknown"], ["failed"]]
+    again = open_results(tmp_path / "old" / "results.nc")
+    assert again["mode"].values.tolist() == [["unknown"], ["failed"]]
+    # a stroke asked for but not computed yet has an empty mode
+    spec2 = _spec(tiny_config, strokes=(0.002, 0.012, 0.02), seeds=(0,))
+    ds2 = ResultStore.create_or_open(tmp_path / "old", spec2).dataset()
+    assert ds2["mode"].values.tolist() == [["unknown"], ["failed"], [""]]

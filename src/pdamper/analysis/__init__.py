@@ -12,6 +12,13 @@ Pure functions on arrays; they know nothing of the simulator, files or plots.
   :func:`pdamper.io.records.read_record`.
 - :func:`detect_frequency` -- the drive frequency of a motion signal.
 - :class:`PowerResult` -- the frozen result, with ``to_dict()`` for JSON.
+
+Motion modes (:mod:`.modes`, docs/motion.md), from particle trajectories:
+
+- :func:`classify_trajectory` -- the mode (:data:`MODES`: scattered, rolling collect-and-collide,
+  single-sided, lift-off) and the measured features of a recorded trajectory of a case;
+- :func:`mode_features`, :func:`classify_features` -- the same in two steps, on plain arrays;
+  :data:`THRESHOLDS` the thresholds.
 - :func:`extrema`, :func:`decay_damping`, :func:`harmonic_amplitude` -- a structure's free
   decay (envelope, equivalent damping ratio against amplitude) and forced steady amplitude.
 """
@@ -28,6 +35,7 @@ from .complex_power import (
     complex_power,
     detect_frequency,
 )
+from .modes import MODES, THRESHOLDS, ModeFeatures, classify_features, classify_trajectory, mode_features
 from .decay import decay_damping, extrema, harmonic_amplitude
 
 __all__ = [
@@ -39,6 +47,12 @@ __all__ = [
     "DEFAULT_DROP_CYCLES",
     "TIME_TOLERANCE",
     "MOTIONS",
+    "classify_trajectory",
+    "mode_features",
+    "classify_features",
+    "ModeFeatures",
+    "MODES",
+    "THRESHOLDS",
     "extrema",
     "decay_damping",
     "harmonic_amplitude",

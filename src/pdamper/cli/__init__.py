@@ -18,6 +18,8 @@ from . import run as _run  # noqa: F401,E402
 from . import sweep as _sweep  # noqa: F401,E402
 from . import study as _study  # noqa: F401,E402
 from . import validate as _validate  # noqa: F401,E402
+from . import animate as _animate  # noqa: F401,E402
+from . import plot as _plot  # noqa: F401,E402
 from . import structure as _structure  # noqa: F401,E402
 
 __all__ = ["main"]

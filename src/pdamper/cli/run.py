@@ -12,7 +12,10 @@ import click
 from ..errors import InputError
 from .common import Quantity, echo_json, main, user_errors
 
-__all__ = ["run_command", "parse_set"]
+__all__ = ["run_command", "parse_set", "DEFAULT_FPS"]
+
+#: Trajectory frames per second of ``--trajectory`` without ``--fps``.
+DEFAULT_FPS = 100.0
 
 
 def parse_set(items) -> dict:
@@ -45,17 +48,24 @@ def parse_set(items) -> dict:
 @click.option("--set", "settings", multiple=True, metavar="SECTION.KEY=VALUE",
               help="Override any config key, e.g. --set particles.count=8 --set numerics.time_step=2us "
                    "(repeatable).")
+@click.option("--trajectory", is_flag=True,
+              help="Record particle trajectories (positions, velocities, spins) for pdamper animate/export.")
+@click.option("--fps", type=Quantity("frequency"),
+              help="Trajectory frames per second with --trajectory (default 100; a bare number is frames/s).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units) instead of the table.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False),
               help="Write the run directory (config.toml, signals.csv, energy.csv, result.json).")
 @user_errors
-def run_command(config, stroke, frequency, cycles, seed, integrator, settings, as_json, out_dir):
+def run_command(config, stroke, frequency, cycles, seed, integrator, settings, trajectory, fps, as_json, out_dir):
     """Simulate the particle damper of CONFIG.toml and print eta* and the energy per cycle.
 
     Options override the file's values; quantities take units (12mm, 2Hz). See
     examples/cuboid_36.toml for the config format.
 
-    Example: pdamper run examples/cuboid_36.toml --stroke 20mm --out runs/x20
+    Every run also reports the bed's motion mode (docs/motion.md), measured on the recorded
+    trajectory (a coarse one at 50 frames/s is recorded for it if none is asked for).
+
+    Example: pdamper run examples/cuboid_36.toml --stroke 20mm --trajectory --out runs/x20
     """
     from ..config import load_case
     from ..io.runs import check_run_dir, write_run
@@ -68,6 +78,12 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, a
             if key == "run.cycles" and float(value).is_integer():
                 value = int(value)
             overrides[key] = value
+    if fps is not None and not trajectory:
+        raise InputError("--fps sets the frame rate of --trajectory; add --trajectory")
+    if fps is not None and not fps > 0:
+        raise InputError(f"--fps {fps:g}: give a positive frame rate, e.g. 100 (frames per second)")
+    if trajectory:
+        overrides["recording.trajectory_fps"] = fps if fps is not None else DEFAULT_FPS
     case = load_case(config, overrides)
     if out_dir is not None:
         check_run_dir(out_dir)  # fail before a long run, not after it
@@ -144,12 +160,20 @@ def _table(config, case, s, written) -> str:
         ("speed", _fmt(s["us_per_step"], 3), "[us/step]", f"{s['particles']} spheres"),
         ("wall time", _fmt(s["wall_time_s"], 3), "[s]", ""),
     ]
+    if s.get("mode"):
+        f = s.get("mode_features") or {}
+        rows.insert(2, ("motion mode", s["mode"], "", ""))
+        rows.insert(3, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
+                                    f"wall arrivals/cycle -x {f.get('impacts_lo', math.nan):.2f} "
+                                    f"+x {f.get('impacts_hi', math.nan):.2f}; docs/motion.md"))
     if written is not None:
         rows.append(("run directory", str(written), "", ""))
     lines = [f"pdamper run {config}"]
     for name, value, unit, note in rows:
-        if name == "case" or name == "run directory":
+        if name in ("case", "run directory", "motion mode"):
             lines.append(f"  {name:<21}{value}")
+        elif not name:
+            lines.append(f"  {'':<21}{note}")
         else:
             lines.append(f"  {name:<21}{value:<12}{unit:<11}{note}".rstrip())
     return "\n".join(lines)

@@ -40,6 +40,7 @@ def sweep_command(config, strokes, seeds, cycles, settings, out, workers, schedu
     """
     from ..config import load_case
     from ..errors import InputError
+    from ..analysis.modes import majority_mode
     from ..studies import SweepSpec, parse_strokes, run_sweep
 
     if workers and scheduler:
@@ -71,6 +72,7 @@ def sweep_command(config, strokes, seeds, cycles, settings, out, workers, schedu
         "eta_star_min": eta.min("seed", skipna=True).values.tolist(),
         "eta_star_max": eta.max("seed", skipna=True).values.tolist(),
         "energy_per_cycle_J_mean": ds.energy_per_cycle.mean("seed", skipna=True).values.tolist(),
+        "modes": [majority_mode(ds["mode"].values[i])[0] for i in range(len(ds.stroke))] if "mode" in ds else [],
         "failed_cases": int(ds["failed"].sum()),
         "wall_time_s_total": float(ds.wall_time.sum(skipna=True)),
     }
@@ -83,13 +85,13 @@ def sweep_command(config, strokes, seeds, cycles, settings, out, workers, schedu
         return
     click.echo(f"pdamper sweep {config}: {len(ds.stroke)} strokes x {len(ds.seed)} seeds, {summary['particles']} "
                f"spheres, h = {summary['clearance_m'] * 1e3:.3g} mm, X_opt (theory) = {summary['x_opt_theory_m'] * 1e3:.3g} mm")
-    click.echo(f"  {'X [mm]':>9}  {'eta* mean':>9}  {'min':>7}  {'max':>7}  {'E/cycle [mJ]':>12}")
+    click.echo(f"  {'X [mm]':>9}  {'eta* mean':>9}  {'min':>7}  {'max':>7}  {'E/cycle [mJ]':>12}  motion mode")
     for i, x in enumerate(ds.stroke.values):
         m = summary["eta_star_mean"][i]
         if m is None or (isinstance(m, float) and math.isnan(m)):
             continue
         click.echo(f"  {x * 1e3:9.3g}  {m:9.3f}  {summary['eta_star_min'][i]:7.3f}  {summary['eta_star_max'][i]:7.3f}  "
-                   f"{summary['energy_per_cycle_J_mean'][i] * 1e3:12.4g}")
+                   f"{summary['energy_per_cycle_J_mean'][i] * 1e3:12.4g}  {summary['modes'][i] if summary['modes'] else ''}")
     if "eta_star_peak" in summary:
         click.echo(f"  peak eta* = {summary['eta_star_peak']:.3f} at X = {summary['stroke_at_peak_m'] * 1e3:.3g} mm")
     if summary["failed_cases"]:

@@ -5,11 +5,17 @@ Layout of ``PATH/``:
 - ``store.json`` -- what the store is for: the base configuration (TOML text, with the stroke
   and the seed left out since the sweep sets them), its fingerprint, the strokes and seeds
   asked for so far, the package version;
-- ``cases/<key>.json`` -- one file per finished case (stroke, seed and its results), each
+- ``cases/<key>.json`` -- one file per finished case (stroke, seed, its results and its motion
+  mode with the measured features of :mod:`pdamper.analysis.modes`), each
   written atomically (temporary file, fsync, rename) the moment the case finishes, so
   Ctrl-C, ``kill -9`` or a power cut lose at most the cases that were running;
 - ``results.nc`` -- the labelled dataset (netCDF via h5netcdf), rewritten after every run,
   and ``results.csv`` for spreadsheets.
+
+The dataset's ``mode`` variable (text) holds each case's motion mode: one of
+:data:`pdamper.analysis.modes.MODES`, ``"failed"`` for a numerically failed case, ``""`` for one
+not computed yet and ``"unknown"`` for a case stored by a pdamper without mode classification (an
+older store opens as before; re-run it into a new ``--out`` to get the modes).
 
 Re-running the same sweep on the same ``PATH`` computes only the missing cases. A store made
 with another configuration is refused with the first difference named, never mixed.
@@ -28,7 +34,10 @@ import numpy as np
 from ..errors import InputError
 from ..io.files import atomic_write, json_safe
 
-__all__ = ["ResultStore", "open_results", "VARIABLES"]
+__all__ = ["ResultStore", "open_results", "VARIABLES", "NO_MODE", "UNKNOWN_MODE"]
+
+#: ``mode`` of a case not computed yet, and of a case stored without a mode (an older store).
+NO_MODE, UNKNOWN_MODE = "", "unknown"
 
 #: Data variables of a sweep dataset: name -> (summary key, units, description).
 VARIABLES = {
@@ -150,6 +159,7 @@ class ResultStore:
 
         from .. import __version__
         from .. import theory
+        from ..analysis.modes import case_clearance, floor_capacity
 
         recs = self.records()
         strokes = sorted(set(self.meta.get("strokes", [])) | {r["stroke"] for r in recs})
@@ -158,25 +168,22 @@ class ResultStore:
         js = {s: j for j, s in enumerate(seeds)}
         data = {name: np.full((len(strokes), len(seeds)), np.nan) for name in VARIABLES}
         failed = np.zeros((len(strokes), len(seeds)), dtype=bool)
+        modes = np.full((len(strokes), len(seeds)), NO_MODE, dtype=object)
         for r in recs:
             i, j = ix[r["stroke"]], js[r["seed"]]
             if "failed" in r:
                 failed[i, j] = True
+                modes[i, j] = "failed"
                 continue
+            modes[i, j] = str(r.get("mode") or UNKNOWN_MODE)
             for name, (key, _, _) in VARIABLES.items():
                 v = r.get(key)
                 data[name][i, j] = np.nan if v is None else float(v)
         base = self.case()
         geo = base.container.geometry
-        r0 = max(p.radius for p in base.particles)
-        if geo.shape == "cuboid":
-            n_max = geo.max_particles(r0)
-        else:
-            # the paper's count for the cylinder: the floor area over (2r)^2 (48 for R = 39 mm)
-            n_max = int(round(math.pi * geo.radius**2 / (2 * r0) ** 2))
+        n_max = floor_capacity(base)
         n = base.n_particles
-        length = geo.drive_length
-        h = float(theory.clearance(length, n, n_max)) if n <= n_max else float("nan")
+        _, h = case_clearance(base)
         ds = xr.Dataset(
             {name: (("stroke", "seed"), data[name], {"units": u, "long_name": d})
              for name, (_, u, d) in VARIABLES.items()},
@@ -184,6 +191,9 @@ class ResultStore:
                     "seed": ("seed", np.array(seeds, dtype=np.int64), {"long_name": "random seed of the initial jitter"})},
         )
         ds["failed"] = (("stroke", "seed"), failed.astype(np.int8), {"long_name": "1 where the case failed numerically"})
+        ds["mode"] = (("stroke", "seed"), modes.astype(str), {
+            "long_name": "motion mode of the bed (pdamper.analysis.modes; '' not computed, 'unknown' stored "
+                         "without a mode)"})
         ds.attrs.update({
             "title": f"pdamper stroke sweep: {n} spheres in a {geo.shape}",
             "config": self.meta["config"],
@@ -207,12 +217,13 @@ class ResultStore:
         buf = ds.to_netcdf(engine="h5netcdf")
         atomic_write(self.path / "results.nc", bytes(buf))
         out = io.StringIO()
-        cols = ["stroke [m]", "seed"] + [f"{name} [{VARIABLES[name][1]}]" for name in VARIABLES] + ["failed"]
+        cols = ["stroke [m]", "seed"] + [f"{name} [{VARIABLES[name][1]}]" for name in VARIABLES] + ["failed", "mode"]
         out.write(",".join(cols) + "\n")
         for i, x in enumerate(ds.stroke.values):
             for j, s in enumerate(ds.seed.values):
                 vals = [repr(float(x)), str(int(s))] + [repr(float(ds[name].values[i, j])) for name in VARIABLES]
                 vals.append(str(int(ds["failed"].values[i, j])))
+                vals.append(str(ds["mode"].values[i, j]))
                 out.write(",".join(vals) + "\n")
         atomic_write(self.path / "results.csv", out.getvalue())
 

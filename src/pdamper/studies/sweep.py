@@ -88,7 +88,10 @@ class SweepSpec:
 
 
 def run_one(case: Case) -> dict:
-    """Run one case and return its summary (plain floats; what the store keeps).
+    """Run one case and return its summary (plain floats, the motion mode; what the store keeps).
+
+    The mode is classified on a coarse trajectory the run records for it (50 frames/s,
+    :data:`pdamper.simulation.MODE_FPS`; not stored).
 
     A numerically failed case is not an exception for the sweep: it returns ``failed`` with
     the message, so the other cases go on and the failure is reported.
@@ -109,6 +112,8 @@ def run_one(case: Case) -> dict:
         "velocity_amplitude_m_s": float(res.analysis.velocity_amplitude_m_s) if res.analysis is not None else math.nan,
         "steps": int(s["steps"]),
         "wall_time_s": s["wall_time_s"],
+        "mode": s.get("mode", "unknown"),
+        "mode_features": s.get("mode_features", {}),
     }
 
 

@@ -1,0 +1,56 @@
+"""``pdamper plot ...``: figures from stored results (``pdamper plot modes RESULTS...``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from .common import echo_json, main, user_errors
+
+__all__ = ["plot_group", "modes_command"]
+
+
+@main.group("plot", cls=type(main))
+def plot_group():
+    """Figures from stored results: 'pdamper plot modes RESULTS'."""
+
+
+@plot_group.command("modes")
+@click.argument("results", nargs=-1, required=True, metavar="RESULTS...")
+@click.option("--out", "out", type=click.Path(dir_okay=False), default="modes.png", show_default=True,
+              help="Figure file (.png, .svg or .pdf).")
+@click.option("--title", help="Figure title.")
+@click.option("--label", "labels", multiple=True, help="Row label, one per row in order (repeatable), "
+              "e.g. --label 'N_p = 44, 3 deg tilt'.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the map as data).")
+@user_errors
+def modes_command(results, out, title, labels, as_json):
+    """Mode map of sweeps or studies: stroke x filling (or study setting), beside eta*.
+
+    RESULTS are sweep stores (the --out of pdamper sweep), their results.nc, or a study's
+    study.nc (one row per setting, e.g. the fig4 study's N_p = 36 and 44). Each cell is
+    coloured by the motion mode most seeds are in (docs/motion.md).
+
+    Example: pdamper plot modes cuboid_36_sweep cuboid_44_sweep --out modes.png
+    """
+    from ..analysis.modes import majority_mode
+    from ..plotting.modes import mode_map_figure, mode_rows
+    from ..studies.store import open_results
+
+    datasets = [open_results(p) for p in results]
+    names = [Path(p).name if Path(p).is_dir() else Path(p).stem for p in results]
+    mode_map_figure(datasets, out, names=names, labels=labels or None, title=title)
+    rows = mode_rows(datasets, names, labels or None)
+    if as_json:
+        echo_json({"plot": out, "rows": [{"label": r["label"], "strokes_m": r["stroke"].tolist(),
+                                          "modes": [majority_mode(c)[0] for c in r["modes"]],
+                                          "x_opt_m": r["x_opt"]} for r in rows]})
+        return
+    click.echo(f"pdamper plot modes: {len(rows)} row(s) -> {out}")
+    for r in rows:
+        click.echo(f"  {r['label']}")
+        for x, cell in zip(r["stroke"], r["modes"]):
+            mode, mixed = majority_mode(cell)
+            if mode:
+                click.echo(f"    X = {x * 1e3:8.3g} mm  {mode}" + ("  (seeds disagree)" if mixed else ""))

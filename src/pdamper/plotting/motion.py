@@ -1,0 +1,314 @@
+"""Figures of the bed's motion from a recorded trajectory (paper Figs. 2, 3, 5a) and its animation.
+
+All take a trajectory dict in the container frame (``time`` [s], ``position`` (F, N, 3) [m],
+``radius``; as :class:`pdamper.simulation.RunResult` and :func:`pdamper.io.runs.read_run` give
+it) and a :class:`pdamper.params.Case` for the container, the drive and the transient.
+
+* :func:`paths_figure` -- top view of the sphere paths in the container frame, one panel per run
+  (the paper's Fig. 3: scattered vs rolling collect-and-collide), container outline, start and
+  end positions, mode in the panel title.
+* :func:`walls_figure` -- the bed against both end walls over the drive phase, in the lab frame
+  (the paper's Fig. 5a from a simulation): the container's -x and +x walls, the bed's rear and
+  front edge and its centre [mm].
+* :func:`animate` -- top and side views of the moving container with the spheres, written as a
+  GIF (Pillow) or MP4 (ffmpeg, when installed).
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .sweep import _check_path, _save
+
+__all__ = ["paths_figure", "walls_figure", "animate", "ANIMATION_FORMATS", "ffmpeg_available"]
+
+#: Animation formats by extension.
+ANIMATION_FORMATS = (".gif", ".mp4")
+#: Highest frame rate written per format [frames/s]; denser trajectories are thinned.
+MAX_FPS = {".gif": 25.0, ".mp4": 30.0}
+
+_MM = 1e3
+_WALL = "0.25"
+_BED = "#1f77b4"
+
+
+def ffmpeg_available() -> bool:
+    """True when an ``ffmpeg`` executable is on the PATH (needed for MP4)."""
+    return shutil.which("ffmpeg") is not None
+
+
+def _outline_top(ax, geo, shift=0.0, **kw):
+    """The container's floor outline (x-z, top view) [mm], moved by ``shift`` [m] along x."""
+    from matplotlib.patches import Circle, Rectangle
+
+    style = dict(fill=False, edgecolor=_WALL, linewidth=1.6, **kw)
+    if geo.shape == "cuboid":
+        ax.add_patch(Rectangle(((shift - geo.length / 2) * _MM, -geo.width / 2 * _MM), geo.length * _MM,
+                               geo.width * _MM, **style))
+    else:
+        ax.add_patch(Circle((shift * _MM, 0.0), geo.radius * _MM, **style))
+
+
+def _extent(geo):
+    """(half length along x, half width along z, height) [m] of the container."""
+    if geo.shape == "cuboid":
+        return geo.length / 2, geo.width / 2, geo.height
+    return geo.radius, geo.radius, geo.height
+
+
+def _window(traj, case, cycles):
+    """Frame indices of the last ``cycles`` drive cycles (all frames if None or too few)."""
+    t = np.asarray(traj["time"])
+    f = float(getattr(case.drive, "frequency", 0.0) or 0.0)
+    if cycles is None or f <= 0:
+        return np.arange(t.size)
+    keep = t >= t[-1] - cycles / f - 1e-12
+    return np.flatnonzero(keep)
+
+
+def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, dpi: int = 150):
+    """Top view of the sphere paths in the container frame (the paper's Fig. 3).
+
+    Parameters
+    ----------
+    runs : list of (label, trajectory, case)
+        One panel each, side by side; ``label`` is the panel title (the mode is added when it
+        can be classified).
+    path : output file (.png, .svg, .pdf), optional.
+    cycles : draw the last ``cycles`` drive cycles (None: all frames).
+    """
+    from matplotlib.figure import Figure
+
+    from ..analysis.modes import classify_trajectory
+
+    target = _check_path(path)
+    runs = list(runs)
+    if not runs:
+        raise InputError("paths_figure: no runs given")
+    geo0 = runs[0][2].container.geometry
+    lx, lz, _ = _extent(geo0)
+    width = 4.2 * lx / max(lz, 1e-9) * 0.55 + 0.6
+    fig = Figure(figsize=figsize or (min(6.0, width) * len(runs), 3.3), layout="constrained")
+    axes = fig.subplots(1, len(runs), squeeze=False)[0]
+    for ax, (label, traj, case) in zip(axes, runs):
+        geo = case.container.geometry
+        idx = _window(traj, case, cycles)
+        pos = np.asarray(traj["position"])[idx]
+        rad = np.broadcast_to(np.asarray(traj["radius"], dtype=float), pos.shape[1])
+        _outline_top(ax, geo)
+        colours = _colours(pos.shape[1])
+        for i in range(pos.shape[1]):
+            ax.plot(pos[:, i, 0] * _MM, pos[:, i, 2] * _MM, "-", lw=0.8, color=colours[i], alpha=0.85)
+        _circles(ax, pos[-1, :, 0], pos[-1, :, 2], rad, facecolor="none", edgecolor="0.35", lw=0.6)
+        try:
+            mode, _ = classify_trajectory(traj, case)
+            title = f"{label}\nmode: {mode}"
+        except ValueError:
+            title = label
+        ax.set_title(title, fontsize=9.5)
+        ex, ez, _ = _extent(geo)
+        ax.set_xlim(-ex * _MM - 3, ex * _MM + 3)
+        ax.set_ylim(-ez * _MM - 3, ez * _MM + 3)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (along the drive) [mm]")
+        ax.set_ylabel("z [mm]")
+    n_cyc = f"last {cycles:g} cycles" if cycles is not None else "all frames"
+    fig.suptitle(f"Sphere paths in the container frame, top view ({n_cyc}; circles: last frame)", fontsize=10)
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+def _colours(n):
+    from matplotlib import colormaps
+
+    cmap = colormaps["viridis"]
+    return [cmap(k / max(n - 1, 1)) for k in range(n)]
+
+
+def _circles(ax, x, y, r, **kw):
+    """Circles of radius ``r`` [m] at (x, y) [m] in data units (mm); returns the collection."""
+    from matplotlib.collections import EllipseCollection
+
+    d = 2 * np.asarray(r) * _MM
+    coll = EllipseCollection(d, d, np.zeros_like(d), units="xy", offsets=np.column_stack([x, y]) * _MM,
+                             offset_transform=ax.transData, **kw)
+    ax.add_collection(coll)
+    return coll
+
+
+def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(7.5, 5.4), dpi: int = 150):
+    """The bed between the two end walls over the drive phase, lab frame (the paper's Fig. 5a).
+
+    Draws the container's -x and +x end walls x_c -+ L/2, the bed's rear and front edges
+    (min and max of x -+ r over the spheres) as a band and the bed centre [mm] over
+    Omega t / (2 pi) (drive cycles) for the last ``cycles`` cycles; below, the gaps between the
+    bed and each end wall [mm] (0 while it touches that wall); the mode in the title.
+    """
+    from matplotlib.figure import Figure
+
+    from ..analysis.modes import case_clearance, classify_trajectory, container_track
+
+    target = _check_path(path)
+    drive = case.drive
+    off, _, dvec = container_track(traj, case)
+    idx = _window(traj, case, cycles)
+    t = np.asarray(traj["time"])[idx]
+    pos = np.asarray(traj["position"])[idx]
+    rad = np.broadcast_to(np.asarray(traj["radius"], dtype=float), pos.shape[1])
+    d = np.array([dvec[0], 0.0, dvec[2]])
+    d /= np.linalg.norm(d)
+    s = pos @ d
+    xc = off[idx] @ d
+    length, h = case_clearance(case)
+    f = float(getattr(drive, "frequency", 0.0) or 0.0)
+    phase = t * f if f > 0 else t
+    fig = Figure(figsize=figsize, layout="constrained")
+    ax, gaps = fig.subplots(2, 1, sharex=True, height_ratios=[2.2, 1.0])
+    ax.plot(phase, (xc - length / 2) * _MM, color=_WALL, lw=2.0, label="-x wall")
+    ax.plot(phase, (xc + length / 2) * _MM, color=_WALL, lw=2.0, ls="--", label="+x wall")
+    rear = (s - rad).min(axis=1) + xc
+    front = (s + rad).max(axis=1) + xc
+    ax.fill_between(phase, rear * _MM, front * _MM, color=_BED, alpha=0.25, lw=0, label="bed (rear to front edge)")
+    ax.plot(phase, (s.mean(axis=1) + xc) * _MM, color=_BED, lw=1.5, label="bed centre")
+    # the gaps between the bed and each end wall (container frame): 0 while the bed touches it
+    gaps.plot(phase, ((s - rad).min(axis=1) + length / 2) * _MM, color="C3", lw=1.3, label="bed to -x wall")
+    gaps.plot(phase, (length / 2 - (s + rad).max(axis=1)) * _MM, color="C2", lw=1.3, ls="--", label="bed to +x wall")
+    gaps.axhline(h * _MM, color="0.6", lw=0.8, ls=":", label="clearance h")
+    gaps.set_ylabel("gap [mm]")
+    gaps.set_ylim(bottom=-0.03 * h * _MM)
+    gaps.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8.5, frameon=False)
+    gaps.set_xlabel("drive cycles  Ωt / 2π [-]" if f > 0 else "time [s]")
+    gaps.grid(True, color="0.9", lw=0.6)
+    ax.set_ylabel("position in the lab frame [mm]")
+    ax.grid(True, color="0.9", lw=0.6)
+    try:
+        mode, _ = classify_trajectory(traj, case)
+    except ValueError:
+        mode = None
+    stroke = getattr(drive, "stroke", None)
+    head = f"X = {stroke * _MM:.3g} mm, f = {f:g} Hz, h = {h * _MM:.3g} mm" if stroke else ""
+    ax.set_title(f"Bed against both end walls ({head})" + (f"\nmode: {mode}" if mode else ""), fontsize=10)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8.5, frameon=False)
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None, max_frames: int = 300,
+            dpi: int = 90, progress=None) -> Path:
+    """Animation of the top (x-z) and side (x-y) views of the moving container with the spheres.
+
+    ``path`` ends in ``.gif`` (Pillow, always available) or ``.mp4`` (needs ffmpeg on the
+    PATH). ``speed``: playback speed (1: real time, 0.5: slow motion). ``cycles``: only the last
+    ``cycles`` drive cycles. Frames are thinned evenly to at most :data:`MAX_FPS` frames per
+    second of playback and at most ``max_frames`` frames. Spheres are coloured by their speed relative to the container.
+    Returns the path.
+    """
+    import matplotlib.animation as manim
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+
+    target = Path(path)
+    ext = target.suffix.lower()
+    if ext not in ANIMATION_FORMATS:
+        raise InputError(f"animation file {str(target)!r}: unknown format {target.suffix or '(no extension)'!r}; "
+                         f"end the name with {' or '.join(ANIMATION_FORMATS)}")
+    if ext == ".mp4" and not ffmpeg_available():
+        raise InputError(f"animation file {str(target)!r}: MP4 needs ffmpeg, which is not installed; "
+                         "install it (e.g. apt-get install ffmpeg) or write a .gif")
+    if not target.parent.is_dir():
+        raise InputError(f"animation file {str(target)!r}: folder {str(target.parent)!r} does not exist")
+    if not (speed > 0 and math.isfinite(speed)):
+        raise InputError(f"animation speed {speed!r}: must be > 0 (1: real time)")
+    idx = _window(traj, case, cycles)
+    t_all = np.asarray(traj["time"])
+    dt0 = float(np.median(np.diff(t_all))) if t_all.size > 1 else 0.1
+    # players clamp GIF frame delays below 20 ms (often to 100 ms): show at most MAX_FPS frames/s
+    step = max(1, int(math.ceil(speed / dt0 / MAX_FPS[ext] - 1e-9)), int(math.ceil(idx.size / max_frames)))
+    idx = idx[::step]
+    t = np.asarray(traj["time"])[idx]
+    pos = np.asarray(traj["position"])[idx]
+    vel = np.asarray(traj["velocity"])[idx] if "velocity" in traj else np.zeros_like(pos)
+    rad = np.broadcast_to(np.asarray(traj["radius"], dtype=float), pos.shape[1])
+    from ..analysis.modes import container_track
+
+    drive = case.drive
+    shift = container_track(traj, case)[0][idx]   # container origin in the lab frame (F, 3)
+    xc = shift[:, 0]
+    geo = case.container.geometry
+    lx, lz, hy = _extent(geo)
+    reach = lx + float(np.max(np.abs(xc))) + 0.004
+    speed_rel = np.linalg.norm(vel, axis=2)
+    vmax = max(float(np.percentile(speed_rel, 99)), 1e-6)
+
+    fig = Figure(figsize=(7.2, 4.6), layout="constrained")
+    top, side = fig.subplots(2, 1, height_ratios=[2 * lz + 0.004, hy + 0.004], sharex=True)
+    for ax in (top, side):
+        ax.set_aspect("equal")
+        ax.set_xlim(-reach * _MM, reach * _MM)
+        ax.grid(True, color="0.92", lw=0.5)
+    top.set_ylim(-(lz + 0.002) * _MM, (lz + 0.002) * _MM)
+    side.set_ylim(-0.002 * _MM, (hy + 0.002) * _MM)
+    top.set_ylabel("z [mm]")
+    side.set_ylabel("y [mm]")
+    side.set_xlabel("x, lab frame [mm]")
+    top_box = (Rectangle((0, 0), 1, 1, fill=False, edgecolor=_WALL, lw=1.8) if geo.shape == "cuboid" else None)
+    if geo.shape == "cuboid":
+        top.add_patch(top_box)
+    else:
+        from matplotlib.patches import Circle
+
+        top_box = Circle((0, 0), geo.radius * _MM, fill=False, edgecolor=_WALL, lw=1.8)
+        top.add_patch(top_box)
+    side_box = Rectangle((0, 0), 2 * lx * _MM, hy * _MM, fill=False, edgecolor=_WALL, lw=1.8)
+    side.add_patch(side_box)
+    from matplotlib import colormaps
+    from matplotlib.colors import Normalize
+
+    norm = Normalize(0.0, vmax)
+    cmap = colormaps["plasma"]
+    kw = dict(cmap=cmap, norm=norm, edgecolor="0.2", linewidths=0.4)
+    tc = _circles(top, pos[0, :, 0], pos[0, :, 2], rad, **kw)
+    sc = _circles(side, pos[0, :, 0], pos[0, :, 1], rad, **kw)
+    cb = fig.colorbar(tc, ax=[top, side], shrink=0.8, pad=0.01)
+    cb.set_label("speed relative to the container [m/s]")
+    label = top.text(0.01, 1.02, "", transform=top.transAxes, fontsize=9)
+    stroke = getattr(drive, "stroke", None)
+    freq = getattr(drive, "frequency", None)
+    fig.suptitle(f"{case.n_particles} spheres" + (f", X = {stroke * _MM:.3g} mm, f = {freq:g} Hz" if stroke else "")
+                 + " (top: floor plane, bottom: side view)", fontsize=10)
+
+    def draw(k):
+        off = shift[k]
+        p = pos[k] + off
+        if geo.shape == "cuboid":
+            top_box.set_xy(((off[0] - lx) * _MM, (off[2] - lz) * _MM))
+            top_box.set_width(2 * lx * _MM)
+            top_box.set_height(2 * lz * _MM)
+        else:
+            top_box.center = (off[0] * _MM, off[2] * _MM)
+        side_box.set_xy(((off[0] - lx) * _MM, off[1] * _MM))
+        tc.set_offsets(p[:, [0, 2]] * _MM)
+        sc.set_offsets(p[:, [0, 1]] * _MM)
+        tc.set_array(speed_rel[k])
+        sc.set_array(speed_rel[k])
+        label.set_text(f"t = {t[k]:.2f} s" + (f",  Ωt/2π = {t[k] * freq:.2f}" if freq else ""))
+        if progress is not None:
+            progress(k + 1, len(t))
+        return tc, sc, top_box, side_box, label
+
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 0.1
+    fps = max(1.0, round(speed / dt, 3))  # rounded: GIF delays are whole centiseconds, int(1000/fps) truncates
+    anim = manim.FuncAnimation(fig, draw, frames=len(t), blit=False)
+    writer = manim.PillowWriter(fps=fps) if ext == ".gif" else manim.FFMpegWriter(fps=fps, bitrate=1800)
+    try:
+        anim.save(str(target), writer=writer, dpi=dpi)
+    except OSError as exc:
+        raise InputError(f"animation file {str(target)!r} cannot be written: {exc.strerror or exc}") from None
+    return target
