@@ -135,7 +135,7 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None) 
     motion, forces averaged every step); ``eta_star`` and ``energy_per_cycle_J`` come from
     pdamper's complex-power analysis of the LIGGGHTS force record.
     """
-    from pdamper.analysis import complex_power
+    from pdamper.recorders.signals import Signals
 
     exe = available()
     if exe is None:
@@ -153,16 +153,8 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None) 
     loops = [(float(a), int(b)) for a, b in re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", log)]
     drive_time, drive_steps = loops[-1]
     rows = np.loadtxt(workdir / "force.txt", comments="#", ndmin=2)
-    fs = case.recording.sample_rate
-    n = rows.shape[0]
-    f_mesh = rows[:, 1:4] @ info["dvec"]  # force of the spheres on the box along the drive [N]
-    edges = np.arange(n + 1) / fs
-    x, v, _ = case.drive.motion(edges)
-    vel = np.diff(x) * fs
-    acc = np.diff(v) * fs
-    force = case.container.mass * acc - f_mesh  # SPEC Sect. 2: m_c a_c + walls on the spheres
-    res = complex_power(edges[:-1] + 0.5 / fs, force, vel, frequency=case.drive.frequency,
-                        drop_cycles=case.drop_cycles, bed_mass=case.bed_mass)
+    # the spheres push the box with f_mesh; the walls push the spheres with -f_mesh (along the drive)
+    wall_force = -(rows[:, 1:4] @ info["dvec"])
+    res = Signals.from_run(case, 1.0 / case.recording.sample_rate, wall_force).analyse(case)
     return {"us_per_step": 1e6 * drive_time / drive_steps, "steps": drive_steps, "wall_time_s": wall,
-            "eta_star": float(res.eta_star), "energy_per_cycle_J": float(res.energy_per_cycle_J),
-            "settle_force_check": None}
+            "eta_star": float(res.eta_star), "energy_per_cycle_J": float(res.energy_per_cycle_J)}
