@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
+import os
 import sys
 
 import click
@@ -120,3 +122,32 @@ def echo_json(obj) -> None:
     click.echo(json.dumps(json_safe(obj), indent=2, sort_keys=False))
 
 
+
+
+@contextlib.contextmanager
+def fraction_bar(desc: str, total: float, unit: str, enabled: bool):
+    """A tqdm bar on stderr driven by a fraction done: yields ``progress(fraction)`` (a no-op when
+    not ``enabled``) and closes the bar on exit. ``total`` in ``unit`` (cycles, seconds) is what
+    the bar counts up to."""
+    if not enabled:
+        yield lambda fraction: None
+        return
+    from tqdm import tqdm
+
+    try:
+        size = os.get_terminal_size(sys.stderr.fileno())
+    except (OSError, ValueError):
+        size = os.terminal_size((0, 0))
+    known = size.columns > 0 and size.lines > 0  # a pty may report 0 x 0; tqdm would then print nothing
+    bar = tqdm(total=total, unit=unit, file=sys.stderr, desc=desc, dynamic_ncols=known,
+               ncols=None if known else 80, nrows=None if known else 24, leave=False,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.3g}/{total:.3g} {unit} [{elapsed}<{remaining}]")
+
+    def progress(fraction):
+        bar.n = fraction * total
+        bar.refresh()
+
+    try:
+        yield progress
+    finally:
+        bar.close()

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import math
-import os
 import sys
 import tomllib
 
 import click
 
 from ..errors import InputError
-from .common import Quantity, echo_json, main, user_errors
+from .common import Quantity, echo_json, fraction_bar, main, user_errors
 
 __all__ = ["run_command", "parse_set", "DEFAULT_FPS"]
 
@@ -89,31 +88,11 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
         check_run_dir(out_dir)  # fail before a long run, not after it
 
     sim = Simulation(case)
-    bar = None
-    if not as_json and sys.stderr.isatty():
-        from tqdm import tqdm
-
-        total = float(case.cycles) if hasattr(case.drive, "stroke") else round(case.duration, 3)
-        try:
-            size = os.get_terminal_size(sys.stderr.fileno())
-        except (OSError, ValueError):
-            size = os.terminal_size((0, 0))
-        known = size.columns > 0 and size.lines > 0  # a pty may report 0 x 0; tqdm would then print nothing
-        bar = tqdm(total=total, unit="cycle" if hasattr(case.drive, "stroke") else "s", file=sys.stderr,
-                   desc="pdamper run", dynamic_ncols=known, ncols=None if known else 80,
-                   nrows=None if known else 24, leave=False,
-                   bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.3g}/{total:.3g} {unit} [{elapsed}<{remaining}]")
-
-    def progress(fraction):
-        if bar is not None:
-            bar.n = fraction * bar.total
-            bar.refresh()
-
-    try:
+    periodic = hasattr(case.drive, "stroke")
+    total = float(case.cycles) if periodic else round(case.duration, 3)
+    with fraction_bar("pdamper run", total, "cycle" if periodic else "s",
+                      not as_json and sys.stderr.isatty()) as progress:
         result = sim.run(progress=progress)
-    finally:
-        if bar is not None:
-            bar.close()
     written = write_run(result, out_dir) if out_dir is not None else None
 
     summary = result.summary()

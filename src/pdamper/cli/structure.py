@@ -9,7 +9,7 @@ import tempfile
 
 import click
 
-from .common import Quantity, echo_json, main, user_errors
+from .common import Quantity, echo_json, fraction_bar, main, user_errors
 from .run import parse_set
 
 __all__ = ["decay_command", "response_command", "design_command"]
@@ -37,21 +37,6 @@ def _x_opt(case) -> float | None:
     if not 1 <= n < n_max:
         return None
     return th.optimal_stroke(th.clearance(g.drive_length, n, n_max))
-
-
-def _progress_bar(desc, total, enabled):
-    if not enabled:
-        return None, None
-    from tqdm import tqdm
-
-    bar = tqdm(total=total, desc=desc, unit="s", file=sys.stderr, leave=False,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.3g}/{total:.3g} {unit} [{elapsed}<{remaining}]")
-
-    def progress(fraction):
-        bar.n = fraction * total
-        bar.refresh()
-
-    return bar, progress
 
 
 def _report(res, case, config, plot, figure, as_json):
@@ -101,12 +86,8 @@ def decay_command(config, cycles, seed, settings, plot, as_json):
 
     case = _load(config, settings, cycles, seed)
     _check_path(plot)
-    bar, progress = _progress_bar("pdamper decay", round(case.duration, 3), not as_json and sys.stderr.isatty())
-    try:
+    with fraction_bar("pdamper decay", round(case.duration, 3), "s", not as_json and sys.stderr.isatty()) as progress:
         res = run_decay(case, progress=progress)
-    finally:
-        if bar is not None:
-            bar.close()
     s = _report(res, case, config, plot, decay_figure, as_json)
     if s is None:
         return
