@@ -39,12 +39,12 @@ GEAR_C = (3.0 / 20.0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0)
 
 @njit
 def _rescale(nord, ratio):
+    nf = nord.reshape(6, -1)
     f = 1.0
     for k in range(1, 6):
         f *= ratio
-        for i in range(nord.shape[1]):
-            for c in range(6):
-                nord[k, i, c] *= f
+        for m in range(nf.shape[1]):
+            nf[k, m] *= f
 
 
 @njit
@@ -68,8 +68,10 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
              ledger, sig, eng, traj_every, traj, max_steps):
     """Advance from ``t0`` to ``t_end`` [s] (or ``max_steps`` accepted steps).
 
-    ``save``, ``hist_p`` (2, list capacity) and ``hist_w`` (2, N, walls) hold the state and the
-    contact history before each step, restored when the step is rejected.
+    ``save`` (shape of ``nord``) receives the predicted Nordsieck vector of each step, which the
+    corrector writes back into ``nord`` when the step is accepted; ``hist_p`` (2, list capacity)
+    and ``hist_w`` (2, N, walls) hold the contact history before each step, restored when the
+    step is rejected.
     ``h_state[0]`` is the step the Nordsieck vector is scaled to; ``h_try`` the next step to
     try. Samples (interval ``ts``) are written as in :func:`pdamper.kernels.verlet.run_verlet`
     when ``record`` is true (sample k ends at ``(k + 1) ts``).
@@ -141,33 +143,38 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
                 return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), steps, -1, t, h, rejected
             n_wl = r
             nwl[0] = r
-        # save and predict
-        for i in range(n):
-            for c in range(6):
-                for k in range(6):
-                    save[k, i, c] = nord[k, i, c]
-                r0 = nord[0, i, c]
-                r1 = nord[1, i, c]
-                r2 = nord[2, i, c]
-                r3 = nord[3, i, c]
-                r4 = nord[4, i, c]
-                r5 = nord[5, i, c]
-                nord[0, i, c] = r0 + r1 + r2 + r3 + r4 + r5
-                nord[1, i, c] = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
-                nord[2, i, c] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
-                nord[3, i, c] = r3 + 4.0 * r4 + 10.0 * r5
-                nord[4, i, c] = r4 + 5.0 * r5
+        # predict into ``save`` (the Nordsieck vector itself stays as it was, so a rejected
+        # step has nothing to restore): Pascal-triangle prediction
+        nf = nord.reshape(6, 6 * n)
+        sf = save.reshape(6, 6 * n)
+        for m in range(6 * n):
+            r0 = nf[0, m]
+            r1 = nf[1, m]
+            r2 = nf[2, m]
+            r3 = nf[3, m]
+            r4 = nf[4, m]
+            r5 = nf[5, m]
+            sf[0, m] = r0 + r1 + r2 + r3 + r4 + r5
+            sf[1, m] = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
+            sf[2, m] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
+            sf[3, m] = r3 + 4.0 * r4 + 10.0 * r5
+            sf[4, m] = r4 + 5.0 * r5
+            sf[5, m] = r5
         inv_h = 1.0 / hs
-        _unpack(nord, inv_h, pos, vel, omg)
+        _unpack(save, inv_h, pos, vel, omg)
         # contact history as it was, in case the step is rejected
         npair = row[n]
         for a in range(npair):
             hist_p[0, a] = pvin[a]
             hist_p[1, a] = pd[a]
-        for i in range(n):
-            for w in range(wvin.shape[1]):
-                hist_w[0, i, w] = wvin[i, w]
-                hist_w[1, i, w] = wd[i, w]
+        # (the forces change the wall history only on the floor and the listed wall candidates)
+        if floor >= 0:
+            for i in range(n):
+                hist_w[0, i, floor] = wvin[i, floor]
+                hist_w[1, i, floor] = wd[i, floor]
+        for q in range(n_wl):
+            hist_w[0, wl_i[q], wl_w[q]] = wvin[wl_i[q], wl_w[q]]
+            hist_w[1, wl_i[q], wl_w[q]] = wd[wl_i[q], wl_w[q]]
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
@@ -178,11 +185,11 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
         err = 0.0
         for i in range(n):
             for c in range(3):
-                dlt = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - nord[2, i, c]
+                dlt = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - save[2, i, c]
                 force[i, c] = dlt
                 if math.fabs(dlt) > err:
                     err = math.fabs(dlt)
-                dr = half_h2 * torque[i, c] * inv_i[i] - nord[2, i, 3 + c]
+                dr = half_h2 * torque[i, c] * inv_i[i] - save[2, i, 3 + c]
                 torque[i, c] = dr
                 if math.fabs(dr) * rad[i] > err:
                     err = math.fabs(dr) * rad[i]
@@ -190,18 +197,17 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
             h_state[0] = hs
             return STATUS_NAN, steps, culprit, t, h, rejected
         if err > 4.0 * tol and hs > dt_min * 1.000001:
-            # reject: restore state and contact history, retry shorter
-            for i in range(n):
-                for c in range(6):
-                    for k in range(6):
-                        nord[k, i, c] = save[k, i, c]
+            # reject: restore the contact history (the Nordsieck vector was not touched), retry shorter
             for a in range(npair):
                 pvin[a] = hist_p[0, a]
                 pd[a] = hist_p[1, a]
-            for i in range(n):
-                for w in range(wvin.shape[1]):
-                    wvin[i, w] = hist_w[0, i, w]
-                    wd[i, w] = hist_w[1, i, w]
+            if floor >= 0:
+                for i in range(n):
+                    wvin[i, floor] = hist_w[0, i, floor]
+                    wd[i, floor] = hist_w[1, i, floor]
+            for q in range(n_wl):
+                wvin[wl_i[q], wl_w[q]] = hist_w[0, wl_i[q], wl_w[q]]
+                wd[wl_i[q], wl_w[q]] = hist_w[1, wl_i[q], wl_w[q]]
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
             if fac < 0.2:
                 fac = 0.2
@@ -210,16 +216,24 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
                 h = dt_min
             rejected += 1
             continue
-        # accept: correct
+        # accept: correct the prediction into the Nordsieck vector (the corrector increments of
+        # the positions are in force, those of the rotation angles in torque)
         for i in range(n):
-            for c in range(6):
-                dlt = force[i, c] if c < 3 else torque[i, c - 3]
-                nord[0, i, c] += c0 * dlt
-                nord[1, i, c] += c1 * dlt
-                nord[2, i, c] += c2 * dlt
-                nord[3, i, c] += c3 * dlt
-                nord[4, i, c] += c4 * dlt
-                nord[5, i, c] += c5 * dlt
+            for c in range(3):
+                dlt = force[i, c]
+                nord[0, i, c] = save[0, i, c] + c0 * dlt
+                nord[1, i, c] = save[1, i, c] + c1 * dlt
+                nord[2, i, c] = save[2, i, c] + c2 * dlt
+                nord[3, i, c] = save[3, i, c] + c3 * dlt
+                nord[4, i, c] = save[4, i, c] + c4 * dlt
+                nord[5, i, c] = save[5, i, c] + c5 * dlt
+                dlt = torque[i, c]
+                nord[0, i, 3 + c] = save[0, i, 3 + c] + c0 * dlt
+                nord[1, i, 3 + c] = save[1, i, 3 + c] + c1 * dlt
+                nord[2, i, 3 + c] = save[2, i, 3 + c] + c2 * dlt
+                nord[3, i, 3 + c] = save[3, i, 3 + c] + c3 * dlt
+                nord[4, i, 3 + c] = save[4, i, 3 + c] + c4 * dlt
+                nord[5, i, 3 + c] = save[5, i, 3 + c] + c5 * dlt
         t = tn
         steps += 1
         # trapezoidal sums over the (variable) steps: with unequal steps the end-point rule
