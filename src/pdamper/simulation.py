@@ -344,7 +344,7 @@ class Simulation:
         while t < t_end - 1e-12 * ts:
             status, k, culprit, t, self._h_next, rej = run_gear(
                 t_end, self._h_next, t, ts, record, not self._primed, num.gear_tolerance, self._dt_min,
-                self._dt_max, self.nord, self.save, self.hist_p, self.hist_w, self.h_state,
+                self._dt_max, self.nord, self.pred, self.hist_p, self.hist_w, self.h_state,
                 self.pos, self.vel, self.omg, self.rad, self.mass, self.inv_m, self.inv_i, self.mat,
                 self.force, self.torque, self.gvec, self.dvec, *self._drive,
                 self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
@@ -413,7 +413,7 @@ class Simulation:
             traj = np.zeros((n_samples // traj_every, self.n, 9))
         if gear:
             self.nord = np.zeros((6, self.n, 6))
-            self.save = np.zeros((6, self.n, 6))
+            self.pred = np.zeros((6, self.n, 6))
             self.hist_w = np.zeros((2,) + self.wvin.shape)
             self.h_state = np.array([self.dt])
             self._h_next = self.dt

@@ -57,8 +57,42 @@ def _unpack(nord, inv_h, pos, vel, omg):
             omg[i, c] = nord[1, i, 3 + c] * inv_h
 
 
+@njit(inline="always")
+def _correct(nord, pred, i, c, dlt):
+    """Corrected Nordsieck vector of degree of freedom (i, c): prediction + Gear's c_k x increment."""
+    nord[0, i, c] = pred[0, i, c] + GEAR_C[0] * dlt
+    nord[1, i, c] = pred[1, i, c] + GEAR_C[1] * dlt
+    nord[2, i, c] = pred[2, i, c] + GEAR_C[2] * dlt
+    nord[3, i, c] = pred[3, i, c] + GEAR_C[3] * dlt
+    nord[4, i, c] = pred[4, i, c] + GEAR_C[4] * dlt
+    nord[5, i, c] = pred[5, i, c] + GEAR_C[5] * dlt
+
+
 @njit
-def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, save, hist_p, hist_w, h_state,
+def _wall_history(wvin, wd, hist_w, floor, wl_i, wl_w, n_wl, restore):
+    """Copy the wall-contact history the force loop can change (the floor column and the listed
+    wall candidates) into ``hist_w`` (``restore`` false) or back from it (true)."""
+    if floor >= 0:
+        for i in range(wvin.shape[0]):
+            if restore:
+                wvin[i, floor] = hist_w[0, i, floor]
+                wd[i, floor] = hist_w[1, i, floor]
+            else:
+                hist_w[0, i, floor] = wvin[i, floor]
+                hist_w[1, i, floor] = wd[i, floor]
+    for q in range(n_wl):
+        i = wl_i[q]
+        w = wl_w[q]
+        if restore:
+            wvin[i, w] = hist_w[0, i, w]
+            wd[i, w] = hist_w[1, i, w]
+        else:
+            hist_w[0, i, w] = wvin[i, w]
+            hist_w[1, i, w] = wd[i, w]
+
+
+@njit
+def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, pred, hist_p, hist_w, h_state,
              pos, vel, omg, rad, mass, inv_m, inv_i, mat,
              force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
              nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
@@ -68,7 +102,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
              ledger, sig, eng, traj_every, traj, max_steps):
     """Advance from ``t0`` to ``t_end`` [s] (or ``max_steps`` accepted steps).
 
-    ``save`` (shape of ``nord``) receives the predicted Nordsieck vector of each step, which the
+    ``pred`` (shape of ``nord``) receives the predicted Nordsieck vector of each step, which the
     corrector writes back into ``nord`` when the step is accepted; ``hist_p`` (2, list capacity)
     and ``hist_w`` (2, N, walls) hold the contact history before each step, restored when the
     step is rejected.
@@ -79,7 +113,6 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
     Returns ``(status, accepted_steps, culprit, t, h_next, rejected_steps)``.
     """
     n = rad.shape[0]
-    c0, c1, c2, c3, c4, c5 = GEAR_C
     skin2 = 0.25 * skin * skin
     n_wl = nwl[0]
     t = t0
@@ -143,10 +176,10 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
                 return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), steps, -1, t, h, rejected
             n_wl = r
             nwl[0] = r
-        # predict into ``save`` (the Nordsieck vector itself stays as it was, so a rejected
+        # predict into ``pred`` (the Nordsieck vector itself stays as it was, so a rejected
         # step has nothing to restore): Pascal-triangle prediction
         nf = nord.reshape(6, 6 * n)
-        sf = save.reshape(6, 6 * n)
+        sf = pred.reshape(6, 6 * n)
         for m in range(6 * n):
             r0 = nf[0, m]
             r1 = nf[1, m]
@@ -161,20 +194,13 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
             sf[4, m] = r4 + 5.0 * r5
             sf[5, m] = r5
         inv_h = 1.0 / hs
-        _unpack(save, inv_h, pos, vel, omg)
+        _unpack(pred, inv_h, pos, vel, omg)
         # contact history as it was, in case the step is rejected
         npair = row[n]
         for a in range(npair):
             hist_p[0, a] = pvin[a]
             hist_p[1, a] = pd[a]
-        # (the forces change the wall history only on the floor and the listed wall candidates)
-        if floor >= 0:
-            for i in range(n):
-                hist_w[0, i, floor] = wvin[i, floor]
-                hist_w[1, i, floor] = wd[i, floor]
-        for q in range(n_wl):
-            hist_w[0, wl_i[q], wl_w[q]] = wvin[wl_i[q], wl_w[q]]
-            hist_w[1, wl_i[q], wl_w[q]] = wd[wl_i[q], wl_w[q]]
+        _wall_history(wvin, wd, hist_w, floor, wl_i, wl_w, n_wl, False)
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
@@ -185,11 +211,11 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
         err = 0.0
         for i in range(n):
             for c in range(3):
-                dlt = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - save[2, i, c]
+                dlt = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - pred[2, i, c]
                 force[i, c] = dlt
                 if math.fabs(dlt) > err:
                     err = math.fabs(dlt)
-                dr = half_h2 * torque[i, c] * inv_i[i] - save[2, i, 3 + c]
+                dr = half_h2 * torque[i, c] * inv_i[i] - pred[2, i, 3 + c]
                 torque[i, c] = dr
                 if math.fabs(dr) * rad[i] > err:
                     err = math.fabs(dr) * rad[i]
@@ -201,13 +227,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
             for a in range(npair):
                 pvin[a] = hist_p[0, a]
                 pd[a] = hist_p[1, a]
-            if floor >= 0:
-                for i in range(n):
-                    wvin[i, floor] = hist_w[0, i, floor]
-                    wd[i, floor] = hist_w[1, i, floor]
-            for q in range(n_wl):
-                wvin[wl_i[q], wl_w[q]] = hist_w[0, wl_i[q], wl_w[q]]
-                wd[wl_i[q], wl_w[q]] = hist_w[1, wl_i[q], wl_w[q]]
+            _wall_history(wvin, wd, hist_w, floor, wl_i, wl_w, n_wl, True)
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
             if fac < 0.2:
                 fac = 0.2
@@ -220,20 +240,8 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, sav
         # the positions are in force, those of the rotation angles in torque)
         for i in range(n):
             for c in range(3):
-                dlt = force[i, c]
-                nord[0, i, c] = save[0, i, c] + c0 * dlt
-                nord[1, i, c] = save[1, i, c] + c1 * dlt
-                nord[2, i, c] = save[2, i, c] + c2 * dlt
-                nord[3, i, c] = save[3, i, c] + c3 * dlt
-                nord[4, i, c] = save[4, i, c] + c4 * dlt
-                nord[5, i, c] = save[5, i, c] + c5 * dlt
-                dlt = torque[i, c]
-                nord[0, i, 3 + c] = save[0, i, 3 + c] + c0 * dlt
-                nord[1, i, 3 + c] = save[1, i, 3 + c] + c1 * dlt
-                nord[2, i, 3 + c] = save[2, i, 3 + c] + c2 * dlt
-                nord[3, i, 3 + c] = save[3, i, 3 + c] + c3 * dlt
-                nord[4, i, 3 + c] = save[4, i, 3 + c] + c4 * dlt
-                nord[5, i, 3 + c] = save[5, i, 3 + c] + c5 * dlt
+                _correct(nord, pred, i, c, force[i, c])
+                _correct(nord, pred, i, 3 + c, torque[i, c])
         t = tn
         steps += 1
         # trapezoidal sums over the (variable) steps: with unequal steps the end-point rule
