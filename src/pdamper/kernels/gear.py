@@ -69,26 +69,18 @@ def _correct(nord, pred, i, c, dlt):
 
 
 @njit
-def _wall_history(wvin, wd, hist_w, floor, wl_i, wl_w, n_wl, restore):
-    """Copy the wall-contact history the force loop can change (the floor column and the listed
-    wall candidates) into ``hist_w`` (``restore`` false) or back from it (true)."""
+def _copy_wall_history(src_v, src_d, dst_v, dst_d, floor, wl_i, wl_w, n_wl):
+    """Copy the wall-contact history (approach speed, damping parameter) that the force loop can
+    change -- the floor column and the listed wall candidates -- from ``src_*`` to ``dst_*``."""
     if floor >= 0:
-        for i in range(wvin.shape[0]):
-            if restore:
-                wvin[i, floor] = hist_w[0, i, floor]
-                wd[i, floor] = hist_w[1, i, floor]
-            else:
-                hist_w[0, i, floor] = wvin[i, floor]
-                hist_w[1, i, floor] = wd[i, floor]
+        for i in range(src_v.shape[0]):
+            dst_v[i, floor] = src_v[i, floor]
+            dst_d[i, floor] = src_d[i, floor]
     for q in range(n_wl):
         i = wl_i[q]
         w = wl_w[q]
-        if restore:
-            wvin[i, w] = hist_w[0, i, w]
-            wd[i, w] = hist_w[1, i, w]
-        else:
-            hist_w[0, i, w] = wvin[i, w]
-            hist_w[1, i, w] = wd[i, w]
+        dst_v[i, w] = src_v[i, w]
+        dst_d[i, w] = src_d[i, w]
 
 
 @njit
@@ -200,7 +192,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, pre
         for a in range(npair):
             hist_p[0, a] = pvin[a]
             hist_p[1, a] = pd[a]
-        _wall_history(wvin, wd, hist_w, floor, wl_i, wl_w, n_wl, False)
+        _copy_wall_history(wvin, wd, hist_w[0], hist_w[1], floor, wl_i, wl_w, n_wl)
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
@@ -227,7 +219,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, pre
             for a in range(npair):
                 pvin[a] = hist_p[0, a]
                 pd[a] = hist_p[1, a]
-            _wall_history(wvin, wd, hist_w, floor, wl_i, wl_w, n_wl, True)
+            _copy_wall_history(hist_w[0], hist_w[1], wvin, wd, floor, wl_i, wl_w, n_wl)
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
             if fac < 0.2:
                 fac = 0.2
