@@ -1,6 +1,6 @@
 """pdamper's performance benchmark, side by side with LIGGGHTS, in one run.
 
-Usage: python benchmarks/run.py [--quick] [--no-liggghts] [--report docs/performance.md]
+Usage: python benchmarks/run.py [--quick] [--no-liggghts] [--paper-every K] [--report docs/performance.md]
 
 Measures on this machine, in this one invocation:
 
@@ -14,7 +14,13 @@ Measures on this machine, in this one invocation:
    integrator) at a few strokes of the 36-sphere cuboid, same cycles.
 4. **Sweep wall time**: ``pdamper study fig4`` (2 fillings x 40 strokes x 20 cycles, one seed;
    ``--quick``: 8 strokes) on all cores, from an empty store.
-5. **Compile and warm start**: ``pdamper run`` of a tiny case in a fresh kernel cache (compiles)
+5. **Every DEM curve of the paper** (SPEC Sect. 5; the settings of all ``pdamper study`` names,
+   duplicates removed: 27 curves x 40 strokes x 20 cycles, one seed, ~1,080 cases): a systematic
+   sample of every ``--paper-every``-th stroke of every curve (default 8: 5 strokes a curve) is
+   run on all cores; the wall time of the whole paper is estimated as that factor times the
+   sample's wall time, and the estimator is checked in the same run on fig4, whose full sweep
+   (item 4) is measured. ``--paper-every 1`` measures the whole paper (hours).
+6. **Compile and warm start**: ``pdamper run`` of a tiny case in a fresh kernel cache (compiles)
    and again (cached kernels).
 
 Prints a table with each target of issue 5 and writes it to ``--report`` (Markdown). Times are
@@ -52,6 +58,7 @@ TARGET_RATIO = 20.0
 TARGET_FIG4_S = 60.0
 TARGET_COMPILE_S = 20.0
 TARGET_WARM_S = 2.0
+TARGET_PAPER_MIN = 15.0
 
 
 def example(name, stroke):
@@ -127,7 +134,61 @@ def sweep_time(quick, workdir):
         i = int(m.argmax())
         peaks[str(label)] = (float(m[i]), float(ds.stroke.values[i]))
     print(f"  fig4, {2 * n} cases: {wall:.1f} s", flush=True)
-    return {"cases": 2 * n, "wall_s": wall, "peaks": peaks, "workers": os.cpu_count()}
+    # CPU seconds of every case, [setting, stroke] (for the check of the paper estimate)
+    cpu = ds.wall_time.sum("seed").values.tolist()
+    return {"cases": 2 * n, "wall_s": wall, "peaks": peaks, "workers": os.cpu_count(), "case_cpu_s": cpu}
+
+
+def paper_curves():
+    """Every distinct DEM curve of the paper: ``[(label, case)]`` from the settings of all named
+    studies, a setting that repeats another's physics (fig4's 36 spheres is also friction's
+    mu = 0.1, restitution's eps = 0.9, ...) kept once."""
+    import re
+
+    from pdamper.studies.named import STUDIES, study_settings
+
+    seen = {}
+    for name in STUDIES:
+        for label, case in study_settings(name):
+            # the material's name is a label, not physics (modulus' 'steel-mod' at 208 GPa is steel)
+            key = re.sub(r"name='[^']*'", "", repr(case))
+            seen.setdefault(key, (f"{name}: {label}", case))
+    return list(seen.values())
+
+
+def paper_sample(quick, every):
+    """Run every ``every``-th stroke of the paper's 40 (offset ``every // 2``) of every curve, one
+    seed, on all cores; return the sample's wall time and per-curve CPU seconds."""
+    from pdamper.studies.executor import execute
+    from pdamper.studies.sweep import run_one, stroke_grid
+
+    grid = stroke_grid(0.5e-3, 50e-3, 40)
+    strokes = grid[every // 2::every]
+    cycles = 6 if quick else 20
+    curves = paper_curves()
+    items = []
+    for c, (label, case) in enumerate(curves):
+        case = dataclasses.replace(case, cycles=cycles)
+        for x in strokes:
+            items.append((f"c{c}-X{x:.6g}", float(x), 0, with_stroke(case, float(x))))
+    results = {}
+    t = time.perf_counter()
+    execute(items, run_one, lambda key, x, s, r: results.__setitem__(key, r), progress=False)
+    wall = time.perf_counter() - t
+    per_curve = []
+    for c, (label, _) in enumerate(curves):
+        rs = [results[f"c{c}-X{x:.6g}"] for x in strokes]
+        failed = sum("failed" in r for r in rs)
+        cpu = sum(r.get("wall_time_s", 0.0) for r in rs)
+        steps = sum(r.get("steps", 0) for r in rs)
+        per_curve.append({"label": label, "cpu_s": cpu, "steps": steps, "failed": failed,
+                          "slowest_s": max(r.get("wall_time_s", 0.0) for r in rs)})
+    out = {"every": every, "strokes": [float(x) for x in strokes], "cycles": cycles, "curves": len(curves),
+           "cases": len(items), "wall_s": wall, "per_curve": per_curve, "workers": os.cpu_count(),
+           "estimate_min": every * wall / 60.0}
+    print(f"  {len(items)} cases ({len(curves)} curves x {len(strokes)} strokes): {wall:.0f} s; whole paper "
+          f"estimated {out['estimate_min']:.0f} min", flush=True)
+    return out
 
 
 def start_times():
@@ -170,6 +231,15 @@ def report(res, quick, cmd):
     lines.append(f"| `pdamper study fig4` (80 cases, 20 cycles, 1 seed) <= {TARGET_FIG4_S:g} s | {sw['wall_s']:.0f} s "
                  f"for {sw['cases']} cases on {sw['workers']} cores | {sw['wall_s'] / TARGET_FIG4_S:.1f}x the target | "
                  + (_ok(sw['wall_s'] <= TARGET_FIG4_S) if full else "quick run: 16 cases only") + " |")
+    pp = res.get("paper")
+    if pp:
+        est = pp["estimate_min"]
+        lines.append(f"| every DEM curve of the paper ({pp['curves']} curves x 40 strokes, 1 seed) <= {TARGET_PAPER_MIN:g} min | "
+                     f"sample of {pp['cases']} cases (1 stroke in {pp['every']}) in {pp['wall_s'] / 60:.1f} min; "
+                     f"whole paper **estimated {est:.0f} min** ({pp['every']} x the sample) | "
+                     f"{est / TARGET_PAPER_MIN:.1f}x the target | "
+                     + (_ok(est <= TARGET_PAPER_MIN) + (" (estimate)" if pp["every"] > 1 else "") if full
+                        else "quick run: 6 cycles") + " |")
     st = res["start"]
     lines.append(f"| first run (compile) <= {TARGET_COMPILE_S:g} s | {st['compile_s']:.1f} s | | "
                  f"{_ok(st['compile_s'] <= TARGET_COMPILE_S)} |")
@@ -198,7 +268,33 @@ def report(res, quick, cmd):
     lines += ["", "## Sweep", "", f"`run_study('fig4', ...)` from an empty store, {sw['cases']} cases, one seed, "
               f"20 cycles, embedded local Dask cluster ({sw['workers']} workers): {sw['wall_s']:.1f} s. Peaks: "
               + "; ".join(f"{k}: eta* = {v[0]:.3f} at {v[1] * 1e3:.3g} mm" for k, v in sw["peaks"].items()) + "."]
+    if pp:
+        lines += _paper_lines(pp, sw)
     return "\n".join(lines) + "\n"
+
+
+def _paper_lines(pp, sw):
+    """The paper-curves section: per-curve cost of the sample and the check of the estimator."""
+    every = pp["every"]
+    strokes = ", ".join(f"{x * 1e3:.3g}" for x in pp["strokes"])
+    lines = ["", "## Every DEM curve of the paper", "",
+             f"{pp['curves']} distinct curves (the settings of every `pdamper study`, a setting that repeats "
+             f"another's physics counted once), one seed, {pp['cycles']} cycles, at every {every}th of the paper's 40 "
+             f"strokes ({strokes} mm): {pp['cases']} cases in {pp['wall_s']:.0f} s wall on {pp['workers']} cores. "
+             f"Estimate for all 40 strokes: {every} x {pp['wall_s']:.0f} s = **{pp['estimate_min']:.0f} min**"
+             + (" (measured, not estimated: every stroke was run)." if every == 1 else
+                " (extrapolated from the sample, not measured)."), ""]
+    cpu = sw.get("case_cpu_s")
+    if cpu and every > 1 and len(cpu[0]) == 40:
+        full = sum(sum(row) for row in cpu)
+        samp = sum(sum(row[every // 2::every]) for row in cpu)
+        lines += [f"Check of the estimator on fig4, whose 40 strokes were all run above: {every} x the CPU time of "
+                  f"its sampled strokes = {every * samp:.0f} s against {full:.0f} s measured "
+                  f"({every * samp / full:.2f}x).", ""]
+    lines += ["| curve | CPU s of the sample | slowest case [s] | Gear steps [M] | failed |", "|---|---|---|---|---|"]
+    for c in sorted(pp["per_curve"], key=lambda c: -c["cpu_s"]):
+        lines.append(f"| {c['label']} | {c['cpu_s']:.0f} | {c['slowest_s']:.0f} | {c['steps'] / 1e6:.1f} | {c['failed']} |")
+    return lines
 
 
 START, END = "<!-- benchmarks/run.py: start -->", "<!-- benchmarks/run.py: end -->"
@@ -223,6 +319,9 @@ def main():
     ap.add_argument("--no-liggghts", action="store_true", help="skip the LIGGGHTS rows")
     ap.add_argument("--report", help="Markdown file for the results (default: print only)")
     ap.add_argument("--json", help="also write the raw results as JSON here")
+    ap.add_argument("--paper-every", type=int, default=8, metavar="K",
+                    help="time every K-th stroke of every DEM curve of the paper (default 8; 1: all, hours; "
+                         "0: skip)")
     args = ap.parse_args()
     use_lig = not args.no_liggghts and liggghts.available() is not None
     if not args.no_liggghts and not use_lig:
@@ -239,8 +338,12 @@ def main():
         res["cross"] = cross_validation(args.quick, work, use_lig)
         print("sweep", flush=True)
         res["sweep"] = sweep_time(args.quick, work)
+        if args.paper_every > 0:
+            print("every DEM curve of the paper", flush=True)
+            res["paper"] = paper_sample(args.quick, 20 if args.quick else args.paper_every)
     res["seconds"] = time.perf_counter() - t0
-    cmd = "python benchmarks/run.py" + (" --quick" if args.quick else "") + (" --no-liggghts" if args.no_liggghts else "")
+    cmd = ("python benchmarks/run.py" + (" --quick" if args.quick else "") + (" --no-liggghts" if args.no_liggghts else "")
+           + (f" --paper-every {args.paper_every}" if args.paper_every != 8 else ""))
     text = report(res, args.quick, cmd)
     print()
     print(text)
