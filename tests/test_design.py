@@ -70,6 +70,11 @@ def test_cylinder_and_bad_inputs():
     d = design_filling(stroke=0.01, frequency=2.0, sphere_radius=0.005, shape="cylinder", container_radius=0.039,
                        max_particles=48)
     assert d.length_m == pytest.approx(0.078) and d.x_opt_m <= 0.01
+    # without --max-particles the cylinder takes the paper's count of eq. (6), 48 (as the studies
+    # do), not the 44 spheres its floor packing holds
+    default = design_filling(stroke=0.01, frequency=2.0, sphere_radius=0.005, shape="cylinder",
+                             container_radius=0.039)
+    assert default.max_particles == 48 and default.particles == d.particles
     with pytest.raises(InputError, match="width"):
         design_filling(stroke=0.01, frequency=2.0, sphere_radius=0.005, length=0.12, width=0.004)
     with pytest.raises(InputError, match="--length"):

@@ -116,7 +116,7 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
         if 2 * r > span:
             raise InputError(f"radius = {r * 1e3:g} mm is not allowed: a sphere ({2 * r * 1e3:g} mm across) does not "
                              f"fit the {name} of {span * 1e3:g} mm; use smaller spheres or a larger container")
-    n_max = max_particles if max_particles is not None else geo.max_particles(r)
+    n_max = max_particles if max_particles is not None else geo.clearance_capacity(r)
     if isinstance(n_max, bool) or not isinstance(n_max, int) or n_max < 2:
         raise InputError(f"max_particles = {n_max!r} is not allowed: it must be a whole number >= 2 of spheres "
                          "covering the floor in one layer")

@@ -51,6 +51,9 @@ def test_paper_cylinder_floor_sites_hold_44_spheres_inside_and_apart():
     assert (cyl.radius, cyl.height) == (0.039, 0.011)
     sites = cyl.floor_sites(R, 2 * R)
     assert len(sites) == 44 == cyl.max_particles(R)
+    # the clearance law counts the floor area over (2r)^2, as the paper does: 48
+    assert cyl.clearance_capacity(R) == 48
+    assert Cuboid(length=0.12, width=0.0404, height=0.04).clearance_capacity(R) == 48
     assert np.all(np.hypot(sites[:, 0], sites[:, 1]) <= cyl.radius - R + 1e-12)
     assert pdist(sites).min() >= 2 * R - 1e-12
     # ordered from -x

@@ -104,11 +104,7 @@ class ModeFeatures:
 def floor_capacity(case) -> int:
     """N_p,max of eq. (6) for a case: the cuboid's floor lattice of its largest spheres; for the
     cylinder the floor area over (2r)^2, the paper's 48 for R = 39 mm (as the paper counts)."""
-    geo = case.container.geometry
-    r0 = max(p.radius for p in case.particles)
-    if geo.shape == "cuboid":
-        return int(geo.max_particles(r0))
-    return int(round(math.pi * geo.radius**2 / (2 * r0) ** 2))
+    return int(case.container.geometry.clearance_capacity(max(p.radius for p in case.particles)))
 
 
 def case_clearance(case) -> tuple[float, float]:

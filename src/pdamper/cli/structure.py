@@ -33,7 +33,7 @@ def _x_opt(case) -> float | None:
     if len(case.particles) != 1:
         return None
     g = case.container.geometry
-    n, n_max = case.particles[0].count, g.max_particles(case.particles[0].radius)
+    n, n_max = case.particles[0].count, g.clearance_capacity(case.particles[0].radius)
     if not 1 <= n < n_max:
         return None
     return th.optimal_stroke(th.clearance(g.drive_length, n, n_max))

@@ -77,6 +77,11 @@ class Cuboid:
         """N_p,max [-]: spheres of ``radius`` covering the floor in one square layer."""
         return int(np.floor(self.length / (2 * radius) + 1e-9) * np.floor(self.width / (2 * radius) + 1e-9))
 
+    def clearance_capacity(self, radius: float) -> int:
+        """N_p,max [-] of the clearance law, eq. (6): for the cuboid the floor lattice of
+        :meth:`max_particles` (48 for 120 x 40.4 mm, r = 5 mm)."""
+        return self.max_particles(radius)
+
     def mesh(self):
         """(vertices (8, 3), quads (6, 4)) of the inner box, for VTK and plots."""
         L, W, H = self.length, self.width, self.height

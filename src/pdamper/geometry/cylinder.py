@@ -100,6 +100,13 @@ class Cylinder:
         N_p,max = 48 for the clearance of eq. (6), which is what theory should use)."""
         return int(len(self.floor_sites(radius, 2 * radius)))
 
+    def clearance_capacity(self, radius: float) -> int:
+        """N_p,max [-] of the clearance law, eq. (6), as the paper counts it for the cylinder: the
+        floor area over the square a sphere covers, ``round(pi R^2 / (2r)^2)`` (48 for R = 39 mm,
+        r = 5 mm). Theory (X_opt, the design, the studies' h) uses this count, not the geometric
+        :meth:`max_particles`."""
+        return int(round(np.pi * self.radius**2 / (2 * radius) ** 2))
+
     def mesh(self, segments: int = 48):
         """(vertices, quads) of the inner surface (side wall as ``segments`` quads), for VTK and plots."""
         th = np.linspace(0, 2 * np.pi, segments, endpoint=False)
