@@ -25,6 +25,9 @@ from __future__ import annotations
 import math
 
 from .drive import drive_motion
+from ..contact.friction_tanh import friction_factor
+from ..contact.hertz_gonthier import normal_force
+from ..geometry.walls import wall_distance
 from .forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces
 from .jit import njit
 from .neighbours import max_displacement_sq, rebuild_lists
@@ -66,6 +69,217 @@ def _correct(nord, pred, i, c, dlt):
     nord[3, i, c] = pred[3, i, c] + GEAR_C[3] * dlt
     nord[4, i, c] = pred[4, i, c] + GEAR_C[4] * dlt
     nord[5, i, c] = pred[5, i, c] + GEAR_C[5] * dlt
+
+
+#: compute_forces' step argument that switches its explicit friction cap off (the implicit pass
+#: below takes its place).
+_NO_CAP = 1e-300
+
+
+@njit(inline="always")
+def _slip_update(c, fn, mu_, kk, a, tx, ty, tz, dcx, dcy, dcz):
+    """Friction force of a contact evaluated at its corrected slip, linearly implicit.
+
+    ``(tx, ty, tz)`` is the predicted slip, ``(dcx, dcy, dcz)`` the tangential slip increment that
+    the explicit corrector gives, ``c`` the law's secant coefficient ``mu F_N tanh(tau s)/s`` at the
+    predicted slip, ``kk`` the contact's inverse tangential mass (1/m + r^2/I of both bodies) and
+    ``a = c_1 h / 2`` the corrector's velocity increment per unit acceleration. The slip increment
+    solves ``ds = dc - a kk c ds``; the force ``-c (s + ds)`` is clipped to the Coulomb limit
+    ``mu F_N``. Returns the force change against the explicit ``-c s`` and the new force."""
+    den = 1.0 / (1.0 + a * kk * c)
+    fx = -c * (tx + dcx * den)
+    fy = -c * (ty + dcy * den)
+    fz = -c * (tz + dcz * den)
+    fm = math.sqrt(fx * fx + fy * fy + fz * fz)
+    lim = mu_ * fn
+    if fm > lim:
+        sc = lim / fm
+        fx *= sc
+        fy *= sc
+        fz *= sc
+    return fx + c * tx, fy + c * ty, fz + c * tz, fx, fy, fz
+
+
+@njit
+def _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, dv, dw, hs, row, pi_, pj, pk, pd, pmp,
+                       wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wd, mu, tau):
+    """Re-evaluate every touching contact's friction at its corrected slip (linearly implicit in
+    the slip, Gauss-Seidel over the contacts) and add the change to the Gear increments ``dv``
+    (positions) and ``dw`` (angles) in place.
+
+    The explicit Gear corrector evaluates the tanh law at the *predicted* slip; during an impact
+    its slope ``mu F_N tau`` relaxes the slip within a fraction of a microsecond, and the error
+    control then has to follow that relaxation. Evaluated at the corrected slip, a sticking
+    contact's force is whatever keeps it sticking (up to ``mu F_N``), smooth in time.
+
+    Returns ``(dfx, dfy, dfz, dp_f)``: the change of the walls' force on the particles [N] and of
+    the friction power [W].
+    """
+    n = pos.shape[0]
+    g = GEAR_C[1] / hs
+    a = 0.5 * GEAR_C[1] * hs
+    hh = 0.5 * hs * hs
+    dfx = 0.0
+    dfy = 0.0
+    dfz = 0.0
+    dpf = 0.0
+    for q in range(row[n]):
+        i = pi_[q]
+        j = pj[q]
+        mu_ = mu[pmp[q]]
+        if mu_ == 0.0:
+            continue
+        ri = rad[i]
+        rj = rad[j]
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dz = pos[j, 2] - pos[i, 2]
+        cut = ri + rj
+        d2 = dx * dx + dy * dy + dz * dz
+        if d2 >= cut * cut:
+            continue
+        dist = math.sqrt(d2)
+        inv = 1.0 / dist
+        nx = dx * inv
+        ny = dy * inv
+        nz = dz * inv
+        rvx = vel[i, 0] - vel[j, 0]
+        rvy = vel[i, 1] - vel[j, 1]
+        rvz = vel[i, 2] - vel[j, 2]
+        ddot = rvx * nx + rvy * ny + rvz * nz
+        fn, _ = normal_force(pk[q], cut - dist, ddot, pd[q])
+        if fn <= 0.0:
+            continue
+        wx = ri * omg[i, 0] + rj * omg[j, 0]
+        wy = ri * omg[i, 1] + rj * omg[j, 1]
+        wz = ri * omg[i, 2] + rj * omg[j, 2]
+        cvx = rvx + wy * nz - wz * ny
+        cvy = rvy + wz * nx - wx * nz
+        cvz = rvz + wx * ny - wy * nx
+        cn = cvx * nx + cvy * ny + cvz * nz
+        tx = cvx - cn * nx
+        ty = cvy - cn * ny
+        tz = cvz - cn * nz
+        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        c = friction_factor(mu_, tau, vt) * fn
+        # slip increment of the explicit corrector (same formula on the velocity increments)
+        ux = g * (dv[i, 0] - dv[j, 0])
+        uy = g * (dv[i, 1] - dv[j, 1])
+        uz = g * (dv[i, 2] - dv[j, 2])
+        ex = g * (ri * dw[i, 0] + rj * dw[j, 0])
+        ey = g * (ri * dw[i, 1] + rj * dw[j, 1])
+        ez = g * (ri * dw[i, 2] + rj * dw[j, 2])
+        dcx = ux + ey * nz - ez * ny
+        dcy = uy + ez * nx - ex * nz
+        dcz = uz + ex * ny - ey * nx
+        dcn = dcx * nx + dcy * ny + dcz * nz
+        kk = inv_m[i] + inv_m[j] + ri * ri * inv_i[i] + rj * rj * inv_i[j]
+        gx, gy, gz, fx, fy, fz = _slip_update(c, fn, mu_, kk, a, tx, ty, tz,
+                                              dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
+        # power: the new force on the corrected slip, minus the explicit c s^2
+        dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
+                 + fz * (tz + dcz - dcn * nz + a * kk * gz)) - c * vt * vt
+        dv[i, 0] += hh * inv_m[i] * gx
+        dv[i, 1] += hh * inv_m[i] * gy
+        dv[i, 2] += hh * inv_m[i] * gz
+        dv[j, 0] -= hh * inv_m[j] * gx
+        dv[j, 1] -= hh * inv_m[j] * gy
+        dv[j, 2] -= hh * inv_m[j] * gz
+        cx = ny * gz - nz * gy
+        cy = nz * gx - nx * gz
+        cz = nx * gy - ny * gx
+        si = hh * inv_i[i] * ri
+        sj = hh * inv_i[j] * rj
+        dw[i, 0] += si * cx
+        dw[i, 1] += si * cy
+        dw[i, 2] += si * cz
+        dw[j, 0] += sj * cx
+        dw[j, 1] += sj * cy
+        dw[j, 2] += sj * cz
+    if floor >= 0:
+        for i in range(n):
+            ri = rad[i]
+            delta = ri - pos[i, 1]
+            if delta <= 0.0:
+                continue
+            mp = wmp[i, floor]
+            mu_ = mu[mp]
+            if mu_ == 0.0:
+                continue
+            fn, _ = normal_force(wk[i, floor], delta, -vel[i, 1], wd[i, floor])
+            if fn <= 0.0:
+                continue
+            tx = vel[i, 0] + ri * omg[i, 2]
+            tz = vel[i, 2] - ri * omg[i, 0]
+            vt = math.sqrt(tx * tx + tz * tz)
+            c = friction_factor(mu_, tau, vt) * fn
+            dcx = g * (dv[i, 0] + ri * dw[i, 2])
+            dcz = g * (dv[i, 2] - ri * dw[i, 0])
+            kk = inv_m[i] + ri * ri * inv_i[i]
+            gx, gy, gz, fx, fy, fz = _slip_update(c, fn, mu_, kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
+            dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - c * vt * vt
+            dv[i, 0] += hh * inv_m[i] * gx
+            dv[i, 2] += hh * inv_m[i] * gz
+            si = hh * inv_i[i] * ri
+            dw[i, 0] -= si * gz
+            dw[i, 2] += si * gx
+            dfx += gx
+            dfz += gz
+    for q in range(n_wl):
+        i = wl_i[q]
+        w = wl_w[q]
+        mp = wmp[i, w]
+        mu_ = mu[mp]
+        if mu_ == 0.0:
+            continue
+        s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
+        ri = rad[i]
+        delta = ri - s
+        if delta <= 0.0:
+            continue
+        vx = vel[i, 0]
+        vy = vel[i, 1]
+        vz = vel[i, 2]
+        fn, _ = normal_force(wk[i, w], delta, -(vx * nx + vy * ny + vz * nz), wd[i, w])
+        if fn <= 0.0:
+            continue
+        cvx = vx - ri * (omg[i, 1] * nz - omg[i, 2] * ny)
+        cvy = vy - ri * (omg[i, 2] * nx - omg[i, 0] * nz)
+        cvz = vz - ri * (omg[i, 0] * ny - omg[i, 1] * nx)
+        cn = cvx * nx + cvy * ny + cvz * nz
+        tx = cvx - cn * nx
+        ty = cvy - cn * ny
+        tz = cvz - cn * nz
+        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        c = friction_factor(mu_, tau, vt) * fn
+        ux = g * dv[i, 0]
+        uy = g * dv[i, 1]
+        uz = g * dv[i, 2]
+        ex = g * dw[i, 0]
+        ey = g * dw[i, 1]
+        ez = g * dw[i, 2]
+        dcx = ux - ri * (ey * nz - ez * ny)
+        dcy = uy - ri * (ez * nx - ex * nz)
+        dcz = uz - ri * (ex * ny - ey * nx)
+        dcn = dcx * nx + dcy * ny + dcz * nz
+        dcx -= dcn * nx
+        dcy -= dcn * ny
+        dcz -= dcn * nz
+        kk = inv_m[i] + ri * ri * inv_i[i]
+        gx, gy, gz, fx, fy, fz = _slip_update(c, fn, mu_, kk, a, tx, ty, tz, dcx, dcy, dcz)
+        dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
+            - c * vt * vt
+        dv[i, 0] += hh * inv_m[i] * gx
+        dv[i, 1] += hh * inv_m[i] * gy
+        dv[i, 2] += hh * inv_m[i] * gz
+        si = hh * inv_i[i] * ri
+        dw[i, 0] -= si * (ny * gz - nz * gy)
+        dw[i, 1] -= si * (nz * gx - nx * gz)
+        dw[i, 2] -= si * (nx * gy - ny * gx)
+        dfx += gx
+        dfy += gy
+        dfz += gz
+    return dfx, dfy, dfz, dpf
 
 
 @njit
@@ -197,20 +411,27 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, pre
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
             wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
-            estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, hs)
+            estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, _NO_CAP)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, tn)
         half_h2 = 0.5 * hs * hs
+        for i in range(n):
+            for c in range(3):
+                force[i, c] = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - pred[2, i, c]
+                torque[i, c] = half_h2 * torque[i, c] * inv_i[i] - pred[2, i, 3 + c]
+        dfx, dfy, dfz, dpf = _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, force, torque, hs, row, pi_, pj,
+                                                pk, pd, pmp, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk,
+                                                wmp, wd, mu, tau)
+        fwx += dfx
+        fwy += dfy
+        fwz += dfz
+        p_f += dpf
         err = 0.0
         for i in range(n):
             for c in range(3):
-                dlt = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - pred[2, i, c]
-                force[i, c] = dlt
-                if math.fabs(dlt) > err:
-                    err = math.fabs(dlt)
-                dr = half_h2 * torque[i, c] * inv_i[i] - pred[2, i, 3 + c]
-                torque[i, c] = dr
-                if math.fabs(dr) * rad[i] > err:
-                    err = math.fabs(dr) * rad[i]
+                if math.fabs(force[i, c]) > err:
+                    err = math.fabs(force[i, c])
+                if math.fabs(torque[i, c]) * rad[i] > err:
+                    err = math.fabs(torque[i, c]) * rad[i]
         if not (err < 1e300):
             h_state[0] = hs
             return STATUS_NAN, steps, culprit, t, h, rejected
