@@ -345,6 +345,7 @@ class Simulation:
             status, k, culprit, t, self._h_next, rej = run_gear(
                 t_end, self._h_next, t, ts, record, not self._primed, num.gear_tolerance, self._dt_min,
                 self._dt_max, self.nord, self.pred, self.hist_p, self.hist_w, self.h_state,
+                *self._friction_record(),
                 self.pos, self.vel, self.omg, self.rad, self.mass, self.inv_m, self.inv_i, self.mat,
                 self.force, self.torque, self.gvec, self.dvec, *self._drive,
                 self.nmat, self.estar, self.mu, self.cor_tab, self.cor_py, self.logv0, self.dlogv,
@@ -362,6 +363,16 @@ class Simulation:
                 continue
             self._handle_status(status, culprit, t, self._h_next)
         return steps
+
+    def _friction_record(self):
+        """Gear's record of the touching friction contacts (``compute_forces``), sized for every
+        listed pair, every sphere on the floor and every wall candidate (grown with the lists)."""
+        cap = self.pj.shape[0] + self.n + self.wl_i.shape[0]
+        if getattr(self, "fr", None) is None or self.fr.shape[0] < cap:
+            self.fr_i = np.zeros((cap, 2), dtype=np.int64)
+            self.fr = np.zeros((cap, 8))
+            self.fr_n = np.zeros(3, dtype=np.int64)
+        return self.fr_i, self.fr, self.fr_n
 
     def _handle_status(self, status, culprit, t_fail, dt):
         if status == kf.STATUS_LIST_OVERFLOW:

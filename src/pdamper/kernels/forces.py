@@ -82,7 +82,7 @@ def first_touch(v_approach, mp, e_star, r_star, m_star, cor_tab, cor_py, logv0, 
 def compute_forces(pos, vel, omg, rad, mass, force, torque,
                    row, pi_, pj, pvin, pd, pk, pmp, pms,
                    wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
-                   estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt):
+                   estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt, fr_i, fr, fr_n):
     """Zero and fill ``force`` [N] and ``torque`` [N m]; update contact history in place.
 
     Pair arrays aligned with the list ``row``/``pj``: history ``pvin`` (approach speed at first
@@ -98,7 +98,17 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
     walls on the particles [N], the power [W] dissipated by normal damping and by friction, a
     status code (``STATUS_OVERLAP`` when an overlap exceeds ``overlap_limit`` x r) and the
     particle concerned. ``dt`` [s] is the current step (for the friction guard :data:`FRICTION_CAP`).
+
+    **Friction contacts for an implicit pass** (Gear, :mod:`pdamper.kernels.gear`): when ``fr`` has
+    rows, every touching contact with friction is written down as it is computed -- ``fr_i[m] =
+    (i, j)`` (``j = -1`` at a wall) and ``fr[m] = (n_x, n_y, n_z, s_x, s_y, s_z, c, mu F_N)``: the
+    contact normal (pairs: from i to j; walls: into the container), the slip, the law's secant
+    coefficient ``c`` (force ``-c s``) and the Coulomb limit -- pairs first, then the floor, then
+    the other walls; ``fr_n`` receives the three end indices. Capacity: listed pairs + particles +
+    wall candidates. With ``fr`` of no rows nothing is written.
     """
+    collect = fr.shape[0] > 0
+    m = 0
     n = pos.shape[0]
     for i in range(n):
         force[i, 0] = 0.0
@@ -163,6 +173,9 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         ff = friction_factor(mu[pmp[a]], tau, vt) * fn
         if ff * dt > pms[a]:
             ff = pms[a] * inv_dt
+        if collect and ff > 0.0:
+            _note(fr_i, fr, m, i, j, nx, ny, nz, tx, ty, tz, ff, mu[pmp[a]] * fn)
+            m += 1
         p_f += ff * vt * vt
         ftx = -ff * tx
         fty = -ff * ty
@@ -188,6 +201,8 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         torque[j, 2] += rj * cz
     # ---- the floor: n = +y, so the signed distance is y, the approach speed -v_y, the slip
     #      (v_x + r w_z, 0, v_z - r w_x) and the torque of the friction (-r F_z, 0, r F_x)
+    if collect:
+        fr_n[0] = m
     fwx = 0.0
     fwy = 0.0
     fwz = 0.0
@@ -216,6 +231,9 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             ff = friction_factor(mu[mp], tau, vt) * fn
             if ff * dt > FRICTION_CAP * mass[i]:
                 ff = FRICTION_CAP * mass[i] * inv_dt
+            if collect and ff > 0.0:
+                _note(fr_i, fr, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, mu[mp] * fn)
+                m += 1
             p_f += ff * vt * vt
             ftx = -ff * tx
             ftz = -ff * tz
@@ -227,6 +245,8 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             fwz += ftz
             torque[i, 0] -= ri * ftz
             torque[i, 2] += ri * ftx
+    if collect:
+        fr_n[1] = m
     # ---- the other walls, from the candidate list
     for c in range(n_wl):
         i = wl_i[c]
@@ -263,6 +283,9 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         ff = friction_factor(mu[mp], tau, vt) * fn
         if ff * dt > FRICTION_CAP * mass[i]:
             ff = FRICTION_CAP * mass[i] * inv_dt
+        if collect and ff > 0.0:
+            _note(fr_i, fr, m, i, -1, nx, ny, nz, tx, ty, tz, ff, mu[mp] * fn)
+            m += 1
         p_f += ff * vt * vt
         ftx = -ff * tx
         fty = -ff * ty
@@ -280,7 +303,24 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         torque[i, 0] -= ri * (ny * ftz - nz * fty)
         torque[i, 1] -= ri * (nz * ftx - nx * ftz)
         torque[i, 2] -= ri * (nx * fty - ny * ftx)
+    if collect:
+        fr_n[2] = m
     return fwx, fwy, fwz, p_n, p_f, status, culprit
+
+
+@njit(inline="always")
+def _note(fr_i, fr, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
+    """Row ``m`` of the friction-contact record (see :func:`compute_forces`)."""
+    fr_i[m, 0] = i
+    fr_i[m, 1] = j
+    fr[m, 0] = nx
+    fr[m, 1] = ny
+    fr[m, 2] = nz
+    fr[m, 3] = tx
+    fr[m, 4] = ty
+    fr[m, 5] = tz
+    fr[m, 6] = c
+    fr[m, 7] = lim
 
 
 @njit

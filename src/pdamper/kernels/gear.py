@@ -10,6 +10,20 @@ Gear's coefficients for velocity-dependent forces
 ``c = (3/20, 251/360, 1, 11/18, 1/6, 1/60)`` (Allen & Tildesley, Computer Simulation of
 Liquids, App. E).
 
+**Friction at the corrected slip.** The tanh friction law (eq. 2) has the slope ``mu F_N tau``
+in the slip; during an impact that is a tangential damping with a relaxation time well below a
+microsecond, and evaluated at the *predicted* slip (plain Gear) the error control has to follow
+it: at large strokes most of Gear's steps went there (5.5x more steps than without friction at
+50 mm), and the energy ledger still did not close at mu = 1. So after the forces at the predicted
+state, every touching contact's friction is evaluated again at the slip the corrector will give
+(:func:`_implicit_friction`): linearised in the slip, ``ds = dc / (1 + a K c)`` with ``dc`` the
+explicit corrector's slip increment, ``c`` the law's secant coefficient at the predicted slip,
+``K`` the contact's inverse tangential mass and ``a = c_1 h / 2``; the force ``-c (s + ds)`` is
+clipped to the Coulomb limit ``mu F_N``. Contacts are visited in list order and each sees the
+increments already changed by those before it (one Gauss-Seidel sweep). The law is the same; its
+evaluation point moves from the predicted to the corrected state, as in an implicit corrector.
+The explicit step's friction cap of :mod:`pdamper.kernels.forces` is off for Gear.
+
 **Error control.** ``|Delta|`` estimates the local error of a step [m] (spin DOFs are scaled by
 the radius). A step whose error exceeds 4x the tolerance is rejected and retried shorter; after
 an accepted step the next is ``h (tol/err)^(1/6)``, times 0.9, within [0.2, 1.5] h and within
@@ -25,9 +39,6 @@ from __future__ import annotations
 import math
 
 from .drive import drive_motion
-from ..contact.friction_tanh import friction_factor
-from ..contact.hertz_gonthier import normal_force
-from ..geometry.walls import wall_distance
 from .forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces
 from .jit import njit
 from .neighbours import max_displacement_sq, rebuild_lists
@@ -77,7 +88,7 @@ _NO_CAP = 1e-300
 
 
 @njit(inline="always")
-def _slip_update(c, fn, mu_, kk, a, tx, ty, tz, dcx, dcy, dcz):
+def _slip_update(c, lim, kk, a, tx, ty, tz, dcx, dcy, dcz):
     """Friction force of a contact evaluated at its corrected slip, linearly implicit.
 
     ``(tx, ty, tz)`` is the predicted slip, ``(dcx, dcy, dcz)`` the tangential slip increment that
@@ -85,13 +96,12 @@ def _slip_update(c, fn, mu_, kk, a, tx, ty, tz, dcx, dcy, dcz):
     predicted slip, ``kk`` the contact's inverse tangential mass (1/m + r^2/I of both bodies) and
     ``a = c_1 h / 2`` the corrector's velocity increment per unit acceleration. The slip increment
     solves ``ds = dc - a kk c ds``; the force ``-c (s + ds)`` is clipped to the Coulomb limit
-    ``mu F_N``. Returns the force change against the explicit ``-c s`` and the new force."""
+    ``lim = mu F_N``. Returns the force change against the explicit ``-c s`` and the new force."""
     den = 1.0 / (1.0 + a * kk * c)
     fx = -c * (tx + dcx * den)
     fy = -c * (ty + dcy * den)
     fz = -c * (tz + dcz * den)
     fm = math.sqrt(fx * fx + fy * fy + fz * fz)
-    lim = mu_ * fn
     if fm > lim:
         sc = lim / fm
         fx *= sc
@@ -101,11 +111,11 @@ def _slip_update(c, fn, mu_, kk, a, tx, ty, tz, dcx, dcy, dcz):
 
 
 @njit
-def _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, dv, dw, hs, row, pi_, pj, pk, pd, pmp,
-                       wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wd, mu, tau):
-    """Re-evaluate every touching contact's friction at its corrected slip (linearly implicit in
-    the slip, Gauss-Seidel over the contacts) and add the change to the Gear increments ``dv``
-    (positions) and ``dw`` (angles) in place.
+def _implicit_friction(rad, inv_m, inv_i, dv, dw, hs, fr_i, fr, fr_n):
+    """Re-evaluate the friction of every contact that :func:`~pdamper.kernels.forces.compute_forces`
+    recorded (``fr_i``, ``fr``, ``fr_n``) at its corrected slip (linearly implicit in the slip,
+    Gauss-Seidel over the contacts) and add the change to the Gear increments ``dv`` (positions)
+    and ``dw`` (angles) in place.
 
     The explicit Gear corrector evaluates the tanh law at the *predicted* slip; during an impact
     its slope ``mu F_N tau`` relaxes the slip within a fraction of a microsecond, and the error
@@ -115,7 +125,6 @@ def _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, dv, dw, hs, row, pi_, p
     Returns ``(dfx, dfy, dfz, dp_f)``: the change of the walls' force on the particles [N] and of
     the friction power [W].
     """
-    n = pos.shape[0]
     g = GEAR_C[1] / hs
     a = 0.5 * GEAR_C[1] * hs
     hh = 0.5 * hs * hs
@@ -123,45 +132,20 @@ def _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, dv, dw, hs, row, pi_, p
     dfy = 0.0
     dfz = 0.0
     dpf = 0.0
-    for q in range(row[n]):
-        i = pi_[q]
-        j = pj[q]
-        mu_ = mu[pmp[q]]
-        if mu_ == 0.0:
-            continue
+    # ---- particle pairs: n from i to j, slip (v_i - v_j) + (r_i w_i + r_j w_j) x n
+    for q in range(fr_n[0]):
+        i = fr_i[q, 0]
+        j = fr_i[q, 1]
         ri = rad[i]
         rj = rad[j]
-        dx = pos[j, 0] - pos[i, 0]
-        dy = pos[j, 1] - pos[i, 1]
-        dz = pos[j, 2] - pos[i, 2]
-        cut = ri + rj
-        d2 = dx * dx + dy * dy + dz * dz
-        if d2 >= cut * cut:
-            continue
-        dist = math.sqrt(d2)
-        inv = 1.0 / dist
-        nx = dx * inv
-        ny = dy * inv
-        nz = dz * inv
-        rvx = vel[i, 0] - vel[j, 0]
-        rvy = vel[i, 1] - vel[j, 1]
-        rvz = vel[i, 2] - vel[j, 2]
-        ddot = rvx * nx + rvy * ny + rvz * nz
-        fn, _ = normal_force(pk[q], cut - dist, ddot, pd[q])
-        if fn <= 0.0:
-            continue
-        wx = ri * omg[i, 0] + rj * omg[j, 0]
-        wy = ri * omg[i, 1] + rj * omg[j, 1]
-        wz = ri * omg[i, 2] + rj * omg[j, 2]
-        cvx = rvx + wy * nz - wz * ny
-        cvy = rvy + wz * nx - wx * nz
-        cvz = rvz + wx * ny - wy * nx
-        cn = cvx * nx + cvy * ny + cvz * nz
-        tx = cvx - cn * nx
-        ty = cvy - cn * ny
-        tz = cvz - cn * nz
+        nx = fr[q, 0]
+        ny = fr[q, 1]
+        nz = fr[q, 2]
+        tx = fr[q, 3]
+        ty = fr[q, 4]
+        tz = fr[q, 5]
+        c = fr[q, 6]
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-        c = friction_factor(mu_, tau, vt) * fn
         # slip increment of the explicit corrector (same formula on the velocity increments)
         ux = g * (dv[i, 0] - dv[j, 0])
         uy = g * (dv[i, 1] - dv[j, 1])
@@ -174,7 +158,7 @@ def _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, dv, dw, hs, row, pi_, p
         dcz = uz + ex * ny - ey * nx
         dcn = dcx * nx + dcy * ny + dcz * nz
         kk = inv_m[i] + inv_m[j] + ri * ri * inv_i[i] + rj * rj * inv_i[j]
-        gx, gy, gz, fx, fy, fz = _slip_update(c, fn, mu_, kk, a, tx, ty, tz,
+        gx, gy, gz, fx, fy, fz = _slip_update(c, fr[q, 7], kk, a, tx, ty, tz,
                                               dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
         # power: the new force on the corrected slip, minus the explicit c s^2
         dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
@@ -196,62 +180,38 @@ def _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, dv, dw, hs, row, pi_, p
         dw[j, 0] += sj * cx
         dw[j, 1] += sj * cy
         dw[j, 2] += sj * cz
-    if floor >= 0:
-        for i in range(n):
-            ri = rad[i]
-            delta = ri - pos[i, 1]
-            if delta <= 0.0:
-                continue
-            mp = wmp[i, floor]
-            mu_ = mu[mp]
-            if mu_ == 0.0:
-                continue
-            fn, _ = normal_force(wk[i, floor], delta, -vel[i, 1], wd[i, floor])
-            if fn <= 0.0:
-                continue
-            tx = vel[i, 0] + ri * omg[i, 2]
-            tz = vel[i, 2] - ri * omg[i, 0]
-            vt = math.sqrt(tx * tx + tz * tz)
-            c = friction_factor(mu_, tau, vt) * fn
-            dcx = g * (dv[i, 0] + ri * dw[i, 2])
-            dcz = g * (dv[i, 2] - ri * dw[i, 0])
-            kk = inv_m[i] + ri * ri * inv_i[i]
-            gx, gy, gz, fx, fy, fz = _slip_update(c, fn, mu_, kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
-            dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - c * vt * vt
-            dv[i, 0] += hh * inv_m[i] * gx
-            dv[i, 2] += hh * inv_m[i] * gz
-            si = hh * inv_i[i] * ri
-            dw[i, 0] -= si * gz
-            dw[i, 2] += si * gx
-            dfx += gx
-            dfz += gz
-    for q in range(n_wl):
-        i = wl_i[q]
-        w = wl_w[q]
-        mp = wmp[i, w]
-        mu_ = mu[mp]
-        if mu_ == 0.0:
-            continue
-        s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
+    # ---- the floor: n = +y, slip (v_x + r w_z, 0, v_z - r w_x)
+    for q in range(fr_n[0], fr_n[1]):
+        i = fr_i[q, 0]
         ri = rad[i]
-        delta = ri - s
-        if delta <= 0.0:
-            continue
-        vx = vel[i, 0]
-        vy = vel[i, 1]
-        vz = vel[i, 2]
-        fn, _ = normal_force(wk[i, w], delta, -(vx * nx + vy * ny + vz * nz), wd[i, w])
-        if fn <= 0.0:
-            continue
-        cvx = vx - ri * (omg[i, 1] * nz - omg[i, 2] * ny)
-        cvy = vy - ri * (omg[i, 2] * nx - omg[i, 0] * nz)
-        cvz = vz - ri * (omg[i, 0] * ny - omg[i, 1] * nx)
-        cn = cvx * nx + cvy * ny + cvz * nz
-        tx = cvx - cn * nx
-        ty = cvy - cn * ny
-        tz = cvz - cn * nz
+        tx = fr[q, 3]
+        tz = fr[q, 5]
+        c = fr[q, 6]
+        vt = math.sqrt(tx * tx + tz * tz)
+        dcx = g * (dv[i, 0] + ri * dw[i, 2])
+        dcz = g * (dv[i, 2] - ri * dw[i, 0])
+        kk = inv_m[i] + ri * ri * inv_i[i]
+        gx, gy, gz, fx, fy, fz = _slip_update(c, fr[q, 7], kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
+        dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - c * vt * vt
+        dv[i, 0] += hh * inv_m[i] * gx
+        dv[i, 2] += hh * inv_m[i] * gz
+        si = hh * inv_i[i] * ri
+        dw[i, 0] -= si * gz
+        dw[i, 2] += si * gx
+        dfx += gx
+        dfz += gz
+    # ---- the other walls: n into the container, slip v - r w x n
+    for q in range(fr_n[1], fr_n[2]):
+        i = fr_i[q, 0]
+        ri = rad[i]
+        nx = fr[q, 0]
+        ny = fr[q, 1]
+        nz = fr[q, 2]
+        tx = fr[q, 3]
+        ty = fr[q, 4]
+        tz = fr[q, 5]
+        c = fr[q, 6]
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-        c = friction_factor(mu_, tau, vt) * fn
         ux = g * dv[i, 0]
         uy = g * dv[i, 1]
         uz = g * dv[i, 2]
@@ -266,7 +226,7 @@ def _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, dv, dw, hs, row, pi_, p
         dcy -= dcn * ny
         dcz -= dcn * nz
         kk = inv_m[i] + ri * ri * inv_i[i]
-        gx, gy, gz, fx, fy, fz = _slip_update(c, fn, mu_, kk, a, tx, ty, tz, dcx, dcy, dcz)
+        gx, gy, gz, fx, fy, fz = _slip_update(c, fr[q, 7], kk, a, tx, ty, tz, dcx, dcy, dcz)
         dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
             - c * vt * vt
         dv[i, 0] += hh * inv_m[i] * gx
@@ -299,6 +259,7 @@ def _copy_wall_history(src_v, src_d, dst_v, dst_d, floor, wl_i, wl_w, n_wl):
 
 @njit
 def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, pred, hist_p, hist_w, h_state,
+             fr_i, fr, fr_n,
              pos, vel, omg, rad, mass, inv_m, inv_i, mat,
              force, torque, gvec, dvec, drive_kind, drive_par, drive_tab,
              nmat, estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit,
@@ -341,7 +302,7 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, pre
         nwl[0] = r
         compute_forces(pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
                        wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
-                       estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, h)
+                       estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, h, fr_i[:0], fr[:0], fr_n)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t)
         hs = h
         for i in range(n):
@@ -411,16 +372,14 @@ def run_gear(t_end, h_try, t0, ts, record, prime, tol, dt_min, dt_max, nord, pre
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
             wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
-            estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, _NO_CAP)
+            estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, _NO_CAP, fr_i, fr, fr_n)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, tn)
         half_h2 = 0.5 * hs * hs
         for i in range(n):
             for c in range(3):
                 force[i, c] = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - pred[2, i, c]
                 torque[i, c] = half_h2 * torque[i, c] * inv_i[i] - pred[2, i, 3 + c]
-        dfx, dfy, dfz, dpf = _implicit_friction(pos, vel, omg, rad, inv_m, inv_i, force, torque, hs, row, pi_, pj,
-                                                pk, pd, pmp, wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk,
-                                                wmp, wd, mu, tau)
+        dfx, dfy, dfz, dpf = _implicit_friction(rad, inv_m, inv_i, force, torque, hs, fr_i, fr, fr_n)
         fwx += dfx
         fwy += dfy
         fwz += dfz

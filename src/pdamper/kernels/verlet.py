@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .drive import drive_motion
 from .forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces
 from .jit import njit
@@ -46,6 +48,10 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
 
     Returns ``(status, steps_done, culprit)``.
     """
+    # no friction-contact record: that is for Gear's implicit pass (compute_forces writes none)
+    no_fr_i = np.zeros((0, 2), dtype=np.int64)
+    no_fr = np.zeros((0, 8))
+    no_fr_n = np.zeros(3, dtype=np.int64)
     n = pos.shape[0]
     half = 0.5 * dt
     skin2 = 0.25 * skin * skin
@@ -62,7 +68,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         nwl[0] = r
         compute_forces(pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
                        wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
-                       estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
+                       estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt, no_fr_i, no_fr, no_fr_n)
         xc, vc, ac = drive_motion(drive_kind, drive_par, drive_tab, t0)
         for i in range(n):
             for c in range(3):
@@ -113,7 +119,7 @@ def run_verlet(n_steps, dt, t0, step0, sub, record, rec_offset, prime,
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(
             pos, vel, omg, rad, mass, force, torque, row, pi_, pj, pvin, pd, pk, pmp, pms,
             wl_i, wl_w, n_wl, floor, wall_kind, wall_data, wk, wmp, wvin, wd, wrs,
-            estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt)
+            estar, mu, cor_tab, cor_py, logv0, dlogv, tau, v_floor, overlap_limit, dt, no_fr_i, no_fr, no_fr_n)
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         if drive_kind == DRIVE_STRUCTURE:
             structure_step(drive_par, drive_tab, t, dt, fd)
