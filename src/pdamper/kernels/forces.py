@@ -37,6 +37,8 @@ __all__ = ["compute_forces", "first_touch", "elastic_energy", "STATUS_OK", "STAT
 #: effective mass ``m_t = 2/7 m*`` of two rolling spheres, times 1/2. Only contacts whose
 #: tanh law is too stiff for the step (large normal force during an impact) are affected;
 #: without it their slip chatters around zero and the friction work is mis-counted.
+#: Velocity Verlet only: Gear passes a vanishing ``dt`` (no cap) and evaluates the friction at the
+#: corrected slip instead (:mod:`pdamper.kernels.gear`).
 FRICTION_CAP = 0.5 * 2.0 / 7.0
 
 STATUS_OK = 0
