@@ -110,6 +110,15 @@ def _slip_update(c, lim, kk, a, tx, ty, tz, dcx, dcy, dcz):
     return fx + c * tx, fy + c * ty, fz + c * tz, fx, fy, fz
 
 
+@njit(inline="always")
+def _contact_row(fr, q):
+    """Normal, slip, secant coefficient and slip speed of recorded friction contact ``q``."""
+    tx = fr[q, 3]
+    ty = fr[q, 4]
+    tz = fr[q, 5]
+    return fr[q, 0], fr[q, 1], fr[q, 2], tx, ty, tz, fr[q, 6], math.sqrt(tx * tx + ty * ty + tz * tz)
+
+
 @njit
 def _implicit_friction(rad, inv_m, inv_i, dv, dw, hs, fr_i, fr, fr_n):
     """Re-evaluate the friction of every contact that :func:`~pdamper.kernels.forces.compute_forces`
@@ -138,14 +147,7 @@ def _implicit_friction(rad, inv_m, inv_i, dv, dw, hs, fr_i, fr, fr_n):
         j = fr_i[q, 1]
         ri = rad[i]
         rj = rad[j]
-        nx = fr[q, 0]
-        ny = fr[q, 1]
-        nz = fr[q, 2]
-        tx = fr[q, 3]
-        ty = fr[q, 4]
-        tz = fr[q, 5]
-        c = fr[q, 6]
-        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        nx, ny, nz, tx, ty, tz, c, vt = _contact_row(fr, q)
         # slip increment of the explicit corrector (same formula on the velocity increments)
         ux = g * (dv[i, 0] - dv[j, 0])
         uy = g * (dv[i, 1] - dv[j, 1])
@@ -204,14 +206,7 @@ def _implicit_friction(rad, inv_m, inv_i, dv, dw, hs, fr_i, fr, fr_n):
     for q in range(fr_n[1], fr_n[2]):
         i = fr_i[q, 0]
         ri = rad[i]
-        nx = fr[q, 0]
-        ny = fr[q, 1]
-        nz = fr[q, 2]
-        tx = fr[q, 3]
-        ty = fr[q, 4]
-        tz = fr[q, 5]
-        c = fr[q, 6]
-        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        nx, ny, nz, tx, ty, tz, c, vt = _contact_row(fr, q)
         ux = g * dv[i, 0]
         uy = g * dv[i, 1]
         uz = g * dv[i, 2]
