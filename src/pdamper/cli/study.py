@@ -24,7 +24,7 @@ def _names():
 
 @main.command("study")
 @click.argument("name", metavar="NAME")
-@click.option("--quick", is_flag=True, help="8 strokes, 6 cycles, 1 seed: a first look in 0.5-3 min on 2 cores (docs/sweeps.md).")
+@click.option("--quick", is_flag=True, help="8 strokes, 6 cycles, 1 seed: a first look in 10 s to about a minute on 2 cores (docs/sweeps.md).")
 @click.option("--strokes", help="FIRST:LAST:COUNT or a list (default 0.5mm:50mm:40; --quick: 0.5mm:50mm:8).")
 @click.option("--seeds", type=click.IntRange(min=1), default=1, show_default=True, help="Seeds per stroke.")
 @click.option("--cycles", type=click.FloatRange(min=0, min_open=True), help="Drive cycles per case (default 20).")
