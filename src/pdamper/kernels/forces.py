@@ -37,8 +37,9 @@ __all__ = ["compute_forces", "first_touch", "elastic_energy", "STATUS_OK", "STAT
 #: effective mass ``m_t = 2/7 m*`` of two rolling spheres, times 1/2. Only contacts whose
 #: tanh law is too stiff for the step (large normal force during an impact) are affected;
 #: without it their slip chatters around zero and the friction work is mis-counted.
-#: Velocity Verlet only: Gear passes a vanishing ``dt`` (no cap) and evaluates the friction at the
-#: corrected slip instead (:mod:`pdamper.kernels.gear`).
+#: Velocity Verlet only: Gear's steps pass a vanishing ``dt`` (no cap) and evaluate the friction at
+#: the corrected slip instead (:mod:`pdamper.kernels.gear`); only Gear's priming evaluation at the
+#: start of a run (initial accelerations) still passes its first step and so keeps the cap.
 FRICTION_CAP = 0.5 * 2.0 / 7.0
 
 STATUS_OK = 0
@@ -107,7 +108,9 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
     contact normal (pairs: from i to j; walls: into the container), the slip, the law's secant
     coefficient ``c`` (force ``-c s``) and the Coulomb limit -- pairs first, then the floor, then
     the other walls; ``fr_n`` receives the three end indices. Capacity: listed pairs + particles +
-    wall candidates. With ``fr`` of no rows nothing is written.
+    wall candidates, which is enough by construction; a full record takes no more rows (no write
+    past its end; the contacts beyond it would keep their explicit friction). With ``fr`` of no
+    rows nothing is written.
     """
     collect = fr.shape[0] > 0
     m = 0
@@ -175,7 +178,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         ff = friction_factor(mu[pmp[a]], tau, vt) * fn
         if ff * dt > pms[a]:
             ff = pms[a] * inv_dt
-        if collect and ff > 0.0:
+        if collect and ff > 0.0 and m < fr.shape[0]:
             _note(fr_i, fr, m, i, j, nx, ny, nz, tx, ty, tz, ff, mu[pmp[a]] * fn)
             m += 1
         p_f += ff * vt * vt
@@ -233,7 +236,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             ff = friction_factor(mu[mp], tau, vt) * fn
             if ff * dt > FRICTION_CAP * mass[i]:
                 ff = FRICTION_CAP * mass[i] * inv_dt
-            if collect and ff > 0.0:
+            if collect and ff > 0.0 and m < fr.shape[0]:
                 _note(fr_i, fr, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, mu[mp] * fn)
                 m += 1
             p_f += ff * vt * vt
@@ -285,7 +288,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         ff = friction_factor(mu[mp], tau, vt) * fn
         if ff * dt > FRICTION_CAP * mass[i]:
             ff = FRICTION_CAP * mass[i] * inv_dt
-        if collect and ff > 0.0:
+        if collect and ff > 0.0 and m < fr.shape[0]:
             _note(fr_i, fr, m, i, -1, nx, ny, nz, tx, ty, tz, ff, mu[mp] * fn)
             m += 1
         p_f += ff * vt * vt
