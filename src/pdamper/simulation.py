@@ -368,7 +368,7 @@ class Simulation:
         """Gear's record of the touching friction contacts (``compute_forces``), sized for every
         listed pair, every sphere on the floor and every wall candidate (grown with the lists)."""
         cap = self.pj.shape[0] + self.n + self.wl_i.shape[0]
-        if getattr(self, "fr", None) is None or self.fr.shape[0] < cap:
+        if self.fr is None or self.fr.shape[0] < cap:
             self.fr_i = np.zeros((cap, 2), dtype=np.int64)
             self.fr = np.zeros((cap, 8))
             self.fr_n = np.zeros(3, dtype=np.int64)
@@ -425,6 +425,7 @@ class Simulation:
         if gear:
             self.nord = np.zeros((6, self.n, 6))
             self.pred = np.zeros((6, self.n, 6))
+            self.fr = None  # the friction-contact record, sized at each call (_friction_record)
             self.hist_w = np.zeros((2,) + self.wvin.shape)
             self.h_state = np.array([self.dt])
             self._h_next = self.dt

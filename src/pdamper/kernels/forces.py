@@ -178,7 +178,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         ff = friction_factor(mu[pmp[a]], tau, vt) * fn
         if ff * dt > pms[a]:
             ff = pms[a] * inv_dt
-        if collect and ff > 0.0 and m < fr.shape[0]:
+        if ff > 0.0 and m < fr.shape[0]:
             _note(fr_i, fr, m, i, j, nx, ny, nz, tx, ty, tz, ff, mu[pmp[a]] * fn)
             m += 1
         p_f += ff * vt * vt
@@ -236,7 +236,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
             ff = friction_factor(mu[mp], tau, vt) * fn
             if ff * dt > FRICTION_CAP * mass[i]:
                 ff = FRICTION_CAP * mass[i] * inv_dt
-            if collect and ff > 0.0 and m < fr.shape[0]:
+            if ff > 0.0 and m < fr.shape[0]:
                 _note(fr_i, fr, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, mu[mp] * fn)
                 m += 1
             p_f += ff * vt * vt
@@ -288,7 +288,7 @@ def compute_forces(pos, vel, omg, rad, mass, force, torque,
         ff = friction_factor(mu[mp], tau, vt) * fn
         if ff * dt > FRICTION_CAP * mass[i]:
             ff = FRICTION_CAP * mass[i] * inv_dt
-        if collect and ff > 0.0 and m < fr.shape[0]:
+        if ff > 0.0 and m < fr.shape[0]:
             _note(fr_i, fr, m, i, -1, nx, ny, nz, tx, ty, tz, ff, mu[mp] * fn)
             m += 1
         p_f += ff * vt * vt

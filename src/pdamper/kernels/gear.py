@@ -27,10 +27,8 @@ comes from the predicted slip (a contact whose slip grows out of the smooth rang
 for a body with several contacts those visited early are moved off ``-c (s + ds)`` by the later
 ones (a review measured up to 6 % of mu F_N on a three-sphere pile at ``a K c`` ~ 6). The error
 control sees what is left. The friction power for the ledger is taken per contact at its slip
-when it is visited, not after the sweep (a variant that took it after the sweep gave balance
-errors of 9.06e-4, 1.85e-3, 1.21e-3 for 6-cycle runs at 3, 14, 30 mm against 8.90e-4, 1.83e-3,
-1.24e-3 here -- on trajectories that differ in the last bits, so no better; not adopted).
-The explicit step's friction cap of :mod:`pdamper.kernels.forces` is off for Gear's steps.
+when it is visited, not after the sweep (docs/integrators.md: taking it after the sweep was
+tried and did not improve the ledger). The explicit step's friction cap of :mod:`pdamper.kernels.forces` is off for Gear's steps.
 
 **Error control.** ``|Delta|`` estimates the local error of a step [m] (spin DOFs are scaled by
 the radius). A step whose error exceeds 4x the tolerance is rejected and retried shorter; after
