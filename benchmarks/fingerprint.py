@@ -103,8 +103,8 @@ def compare(a: Path, b: Path) -> int:
                     notes.append(f"{key}: {u} vs {v}")
             elif u.shape != v.shape:
                 notes.append(f"{key}: shape {u.shape} vs {v.shape}")
-            elif not np.array_equal(u, v):
-                notes.append(f"{key}: max |diff| {np.max(np.abs(u - v)):.3g}")
+            elif not np.array_equal(u, v, equal_nan=u.dtype.kind == "f"):
+                notes.append(f"{key}: max |diff| {np.nanmax(np.abs(u - v)):.3g}")
         eta = f"eta* {float(xa['eta_star']):.12g} -> {float(xb['eta_star']):.12g}"
         if notes:
             differ += 1

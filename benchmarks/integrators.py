@@ -27,6 +27,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from pdamper.config import load_case  # noqa: E402
 from pdamper.params import with_stroke  # noqa: E402
+from pdamper.run import run_case  # noqa: E402
 from pdamper.simulation import Simulation  # noqa: E402
 
 
@@ -37,8 +38,8 @@ def impact_error(numerics):
     case = still_case([[-0.1 + R + 1e-6, 0.05, 0.0]], [[-v, 0.0, 0.0]], duration=2e-3, eps=eps)
     case = dataclasses.replace(case, numerics=dataclasses.replace(numerics, max_impact_speed=None))
     sim = Simulation(case)
-    sim.run(analyse=False)
-    return abs(sim.vel[0, 0] / v - eps) / eps
+    sim.run()
+    return abs(sim.bodies.velocity[0, 0] / v - eps) / eps
 
 
 SETTINGS = {
@@ -64,7 +65,7 @@ def main():
     for kw in ({"integrator": "verlet"}, {"integrator": "gear"}):
         c = dataclasses.replace(base, cycles=2.5, drop_cycles=1,
                                 numerics=dataclasses.replace(base.numerics, **kw))
-        Simulation(c).run()
+        run_case(c)
     print(f"# Gear vs Verlet: cuboid_36, {cycles} cycles at 2 Hz, seeds {seeds}\n")
     print("| setting | stroke [mm] | wall [s] | steps | us/step | balance error | eta* mean | eta* spread | impact COR error |")
     print("|---|---|---|---|---|---|---|---|---|")
@@ -78,7 +79,7 @@ def main():
                 case = dataclasses.replace(with_stroke(base, x), cycles=cycles, numerics=num,
                                            initial=dataclasses.replace(base.initial, seed=seed))
                 t = time.perf_counter()
-                res = Simulation(case).run()
+                res = run_case(case)
                 walls.append(time.perf_counter() - t)
                 steps.append(res.steps)
                 bal.append(res.energy.balance_error())

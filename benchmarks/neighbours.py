@@ -4,7 +4,7 @@ Usage: python benchmarks/neighbours.py [--quick]
 
 Runs a damper with N spheres (36 in the paper's cuboid; 100 and 200 in longer/wider boxes,
 stacked in layers where they do not fit one) with each search method and prints the
-microseconds per step and their ratio. The result sets ``simulation.CELLS_THRESHOLD``.
+microseconds per step and their ratio. The result sets ``pdamper.engine.build.CELLS_THRESHOLD``.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ def run(n, search, cycles):
                 drive=HarmonicDrive(stroke=0.015), cycles=cycles, drop_cycles=0,
                 numerics=Numerics(neighbour_search=search),
                 initial=InitialState(layers="auto", settle_time=0.05))
-    res = Simulation(case).run(analyse=False)
+    res = Simulation(case).run()
     return res.wall_time_s / res.steps * 1e6
 
 

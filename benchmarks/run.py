@@ -94,7 +94,7 @@ def step_costs(quick):
 
 def cross_validation(quick, workdir, use_liggghts):
     """eta* of both codes at a few strokes; LIGGGHTS step cost from its longest run."""
-    from pdamper.simulation import run_case
+    from pdamper.run import run_case
 
     cycles = 6 if quick else 20
     strokes = (0.003, 0.014, 0.03)

@@ -35,9 +35,10 @@ def still_case(positions, velocities, *, duration, eps=0.9, mu=0.0, gravity=0.0,
         cycles=1, drop_cycles=0, gravity=gravity)
 
 
-def run(case, analyse=True):
+def run(case):
+    """Simulate ``case`` (its recorders' results, no analysis); the simulation keeps the end state."""
     sim = Simulation(case)
-    res = sim.run(analyse=analyse)
+    res = sim.run()
     return sim, res
 
 

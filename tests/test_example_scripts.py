@@ -30,3 +30,16 @@ def test_analyze_record_example(tmp_path):
     exact = math.pi * 4.0 * (2 * math.pi * 2.0) * 0.012**2 * 1e3   # pi c Omega X^2 [mJ]
     assert measured == pytest.approx(exact, rel=1e-3)
     assert "cycles used          18" in proc.stdout
+
+
+def test_kinetic_energy_recorder_example():
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "kinetic_energy_recorder.py")], capture_output=True,
+                          text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    m = re.search(r"eta\* = ([0-9.]+); bed kinetic energy over the last cycle: mean ([0-9.]+) mJ, max ([0-9.]+) mJ "
+                  r"\((\d+) samples at 100 per second\)", proc.stdout)
+    assert m, proc.stdout
+    eta, mean, peak, n = float(m.group(1)), float(m.group(2)), float(m.group(3)), int(m.group(4))
+    assert 0.3 < eta < 1.2 and 0 < mean < peak and n == 200
+    # the bed moves with the container to first order: 1/2 m_bed (X Omega)^2 / 2 on average ~ 1.4 mJ
+    assert mean == pytest.approx(1e3 * 0.5 * 0.1489 * (0.014 * 4 * math.pi) ** 2 / 2, rel=0.5)

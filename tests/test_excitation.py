@@ -10,12 +10,13 @@ import pytest
 
 from pdamper.errors import InputError
 from pdamper.excitation import HarmonicDrive, SampledDrive, Still
+from pdamper.engine.build import drive_bundle
 from pdamper.kernels.drive import drive_motion
 
 
 def _kernel(drive, t):
-    kind, par, tab = drive.kernel_args()
-    return np.array([drive_motion(kind, par, tab, float(tt)) for tt in np.atleast_1d(t)]).T
+    b = drive_bundle(drive)
+    return np.array([drive_motion(b, float(tt)) for tt in np.atleast_1d(t)]).T
 
 
 def test_harmonic_drive_amplitudes():

@@ -33,11 +33,12 @@ def test_the_core_objects_are_public_and_documented():
 
 
 def test_names_are_the_objects_of_their_modules():
-    from pdamper import analysis, config, materials, params, simulation, theory
+    from pdamper import analysis, config, materials, params, run, simulation, theory
 
     assert pdamper.Case is params.Case
     assert pdamper.STEEL_S235 is materials.STEEL_S235
-    assert pdamper.run_case is simulation.run_case
+    assert pdamper.run_case is run.run_case
+    assert pdamper.Simulation is simulation.Simulation
     assert pdamper.load_case is config.load_case
     assert pdamper.complex_power is analysis.complex_power
     assert inspect.isfunction(pdamper.complex_power)

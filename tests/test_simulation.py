@@ -19,6 +19,7 @@ from pdamper.geometry import Cuboid
 from pdamper.materials import PVC, STEEL_S235, TUNGSTEN, effective_modulus
 from pdamper.params import (Case, ContactModel, Container, InitialState, Numerics, ParticleSet, Recording,
                             with_stroke)
+from pdamper.run import run_case
 from pdamper.simulation import Simulation, auto_time_step
 
 from dem_fixtures import BOX, R, run, sphere_mass, still_case
@@ -42,30 +43,30 @@ def _short(seed=0, jitter=None, cycles=0.5, **more):
 def damper_run():
     """The paper's 36-sphere cuboid at 13 mm, 2 Hz, default numerics (Gear): 3 cycles, the first dropped."""
     case = _example(**{"run.cycles": 3, "run.drop_cycles": 1})
-    return Simulation(case).run()
+    return run_case(case)
 
 
 # --------------------------------------------------------------------- repeatability
 
 def test_same_seed_gives_bit_identical_signals():
-    a = Simulation(_short(seed=3)).run(analyse=False)
-    b = Simulation(_short(seed=3)).run(analyse=False)
+    a = Simulation(_short(seed=3)).run()
+    b = Simulation(_short(seed=3)).run()
     np.testing.assert_array_equal(a.signals.force, b.signals.force)
     np.testing.assert_array_equal(a.energy.damping, b.energy.damping)
     assert a.steps == b.steps
 
 
 def test_different_seed_gives_a_different_run():
-    a = Simulation(_short(seed=3)).run(analyse=False)
-    b = Simulation(_short(seed=4)).run(analyse=False)
+    a = Simulation(_short(seed=3)).run()
+    b = Simulation(_short(seed=4)).run()
     assert np.max(np.abs(a.signals.force - b.signals.force)) > 1e-3 * np.max(np.abs(a.signals.force))
 
 
 def test_without_jitter_the_seed_does_not_matter_and_runs_repeat():
     over = {"drive.stroke": "3mm"}
-    a = Simulation(_short(seed=1, jitter=0, **over)).run(analyse=False)
-    b = Simulation(_short(seed=2, jitter=0, **over)).run(analyse=False)
-    c = Simulation(_short(seed=1, jitter=0, **over)).run(analyse=False)
+    a = Simulation(_short(seed=1, jitter=0, **over)).run()
+    b = Simulation(_short(seed=2, jitter=0, **over)).run()
+    c = Simulation(_short(seed=1, jitter=0, **over)).run()
     assert np.max(np.abs(a.signals.force)) > 0.1
     np.testing.assert_array_equal(a.signals.force, b.signals.force)
     np.testing.assert_array_equal(a.signals.force, c.signals.force)
@@ -85,16 +86,16 @@ def test_a_row_resting_against_the_wall_survives_the_drive_start_in_the_controls
 
     case = _row_against_the_wall()
     case = dataclasses.replace(case, contact=ContactModel(restitution=ConstantRestitution(value=1.0)))
-    Simulation(case).run(analyse=False)
+    Simulation(case).run()
     # and so is the damped one at a smaller step, with a higher v_in floor, or with Gear
     Simulation(dataclasses.replace(_row_against_the_wall(), numerics=Numerics(integrator="verlet", time_step=1e-6))
-               ).run(analyse=False)
-    Simulation(dataclasses.replace(_row_against_the_wall(), contact=ContactModel(v_in_floor=0.01))).run(analyse=False)
-    Simulation(_row_against_the_wall(integrator="gear")).run(analyse=False)
+               ).run()
+    Simulation(dataclasses.replace(_row_against_the_wall(), contact=ContactModel(v_in_floor=0.01))).run()
+    Simulation(_row_against_the_wall(integrator="gear")).run()
 
 
 def test_gear_runs_the_lattice_start_of_the_paper_case():
-    Simulation(_short(jitter=0, cycles=0.2)).run(analyse=False)
+    Simulation(_short(jitter=0, cycles=0.2)).run()
 
 
 # Regression (found in review): contacts made while settling had v_in = v_in_floor, so
@@ -107,7 +108,7 @@ def test_a_lattice_start_runs_with_the_automatic_step(which):
         case = _row_against_the_wall()
     else:
         case = _short(jitter=0, cycles=0.2, **{"numerics.integrator": "verlet"})
-    Simulation(case).run(analyse=False)
+    Simulation(case).run()
 
 
 # --------------------------------------------------------------------- energy ledger of a damper run
@@ -150,7 +151,7 @@ def test_ledger_dissipation_per_cycle_agrees_with_the_complex_power(integrator):
     # the change of the bed's mechanical energy across the window. Measured ledger / eq. (4):
     # Gear 1.0154, Verlet 0.9959 (3 cycles, 1 dropped: 1.040 and 1.020; 10/2: 0.9994, 0.9976)
     case = _example(**{"run.cycles": 6, "run.drop_cycles": 2, "numerics.integrator": integrator})
-    res = Simulation(case).run()
+    res = run_case(case)
     ledger = res.energy.dissipated_per_cycle(res.case)
     assert ledger == pytest.approx(res.energy_per_cycle, rel=0.05)
     assert res.summary()["ledger_dissipated_per_cycle_J"] == ledger
@@ -218,7 +219,7 @@ def test_particles_keep_their_lab_velocity_when_the_drive_starts(integrator):
                 recording=Recording(sample_rate=1000, trajectory_fps=1000),
                 initial=InitialState(positions=((0.0, R, 0.0),), settle_time=0.05))
     sim = Simulation(case)
-    res = sim.run(analyse=False)
+    res = sim.run()
     tr = res.trajectory
     t = tr["time"]
     xc, vc, _ = drive.motion(t)
@@ -240,7 +241,7 @@ def test_a_sampled_sine_drives_like_the_harmonic_drive(damper_run):
     sampled = SampledDrive(time=tuple(t), position=tuple(X * np.sin(2 * math.pi * f * t)), frequency=f)
     case = dataclasses.replace(base, drive=sampled)
     assert auto_time_step(case) == pytest.approx(auto_time_step(base), rel=1e-6)
-    res = Simulation(case).run()
+    res = run_case(case)
     ref = damper_run
     assert res.signals.force.size == ref.signals.force.size
     np.testing.assert_allclose(res.signals.velocity, ref.signals.velocity, atol=1e-9)
@@ -280,13 +281,13 @@ def test_a_mixed_bed_conserves_momentum_in_a_still_container_without_gravity():
                 initial=InitialState(positions=tuple(map(tuple, pos)), velocities=tuple(map(tuple, vel)),
                                      settle_time=0.0))
     sim = Simulation(case)
-    assert sim.nmat == 3  # steel, tungsten and the wall's PVC
-    m = sim.mass
-    p0 = (m[:, None] * sim.vel).sum(axis=0)
-    res = sim.run(analyse=False)
+    assert sim.engine.table.n_materials == 3  # steel, tungsten and the wall's PVC
+    m = sim.bodies.mass
+    p0 = (m[:, None] * sim.bodies.velocity).sum(axis=0)
+    res = sim.run()
     assert res.energy.damping[-1] > 0 and res.energy.friction[-1] > 0  # they collided
     assert np.all(res.signals.force == 0.0)  # and never touched a wall
-    p1 = (m[:, None] * sim.vel).sum(axis=0)
+    p1 = (m[:, None] * sim.bodies.velocity).sum(axis=0)
     scale = np.sum(m * np.linalg.norm(vel, axis=1))
     np.testing.assert_allclose(p1, p0, atol=1e-13 * scale)
 
@@ -297,7 +298,7 @@ def test_a_mixed_bed_runs_in_the_damper():
                 drive=HarmonicDrive(stroke=0.013, frequency=2.0), cycles=0.5, drop_cycles=0,
                 recording=Recording(sample_rate=1000, trajectory_fps=100))
     sim = Simulation(case)
-    res = sim.run(analyse=False)
+    res = sim.run()
     assert res.energy.balance_error() < 0.01
     pos = res.trajectory["position"]
     rad = res.trajectory["radius"]
@@ -313,7 +314,7 @@ def test_a_mixed_bed_runs_in_the_damper():
 
 def test_a_cylinder_damper_runs_and_keeps_its_spheres_inside():
     case = _example("cylinder_30", **{"run.cycles": 1, "run.drop_cycles": 0, "recording.trajectory_fps": 100})
-    res = Simulation(case).run()
+    res = run_case(case)
     pos = res.trajectory["position"]
     assert pos.shape == (50, 30, 3)
     geo = case.container.geometry
@@ -329,7 +330,7 @@ def test_a_cylinder_damper_runs_and_keeps_its_spheres_inside():
 
 def test_trajectory_frames_have_the_right_shape_and_times():
     case = _short(**{"recording.trajectory_fps": 50})
-    res = Simulation(case).run(analyse=False)
+    res = Simulation(case).run()
     tr = res.trajectory
     n_samples = res.signals.force.size  # 250
     every = 20  # 1000 Hz / 50 fps
@@ -337,7 +338,7 @@ def test_trajectory_frames_have_the_right_shape_and_times():
     np.testing.assert_allclose(tr["time"], (np.arange(n_samples // every) + 1) * every * 1e-3)
     assert tr["radius"].shape == (36,)
     assert np.all(np.isfinite(tr["position"]))
-    assert Simulation(_short()).run(analyse=False).trajectory is None
+    assert Simulation(_short()).run().trajectory is None
 
 
 # --------------------------------------------------------------------- COR laws in the engine
@@ -345,8 +346,8 @@ def test_trajectory_frames_have_the_right_shape_and_times():
 def _wall_impact(v, law):
     case = still_case([[-0.1 + R + 1e-6, 0.05, 0.0]], [[-v, 0.0, 0.0]], duration=2e-3)
     case = dataclasses.replace(case, contact=dataclasses.replace(case.contact, restitution=law))
-    sim, _ = run(case, analyse=False)
-    return sim.vel[0, 0] / v
+    sim, _ = run(case)
+    return sim.bodies.velocity[0, 0] / v
 
 
 @pytest.mark.parametrize("v", [0.005, 0.03, 0.3, 1.5])

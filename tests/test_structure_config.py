@@ -48,8 +48,8 @@ def test_errors_name_the_field(extra, words):
         assert w in msg
 
 
-def test_structure_excludes_a_drive_and_gear():
+def test_structure_excludes_a_drive_and_takes_either_integrator():
     with pytest.raises(InputError, match=r"\[drive\] stroke cannot be combined with \[structure\]"):
         loads_case('[drive]\nstroke = "1cm"\n' + BASE + 'stiffness = 1105\ndisplacement = "1cm"\n')
-    with pytest.raises(InputError, match="integrator = 'verlet'"):
-        loads_case(BASE.replace('"verlet"', '"gear"') + 'stiffness = 1105\ndisplacement = "1cm"\n')
+    case = loads_case(BASE.replace('"verlet"', '"gear"') + 'stiffness = 1105\ndisplacement = "1cm"\n')
+    assert case.numerics.integrator == "gear" and case.drive.kind == "structure"

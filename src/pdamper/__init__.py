@@ -24,7 +24,9 @@ Describe a case (frozen, keyword-only dataclasses; SI units):
 Run it:
 
 - :func:`load_case` -- a TOML config file to a :class:`Case`.
-- :class:`Simulation`, :func:`run_case` -> :class:`RunResult` (signals, energies, eta*).
+- :func:`run_case` -> :class:`RunResult` (signals, energies, eta*, motion mode);
+  :class:`Simulation` -- a case advanced in time, feeding recorders (:mod:`pdamper.recorders`),
+  without analysis.
 - :class:`SweepSpec`, :func:`run_sweep` -- a stroke sweep over seeds on all cores or a Dask
   cluster, written to a resumable store; :func:`open_results` -- its labelled dataset.
 
@@ -90,8 +92,8 @@ _LAZY = {
     "TabulatedRestitution": "contact",
     "ThorntonRestitution": "contact",
     "Simulation": "simulation",
-    "RunResult": "simulation",
-    "run_case": "simulation",
+    "RunResult": "run",
+    "run_case": "run",
     "load_case": "config",
     "complex_power": "analysis",
     "analyze_record": "analysis",
@@ -150,4 +152,5 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .materials import PVC, STEEL_S235, Material
     from .params import (Case, ContactModel, Container, InitialState, Numerics, ParticleSet,
                          Recording)
-    from .simulation import RunResult, Simulation, run_case
+    from .run import RunResult, run_case
+    from .simulation import Simulation

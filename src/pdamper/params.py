@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
-from .contact.hertz_gonthier import DAMPING_CHOICES, V_IN_FLOOR
+from .contact import DAMPING_CHOICES
+from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError
 from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
@@ -97,9 +98,10 @@ class ContactModel:
         default constant 0.9.
     tau : float, friction smoothing [s/m] > 0 (default 1000; see :mod:`pdamper.contact.friction_tanh`).
     v_in_floor : float, floor on the first-touch approach speed [m/s] > 0 (default 1 mm/s).
-    damping : "calibrated" (default: an impact rebounds with exactly the COR asked for) or
+    damping : the normal damping law, a name of :data:`pdamper.contact.DAMPING_LAWS`:
+        "calibrated" (default: eq. (1), an impact rebounds with exactly the COR asked for),
         "gonthier" (the paper's ``d = (1 - eps^2)/(eps v_in)`` as written, which rebounds up to
-        4 % lower); see :mod:`pdamper.contact.hertz_gonthier`.
+        4 % lower; see :mod:`pdamper.contact.hertz_gonthier`).
     pair_friction, pair_restitution : dict mapping ``(material_a, material_b)`` names (e.g.
         ``("steel", "pvc")``) to a friction coefficient / a COR law; order does not matter.
     """
@@ -280,10 +282,6 @@ class Case:
                              "run more cycles or drop fewer")
         if not (self.gravity >= 0 and math.isfinite(self.gravity)):
             raise InputError(f"gravity = {self.gravity!r} m/s^2; must be >= 0")
-        if getattr(self.drive, "kind", None) == "structure" and self.numerics.integrator != "verlet":
-            raise InputError(f"numerics.integrator = {self.numerics.integrator!r} cannot carry a coupled [structure]: "
-                             "only the fixed-step Verlet integrator advances the structure with the particles; "
-                             "set integrator = 'verlet' in [numerics]")
 
     @property
     def n_particles(self) -> int:

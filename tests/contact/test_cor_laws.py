@@ -13,7 +13,9 @@ from pdamper.contact.cor_table import SPEED_GRID, tabulate_law
 from pdamper.contact.cor_thornton import thornton_restitution, yield_speed
 from pdamper.contact.hertz_gonthier import chi_for_restitution, restitution_for_chi
 from pdamper.errors import InputError
-from pdamper.kernels.forces import first_touch
+from pdamper.contact.hertz_gonthier import HertzGonthier
+from pdamper.kernels.bundles import ContactTable
+from pdamper.kernels.contact import damping_at_touch
 from pdamper.materials import PVC, STEEL_S235, effective_modulus
 
 R = 0.005
@@ -145,36 +147,37 @@ def test_thornton_needs_a_positive_yield_pressure(p_y):
 
 # --------------------------------------------------------------------- what the kernel does with a law
 
-def _kernel_table(eps_on_grid):
-    return np.ascontiguousarray(np.asarray(chi_for_restitution(np.clip(eps_on_grid, 1e-6, 1.0)))[None, :])
+def _kernel_table(eps_on_grid, e_star=1e9, yield_pressure=0.0):
+    """A one-material-pair contact table of Gonthier's calibrated law for ``eps`` on the speed grid."""
+    chi = np.ascontiguousarray(np.asarray(chi_for_restitution(np.clip(eps_on_grid, 1e-6, 1.0)))[None, :])
+    return ContactTable(law=HertzGonthier(), n_materials=1, modulus=np.array([e_star]), friction=np.zeros(1),
+                        coefficient=chi, yield_pressure=np.array([yield_pressure]), log_speed0=math.log(SPEED_GRID[0]),
+                        dlog_speed=math.log(SPEED_GRID[1] / SPEED_GRID[0]), tau=1000.0, v_floor=1e-3,
+                        overlap_limit=0.05)
 
 
 @pytest.mark.parametrize("v", [0.003, 0.04, 0.3, 2.0])
-def test_first_touch_damping_gives_the_tabulated_laws_restitution(v):
+def test_damping_at_touch_gives_the_tabulated_laws_restitution(v):
     law = TabulatedRestitution(speeds=(0.01, 1.0), values=(0.95, 0.6))
-    tab = _kernel_table(tabulate_law(law))
-    logv0, dlogv = math.log(SPEED_GRID[0]), math.log(SPEED_GRID[1] / SPEED_GRID[0])
-    d = first_touch(v, 0, 1e9, R, 1e-3, tab, np.zeros(1), logv0, dlogv, 1e-3)
+    d = damping_at_touch(_kernel_table(tabulate_law(law)), v, 0, 1.0, R, 1e-3)
     assert restitution_for_chi(d * v) == pytest.approx(float(law.restitution(v)), abs=2e-3)
 
 
 @pytest.mark.parametrize("ratio", [0.5, 1.5, 5.0, 40.0])
-def test_first_touch_computes_thorntons_yield_speed_per_contact(ratio):
+def test_damping_at_touch_computes_thorntons_yield_speed_per_contact(ratio):
     es = effective_modulus(STEEL_S235, PVC)
     m = STEEL_S235.density * 4 / 3 * math.pi * R**3
     p_y = 2e8
     vy = yield_speed(p_y, es, R, m)
-    tab = _kernel_table(thornton_restitution(SPEED_GRID, 1.0))  # the table is over v / v_y
-    logv0, dlogv = math.log(SPEED_GRID[0]), math.log(SPEED_GRID[1] / SPEED_GRID[0])
+    table = _kernel_table(thornton_restitution(SPEED_GRID, 1.0), es, p_y)  # the table is over v / v_y
     v = ratio * vy
-    d = first_touch(v, 0, es, R, m, tab, np.array([p_y]), logv0, dlogv, 1e-3)
+    d = damping_at_touch(table, v, 0, 1.0, R, m)
     assert restitution_for_chi(d * v) == pytest.approx(float(thornton_restitution(v, vy)), abs=2e-3)
 
 
-def test_first_touch_floors_the_approach_speed():
-    tab = _kernel_table(np.full(SPEED_GRID.size, 0.9))
-    logv0, dlogv = math.log(SPEED_GRID[0]), math.log(SPEED_GRID[1] / SPEED_GRID[0])
-    d0 = first_touch(0.0, 0, 1e9, R, 1e-3, tab, np.zeros(1), logv0, dlogv, 1e-3)
-    d1 = first_touch(1e-3, 0, 1e9, R, 1e-3, tab, np.zeros(1), logv0, dlogv, 1e-3)
+def test_damping_at_touch_floors_the_approach_speed():
+    table = _kernel_table(np.full(SPEED_GRID.size, 0.9))
+    d0 = damping_at_touch(table, 0.0, 0, 1.0, R, 1e-3)
+    d1 = damping_at_touch(table, 1e-3, 0, 1.0, R, 1e-3)
     assert d0 == d1 == pytest.approx(chi_for_restitution(0.9) / 1e-3)
-    assert first_touch(-0.2, 0, 1e9, R, 1e-3, tab, np.zeros(1), logv0, dlogv, 1e-3) == d1
+    assert damping_at_touch(table, -0.2, 0, 1.0, R, 1e-3) == d1

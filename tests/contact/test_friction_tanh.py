@@ -19,17 +19,17 @@ def _moving_floor(V, tau):
     t = np.linspace(0.0, 1.0, 5)
     drive = SampledDrive(time=tuple(t), position=tuple(V * t))
     case = still_case([[0.0, R, 0.0]], [[0, 0, 0]], duration=0.3, mu=0.1, gravity=G, tau=tau, drive=drive)
-    return run(case, analyse=False)
+    return run(case)
 
 
 @pytest.mark.parametrize("tau", [1e2, 1e3, 1e4])
 def test_sphere_on_floor_set_moving_ends_rolling_at_two_sevenths(tau):
     V = 0.1
     sim, _ = _moving_floor(V, tau)
-    lab = sim.vel[0, 0] + V
+    lab = sim.bodies.velocity[0, 0] + V
     assert lab == pytest.approx(2 * V / 7, rel=0.005)
     # rolls without slip: contact-point velocity relative to the floor vanishes
-    slip = sim.vel[0, 0] + R * sim.omg[0, 2]
+    slip = sim.bodies.velocity[0, 0] + R * sim.bodies.spin[0, 2]
     assert abs(slip) < 1e-3 * V
 
 
@@ -39,9 +39,8 @@ def test_sphere_on_tilted_floor_accelerates_at_five_sevenths_g_sin_alpha(axis):
     tilt = [0.0, 0.0, 0.0]
     tilt[axis] = alpha
     T = 0.15
-    sim, _ = run(still_case([[0.0, R, 0.0]], [[0, 0, 0]], duration=T, mu=0.1, gravity=G, tilt=tuple(tilt)),
-                 analyse=False)
-    speed = np.hypot(sim.vel[0, 0], sim.vel[0, 2])
+    sim, _ = run(still_case([[0.0, R, 0.0]], [[0, 0, 0]], duration=T, mu=0.1, gravity=G, tilt=tuple(tilt)))
+    speed = np.hypot(sim.bodies.velocity[0, 0], sim.bodies.velocity[0, 2])
     assert speed == pytest.approx(5 / 7 * G * math.sin(alpha) * T, rel=0.01)
 
 

@@ -35,14 +35,14 @@ def test_undamped_wall_impact_lasts_hertz_time_and_reaches_hertz_overlap(v):
     dmax = (el.max() / (0.4 * k)) ** 0.4
     assert dmax == pytest.approx(peak_overlap(M, k, v), rel=0.01)
     # elastic: leaves with the speed it came with
-    assert sim.vel[0, 0] == pytest.approx(v, rel=1e-3)
+    assert sim.bodies.velocity[0, 0] == pytest.approx(v, rel=1e-3)
 
 
 @pytest.mark.parametrize("eps", [0.5, 0.6, 0.7, 0.8, 0.9, 0.95])
 @pytest.mark.parametrize("v", [0.02, 0.3])
 def test_wall_restitution_recovers_eps(eps, v):
     sim, _ = _wall_impact(v, eps)
-    assert sim.vel[0, 0] / v == pytest.approx(eps, rel=0.03)
+    assert sim.bodies.velocity[0, 0] / v == pytest.approx(eps, rel=0.03)
 
 
 @pytest.mark.parametrize("eps", [0.5, 0.7, 0.9, 0.95])
@@ -51,10 +51,10 @@ def test_pair_restitution_recovers_eps(eps):
     pos = [[-R - 1e-6, 0.05, 0.0], [R + 1e-6, 0.05, 0.0]]
     vel = [[v / 2, 0, 0], [-v / 2, 0, 0]]
     sim, _ = run(still_case(pos, vel, duration=1e-3, eps=eps))
-    outgoing = sim.vel[1, 0] - sim.vel[0, 0]
+    outgoing = sim.bodies.velocity[1, 0] - sim.bodies.velocity[0, 0]
     assert outgoing / v == pytest.approx(eps, rel=0.03)
     # momentum is conserved exactly by pair forces
-    assert sim.vel[:, 0].sum() == pytest.approx(0.0, abs=1e-12)
+    assert sim.bodies.velocity[:, 0].sum() == pytest.approx(0.0, abs=1e-12)
 
 
 def test_paper_gonthier_formula_rebounds_lower_than_nominal_as_documented():
@@ -73,7 +73,7 @@ def test_gonthier_option_in_the_engine_matches_the_ode():
     case = still_case([[x0, 0.05, 0.0]], [[-v, 0.0, 0.0]], duration=2e-3, eps=eps)
     case = dataclasses.replace(case, contact=dataclasses.replace(case.contact, damping="gonthier"))
     sim, _ = run(case)
-    assert sim.vel[0, 0] / v == pytest.approx(restitution_for_chi((1 - eps**2) / eps), rel=0.01)
+    assert sim.bodies.velocity[0, 0] / v == pytest.approx(restitution_for_chi((1 - eps**2) / eps), rel=0.01)
 
 
 def test_calibration_table_is_reproducible():
@@ -102,7 +102,7 @@ def test_sphere_dropped_on_floor_settles_and_stays_at_rest():
     sim, res = run(still_case(pos, [[0, 0, 0]], duration=0.5, eps=0.9, mu=0.1, gravity=9.81))
     k = hertz_stiffness(effective_modulus(STEEL_S235, PVC), R)
     static = (M * 9.81 / k) ** (2 / 3)
-    assert sim.pos[0, 1] == pytest.approx(R - static, abs=0.01 * static)
-    assert np.abs(sim.vel).max() < 1e-6
+    assert sim.bodies.position[0, 1] == pytest.approx(R - static, abs=0.01 * static)
+    assert np.abs(sim.bodies.velocity).max() < 1e-6
     # the ledger balances through all the bounces
     assert res.energy.balance_error() < 1e-3

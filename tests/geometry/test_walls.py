@@ -152,11 +152,11 @@ def test_engine_uses_the_concave_hertz_radius_for_the_curved_wall():
     concave = 1.0 / (1.0 / r - 1.0 / R)
     assert concave == pytest.approx(effective_radius(r, concave_radius=R))
     assert concave > r  # a concave wall is a softer, wider contact than a flat one
-    np.testing.assert_allclose(sim.wrs[:, 2], concave, rtol=1e-14)
-    np.testing.assert_allclose(sim.wrs[:, :2], r)  # floor and lid are flat
+    np.testing.assert_allclose(sim.walls.effective_radius[:, 2], concave, rtol=1e-14)
+    np.testing.assert_allclose(sim.walls.effective_radius[:, :2], r)  # floor and lid are flat
     es = effective_modulus(STEEL_S235, PVC)
-    np.testing.assert_allclose(sim.wk[:, 2], hertz_stiffness(es, concave), rtol=1e-14)
-    np.testing.assert_allclose(sim.wk[:, 0], hertz_stiffness(es, r), rtol=1e-14)
+    np.testing.assert_allclose(sim.walls.stiffness[:, 2], hertz_stiffness(es, concave), rtol=1e-14)
+    np.testing.assert_allclose(sim.walls.stiffness[:, 0], hertz_stiffness(es, r), rtol=1e-14)
 
 
 def test_engine_uses_the_sphere_radius_for_every_cuboid_wall():
@@ -165,4 +165,4 @@ def test_engine_uses_the_sphere_radius_for_every_cuboid_wall():
                 container=Container(geometry=PAPER_BOX), cycles=1, drop_cycles=0,
                 initial=InitialState(jitter=0.0))
     sim = Simulation(case)
-    np.testing.assert_allclose(sim.wrs, np.repeat(np.array([0.005, 0.005, 0.003, 0.003])[:, None], 6, axis=1))
+    np.testing.assert_allclose(sim.walls.effective_radius, np.repeat(np.array([0.005, 0.005, 0.003, 0.003])[:, None], 6, axis=1))

@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from pdamper.config import load_case
 from pdamper.geometry import Cuboid
+from pdamper.kernels.bundles import Search
 from pdamper.kernels.neighbours import build_cells, build_direct, build_wall_list, transfer_history
 from pdamper.simulation import Simulation
 
@@ -22,7 +23,7 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def _grid(vmin, vmax, rmax, skin):
-    """The link-cell grid as :class:`pdamper.simulation.Simulation` sets it up."""
+    """The link-cell grid as :func:`pdamper.engine.build.build` sets it up."""
     cut = 2 * rmax + skin
     lo = np.asarray(vmin, float) - cut
     span = np.asarray(vmax, float) - np.asarray(vmin, float) + 2 * cut
@@ -56,8 +57,10 @@ def _cells(pos, rad, skin, vmin, vmax, cap=None):
     lo, cell, ncell = _grid(vmin, vmax, float(rad.max()), skin)
     row = np.zeros(n + 1, dtype=np.int64)
     pj = np.zeros(cap if cap is not None else max(16, n * 40), dtype=np.int64)
-    head = np.empty(int(np.prod(ncell)), dtype=np.int64)
-    m = build_cells(pos, rad, skin, lo, cell, ncell, row, pj, head, np.empty(n, np.int64), np.zeros(n, np.int64))
+    search = Search(skin=float(skin), use_cells=True, origin=lo, cell_size=cell, cells=ncell,
+                    head=np.empty(int(np.prod(ncell)), dtype=np.int64), next=np.empty(n, np.int64),
+                    counts=np.zeros(n, np.int64), reference=np.zeros((n, 3)))
+    m = build_cells(pos, rad, search, row, pj)
     return m, row, pj
 
 
@@ -197,7 +200,7 @@ def _damper_run(search, cycles, integrator="gear"):
                                                    "numerics.integrator": integrator})
     case = dataclasses.replace(base, numerics=dataclasses.replace(base.numerics, neighbour_search=search))
     sim = Simulation(case)
-    res = sim.run(analyse=False)
+    res = sim.run()
     assert res.neighbour_search == search
     return sim, res
 
@@ -208,8 +211,8 @@ def test_a_damper_run_is_the_same_with_direct_and_cell_search():
     scale = np.max(np.abs(rd.signals.force))
     assert scale > 1.0  # the bed hit a wall
     np.testing.assert_allclose(rc.signals.force, rd.signals.force, rtol=0, atol=1e-12 * scale)
-    np.testing.assert_allclose(sc.pos, sd.pos, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(sc.vel, sd.vel, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(sc.bodies.position, sd.bodies.position, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(sc.bodies.velocity, sd.bodies.velocity, rtol=0, atol=1e-12)
 
 
 def test_longer_runs_part_only_by_amplified_round_off():

@@ -20,8 +20,7 @@ def _gas(n=12, seed=1):
 def test_total_energy_is_conserved_with_elastic_frictionless_collisions():
     # 30 steps per contact: the error of one Hertz impact scales with dt^2 (15 steps: 3e-4)
     pos, vel = _gas()
-    sim, res = run(still_case(pos, vel, duration=0.5, eps=1.0, mu=0.0, gravity=9.81, steps_per_contact=30),
-                   analyse=False)
+    sim, res = run(still_case(pos, vel, duration=0.5, eps=1.0, mu=0.0, gravity=9.81, steps_per_contact=30))
     e = res.energy
     total = e.kinetic + e.rotational + e.potential + e.elastic
     # many collisions happened (each sphere hit the floor and others several times)
@@ -35,8 +34,8 @@ def test_second_order_convergence_on_a_smooth_contact_oscillation():
     def final_height(dt):
         case = still_case([[0.0, R - 2e-7, 0.0]], [[0.0, -2e-4, 0.0]], duration=2e-3, eps=1.0, mu=0.0,
                           gravity=9.81, dt=dt, sample_rate=1e4)
-        sim, _ = run(case, analyse=False)
-        return sim.pos[0, 1]
+        sim, _ = run(case)
+        return sim.bodies.position[0, 1]
 
     ref = final_height(1e-7 / 8)
     errs = [abs(final_height(dt) - ref) for dt in (4e-6, 2e-6, 1e-6)]

@@ -63,7 +63,7 @@ def test_ledger_residual_is_nil_for_spheres_bouncing_in_a_still_container():
     pos = [[x, 0.02 + 0.015 * (k % 3), z] for k, (x, z) in
            enumerate([(x, z) for x in (-0.06, -0.02, 0.02, 0.06) for z in (-0.02, 0.02)])]
     vel = rng.normal(0.0, 0.3, (len(pos), 3))
-    sim, res = run(still_case(pos, vel, duration=0.3, eps=0.8, mu=0.1, gravity=9.81), analyse=False)
+    sim, res = run(still_case(pos, vel, duration=0.3, eps=0.8, mu=0.1, gravity=9.81))
     e = res.energy
     assert np.all(e.work == 0.0)  # a still container does no work
     assert e.damping[-1] > 0.05 * e.mechanical[0] and e.friction[-1] > 0  # much was dissipated
@@ -73,7 +73,7 @@ def test_ledger_residual_is_nil_for_spheres_bouncing_in_a_still_container():
 
 def test_ledger_of_a_sphere_at_rest_stays_at_rest():
     sim, res = run(still_case([[0.0, R - 2.7e-7, 0.0]], [[0, 0, 0]], duration=0.05, eps=0.9, mu=0.1,
-                              gravity=9.81), analyse=False)
+                              gravity=9.81))
     e = res.energy
     assert np.max(np.abs(e.residual)) < 1e-12
     assert e.kinetic[-1] < 1e-12
@@ -84,14 +84,14 @@ def test_kinetic_energy_is_counted_in_the_lab_frame():
     drive = HarmonicDrive(stroke=0.01, frequency=2.0)
     case = still_case([[0.0, R - 2.7e-7, 0.0]], [[0, 0, 0]], duration=0.5, mu=0.0, gravity=9.81, drive=drive,
                       sample_rate=1000)
-    sim, res = run(case, analyse=False)
+    sim, res = run(case)
     e = res.energy
     container_ke = 0.5 * M * drive.velocity_amplitude**2  # what a container-frame ledger would show
     assert np.max(e.kinetic) < 1e-6 * container_ke  # only the settling of the Hertz well (~1e-11 J)
     assert np.max(np.abs(e.work)) < 1e-14
     # in the container frame it moves backwards with the container's velocity
     t_end = res.signals.time_end[-1]  # one whole cycle (still_case runs cycles = 1)
-    assert sim.vel[0, 0] == pytest.approx(-drive.motion(t_end)[1], rel=1e-9)
+    assert sim.bodies.velocity[0, 0] == pytest.approx(-drive.motion(t_end)[1], rel=1e-9)
 
 
 def test_work_done_by_a_pushing_container_becomes_kinetic_energy():
@@ -100,7 +100,7 @@ def test_work_done_by_a_pushing_container_becomes_kinetic_energy():
     drive = SampledDrive(time=tuple(t), position=tuple(0.5 * a * t**2))
     case = still_case([[-0.1 + R, R, 0.0]], [[0, 0, 0]], duration=T, mu=0.1, gravity=9.81, drive=drive,
                       sample_rate=1000)
-    sim, res = run(case, analyse=False)
+    sim, res = run(case)
     e = res.energy
     assert e.kinetic[-1] == pytest.approx(0.5 * M * (a * T) ** 2, rel=1e-6)
     assert e.work[-1] == pytest.approx(e.kinetic[-1] + e.damping[-1] + e.friction[-1], rel=1e-4)

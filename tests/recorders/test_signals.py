@@ -66,13 +66,13 @@ def test_constant_container_acceleration_is_recorded_as_m_a():
     drive = SampledDrive(time=tuple(t), position=tuple(0.5 * a * t**2))  # a cubic spline reproduces it
     case = still_case([[-0.1 + R, R, 0.0]], [[0, 0, 0]], duration=T, mu=0.1, gravity=9.81, drive=drive,
                       sample_rate=1000)
-    sim, res = run(case, analyse=False)
+    sim, res = run(case)
     f = res.signals.force
     np.testing.assert_allclose(f[50:], M * a, rtol=1e-6)
     # container velocity: interval means of a t
     np.testing.assert_allclose(res.signals.velocity, a * res.signals.time, rtol=1e-9)
     # the sphere moves with the container: lab velocity a T
-    assert sim.vel[0, 0] + a * T == pytest.approx(a * T, rel=1e-6)
+    assert sim.bodies.velocity[0, 0] + a * T == pytest.approx(a * T, rel=1e-6)
 
 
 @pytest.mark.parametrize("eps", [1.0, 0.8])
@@ -82,9 +82,9 @@ def test_an_impact_impulse_is_recorded_in_full_however_short(eps):
     v = 0.3
     case = still_case([[-0.1 + R + 2.5e-3, 0.05, 0.0]], [[-v, 0.0, 0.0]], duration=0.02, eps=eps,
                       sample_rate=1000)
-    sim, res = run(case, analyse=False)
+    sim, res = run(case)
     f = res.signals.force
     dt = res.signals.time_end[0]
     assert np.count_nonzero(f) <= 2  # the impact falls in one or two samples
-    assert np.sum(f) * dt == pytest.approx(M * (sim.vel[0, 0] + v), rel=1e-9)
-    assert sim.vel[0, 0] == pytest.approx(eps * v, rel=0.03)
+    assert np.sum(f) * dt == pytest.approx(M * (sim.bodies.velocity[0, 0] + v), rel=1e-9)
+    assert sim.bodies.velocity[0, 0] == pytest.approx(eps * v, rel=0.03)

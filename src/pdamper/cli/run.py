@@ -68,7 +68,7 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     """
     from ..config import load_case
     from ..io.runs import check_run_dir, write_run
-    from ..simulation import Simulation
+    from ..run import run_case
 
     overrides = parse_set(settings)
     for key, value in (("drive.stroke", stroke), ("drive.frequency", frequency), ("run.cycles", cycles),
@@ -87,12 +87,11 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     if out_dir is not None:
         check_run_dir(out_dir)  # fail before a long run, not after it
 
-    sim = Simulation(case)
     periodic = hasattr(case.drive, "stroke")
     total = float(case.cycles) if periodic else round(case.duration, 3)
     with fraction_bar("pdamper run", total, "cycle" if periodic else "s",
                       not as_json and sys.stderr.isatty()) as progress:
-        result = sim.run(progress=progress)
+        result = run_case(case, progress=progress)
     written = write_run(result, out_dir) if out_dir is not None else None
 
     summary = result.summary()

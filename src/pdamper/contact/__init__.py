@@ -1,24 +1,39 @@
-"""Contact laws, one file per literature model.
+"""Contact laws, one file per literature model, and the registry of damping laws.
 
-- :mod:`.hertz_gonthier` -- normal force, Hertz with Gonthier et al. (2004) damping, eq. (1).
+- :mod:`.hertz_gonthier` -- normal force, Hertz with Gonthier et al. (2004) damping, eq. (1);
+  damping choices ``"calibrated"`` (default) and ``"gonthier"``.
 - :mod:`.friction_tanh` -- regularised Coulomb friction, eq. (2).
 - :mod:`.cor_constant`, :mod:`.cor_table`, :mod:`.cor_thornton` -- coefficient of restitution laws.
 
-A COR law is a Python object with ``restitution(speed)``; the kernels see every law
-as a table of epsilon over log-spaced impact speeds (:func:`.cor_table.tabulate_law`),
-so one compiled kernel serves all laws.
+A COR law is a Python object with ``restitution(speed)``; the kernels see every law as a table of
+the damping law's coefficient over log-spaced impact speeds (:func:`.cor_table.tabulate_law`), so
+one compiled kernel serves all COR laws. A damping law is a :class:`.damping.DampingLaw`, chosen
+by name (``ContactModel.damping``) from :data:`DAMPING_LAWS`; each is compiled into its own
+kernels. **A new damping law** is one file here plus one line in :data:`DAMPING_LAWS` (see
+:mod:`.damping`).
 """
 
+from . import hertz_gonthier
 from .cor_constant import ConstantRestitution
 from .cor_table import TabulatedRestitution
 from .cor_thornton import ThorntonRestitution
-from .hertz_gonthier import contact_time, hertz_stiffness, damping_parameter
+from .damping import DampingLaw
 from .friction_tanh import DEFAULT_TAU
+from .hertz_gonthier import contact_time, damping_parameter, hertz_stiffness
+
+#: Damping law name -> :class:`~.damping.DampingLaw`: the registry of ``contact.damping``.
+DAMPING_LAWS = {law.name: law for law in hertz_gonthier.LAWS}
+
+#: The allowed values of ``contact.damping``, the default first.
+DAMPING_CHOICES = tuple(DAMPING_LAWS)
 
 __all__ = [
     "ConstantRestitution",
     "TabulatedRestitution",
     "ThorntonRestitution",
+    "DampingLaw",
+    "DAMPING_LAWS",
+    "DAMPING_CHOICES",
     "contact_time",
     "hertz_stiffness",
     "damping_parameter",

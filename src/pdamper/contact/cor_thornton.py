@@ -18,20 +18,23 @@ elastic-perfectly plastic spheres. J. Appl. Mech. 64, 383-386.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
+from ..jit import njit
 
 __all__ = ["ThorntonRestitution", "yield_speed", "thornton_restitution"]
 
 
-def yield_speed(p_y: float, e_star: float, r_star: float, m_star: float) -> float:
-    """v_y [m/s] at which the mean... the peak Hertz pressure reaches p_y [Pa]."""
-    delta_y = r_star * (np.pi * p_y / (2.0 * e_star)) ** 2
-    energy = 8.0 / 15.0 * e_star * np.sqrt(r_star) * delta_y**2.5
-    return float(np.sqrt(2.0 * energy / m_star))
+@njit
+def yield_speed(p_y, e_star, r_star, m_star):
+    """v_y [m/s] of a contact with E* [Pa], R* [m], m* [kg] at which the peak Hertz pressure
+    reaches p_y [Pa] (the one definition: the contact kernel calls it at every first touch)."""
+    delta_y = r_star * (math.pi * p_y / (2.0 * e_star)) ** 2
+    return math.sqrt(2.0 * (8.0 / 15.0) * e_star * math.sqrt(r_star) * delta_y ** 2.5 / m_star)
 
 
 def thornton_restitution(speed, v_y: float):

@@ -24,7 +24,7 @@ deformation description and contact models. Virtual Nonlinear Multibody Systems,
 
 from __future__ import annotations
 
-from ..kernels.jit import njit
+from ..jit import njit
 
 __all__ = ["DEFAULT_TAU", "friction_factor", "tanh_pos", "TANH_SATURATION"]
 

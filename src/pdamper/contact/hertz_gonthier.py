@@ -22,6 +22,10 @@ Gonthier's law says; a sphere resting on the floor then sits in a damped Hertz w
 damping rate ``g d`` is bounded, so explicit integrators stay stable. Tested in
 ``tests/contact/test_hertz_gonthier.py`` (a sphere dropped from rest settles and stays).
 
+**Registered damping choices** (:mod:`pdamper.contact.damping`): ``"calibrated"`` and
+``"gonthier"`` share the kernel functions :func:`touch` (``d = chi / v_in``) and
+:func:`normal_force`; they differ only in the coefficient ``chi(eps)`` the kernels are given.
+
 **What epsilon you get.** The law is scale-free: the outgoing/incoming speed ratio of an impact
 depends only on ``chi = d v_in``. Gonthier's ``chi = (1 - eps^2)/eps`` damps a little too much:
 an impact rebounds with a lower ratio than the nominal eps (0.6 gives 0.577, 0.7 gives 0.6696,
@@ -43,19 +47,18 @@ asymmetric damping and dwell-time dependent friction. Multibody Syst. Dyn. 11, 2
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-from ..kernels.jit import njit
+from ..jit import njit
+from .damping import DampingLaw
 
-__all__ = ["V_IN_FLOOR", "DAMPING_CHOICES", "chi_for_restitution", "restitution_for_chi", "compute_calibration", "hertz_stiffness", "effective_radius", "damping_parameter",
-           "contact_time", "peak_overlap", "normal_force"]
+__all__ = ["V_IN_FLOOR", "LAWS", "HertzGonthier", "chi_for_restitution", "restitution_for_chi", "compute_calibration", "hertz_stiffness", "effective_radius", "damping_parameter",
+           "contact_time", "peak_overlap", "normal_force", "touch"]
 
 #: Default floor on the approach speed used in the damping parameter [m/s].
 V_IN_FLOOR = 1e-3
-
-#: Names of the damping choices: calibrated chi(eps) or Gonthier's formula as written.
-DAMPING_CHOICES = ("calibrated", "gonthier")
 
 _CALIBRATION_FILE = __import__("pathlib").Path(__file__).with_name("data") / "gonthier_calibration.csv"
 
@@ -159,6 +162,28 @@ def normal_force(k, delta, delta_dot, d):
     if f < 0.0:
         return 0.0, -fe
     return f, fe * d * delta_dot
+
+
+@njit
+def touch(chi, v_in, k, m_star):
+    """Gonthier's damping parameter ``d = chi / v_in`` [s/m] of a contact that starts (or is struck
+    harder than before) at approach speed ``v_in`` [m/s] (already floored)."""
+    return chi / v_in
+
+
+class HertzGonthier(NamedTuple):
+    """Kernel marker of eq. (1) with Gonthier's damping (see :mod:`pdamper.contact.damping`)."""
+
+
+#: The damping choices of this law (``contact.damping``).
+LAWS = (
+    DampingLaw(name="calibrated", marker=HertzGonthier, touch=touch, force=normal_force,
+               coefficient=lambda eps: chi_for_restitution(eps, "calibrated"),
+               summary="eq. (1), Gonthier's damping with chi(eps) calibrated so an impact rebounds at eps (default)"),
+    DampingLaw(name="gonthier", marker=HertzGonthier, touch=touch, force=normal_force,
+               coefficient=lambda eps: chi_for_restitution(eps, "gonthier"),
+               summary="eq. (1) as written, d = (1 - eps^2)/(eps v_in) (rebounds up to 4 % below eps)"),
+)
 
 
 def stiffness_matrix(e_stars: np.ndarray, r_stars: np.ndarray) -> np.ndarray:

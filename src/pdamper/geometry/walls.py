@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from ..kernels.jit import njit
+from ..jit import njit
 
 __all__ = ["PLANE", "CYLINDER_INSIDE", "wall_distance", "wall_distances", "plane", "cylinder_inside"]
 

@@ -56,7 +56,7 @@ class StoredRun:
     case : :class:`pdamper.params.Case` from ``config.toml``.
     signals : :class:`pdamper.recorders.signals.Signals` (SI).
     energy : :class:`pdamper.recorders.energy.EnergyLedger` [J].
-    summary : dict, as :meth:`pdamper.simulation.RunResult.summary` (NaN stored as null -> NaN).
+    summary : dict, as :meth:`pdamper.run.RunResult.summary` (NaN stored as null -> NaN).
     analysis : dict of the complex-power result (``PowerResult.to_dict()``) or None.
     version : the pdamper version that wrote the run.
     trajectory : dict of arrays or None.
@@ -114,7 +114,7 @@ def _csv_bytes(columns, arrays) -> bytes:
 
 
 def write_run(result, out_dir) -> Path:
-    """Write the run ``result`` (a :class:`pdamper.simulation.RunResult`) to the directory ``out_dir``.
+    """Write the run ``result`` (a :class:`pdamper.run.RunResult`) to the directory ``out_dir``.
 
     Creates the directory (and its parents); see the module docstring for the files and for when an
     existing directory is overwritten. Returns the directory.

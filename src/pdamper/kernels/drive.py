@@ -1,11 +1,13 @@
-"""Prescribed container motion along the drive direction, evaluated inside the time loop.
+"""The container's motion along the drive direction, evaluated inside the time loops; both
+integrators call :func:`drive_motion` and, on a coupled structure, advance it with the same
+:func:`pdamper.kernels.structure.structure_step`.
 
-``kind`` 0: at rest. 1: harmonic ``x = X sin(Omega t + phase)`` with ``par = (X, Omega, phase)``.
-2: piecewise cubic through samples, ``tab`` rows ``(t_k, c0, c1, c2, c3)`` so that
+``drive.kind`` 0: at rest. 1: harmonic ``x = X sin(Omega t + phase)`` with ``par = (X, Omega,
+phase)``. 2: piecewise cubic through samples, ``table`` rows ``(t_k, c0, c1, c2, c3)`` so that
 ``x = c0 + c1 s + c2 s^2 + c3 s^3`` with ``s = t - t_k`` on ``[t_k, t_{k+1})``.
-3: the coupled structure (:mod:`pdamper.kernels.structure`): the state ``(x, v, a)`` is read from
-``tab[0, 0:3]``, which the time loop advances with :func:`~pdamper.kernels.structure.structure_step`.
-Before ``t = 0`` (the settling phase) the container is at rest at ``x(0)``... with zero speed.
+3: the coupled structure (:mod:`pdamper.kernels.structure`): ``(x, v, a)`` is read from
+``state[0, 0:3]``, which the time loop advances. Before ``t = 0`` (the settling phase) the
+container is at rest at ``x(0)`` with zero speed.
 """
 
 from __future__ import annotations
@@ -14,21 +16,30 @@ import math
 
 import numpy as np
 
-from .jit import njit
+from ..jit import njit
 
-__all__ = ["drive_motion"]
+__all__ = ["drive_motion", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED", "DRIVE_STRUCTURE"]
+
+DRIVE_STILL = 0
+DRIVE_HARMONIC = 1
+DRIVE_SAMPLED = 2
+#: Drive kind of the coupled structure (:mod:`pdamper.kernels.structure`).
+DRIVE_STRUCTURE = 3
 
 
 @njit
-def drive_motion(kind, par, tab, t):
+def drive_motion(drive, t):
     """Container (position [m], velocity [m/s], acceleration [m/s^2]) along the drive at time t [s]."""
-    if kind == 1:
+    kind = drive.kind
+    par = drive.par
+    if kind == DRIVE_HARMONIC:
         if t < 0.0:
             return par[0] * math.sin(par[2]), 0.0, 0.0
         ph = par[1] * t + par[2]
         s = math.sin(ph)
         return par[0] * s, par[0] * par[1] * math.cos(ph), -par[0] * par[1] * par[1] * s
-    if kind == 2:
+    if kind == DRIVE_SAMPLED:
+        tab = drive.table
         n = tab.shape[0]
         if t <= tab[0, 0]:
             return tab[0, 1], 0.0, 0.0
@@ -45,6 +56,7 @@ def drive_motion(kind, par, tab, t):
         v = tab[k, 2] + s * (2.0 * tab[k, 3] + 3.0 * s * tab[k, 4])
         a = 2.0 * tab[k, 3] + 6.0 * s * tab[k, 4]
         return x, v, a
-    if kind == 3:
-        return tab[0, 0], tab[0, 1], tab[0, 2]
+    if kind == DRIVE_STRUCTURE:
+        st = drive.state
+        return st[0, 0], st[0, 1], st[0, 2]
     return 0.0, 0.0, 0.0

@@ -5,8 +5,11 @@ Contact history (approach speed at first touch, damping parameter) lives in arra
 the list; :func:`transfer_history` carries it over when the list is rebuilt.
 
 The link-cell grid is fixed in the container frame (the walls do not move there), so it is
-set up once per run: ``lo`` the grid origin, ``ncell`` cells per axis, ``cell`` the edge.
-Particles outside the grid box are clamped into the border cells.
+set up once per run (:class:`~pdamper.kernels.bundles.Search`: ``origin`` the grid corner,
+``cells`` cells per axis, ``cell_size`` the edge). Spheres outside the grid box are clamped into
+the border cells.
+
+The building blocks take plain arrays; :func:`rebuild_lists` runs them on the bundles.
 """
 
 from __future__ import annotations
@@ -14,10 +17,10 @@ from __future__ import annotations
 import math
 
 from ..geometry.walls import wall_distance
-from .forces import FRICTION_CAP
-from .jit import njit
+from ..jit import njit
+from .contact import FRICTION_CAP
 
-__all__ = ["build_direct", "build_cells", "transfer_history", "build_wall_list", "max_displacement_sq"]
+__all__ = ["build_direct", "build_cells", "transfer_history", "build_wall_list", "max_displacement_sq", "rebuild_lists"]
 
 
 @njit
@@ -57,11 +60,19 @@ def _cell_index(x, lo, cell, nc):
 
 
 @njit
-def build_cells(pos, rad, skin, lo, cell, ncell, row, pj, head, nxt, counts):
-    """Link-cell build, O(N). ``head`` (ncell product), ``nxt`` and ``counts`` (N) are scratch.
+def build_cells(pos, rad, search, row, pj):
+    """Link-cell build, O(N), on the grid and scratch of ``search``
+    (:class:`~pdamper.kernels.bundles.Search`).
 
     Returns the number of pairs, or -1 if ``pj`` is too small.
     """
+    skin = search.skin
+    lo = search.origin
+    cell = search.cell_size
+    ncell = search.cells
+    head = search.head
+    nxt = search.next
+    counts = search.counts
     n = pos.shape[0]
     ncx = ncell[0]
     ncy = ncell[1]
@@ -176,33 +187,52 @@ def max_displacement_sq(pos, ref):
 
 
 @njit
-def rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, ncell, head, nxt, counts,
-                  row, pi_, pj, pvin, pd, pk, pmp, pms, row2, pj2, pvin2, pd2,
-                  wall_kind, wall_data, wl_i, wl_w, floor, ref):
-    """Rebuild the pair and wall lists, carrying contact history over.
+def rebuild_lists(bodies, pairs, walls, search, table):
+    """Rebuild the pair and wall lists at ``bodies.position``, carrying contact history over.
 
-    The new pair list is built into the scratch arrays (``*2``) first, so on overflow (return
-    -1 for pairs, -2 for walls) the current lists are left untouched and the caller can grow
-    the arrays and call again. On success returns the number of wall candidates and records
-    the reference positions for the displacement check.
+    The new pair list is built into the ``next_*`` arrays of ``pairs`` first, so on overflow
+    (return -1 for pairs, -2 for walls) the current lists are left untouched and the caller can
+    grow the arrays and call again. On success returns the number of wall candidates (also in
+    ``walls.n_candidates``) and records the reference positions for the displacement check.
     """
-    if use_cells:
-        m = build_cells(pos, rad, skin, lo, cell, ncell, row2, pj2, head, nxt, counts)
+    pos = bodies.position
+    rad = bodies.radius
+    if search.use_cells:
+        m = build_cells(pos, rad, search, pairs.next_row, pairs.next_second)
     else:
-        m = build_direct(pos, rad, skin, row2, pj2)
+        m = build_direct(pos, rad, search.skin, pairs.next_row, pairs.next_second)
     if m < 0:
         return -1
-    nw = build_wall_list(pos, rad, skin, wall_kind, wall_data, wl_i, wl_w, floor)
+    nw = build_wall_list(pos, rad, search.skin, walls.kind, walls.data, walls.candidate_body, walls.candidate_wall,
+                         walls.floor)
     if nw < 0:
         return -2
-    transfer_history(row, pj, pvin, pd, row2, pj2, pvin2, pd2)
+    transfer_history(pairs.row, pairs.second, pairs.approach_speed, pairs.damping,
+                     pairs.next_row, pairs.next_second, pairs.next_approach_speed, pairs.next_damping)
     n = pos.shape[0]
+    row = pairs.row
+    pj = pairs.second
+    next_row = pairs.next_row
+    next_pj = pairs.next_second
+    pvin = pairs.approach_speed
+    next_pvin = pairs.next_approach_speed
+    pd = pairs.damping
+    next_pd = pairs.next_damping
     for i in range(n + 1):
-        row[i] = row2[i]
+        row[i] = next_row[i]
     for a in range(m):
-        pj[a] = pj2[a]
-        pvin[a] = pvin2[a]
-        pd[a] = pd2[a]
+        pj[a] = next_pj[a]
+        pvin[a] = next_pvin[a]
+        pd[a] = next_pd[a]
+    mass = bodies.mass
+    mat = bodies.material
+    nmat = table.n_materials
+    modulus = table.modulus
+    ref = search.reference
+    pi_ = pairs.first
+    pmp = pairs.material_pair
+    pk = pairs.stiffness
+    pcap = pairs.friction_cap
     for i in range(n):
         mi = mat[i]
         for a in range(row[i], row[i + 1]):
@@ -211,9 +241,10 @@ def rebuild_lists(pos, rad, mass, mat, nmat, estar, skin, use_cells, lo, cell, n
             mp = mi * nmat + mat[j]
             pmp[a] = mp
             rs = rad[i] * rad[j] / (rad[i] + rad[j])
-            pk[a] = 4.0 / 3.0 * estar[mp] * math.sqrt(rs)
-            pms[a] = FRICTION_CAP * mass[i] * mass[j] / (mass[i] + mass[j])
+            pk[a] = 4.0 / 3.0 * modulus[mp] * math.sqrt(rs)
+            pcap[a] = FRICTION_CAP * mass[i] * mass[j] / (mass[i] + mass[j])
         ref[i, 0] = pos[i, 0]
         ref[i, 1] = pos[i, 1]
         ref[i, 2] = pos[i, 2]
+    walls.n_candidates[0] = nw
     return nw

@@ -1,7 +1,7 @@
 """Figures of the bed's motion from a recorded trajectory (paper Figs. 2, 3, 5a) and its animation.
 
 All take a trajectory dict in the container frame (``time`` [s], ``position`` (F, N, 3) [m],
-``radius``; as :class:`pdamper.simulation.RunResult` and :func:`pdamper.io.runs.read_run` give
+``radius``; as :class:`pdamper.run.RunResult` and :func:`pdamper.io.runs.read_run` give
 it) and a :class:`pdamper.params.Case` for the container, the drive and the transient.
 
 * :func:`paths_figure` -- top view of the sphere paths in the container frame, one panel per run

@@ -1,8 +1,14 @@
-"""What a run records, in memory: the driving force and container motion (:mod:`.signals`),
-the energy ledger (:mod:`.energy`), and decimated trajectories (arrays in ``RunResult``).
-File formats are :mod:`pdamper.io`'s business."""
+"""What a run records, in memory, through one protocol (:mod:`.base`): the driving force and
+container motion (:mod:`.signals`), the energy ledger (:mod:`.energy`), decimated trajectories
+(:mod:`.trajectory`), the coupled structure (:mod:`.structure`). A new recorder needs no kernel
+change (see :mod:`.base` for the protocol and an example). File formats are :mod:`pdamper.io`'s
+business."""
 
-from .energy import EnergyLedger
-from .signals import Signals
+from .base import CHANNELS, Recorded, Recorder, RunInfo, State
+from .energy import EnergyLedger, EnergyRecorder
+from .signals import Signals, SignalsRecorder
+from .structure import StructureRecord, StructureRecorder
+from .trajectory import TrajectoryRecorder
 
-__all__ = ["Signals", "EnergyLedger"]
+__all__ = ["Recorder", "RunInfo", "State", "Recorded", "CHANNELS", "Signals", "SignalsRecorder", "EnergyLedger",
+           "EnergyRecorder", "StructureRecord", "StructureRecorder", "TrajectoryRecorder"]

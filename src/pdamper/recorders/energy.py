@@ -13,8 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["EnergyLedger"]
+__all__ = ["EnergyLedger", "EnergyRecorder", "COLUMNS"]
 
+#: The ledger's columns, as the kernel's ``"energy"`` channel holds them.
 COLUMNS = ("kinetic", "rotational", "potential", "elastic", "work", "damping", "friction")
 
 
@@ -65,3 +66,20 @@ class EnergyLedger:
         d0 = np.interp(t0, self.time, diss, left=0.0)
         d1 = np.interp(t0 + n_cyc * period, self.time, diss)
         return float((d1 - d0) / n_cyc)
+
+
+class EnergyRecorder:
+    """The energy ledger (kernel channel ``"energy"``) as an :class:`EnergyLedger`."""
+
+    name = "energy"
+    channels = frozenset({"energy"})
+    every = 0
+
+    def start(self, run) -> None:
+        pass
+
+    def record(self, state) -> None:  # kernel channels only
+        pass
+
+    def finalize(self, data) -> EnergyLedger:
+        return EnergyLedger.from_array(data.time_end, data.channels["energy"])

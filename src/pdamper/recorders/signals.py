@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Signals"]
+__all__ = ["Signals", "SignalsRecorder"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -53,15 +53,30 @@ class Signals:
         force = wall_force + case.container.mass * acc
         return cls(time=edges[:-1] + 0.5 * interval, time_end=edges[1:], force=force, velocity=vel, position=xm)
 
-    def analyse(self, case):
-        """Complex-power analysis (eqs. 3-5) of these signals for ``case``."""
-        from ..analysis import complex_power
-
-        freq = getattr(case.drive, "frequency", None)
-        return complex_power(self.time, self.force, self.velocity, frequency=freq,
-                             drop_cycles=case.drop_cycles, bed_mass=case.bed_mass)
-
     def as_dict(self) -> dict:
         """Columns with units in their names, for CSV/netCDF writers."""
         return {"time [s]": self.time, "force [N]": self.force, "velocity [m/s]": self.velocity,
                 "position [m]": self.position}
+
+
+class SignalsRecorder:
+    """The driving force and the container motion (kernel channel ``"wall_force"``; on a coupled
+    structure its recorded motion) as :class:`Signals`."""
+
+    name = "signals"
+    channels = frozenset({"wall_force"})
+    every = 0
+
+    def start(self, run) -> None:
+        self.case = run.case
+
+    def record(self, state) -> None:  # kernel channels only
+        pass
+
+    def finalize(self, data) -> Signals:
+        motion = None
+        if "structure" in data.channels:
+            from .structure import StructureRecord
+
+            motion = StructureRecord.from_channel(self.case, data).edges()
+        return Signals.from_run(self.case, data.info.interval, data.channels["wall_force"], motion=motion)

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StructureRecord"]
+__all__ = ["StructureRecord", "StructureRecorder"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -40,12 +40,14 @@ class StructureRecord:
     v0: float = 0.0
 
     @classmethod
-    def from_run(cls, case, interval: float, sig: np.ndarray) -> "StructureRecord":
-        n = sig.shape[0]
+    def from_channel(cls, case, data) -> "StructureRecord":
+        """From the kernel channel ``"structure"`` of a run (:class:`~pdamper.recorders.base.Recorded`)."""
+        out = data.channels["structure"]
+        n = out.shape[0]
         d = case.drive
-        return cls(time=(np.arange(n) + 1) * interval, displacement=sig[:, 1].copy(), velocity=sig[:, 2].copy(),
-                   external_work=sig[:, 3].copy(), damping_loss=sig[:, 4].copy(), mass=d.mass,
-                   stiffness=d.stiffness, x0=d.displacement, v0=d.velocity)
+        return cls(time=(np.arange(n) + 1) * data.info.interval, displacement=out[:, 0].copy(),
+                   velocity=out[:, 1].copy(), external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(),
+                   mass=d.mass, stiffness=d.stiffness, x0=d.displacement, v0=d.velocity)
 
     def edges(self):
         """(x, v) at the n + 1 interval edges, t = 0 included."""
@@ -72,3 +74,21 @@ class StructureRecord:
         """Largest |residual| relative to the energy put in (initial energy + external work) [-]."""
         scale = max(self.initial_energy + float(np.max(np.abs(self.external_work))), 1e-300)
         return float(np.max(np.abs(self.residual(ledger))) / scale)
+
+
+class StructureRecorder:
+    """The coupled structure's motion and energies (kernel channel ``"structure"``) as a
+    :class:`StructureRecord`."""
+
+    name = "structure"
+    channels = frozenset({"structure"})
+    every = 0
+
+    def start(self, run) -> None:
+        self.case = run.case
+
+    def record(self, state) -> None:  # kernel channels only
+        pass
+
+    def finalize(self, data) -> StructureRecord:
+        return StructureRecord.from_channel(self.case, data)

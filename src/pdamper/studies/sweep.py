@@ -91,16 +91,16 @@ def run_one(case: Case) -> dict:
     """Run one case and return its summary (plain floats, the motion mode; what the store keeps).
 
     The mode is classified on a coarse trajectory the run records for it (50 frames/s,
-    :data:`pdamper.simulation.MODE_FPS`; not stored).
+    :data:`pdamper.run.MODE_FPS`; not stored).
 
     A numerically failed case is not an exception for the sweep: it returns ``failed`` with
     the message, so the other cases go on and the failure is reported.
     """
     from ..errors import SimulationError
-    from ..simulation import Simulation
+    from ..run import run_case
 
     try:
-        res = Simulation(case).run()
+        res = run_case(case)
     except SimulationError as exc:
         return {"failed": str(exc)}
     s = res.summary()

@@ -1,4 +1,5 @@
-"""The one place where numba is configured for pdamper.
+"""The one place where numba is configured for pdamper (the ground floor: geometry, contact laws
+and kernels all compile through :func:`njit`).
 
 Every kernel is compiled with :data:`JIT` options: ``cache=True`` so the machine code is
 written to disk and later runs start without compiling; ``nogil=True`` so threads can run
@@ -25,13 +26,14 @@ import numba
 
 JIT = dict(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
 
-_PKG = Path(__file__).resolve().parent.parent
-#: Folders whose sources hold compiled code (their hash names the cache directory).
+_PKG = Path(__file__).resolve().parent
+#: Folders whose sources hold compiled code (their hash names the cache directory), and this file.
 _COMPILED_SOURCES = ("kernels", "contact", "geometry")
 
 
 def _source_hash() -> str:
     h = hashlib.sha1(numba.__version__.encode())
+    h.update(Path(__file__).read_bytes())
     for sub in _COMPILED_SOURCES:
         for f in sorted((_PKG / sub).glob("*.py")):
             h.update(f.name.encode())

@@ -1,0 +1,239 @@
+"""A case turned into the kernels' bundles (:mod:`pdamper.kernels.bundles`).
+
+:func:`build` computes everything the kernels need from a :class:`~pdamper.params.Case`: the
+spheres' initial state and constants, the material table of the chosen contact laws, the
+walls and their per-sphere constants, the neighbour-search grid, the drive. The bundles'
+arrays are then owned by the :class:`~pdamper.simulation.Simulation` that advances them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..contact import DAMPING_LAWS
+from ..contact.cor_table import SPEED_GRID, tabulate_law
+from ..contact.cor_thornton import ThorntonRestitution, thornton_restitution
+from ..contact.hertz_gonthier import contact_time, effective_radius
+from ..errors import InputError
+from ..excitation import CoupledStructure, HarmonicDrive
+from ..geometry.tilt import container_vectors
+from ..geometry.walls import CYLINDER_INSIDE, PLANE
+from ..initial import initial_positions
+from ..kernels.bundles import Bodies, ContactTable, Drive, PairList, Search, WallList
+from ..materials import effective_modulus
+from ..params import Case
+
+__all__ = ["Engine", "build", "drive_bundle", "auto_time_step", "grow_pairs", "grow_walls", "CELLS_THRESHOLD"]
+
+#: Above this many spheres the Verlet list is built with link cells ("auto" search).
+CELLS_THRESHOLD = 200
+
+
+@dataclass
+class Engine:
+    """The kernel bundles of one case (replaced, not resized, when a list outgrows its arrays)."""
+
+    case: Case
+    bodies: Bodies
+    pairs: PairList
+    walls: WallList
+    search: Search
+    table: ContactTable
+    drive: Drive
+    #: "direct" (all pairs) or "cells" (link cells)
+    search_name: str
+    #: names of the walls, in the order of ``walls.kind``
+    wall_names: tuple
+    #: the fixed step [s] for Verlet (:func:`auto_time_step`)
+    dt: float
+
+    @property
+    def n(self) -> int:
+        """Number of spheres."""
+        return self.bodies.radius.shape[0]
+
+
+def auto_time_step(case: Case) -> float:
+    """Time step [s] for the fixed-step integrator: the shortest Hertz contact time among the
+    case's contact types at the expected largest impact speed, over ``steps_per_contact``,
+    capped by ``max_time_step``. The expected impact speed is ``numerics.max_impact_speed`` or
+    2.5 x the drive's largest velocity (2.5 x the largest initial velocity in a still
+    container) plus 0.1 m/s."""
+    num = case.numerics
+    if num.time_step is not None:
+        return num.time_step
+    if num.max_impact_speed is not None:
+        v = num.max_impact_speed
+    elif isinstance(case.drive, HarmonicDrive):
+        v = 2.5 * case.drive.velocity_amplitude + 0.1
+    elif isinstance(case.drive, CoupledStructure):
+        v = 2.5 * case.drive.velocity_bound + 0.1
+    elif case.drive.kind == "still":
+        v0 = np.asarray(case.initial.velocities if case.initial.velocities is not None else [[0.0, 0.0, 0.0]])
+        v = 2.5 * float(np.max(np.linalg.norm(v0, axis=-1))) + 0.1
+    else:
+        _, vc, _ = case.drive.motion(np.asarray(case.drive.time))
+        v = 2.5 * float(np.max(np.abs(vc))) + 0.1
+    wall = case.container.material
+    best = math.inf
+    for a in case.particles:
+        for b in case.particles:
+            es = effective_modulus(a.material, b.material)
+            rs = effective_radius(a.radius, b.radius)
+            ms = a.mass * b.mass / (a.mass + b.mass)
+            best = min(best, contact_time(ms, rs, es, v))
+        best = min(best, contact_time(a.mass, a.radius, effective_modulus(a.material, wall), v))
+    return min(best / num.steps_per_contact, num.max_time_step)
+
+
+def build(case: Case) -> Engine:
+    """The kernel bundles of ``case`` at its initial state (spheres placed, at rest unless the
+    case gives velocities and spins)."""
+    rng = np.random.default_rng(case.initial.seed)
+    rad = np.concatenate([np.full(p.count, p.radius) for p in case.particles])
+    mass = np.concatenate([np.full(p.count, p.mass) for p in case.particles])
+    n = rad.size
+    # materials: the spheres' first, the wall material last
+    names = list(dict.fromkeys(p.material.name for p in case.particles))
+    mats = [next(p.material for p in case.particles if p.material.name == nm) for nm in names]
+    material = np.concatenate([np.full(p.count, names.index(p.material.name)) for p in case.particles]).astype(np.int64)
+    table = _contact_table(case, mats + [case.container.material])
+    bodies = Bodies(position=initial_positions(case, rng), velocity=_initial_vectors(case.initial.velocities, n, "velocities"),
+                    spin=_initial_vectors(case.initial.spins, n, "spins"), force=np.zeros((n, 3)), torque=np.zeros((n, 3)),
+                    radius=rad, mass=mass, inv_mass=1.0 / mass, inv_inertia=1.0 / (0.4 * mass * rad * rad),
+                    material=material)
+    walls, wall_names = _walls(case, bodies, table)
+    search, search_name = _search(case, rad, n)
+    gvec, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
+    drive = drive_bundle(case.drive, gvec, dvec)
+    return Engine(case=case, bodies=bodies, pairs=grow_pairs(None, max(16, n * 8), n), walls=walls, search=search,
+                  table=table, drive=drive, search_name=search_name, wall_names=wall_names, dt=auto_time_step(case))
+
+
+def drive_bundle(drive, gravity=None, direction=None) -> Drive:
+    """The kernels' :class:`~pdamper.kernels.bundles.Drive` of a drive (:mod:`pdamper.excitation`),
+    with the gravity vector and drive direction in the container frame (default: none, along x)."""
+    kind, par, tab = drive.kernel_args()
+    gravity = np.zeros(3) if gravity is None else np.asarray(gravity, dtype=float)
+    direction = np.array([1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
+    if isinstance(drive, CoupledStructure):  # its kernel table is the structure's state
+        return Drive(kind=int(kind), par=par, table=np.zeros((1, 5)), state=tab, gravity=gravity, direction=direction)
+    return Drive(kind=int(kind), par=par, table=tab, state=np.zeros((2, 5)), gravity=gravity, direction=direction)
+
+
+def _initial_vectors(given, n, name):
+    if given is None:
+        return np.zeros((n, 3))
+    arr = np.array(given, dtype=float)
+    if arr.shape != (n, 3) or not np.all(np.isfinite(arr)):
+        raise InputError(f"initial.{name}: expected {n} finite rows of (x, y, z), got shape {arr.shape}")
+    return arr
+
+
+def _contact_table(case, mats) -> ContactTable:
+    """Per material pair (row a * M + b): E*, mu, the damping law's coefficient over impact speed."""
+    law = DAMPING_LAWS[case.contact.damping]
+    nmat = len(mats)
+    npair = nmat * nmat
+    modulus = np.empty(npair)
+    friction = np.empty(npair)
+    coefficient = np.empty((npair, SPEED_GRID.size))
+    yield_pressure = np.zeros(npair)
+    for a in range(nmat):
+        for b in range(nmat):
+            mp = a * nmat + b
+            modulus[mp] = effective_modulus(mats[a], mats[b])
+            friction[mp] = case.contact.friction_for(mats[a].name, mats[b].name)
+            cor = case.contact.restitution_for(mats[a].name, mats[b].name)
+            if isinstance(cor, ThorntonRestitution):
+                # the table is over v / v_y; the kernel computes v_y per contact
+                yield_pressure[mp] = cor.yield_pressure
+                eps = np.clip(thornton_restitution(SPEED_GRID, 1.0), 1e-6, 1.0)
+            else:
+                eps = tabulate_law(cor)
+            coefficient[mp] = law.coefficient(eps)
+    return ContactTable(law=law.marker(), n_materials=nmat, modulus=modulus, friction=friction,
+                        coefficient=coefficient, yield_pressure=yield_pressure,
+                        log_speed0=math.log(SPEED_GRID[0]), dlog_speed=math.log(SPEED_GRID[1]) - math.log(SPEED_GRID[0]),
+                        tau=float(case.contact.tau), v_floor=float(case.contact.v_in_floor),
+                        overlap_limit=float(case.numerics.overlap_limit))
+
+
+def _walls(case, bodies, table):
+    kinds, data, names = case.container.geometry.walls()
+    data = np.ascontiguousarray(data)
+    nw = len(kinds)
+    n = bodies.radius.size
+    # the floor (plane y = 0, normal +y) gets the force loop's direct path
+    floor = -1
+    for w in range(nw):
+        if kinds[w] == PLANE and np.allclose(data[w, :4], [0.0, 1.0, 0.0, 0.0]):
+            floor = w
+    stiffness = np.empty((n, nw))
+    r_star = np.empty((n, nw))
+    material_pair = np.empty((n, nw), dtype=np.int64)
+    nmat = table.n_materials
+    for w in range(nw):
+        for i in range(n):
+            rs = effective_radius(bodies.radius[i], concave_radius=data[w, 6]) if kinds[w] == CYLINDER_INSIDE \
+                else bodies.radius[i]
+            mp = bodies.material[i] * nmat + (nmat - 1)
+            r_star[i, w] = rs
+            material_pair[i, w] = mp
+            stiffness[i, w] = 4.0 / 3.0 * table.modulus[mp] * math.sqrt(rs)
+    cap = max(8, n * nw)
+    walls = WallList(kind=np.asarray(kinds), data=data, floor=int(floor), candidate_body=np.empty(cap, dtype=np.int64),
+                     candidate_wall=np.empty(cap, dtype=np.int64), n_candidates=np.zeros(1, dtype=np.int64),
+                     stiffness=stiffness, material_pair=material_pair, approach_speed=np.zeros((n, nw)),
+                     damping=np.zeros((n, nw)), effective_radius=r_star)
+    return walls, tuple(names)
+
+
+def _bounding_box(geo):
+    if geo.shape == "cuboid":
+        return np.array([-geo.length / 2, 0.0, -geo.width / 2]), np.array([geo.length / 2, geo.height, geo.width / 2])
+    return np.array([-geo.radius, 0.0, -geo.radius]), np.array([geo.radius, geo.height, geo.radius])
+
+
+def _search(case, rad, n):
+    num = case.numerics
+    skin = num.skin if num.skin is not None else 0.2 * float(rad.max())
+    name = num.neighbour_search
+    if name == "auto":
+        name = "cells" if n > CELLS_THRESHOLD else "direct"
+    cut = 2 * float(rad.max()) + skin
+    vmin, vmax = _bounding_box(case.container.geometry)
+    span = vmax - vmin + 2 * cut
+    cells = np.maximum(1, np.floor(span / cut)).astype(np.int64)
+    # keep cells at least `cut` wide in every direction
+    cell_size = max(float(np.max(span / cells)), cut)
+    search = Search(skin=float(skin), use_cells=name == "cells", origin=vmin - cut, cell_size=cell_size, cells=cells,
+                    head=np.empty(int(np.prod(cells)), dtype=np.int64), next=np.empty(n, dtype=np.int64),
+                    counts=np.zeros(n, dtype=np.int64), reference=np.full((n, 3), np.inf))
+    return search, name
+
+
+def grow_pairs(pairs: PairList | None, capacity: int, n: int | None = None) -> PairList:
+    """A pair list of ``capacity`` listed pairs, keeping the rows of ``pairs`` (None: a new, empty
+    list for ``n`` spheres)."""
+    if pairs is not None:
+        n = pairs.row.shape[0] - 1
+    new = PairList(row=np.zeros(n + 1, dtype=np.int64), first=np.zeros(capacity, dtype=np.int64),
+                   second=np.zeros(capacity, dtype=np.int64), approach_speed=np.zeros(capacity),
+                   damping=np.zeros(capacity), stiffness=np.zeros(capacity),
+                   material_pair=np.zeros(capacity, dtype=np.int64), friction_cap=np.zeros(capacity),
+                   next_row=np.zeros(n + 1, dtype=np.int64), next_second=np.zeros(capacity, dtype=np.int64),
+                   next_approach_speed=np.zeros(capacity), next_damping=np.zeros(capacity))
+    if pairs is not None:
+        for old, arr in zip(pairs, new):
+            arr[: old.shape[0]] = old
+    return new
+
+
+def grow_walls(walls: WallList, capacity: int) -> WallList:
+    """``walls`` with room for ``capacity`` sphere-wall candidates (the candidates are rebuilt)."""
+    return walls._replace(candidate_body=np.empty(capacity, dtype=np.int64),
+                          candidate_wall=np.empty(capacity, dtype=np.int64))

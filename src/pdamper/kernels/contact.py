@@ -1,0 +1,236 @@
+"""The contact law applied to one contact: one compiled function for every contact loop.
+
+:func:`contact` takes what the geometry of a contact gives -- overlap ``delta``, approach rate
+``delta_dot``, the tangential slip at the contact point -- with the contact's constants and
+history, and returns the normal force, the friction coefficient, the updated history and the
+dissipated powers; it writes the contact into Gear's friction record. The pair loop, the floor
+loop and the wall loop of :mod:`pdamper.kernels.forces` all call it; they differ only in
+geometry (where the normal and the slip come from) and in which bodies receive the force.
+
+The normal damping law is the one the contact table's ``law`` marker names
+(:mod:`pdamper.contact.damping`): :func:`law_touch` and :func:`law_force` resolve, when numba
+compiles a kernel, to the law's own functions, so each law is compiled (and cached) on its own.
+Friction is the tanh-regularised Coulomb law of :mod:`pdamper.contact.friction_tanh` (eq. 2).
+
+**Contact history.** ``v_in`` of a contact is the largest normal approach speed it has seen
+since it began (floored at ``v_floor``), and the law's damping parameter is fixed from it
+(Gonthier: ``d = chi(eps(v_in)) / v_in``). For a single impact the approach speed is largest at
+the first touch, so this is Gonthier's first-touch speed; a resting contact that is struck again
+(a bed settled against a wall when the drive starts, a chain of spheres hit by a neighbour) is
+treated as a new impact at the new speed. Without that, a resting contact keeps
+``d = chi / v_floor`` and its damping ``k delta^1.5 d delta_dot`` becomes too stiff for any
+explicit step when it is loaded fast (found in review: a perfect-lattice start blew up at the
+first wall impact). With it the damping force never exceeds ``chi`` times the elastic force
+while the contact is compressed.
+
+The contact-point kinematics (:func:`pair_point_velocity`, :func:`wall_point_velocity`,
+:func:`floor_slip`) serve the force loops (on velocities) and Gear's implicit friction pass (on
+velocity increments) alike. (Their callers load the velocity components in a fixed order: with
+FMA contraction on, the order of the loads decides which product of ``a*b + c*d`` is fused, and
+keeping it keeps the results bit for bit.)
+:func:`corrected_friction` is the linearised friction law that pass evaluates.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba.extending import overload
+
+from ..contact import DAMPING_LAWS
+from ..contact.cor_thornton import yield_speed
+from ..contact.friction_tanh import friction_factor
+from ..jit import JIT, njit
+
+__all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "law_touch", "law_force", "pair_point_velocity",
+           "wall_point_velocity", "floor_slip", "corrected_friction"]
+
+#: Friction stability guard: the friction force on a contact never exceeds the force that
+#: would stop its tangential slip within one step, ``m_t |v_t| / dt`` with the tangential
+#: effective mass ``m_t = 2/7 m*`` of two rolling spheres, times 1/2. Only contacts whose
+#: tanh law is too stiff for the step (large normal force during an impact) are affected;
+#: without it their slip chatters around zero and the friction work is mis-counted.
+#: Velocity Verlet only: Gear's steps pass a vanishing ``dt`` (no cap) and evaluate the friction at
+#: the corrected slip instead (:mod:`pdamper.kernels.gear`); only Gear's priming evaluation at the
+#: start of a run (initial accelerations) still passes its first step and so keeps the cap.
+FRICTION_CAP = 0.5 * 2.0 / 7.0
+
+#: marker class -> DampingLaw (several names may share a marker: they differ only in their table)
+_BY_MARKER = {law.marker: law for law in DAMPING_LAWS.values()}
+
+
+def _law_of(marker_type):
+    try:
+        return _BY_MARKER[marker_type.instance_class]
+    except (AttributeError, KeyError):
+        raise TypeError(f"no damping law is registered for {marker_type}; register it in "
+                        "pdamper.contact.DAMPING_LAWS") from None
+
+
+def law_touch(law, coefficient, v_in, k, m_star):
+    """The damping law's parameter of a contact that starts at approach speed ``v_in`` (compiled
+    kernels only: resolved by the type of ``law``)."""
+    raise NotImplementedError("law_touch is compiled into the kernels")
+
+
+def law_force(law, k, delta, delta_dot, d):
+    """The damping law's ``(F_N, F_damp)`` (compiled kernels only)."""
+    raise NotImplementedError("law_force is compiled into the kernels")
+
+
+@overload(law_touch, inline="always", jit_options=JIT)
+def _law_touch(law, coefficient, v_in, k, m_star):
+    touch = _law_of(law).touch
+
+    def impl(law, coefficient, v_in, k, m_star):
+        return touch(coefficient, v_in, k, m_star)
+
+    return impl
+
+
+@overload(law_force, inline="always", jit_options=JIT)
+def _law_force(law, k, delta, delta_dot, d):
+    force = _law_of(law).force
+
+    def impl(law, k, delta, delta_dot, d):
+        return force(k, delta, delta_dot, d)
+
+    return impl
+
+
+@njit
+def damping_at_touch(table, v_approach, mp, k, r_star, m_star):
+    """The damping parameter of a contact that starts (or is struck harder than before) at normal
+    approach speed ``v_approach`` [m/s], fixed by the law in ``table`` for material pair ``mp``.
+
+    The speed is floored at ``table.v_floor`` (see :mod:`pdamper.contact.hertz_gonthier`). The law's
+    coefficient is read from row ``mp`` of ``table.coefficient`` at that speed, or at ``v / v_y``
+    for Thornton's restitution (``table.yield_pressure[mp] > 0``, ``v_y`` from the contact's E*, R*
+    and m*, :func:`pdamper.contact.cor_thornton.yield_speed`), log-linearly interpolated.
+    """
+    v = v_approach
+    if v < table.v_floor:
+        v = table.v_floor
+    x = v
+    py = table.yield_pressure[mp]
+    if py > 0.0:
+        x = v / yield_speed(py, table.modulus[mp], r_star, m_star)
+    u = (math.log(x) - table.log_speed0) / table.dlog_speed
+    tab = table.coefficient
+    g = tab.shape[1]
+    if u <= 0.0:
+        c = tab[mp, 0]
+    elif u >= g - 1:
+        c = tab[mp, g - 1]
+    else:
+        q = int(u)
+        f = u - q
+        c = tab[mp, q] * (1.0 - f) + tab[mp, q + 1] * f
+    return law_touch(table.law, c, v, k, m_star)
+
+
+@njit(inline="always")
+def contact(table, mp, mu, k, r_star, m_star, cap, delta, delta_dot, v_in, d, vt, dt):
+    """The contact law at one contact.
+
+    Parameters: the contact table and the contact's material pair ``mp``, Hertz stiffness ``k``,
+    effective radius ``r_star`` and mass ``m_star``, friction guard ``cap`` [kg]
+    (:data:`FRICTION_CAP` x m*); its overlap ``delta`` [m] and approach rate ``delta_dot`` [m/s];
+    its history ``(v_in, d)``; the unit normal ``n`` (pairs: from i to j; walls: into the
+    container), the tangential slip ``t`` at the contact point [m/s] and its length ``vt``
+    (the caller's: the floor's slip has no y part); the step ``dt`` [s] (the
+    friction guard; Gear passes a vanishing step: no guard); Gear's friction ``record`` with its
+    next row ``m`` and the bodies ``(i, j)`` (``j = -1`` at a wall).
+
+    Returns ``(F_N, c, v_in, d, P_damp, P_friction, m)``: the normal force [N] (along -n on i), the
+    friction coefficient ``c`` [N s/m] (friction force on i ``-c t``), the updated history, the
+    power dissipated by the normal damping and by friction [W], and the record's next row.
+    Friction follows the pushing part of the normal force (a law that may pull at the end of a
+    contact, Tsuji's, has no friction while it pulls).
+    """
+    if v_in == 0.0 or delta_dot > v_in:
+        # first touch, or struck harder than ever before in this contact
+        v_in = max(delta_dot, table.v_floor)
+        d = damping_at_touch(table, delta_dot, mp, k, r_star, m_star)
+    fn, fdamp = law_force(table.law, k, delta, delta_dot, d)
+    ff = friction_factor(mu, table.tau, vt) * max(fn, 0.0)
+    if ff * dt > cap:
+        ff = cap * (1.0 / dt)
+    return fn, ff, mu * fn, v_in, d, fdamp * delta_dot, ff * vt * vt
+
+
+@njit
+def note_friction(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
+    """Write a touching friction contact into row ``m`` of Gear's friction record
+    (:class:`pdamper.kernels.bundles.FrictionRecord`) when it has one; returns the next row."""
+    if c > 0.0 and m < record.rows.shape[0]:
+        _note(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim)
+        m += 1
+    return m
+
+
+@njit(inline="always")
+def _note(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
+    """Row ``m`` of the friction record."""
+    record.bodies[m, 0] = i
+    record.bodies[m, 1] = j
+    r = record.rows
+    r[m, 0] = nx
+    r[m, 1] = ny
+    r[m, 2] = nz
+    r[m, 3] = tx
+    r[m, 4] = ty
+    r[m, 5] = tz
+    r[m, 6] = c
+    r[m, 7] = lim
+
+
+@njit(inline="always")
+def pair_point_velocity(ux, uy, uz, wx, wy, wz, nx, ny, nz):
+    """Relative velocity of a sphere pair at the contact point, ``u + w x n``, and its normal
+    component: ``(c_x, c_y, c_z, c.n)``, with ``u = v_i - v_j`` and ``w = r_i omega_i + r_j omega_j``
+    (or their increments). The slip is ``c - (c.n) n``."""
+    cx = ux + wy * nz - wz * ny
+    cy = uy + wz * nx - wx * nz
+    cz = uz + wx * ny - wy * nx
+    return cx, cy, cz, cx * nx + cy * ny + cz * nz
+
+
+@njit(inline="always")
+def wall_point_velocity(ux, uy, uz, wx, wy, wz, r, nx, ny, nz):
+    """Velocity of a sphere at its contact point on a wall, ``u - r (omega x n)``, and its normal
+    component (``u`` the velocity relative to the wall, ``omega`` the spin, or their increments).
+    The slip is ``c - (c.n) n``."""
+    cx = ux - r * (wy * nz - wz * ny)
+    cy = uy - r * (wz * nx - wx * nz)
+    cz = uz - r * (wx * ny - wy * nx)
+    return cx, cy, cz, cx * nx + cy * ny + cz * nz
+
+
+@njit(inline="always")
+def floor_slip(ux, uz, wx, wz, r):
+    """Slip of a sphere on the floor (normal +y): ``(v_x + r omega_z, 0, v_z - r omega_x)``."""
+    return ux + r * wz, uz - r * wx
+
+
+@njit(inline="always")
+def corrected_friction(c, lim, kk, a, tx, ty, tz, dcx, dcy, dcz):
+    """Friction force of a contact evaluated at its corrected slip, linearly implicit (Gear).
+
+    ``(tx, ty, tz)`` is the predicted slip, ``(dcx, dcy, dcz)`` the tangential slip increment that
+    the explicit corrector gives, ``c`` the law's secant coefficient ``mu F_N tanh(tau s)/s`` at the
+    predicted slip, ``kk`` the contact's inverse tangential mass (1/m + r^2/I of both bodies) and
+    ``a = c_1 h / 2`` the corrector's velocity increment per unit acceleration. The slip increment
+    solves ``ds = dc - a kk c ds``; the force ``-c (s + ds)`` is clipped to the Coulomb limit
+    ``lim = mu F_N``. Returns the force change against the explicit ``-c s`` and the new force."""
+    den = 1.0 / (1.0 + a * kk * c)
+    fx = -c * (tx + dcx * den)
+    fy = -c * (ty + dcy * den)
+    fz = -c * (tz + dcz * den)
+    fm = math.sqrt(fx * fx + fy * fy + fz * fz)
+    if fm > lim:
+        sc = lim / fm
+        fx *= sc
+        fy *= sc
+        fz *= sc
+    return fx + c * tx, fy + c * ty, fz + c * tz, fx, fy, fz

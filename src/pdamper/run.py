@@ -1,0 +1,143 @@
+"""One case from start to answer: simulation -> recorders -> complex power -> motion mode.
+
+:func:`run_case` is what ``pdamper run``, the sweeps and the studies call. It composes a
+:class:`~pdamper.simulation.Simulation` (which only advances and records), the complex-power
+analysis of the recorded force and motion (:mod:`pdamper.analysis`, eqs. 3-5) and the motion-mode
+classifier (:mod:`pdamper.analysis.modes`), and returns a :class:`RunResult`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .params import Case
+from .simulation import Simulation, default_recorders
+from .recorders.trajectory import TrajectoryRecorder
+
+__all__ = ["run_case", "RunResult", "analyse_signals", "MODE_FPS"]
+
+#: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
+#: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
+MODE_FPS = 50.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunResult:
+    """What one run produced.
+
+    Attributes
+    ----------
+    case : the Case that was run.
+    signals : :class:`pdamper.recorders.signals.Signals` (time, driving force, container motion).
+    energy : :class:`pdamper.recorders.energy.EnergyLedger`.
+    analysis : complex-power result (``pdamper.analysis.PowerResult``) or None.
+    trajectory : dict of arrays (``time`` [s], ``position`` [m], ``velocity`` [m/s], ``spin``
+        [rad/s], container frame; ``radius`` [m]; the container's pose ``container_position`` [m]
+        and ``container_velocity`` [m/s], (frames, 3): x_c d and v_c d, d the drive direction in
+        the container frame) when ``case.recording.trajectory_fps > 0``, else None.
+    structure : :class:`pdamper.recorders.structure.StructureRecord` when the container rides on
+        a coupled structure, else None.
+    recorded : the results of the extra recorders given to :func:`run_case`, by name.
+    extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
+        the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
+        ``rejected_steps``.
+    steps : time steps taken; time_step : the step [s] (Verlet) or the mean accepted step (Gear);
+    wall_time_s : run time [s].
+    """
+
+    case: Case
+    signals: object
+    energy: object
+    analysis: object = None
+    trajectory: dict | None = None
+    steps: int = 0
+    time_step: float = 0.0
+    wall_time_s: float = 0.0
+    neighbour_search: str = ""
+    extras: dict = field(default_factory=dict)
+    structure: object = None
+    recorded: dict = field(default_factory=dict)
+
+    @property
+    def eta_star(self) -> float:
+        """Reduced loss factor eta* [-] (eq. 5)."""
+        return float(self.analysis.eta_star) if self.analysis is not None else math.nan
+
+    @property
+    def mode(self) -> str | None:
+        """Motion mode of the bed (:mod:`pdamper.analysis.modes`), None without a periodic drive."""
+        return self.extras.get("mode")
+
+    @property
+    def energy_per_cycle(self) -> float:
+        """Dissipated energy per cycle [J] (eq. 4)."""
+        return float(self.analysis.energy_per_cycle_J) if self.analysis is not None else math.nan
+
+    def summary(self) -> dict:
+        """Plain dict for JSON output."""
+        a = self.analysis
+        return {
+            "eta_star": self.eta_star,
+            "energy_per_cycle_J": self.energy_per_cycle,
+            "mean_power_check_J": float(a.mean_power_check_J) if a is not None else math.nan,
+            "ledger_dissipated_per_cycle_J": self.energy.dissipated_per_cycle(self.case),
+            "energy_balance_error": self.energy.balance_error(),
+            "stroke_m": getattr(self.case.drive, "stroke", math.nan),
+            "frequency_hz": getattr(self.case.drive, "frequency", None) or (a.frequency_hz if a is not None else math.nan),
+            "particles": self.case.n_particles,
+            "bed_mass_kg": self.case.bed_mass,
+            "steps": self.steps,
+            "time_step_s": self.time_step,
+            "wall_time_s": self.wall_time_s,
+            "us_per_step": 1e6 * self.wall_time_s / max(self.steps, 1),
+            "integrator": self.case.numerics.integrator,
+            "neighbour_search": self.neighbour_search,
+            **self.extras,
+        }
+
+
+def analyse_signals(case: Case, signals):
+    """Complex-power analysis (eqs. 3-5) of a run's recorded ``signals`` for ``case``: the drive
+    frequency, the cycles the case drops and its bed mass."""
+    from .analysis import complex_power
+
+    return complex_power(signals.time, signals.force, signals.velocity, frequency=getattr(case.drive, "frequency", None),
+                         drop_cycles=case.drop_cycles, bed_mass=case.bed_mass)
+
+
+def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True) -> RunResult:
+    """Simulate ``case`` and analyse it: energy per cycle and eta* by the complex power method,
+    the motion mode from the trajectory.
+
+    ``recorders`` are recorded too (:mod:`pdamper.recorders.base`); their results are in
+    ``result.recorded``. ``progress(done_fraction)`` is called as the run goes. With
+    ``analyse=False`` only the recording is done (no complex power, no mode).
+    """
+    recorders = list(recorders)
+    builtin = default_recorders(case)
+    periodic = float(getattr(case.drive, "frequency", 0.0) or 0.0) > 0
+    classify = analyse and periodic
+    if classify and not case.recording.trajectory_fps:
+        builtin.append(TrajectoryRecorder(min(MODE_FPS, case.recording.sample_rate)))
+    record = Simulation(case, builtin + recorders).run(progress=progress)
+    out = record.outputs
+    analysis = None
+    if analyse and case.drive.kind not in ("still", "structure"):
+        analysis = analyse_signals(case, record.signals)
+    extras = {"rejected_steps": record.rejected_steps} if record.rejected_steps is not None else {}
+    trajectory = record.trajectory
+    if classify and trajectory is not None:
+        from .analysis.modes import classify_trajectory
+
+        try:
+            mode, feats = classify_trajectory(trajectory, case)
+            extras.update(mode=mode, mode_features=feats.to_dict())
+        except ValueError:  # too short a run for two frames
+            extras.update(mode="unknown", mode_features={})
+    if not case.recording.trajectory_fps:
+        trajectory = None  # recorded only to classify the motion mode
+    return RunResult(case=case, signals=record.signals, energy=record.energy, analysis=analysis, trajectory=trajectory,
+                     steps=record.steps, time_step=record.time_step, wall_time_s=record.wall_time_s,
+                     neighbour_search=record.neighbour_search, extras=extras, structure=record.structure,
+                     recorded={r.name: out[r.name] for r in recorders})
