@@ -101,7 +101,8 @@ class ContactModel:
     damping : the normal damping law, a name of :data:`pdamper.contact.DAMPING_LAWS`:
         "calibrated" (default: eq. (1), an impact rebounds with exactly the COR asked for),
         "gonthier" (the paper's ``d = (1 - eps^2)/(eps v_in)`` as written, which rebounds up to
-        4 % lower; see :mod:`pdamper.contact.hertz_gonthier`).
+        4 % lower; see :mod:`pdamper.contact.hertz_gonthier`) or "tsuji" (Hertz with Tsuji's
+        viscoelastic damping, as LIGGGHTS' ``model hertz``; :mod:`pdamper.contact.hertz_tsuji`).
     pair_friction, pair_restitution : dict mapping ``(material_a, material_b)`` names (e.g.
         ``("steel", "pvc")``) to a friction coefficient / a COR law; order does not matter.
     """

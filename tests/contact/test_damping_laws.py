@@ -1,5 +1,5 @@
 """Every registered damping law: the kernels find it by name, and an impact in the engine rebounds
-as the law says (the calibrated law: at the COR asked for, within 3 %)."""
+as the law says (the calibrated and the Tsuji law: at the COR asked for, within 3 %)."""
 
 from __future__ import annotations
 
@@ -25,14 +25,14 @@ K_WALL = 4.0 / 3.0 * effective_modulus(STEEL_S235, PVC) * math.sqrt(R)
 
 def test_the_registry_names_every_law_once_and_the_choices_follow_it():
     assert DAMPING_CHOICES == tuple(DAMPING_LAWS) and DAMPING_CHOICES[0] == "calibrated"
-    assert {"calibrated", "gonthier"} <= set(DAMPING_CHOICES)
+    assert {"calibrated", "gonthier", "tsuji"} <= set(DAMPING_CHOICES)
     for name, law in DAMPING_LAWS.items():
         assert isinstance(law, DampingLaw) and law.name == name
         assert issubclass(law.marker, tuple) and law.marker._fields == ()
         c = np.asarray(law.coefficient(np.array([0.5, 0.9, 1.0])))
         assert np.all(np.isfinite(c)) and c[-1] == 0.0 and c[0] > c[1] > 0  # no damping at eps = 1
-    with pytest.raises(InputError, match="damping = 'calibrate'.*calibrated"):
-        ContactModel(damping="calibrate")
+    with pytest.raises(InputError, match="damping = 'tsuij'.*tsuji"):
+        ContactModel(damping="tsuij")
 
 
 def _ode_restitution(law, eps, v):
@@ -73,7 +73,7 @@ def test_the_engine_rebounds_as_the_laws_own_force_says(name, eps):
     assert res.energy.balance_error() < 1e-3  # the law's damping power is what the ledger counts
 
 
-@pytest.mark.parametrize("name", ["calibrated"])
+@pytest.mark.parametrize("name", ["calibrated", "tsuji"])
 @pytest.mark.parametrize("eps", [0.5, 0.6, 0.7, 0.8, 0.9, 0.95])
 @pytest.mark.parametrize("v", [0.02, 0.3])
 def test_wall_impacts_rebound_at_the_cor_asked_for(name, eps, v):
@@ -81,7 +81,7 @@ def test_wall_impacts_rebound_at_the_cor_asked_for(name, eps, v):
     assert ratio == pytest.approx(eps, rel=0.03)
 
 
-@pytest.mark.parametrize("name", ["calibrated"])
+@pytest.mark.parametrize("name", ["calibrated", "tsuji"])
 @pytest.mark.parametrize("eps", [0.5, 0.7, 0.9, 0.95])
 def test_pair_impacts_rebound_at_the_cor_asked_for(name, eps):
     v = 0.2
@@ -93,7 +93,7 @@ def test_pair_impacts_rebound_at_the_cor_asked_for(name, eps):
     assert sim.bodies.velocity[:, 0].sum() == pytest.approx(0.0, abs=1e-12)
 
 
-@pytest.mark.parametrize("name", ["calibrated"])
+@pytest.mark.parametrize("name", ["calibrated", "tsuji"])
 def test_gear_rebounds_like_verlet(name):
     a, _ = _wall_impact(0.3, 0.7, name, "verlet")
     b, _ = _wall_impact(0.3, 0.7, name, "gear")

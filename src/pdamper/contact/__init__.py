@@ -2,6 +2,8 @@
 
 - :mod:`.hertz_gonthier` -- normal force, Hertz with Gonthier et al. (2004) damping, eq. (1);
   damping choices ``"calibrated"`` (default) and ``"gonthier"``.
+- :mod:`.hertz_tsuji` -- normal force, Hertz with Tsuji et al. (1992) viscoelastic damping as
+  LIGGGHTS' ``model hertz`` uses it; damping choice ``"tsuji"``.
 - :mod:`.friction_tanh` -- regularised Coulomb friction, eq. (2).
 - :mod:`.cor_constant`, :mod:`.cor_table`, :mod:`.cor_thornton` -- coefficient of restitution laws.
 
@@ -13,7 +15,7 @@ kernels. **A new damping law** is one file here plus one line in :data:`DAMPING_
 :mod:`.damping`).
 """
 
-from . import hertz_gonthier
+from . import hertz_gonthier, hertz_tsuji
 from .cor_constant import ConstantRestitution
 from .cor_table import TabulatedRestitution
 from .cor_thornton import ThorntonRestitution
@@ -22,7 +24,7 @@ from .friction_tanh import DEFAULT_TAU
 from .hertz_gonthier import contact_time, damping_parameter, hertz_stiffness
 
 #: Damping law name -> :class:`~.damping.DampingLaw`: the registry of ``contact.damping``.
-DAMPING_LAWS = {law.name: law for law in hertz_gonthier.LAWS}
+DAMPING_LAWS = {law.name: law for law in (*hertz_gonthier.LAWS, *hertz_tsuji.LAWS)}
 
 #: The allowed values of ``contact.damping``, the default first.
 DAMPING_CHOICES = tuple(DAMPING_LAWS)
