@@ -1,6 +1,6 @@
 """pdamper's performance benchmark, side by side with LIGGGHTS, in one run.
 
-Usage: python benchmarks/run.py [--quick] [--no-liggghts] [--paper-every K] [--report docs/performance.md]
+Usage: python benchmarks/run.py [--quick] [--no-liggghts] [--only PART ...] [--paper-every K] [--report docs/performance.md]
 
 Measures on this machine, in this one invocation:
 
@@ -11,7 +11,9 @@ Measures on this machine, in this one invocation:
    same 36-sphere scenario (``benchmarks/liggghts.py``: box as a moving mesh, Hertz, mu = 0.1,
    same dt) — its own loop time per step, and the ratio to pdamper's step.
 3. **Cross-validation**: eta* of LIGGGHTS (seed 0) and of pdamper (seeds 0-2, default
-   integrator) at a few strokes of the 36-sphere cuboid, same cycles.
+   integrator) at a few strokes of the 36-sphere cuboid, same cycles, with pdamper's default
+   damping ("calibrated" Hertz-Gonthier) and with LIGGGHTS' own ("tsuji", the same law as its
+   ``model hertz``).
 4. **Sweep wall time**: ``pdamper study fig4`` (2 fillings x 40 strokes x 20 cycles, one seed;
    ``--quick``: 8 strokes) on all cores, from an empty store.
 5. **Every DEM curve of the paper** (SPEC Sect. 5; the settings of all ``pdamper study`` names,
@@ -92,8 +94,13 @@ def step_costs(quick):
     return rows
 
 
+#: pdamper's damping laws in the cross-check: its default, and LIGGGHTS' own (model hertz)
+CROSS_LAWS = ("calibrated", "tsuji")
+
+
 def cross_validation(quick, workdir, use_liggghts):
-    """eta* of both codes at a few strokes; LIGGGHTS step cost from its longest run."""
+    """eta* of both codes at a few strokes, pdamper with each of :data:`CROSS_LAWS`; LIGGGHTS step
+    cost from its runs."""
     from pdamper.run import run_case
 
     cycles = 6 if quick else 20
@@ -101,18 +108,23 @@ def cross_validation(quick, workdir, use_liggghts):
     out = []
     for x in strokes:
         case = dataclasses.replace(example("cuboid_36", x), cycles=cycles)
-        etas = []
-        t = time.perf_counter()
-        for seed in (0, 1, 2):
-            c = dataclasses.replace(case, initial=dataclasses.replace(case.initial, seed=seed))
-            etas.append(run_case(c).eta_star)
-        pd_wall = (time.perf_counter() - t) / 3
+        row = {"stroke": x, "cycles": cycles, "pdamper": {}}
+        for law in CROSS_LAWS:
+            c0 = dataclasses.replace(case, contact=dataclasses.replace(case.contact, damping=law))
+            etas = []
+            t = time.perf_counter()
+            for seed in (0, 1, 2):
+                c = dataclasses.replace(c0, initial=dataclasses.replace(c0.initial, seed=seed))
+                etas.append(run_case(c).eta_star)
+            row["pdamper"][law] = {"eta": etas, "wall_s": (time.perf_counter() - t) / 3}
         lig = None
         if use_liggghts:
             lig = liggghts.run(case, Path(workdir) / f"liggghts_{x * 1e3:g}mm")
-        out.append({"stroke": x, "cycles": cycles, "pdamper_eta": etas, "pdamper_wall_s": pd_wall, "liggghts": lig})
-        msg = f"  X = {x * 1e3:g} mm: pdamper eta* {statistics.mean(etas):.3f} (seeds {min(etas):.3f}-{max(etas):.3f}, " \
-              f"{pd_wall:.1f} s per run)"
+        row["liggghts"] = lig
+        out.append(row)
+        msg = f"  X = {x * 1e3:g} mm: pdamper eta* " + "; ".join(
+            f"{law} {statistics.mean(r['eta']):.3f} (seeds {min(r['eta']):.3f}-{max(r['eta']):.3f}, {r['wall_s']:.1f} s/run)"
+            for law, r in row["pdamper"].items())
         if lig:
             msg += f"; LIGGGHTS eta* {lig['eta_star']:.3f} ({lig['us_per_step']:.2f} us/step, {lig['wall_time_s']:.0f} s)"
         print(msg, flush=True)
@@ -212,26 +224,27 @@ def _ok(flag):
 
 
 def report(res, quick, cmd):
-    steps = res["steps"]
-    s36 = steps[0][1]["us_per_step"]
+    """The Markdown report of whatever parts ``res`` holds (all, or those of ``--only``)."""
     lines = [f"Produced by `{cmd}` on {res['machine']} ({res['date']}); {res['seconds'] / 60:.1f} min in all.", ""]
     lines += ["## Targets (issue 5)", "", "| target | measured | ratio / baseline | result |", "|---|---|---|---|"]
-    lig = [c["liggghts"] for c in res["cross"] if c["liggghts"]]
-    if lig:
-        lig_us = statistics.median(c["us_per_step"] for c in lig)
-        ratio = lig_us / s36
-        lines.append(f"| one 36-sphere step >= {TARGET_RATIO:g}x faster than LIGGGHTS (<= ~{TARGET_STEP_US} us) | "
-                     f"{s36:.3f} us/step | LIGGGHTS {lig_us:.2f} us/step: **{ratio:.1f}x** | "
-                     f"{_ok(ratio >= TARGET_RATIO)} |")
-    else:
-        lines.append(f"| one 36-sphere step <= ~{TARGET_STEP_US} us | {s36:.3f} us/step | LIGGGHTS not installed "
-                     f"({liggghts.INSTALL_HINT}) | {_ok(s36 <= TARGET_STEP_US)} |")
-    sw = res["sweep"]
+    steps, cross, sw, pp, st = (res.get(k) for k in ("steps", "cross", "sweep", "paper", "start"))
     full = not quick
-    lines.append(f"| `pdamper study fig4` (80 cases, 20 cycles, 1 seed) <= {TARGET_FIG4_S:g} s | {sw['wall_s']:.0f} s "
-                 f"for {sw['cases']} cases on {sw['workers']} cores | {sw['wall_s'] / TARGET_FIG4_S:.1f}x the target | "
-                 + (_ok(sw['wall_s'] <= TARGET_FIG4_S) if full else "quick run: 16 cases only") + " |")
-    pp = res.get("paper")
+    if steps:
+        s36 = steps[0][1]["us_per_step"]
+        lig = [c["liggghts"] for c in cross or () if c["liggghts"]]
+        if lig:
+            lig_us = statistics.median(c["us_per_step"] for c in lig)
+            ratio = lig_us / s36
+            lines.append(f"| one 36-sphere step >= {TARGET_RATIO:g}x faster than LIGGGHTS (<= ~{TARGET_STEP_US} us) | "
+                         f"{s36:.3f} us/step | LIGGGHTS {lig_us:.2f} us/step: **{ratio:.1f}x** | "
+                         f"{_ok(ratio >= TARGET_RATIO)} |")
+        else:
+            lines.append(f"| one 36-sphere step <= ~{TARGET_STEP_US} us | {s36:.3f} us/step | LIGGGHTS not run "
+                         f"({liggghts.INSTALL_HINT}) | {_ok(s36 <= TARGET_STEP_US)} |")
+    if sw:
+        lines.append(f"| `pdamper study fig4` (80 cases, 20 cycles, 1 seed) <= {TARGET_FIG4_S:g} s | {sw['wall_s']:.0f} s "
+                     f"for {sw['cases']} cases on {sw['workers']} cores | {sw['wall_s'] / TARGET_FIG4_S:.1f}x the target | "
+                     + (_ok(sw['wall_s'] <= TARGET_FIG4_S) if full else "quick run: 16 cases only") + " |")
     if pp:
         est = pp["estimate_min"]
         lines.append(f"| every DEM curve of the paper ({pp['curves']} curves x 40 strokes, 1 seed) <= {TARGET_PAPER_MIN:g} min | "
@@ -240,36 +253,45 @@ def report(res, quick, cmd):
                      f"{est / TARGET_PAPER_MIN:.1f}x the target | "
                      + (_ok(est <= TARGET_PAPER_MIN) + (" (estimate)" if pp["every"] > 1 else "") if full
                         else "quick run: 6 cycles") + " |")
-    st = res["start"]
-    lines.append(f"| first run (compile) <= {TARGET_COMPILE_S:g} s | {st['compile_s']:.1f} s | | "
-                 f"{_ok(st['compile_s'] <= TARGET_COMPILE_S)} |")
-    lines.append(f"| later start (cached) <= {TARGET_WARM_S:g} s | {st['warm_s']:.2f} s | | {_ok(st['warm_s'] <= TARGET_WARM_S)} |")
-    big = steps[-1][1]
-    lines.append(f"| 5,000-sphere multi-layer bed runs | {big['us_per_step']:.0f} us/step = "
-                 f"{1e3 * big['us_per_step'] / big['particles']:.1f} ns per particle-step | | met |")
-    lines += ["", "## Step cost", "", "Velocity Verlet at dt = 1 us, kernel only (no recording), best of the repeats, "
-              "after the bed is set in motion.", "",
-              "| system | us/step | ns per particle-step | search | pairs listed / touching | wall contacts |",
-              "|---|---|---|---|---|---|"]
-    for label, r in steps:
-        lines.append(f"| {label} | {r['us_per_step']:.3f} | {1e3 * r['us_per_step'] / r['particles']:.1f} | {r['search']} | "
-                     f"{r['pairs_listed']} / {r['pairs_touching']} | {r['walls_touching']} |")
-    lines += ["", "## Cross-validation with LIGGGHTS", "",
-              "The 36-sphere cuboid at three strokes, same cycles (first 2 dropped), same seeded initial positions "
-              "for seed 0; pdamper with its default integrator, seeds 0-2 (mean and range).", "",
-              "| X [mm] | cycles | pdamper eta* (mean, range) | pdamper s/run | LIGGGHTS eta* (seed 0) | LIGGGHTS us/step | LIGGGHTS s/run |",
-              "|---|---|---|---|---|---|---|"]
-    for c in res["cross"]:
-        e = c["pdamper_eta"]
-        lg = c["liggghts"]
-        lg_cols = (f"{lg['eta_star']:.3f} | {lg['us_per_step']:.2f} | {lg['wall_time_s']:.0f}" if lg else "not run | | ")
-        lines.append(f"| {c['stroke'] * 1e3:g} | {c['cycles']} | {statistics.mean(e):.3f} ({min(e):.3f}-{max(e):.3f}) | "
-                     f"{c['pdamper_wall_s']:.1f} | {lg_cols} |")
-    lines += ["", "## Sweep", "", f"`run_study('fig4', ...)` from an empty store, {sw['cases']} cases, one seed, "
-              f"20 cycles, embedded local Dask cluster ({sw['workers']} workers): {sw['wall_s']:.1f} s. Peaks: "
-              + "; ".join(f"{k}: eta* = {v[0]:.3f} at {v[1] * 1e3:.3g} mm" for k, v in sw["peaks"].items()) + "."]
+    if st:
+        lines.append(f"| first run (compile) <= {TARGET_COMPILE_S:g} s | {st['compile_s']:.1f} s | | "
+                     f"{_ok(st['compile_s'] <= TARGET_COMPILE_S)} |")
+        lines.append(f"| later start (cached) <= {TARGET_WARM_S:g} s | {st['warm_s']:.2f} s | | {_ok(st['warm_s'] <= TARGET_WARM_S)} |")
+    if steps:
+        big = steps[-1][1]
+        lines.append(f"| 5,000-sphere multi-layer bed runs | {big['us_per_step']:.0f} us/step = "
+                     f"{1e3 * big['us_per_step'] / big['particles']:.1f} ns per particle-step | | met |")
+        lines += ["", "## Step cost", "", "Velocity Verlet at dt = 1 us, kernel only (no recording), best of the repeats, "
+                  "after the bed is set in motion.", "",
+                  "| system | us/step | ns per particle-step | search | pairs listed / touching | wall contacts |",
+                  "|---|---|---|---|---|---|"]
+        for label, r in steps:
+            lines.append(f"| {label} | {r['us_per_step']:.3f} | {1e3 * r['us_per_step'] / r['particles']:.1f} | {r['search']} | "
+                         f"{r['pairs_listed']} / {r['pairs_touching']} | {r['walls_touching']} |")
+    if cross:
+        lines += ["", "## Cross-validation with LIGGGHTS", "",
+                  "The 36-sphere cuboid at three strokes, same cycles (first 2 dropped), same seeded initial positions "
+                  "for seed 0; pdamper with its default integrator, seeds 0-2 (mean and range), with its default "
+                  "damping (`calibrated` Hertz-Gonthier) and with LIGGGHTS' own (`tsuji`, as its `model hertz`). "
+                  "Friction differs in either case (pdamper's tanh law, LIGGGHTS' tangential spring with a Coulomb "
+                  "limit).", "",
+                  "| X [mm] | cycles | damping | pdamper eta* (mean, range) | pdamper s/run | LIGGGHTS eta* (seed 0) | "
+                  "LIGGGHTS - pdamper mean | LIGGGHTS us/step | LIGGGHTS s/run |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for c in cross:
+            lg = c["liggghts"]
+            for law, r in c["pdamper"].items():
+                e = r["eta"]
+                lg_cols = (f"{lg['eta_star']:.3f} | {lg['eta_star'] - statistics.mean(e):+.3f} | {lg['us_per_step']:.2f} | "
+                           f"{lg['wall_time_s']:.0f}" if lg else "not run | | | ")
+                lines.append(f"| {c['stroke'] * 1e3:g} | {c['cycles']} | {law} | {statistics.mean(e):.3f} "
+                             f"({min(e):.3f}-{max(e):.3f}) | {r['wall_s']:.1f} | {lg_cols} |")
+    if sw:
+        lines += ["", "## Sweep", "", f"`run_study('fig4', ...)` from an empty store, {sw['cases']} cases, one seed, "
+                  f"20 cycles, embedded local Dask cluster ({sw['workers']} workers): {sw['wall_s']:.1f} s. Peaks: "
+                  + "; ".join(f"{k}: eta* = {v[0]:.3f} at {v[1] * 1e3:.3g} mm" for k, v in sw["peaks"].items()) + "."]
     if pp:
-        lines += _paper_lines(pp, sw)
+        lines += _paper_lines(pp, sw or {})
     return "\n".join(lines) + "\n"
 
 
@@ -319,6 +341,8 @@ def main():
     ap.add_argument("--no-liggghts", action="store_true", help="skip the LIGGGHTS rows")
     ap.add_argument("--report", help="Markdown file for the results (default: print only)")
     ap.add_argument("--json", help="also write the raw results as JSON here")
+    ap.add_argument("--only", nargs="+", choices=("start", "steps", "cross", "sweep", "paper"),
+                    help="run only these parts (the report then has only their rows)")
     ap.add_argument("--paper-every", type=int, default=8, metavar="K",
                     help="time every K-th stroke of every DEM curve of the paper (default 8; 1: all, hours; "
                          "0: skip)")
@@ -329,20 +353,28 @@ def main():
     t0 = time.perf_counter()
     res = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
            "date": time.strftime("%Y-%m-%d")}
+    parts = set(args.only or ("start", "steps", "cross", "sweep", "paper"))
+    if args.paper_every <= 0:
+        parts.discard("paper")
     with tempfile.TemporaryDirectory(prefix="pdamper-bench-") as work:
-        print("compile and warm start", flush=True)
-        res["start"] = start_times()
-        print("step cost", flush=True)
-        res["steps"] = step_costs(args.quick)
-        print("cross-validation" + (" with LIGGGHTS" if use_lig else ""), flush=True)
-        res["cross"] = cross_validation(args.quick, work, use_lig)
-        print("sweep", flush=True)
-        res["sweep"] = sweep_time(args.quick, work)
-        if args.paper_every > 0:
+        if "start" in parts:
+            print("compile and warm start", flush=True)
+            res["start"] = start_times()
+        if "steps" in parts:
+            print("step cost", flush=True)
+            res["steps"] = step_costs(args.quick)
+        if "cross" in parts:
+            print("cross-validation" + (" with LIGGGHTS" if use_lig else ""), flush=True)
+            res["cross"] = cross_validation(args.quick, work, use_lig)
+        if "sweep" in parts:
+            print("sweep", flush=True)
+            res["sweep"] = sweep_time(args.quick, work)
+        if "paper" in parts:
             print("every DEM curve of the paper", flush=True)
             res["paper"] = paper_sample(args.quick, 20 if args.quick else args.paper_every)
     res["seconds"] = time.perf_counter() - t0
     cmd = ("python benchmarks/run.py" + (" --quick" if args.quick else "") + (" --no-liggghts" if args.no_liggghts else "")
+           + (f" --only {' '.join(args.only)}" if args.only else "")
            + (f" --paper-every {args.paper_every}" if args.paper_every != 8 else ""))
     text = report(res, args.quick, cmd)
     print()
