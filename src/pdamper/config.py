@@ -60,6 +60,11 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
 :func:`case_to_dict` / :func:`dump_case` write a case back in plain SI numbers, so that
 ``load_case(dump_case(case, p)) == case`` exactly. Every problem raises
 :class:`pdamper.errors.InputError` naming the file, the section and the key.
+:func:`with_overrides` applies the same dotted overrides to a case in hand.
+
+The keys are the parameter dataclasses' own fields, read and written from the spec each field
+carries (:mod:`pdamper.schema`); this module adds only what no field can say (which class a
+section builds, keys that are not fields, the restitution-law tables).
 """
 
 from __future__ import annotations
@@ -81,38 +86,48 @@ from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .materials import LIBRARY, Material
 from .params import Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording
+from .schema import config_keys, plain_fields, spec_of
 from .units import parse_quantity, unit_factor
 
 __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
-           "SECTIONS"]
+           "with_overrides", "SECTIONS"]
 
-#: Allowed keys of each section (the schema).
+# The sections are read from the parameter dataclasses' own fields (pdamper.schema): a field's
+# spec says its dimension, allowed values and key. What is written here by hand is only the
+# structure no field can say: which class a section builds (a container shape, a drive kind),
+# and keys that are not fields (a samples file, a natural frequency instead of a stiffness,
+# per-material-pair tables).
+_GEOMETRIES = {cls.shape: cls for cls in (Cuboid, Cylinder)}
+_DRIVES = {cls.kind: cls for cls in (HarmonicDrive, SampledDrive, Still)}
+_SHAPE_KEYS = {shape: config_keys(cls) for shape, cls in _GEOMETRIES.items()}
+#: Keys that only one kind of drive has (a key of another kind is an error).
+_DRIVE_OWN = {kind: tuple(k for k in config_keys(cls)
+                          if not any(k in config_keys(o) for o in _DRIVES.values() if o is not cls))
+              for kind, cls in _DRIVES.items()}
+_DRIVE_OWN["samples"] = ("samples",) + _DRIVE_OWN["samples"]
+_SAMPLED_KEYS = _DRIVE_OWN["samples"]
+
+
+def _union(*groups) -> tuple:
+    return tuple(dict.fromkeys(k for g in groups for k in g))
+
+
+#: Allowed keys of each section, derived from the dataclasses' fields.
 SECTIONS = {
-    "container": ("shape", "length", "width", "height", "radius", "material", "tilt", "mass"),
-    "particles": ("count", "radius", "material"),
-    "drive": ("kind", "stroke", "frequency", "angle", "samples", "time", "position", "velocity",
-              "acceleration", "duration"),
-    "contact": ("friction", "restitution", "tau", "v_in_floor", "damping", "pair"),
-    # every field of Numerics, read by its default's type (see _FLAT_DIMENSIONS)
-    "numerics": tuple(f.name for f in dataclasses.fields(Numerics)),
-    "recording": tuple(f.name for f in dataclasses.fields(Recording)),
-    "initial": ("arrangement", "jitter", "seed", "settle_time", "layers", "positions", "velocities", "spins"),
-    "run": ("cycles", "drop_cycles", "gravity"),
-    "structure": ("mass", "stiffness", "natural_frequency", "damping_ratio", "force_amplitude",
-                  "force_frequency", "displacement", "velocity", "angle"),
+    "container": _union(("shape",), *_SHAPE_KEYS.values(), config_keys(Container, drop=("geometry",))),
+    "particles": config_keys(ParticleSet),
+    "drive": _union(("kind",), *(config_keys(cls) for cls in _DRIVES.values()), ("samples",)),
+    "contact": config_keys(ContactModel, drop=("pair_friction", "pair_restitution")) + ("pair",),
+    "numerics": config_keys(Numerics),
+    "recording": config_keys(Recording),
+    "initial": config_keys(InitialState),
+    "run": tuple(s.key or f.name for f, s in plain_fields(Case)),
+    "structure": _union(config_keys(CoupledStructure), ("natural_frequency",)),
 }
-#: Dimensions of the plain keys of [numerics] and [recording] (a key missing here takes plain SI
-#: numbers); a key whose default is None also takes "auto".
-_FLAT_DIMENSIONS = {"time_step": "time", "max_impact_speed": "velocity", "max_time_step": "time",
-                    "gear_tolerance": "length", "gear_max_step": "time", "skin": "length",
-                    "sample_rate": "frequency", "trajectory_fps": "frequency"}
-_CHOICES = {"integrator": ("verlet", "gear"), "neighbour_search": ("auto", "direct", "cells")}
-_SHAPE_KEYS = {"cuboid": ("length", "width", "height"), "cylinder": ("radius", "height")}
-_MATERIAL_KEYS = ("name", "youngs_modulus", "poisson_ratio", "density")
+_MATERIAL_KEYS = config_keys(Material)
 _PAIR_KEYS = ("materials", "friction", "restitution")
 _LAW_KEYS = {"constant": ("law", "value"), "table": ("law", "speeds", "values"),
              "thornton": ("law", "yield_pressure")}
-_SAMPLED_KEYS = ("samples", "time", "position", "velocity", "acceleration")
 
 
 # --------------------------------------------------------------------------- reading
@@ -179,6 +194,35 @@ def _quoted(key, allowed) -> str:
     if near:
         return f"did you mean {near[0]!r}?"
     return "allowed keys: " + ", ".join(allowed)
+
+
+def with_overrides(case: Case, overrides: dict) -> Case:
+    """``case`` with the dotted keys of ``overrides`` replaced, e.g. ``{"contact.friction": 1.0,
+    "drive.stroke": "3mm", "particles.material": Material(...)}``.
+
+    The one override mechanism of pdamper: the case is written as its config (:func:`case_to_dict`),
+    the overrides are applied as for :func:`load_case` (values read exactly like a config file's,
+    with the same messages) and the config is read back. Values may also be parameter objects
+    (a :class:`~pdamper.materials.Material`, a restitution law) or tuples; they are written as a
+    config would hold them. Round trips are exact, so keys not overridden keep their values bit
+    for bit.
+    """
+    return case_from_dict(case_to_dict(case), {k: _to_config(v) for k, v in overrides.items()})
+
+
+def _to_config(value):
+    """A parameter value as a config file holds it."""
+    if value is None:  # the value of an optional field: "auto" in a config file
+        return "auto"
+    if isinstance(value, Material):
+        return _material_to(value)
+    if isinstance(value, (ConstantRestitution, TabulatedRestitution, ThorntonRestitution)):
+        return _law_to(value)
+    if isinstance(value, (tuple, list)):
+        return [_to_config(v) for v in value]
+    if hasattr(value, "item") and not isinstance(value, (str, bytes)):  # numpy scalar
+        return value.item()
+    return value
 
 
 def _apply_overrides(data: dict, overrides: dict) -> dict:
@@ -270,6 +314,36 @@ class _Reader:
                              + ", ".join(repr(c) for c in choices))
         return v
 
+    def fields(self, t, section, cls) -> dict:
+        """Keyword arguments for ``cls`` from table ``t``: each plain field present, read by its spec."""
+        kw = {}
+        for f, s in plain_fields(cls):
+            key = s.key or f.name
+            if key in t:
+                kw[f.name] = self.value(t, section, key, s)
+        return kw
+
+    def value(self, t, section, key, s):
+        """The value of ``t[key]`` read as the :class:`~pdamper.schema.Spec` ``s`` says."""
+        v = t[key]
+        if s.choices is not None:
+            return self.choice(t, section, key, s.choices, None)
+        if s.kind == "text":
+            if not isinstance(v, str):
+                raise InputError(f"[{section}] {key} = {v!r} must be a string")
+            return v
+        if s.kind == "whole":
+            return self.integer(t, section, key)
+        if s.kind == "list":
+            return self.quantity_list(v, f"[{section}] {key}", s.dimension or "dimensionless")
+        if s.kind == "rows":
+            return self.vectors(v, f"[{section}] {key}", s.dimension, s.example)
+        if s.auto and isinstance(v, str) and v.strip().lower() == "auto":
+            return None
+        if s.dimension is not None:
+            return self.quantity(t, section, key, s.dimension)
+        return self.number(t, section, key)
+
     def quantity_list(self, value, name, dimension):
         if not isinstance(value, list):
             raise InputError(f"{name} = {value!r} must be a list of {dimension}s, e.g. [1, 2, 3]")
@@ -314,13 +388,7 @@ class _Reader:
         with _context("run"):
             run = self._table(data, "run")
             self._check_keys(run, "run", SECTIONS["run"])
-            kw = {}
-            if "cycles" in run:
-                kw["cycles"] = self.number(run, "run", "cycles")
-            if "drop_cycles" in run:
-                kw["drop_cycles"] = self.integer(run, "run", "drop_cycles")
-            if "gravity" in run:
-                kw["gravity"] = self.quantity(run, "run", "gravity", "acceleration")
+            kw = self.fields(run, "run", Case)
             return Case(particles=particles, container=container, drive=drive, contact=contact,
                         numerics=numerics, recording=recording, initial=initial, **kw)
 
@@ -348,22 +416,17 @@ class _Reader:
         mname = value.get("name", default_name)
         if not isinstance(mname, str) or not mname:
             raise InputError(f"[{sub}] name = {mname!r} must be a non-empty string")
-        return Material(name=mname,
-                        youngs_modulus=self.quantity(value, sub, "youngs_modulus", "pressure"),
-                        poisson_ratio=_dimless(value["poisson_ratio"], f"[{sub}] poisson_ratio"),
-                        density=self.quantity(value, sub, "density", "density"))
+        return Material(**{**self.fields(value, sub, Material), "name": mname})
 
     def container(self, t) -> Container:
         self._check_keys(t, "container", SECTIONS["container"])
-        shape = self.choice(t, "container", "shape", ("cuboid", "cylinder"), "cuboid")
+        shape = self.choice(t, "container", "shape", tuple(_GEOMETRIES), "cuboid")
         for key in ("length", "width", "height", "radius"):
             if key in t and key not in _SHAPE_KEYS[shape]:
                 other = "cylinder" if shape == "cuboid" else "cuboid"
                 raise InputError(f"[container] {key} applies to shape = {other!r}, but shape = {shape!r} "
                                  f"(give {', '.join(_SHAPE_KEYS[shape])})")
-        dims = {k: self.quantity(t, "container", k, "length") for k in _SHAPE_KEYS[shape] if k in t}
-        geometry = Cuboid(**dims) if shape == "cuboid" else Cylinder(**dims)
-        kw = {"geometry": geometry}
+        kw = {"geometry": _GEOMETRIES[shape](**self.fields(t, "container", _GEOMETRIES[shape]))}
         if "material" in t:
             kw["material"] = self.material(t["material"], "container", "container")
         if "tilt" in t:
@@ -376,8 +439,7 @@ class _Reader:
             else:
                 a = self.quantity(t, "container", "tilt", "angle")
                 kw["tilt"] = (a, a, a)
-        if "mass" in t:
-            kw["mass"] = self.quantity(t, "container", "mass", "mass")
+        kw.update(self.fields(t, "container", Container))
         return Container(**kw)
 
     def particles(self, value) -> tuple:
@@ -395,9 +457,7 @@ class _Reader:
             self._check_keys(t, label, SECTIONS["particles"])
             if "count" not in t:
                 raise InputError(f"[{label}] count is missing; give the number of spheres, e.g. count = 36")
-            kw = {"count": self.integer(t, label, "count")}
-            if "radius" in t:
-                kw["radius"] = self.quantity(t, label, "radius", "length")
+            kw = self.fields(t, label, ParticleSet)
             if "material" in t:
                 default = "particles" if len(tables) == 1 else f"particles-{k + 1}"
                 kw["material"] = self.material(t["material"], label, default)
@@ -407,41 +467,31 @@ class _Reader:
     def drive(self, t):
         self._check_keys(t, "drive", SECTIONS["drive"])
         sampled = [k for k in _SAMPLED_KEYS if k in t]
-        kind = self.choice(t, "drive", "kind", ("harmonic", "samples", "still"),
+        kind = self.choice(t, "drive", "kind", tuple(_DRIVES),
                            "samples" if sampled else ("still" if "duration" in t else "harmonic"))
-        own = {"harmonic": ("stroke",), "samples": _SAMPLED_KEYS, "still": ("duration",)}
-        for other, keys in own.items():
+        for other, keys in _DRIVE_OWN.items():
             given = [k for k in keys if k in t]
             if other != kind and given:
                 raise InputError(f"[drive] {', '.join(given)} belongs to a {other!r} drive but this drive is "
                                  f"{kind!r}; give stroke (harmonic), samples or time/position (sampled) "
                                  "or duration (still), not a mix")
-        kw = {}
-        if "angle" in t:
-            kw["angle"] = self.quantity(t, "drive", "angle", "angle")
-        if kind == "still":
-            if "frequency" in t:
-                raise InputError("[drive] frequency does not apply to a still container (kind = 'still')")
-            if "duration" in t:
-                kw["duration_s"] = self.quantity(t, "drive", "duration", "time")
-            return Still(**kw)
-        if "frequency" in t:
-            kw["frequency"] = self.quantity(t, "drive", "frequency", "frequency")
+        if kind == "still" and "frequency" in t:
+            raise InputError("[drive] frequency does not apply to a still container (kind = 'still')")
+        kw = self.fields(t, "drive", _DRIVES[kind])
         if kind == "harmonic":
-            return HarmonicDrive(stroke=self.quantity(t, "drive", "stroke", "length", 0.012), **kw)
-        if "samples" in t:
-            extra = [k for k in ("time", "position", "velocity", "acceleration") if k in t]
-            if extra:
-                raise InputError(f"[drive] give either samples = 'file.csv' or inline {', '.join(extra)}, not both")
-            kw.update(self._samples_file(t["samples"]))
-        else:
-            for req in ("time", "position"):
-                if req not in t:
-                    raise InputError(f"[drive] a sampled motion needs {req!r}: give time = [...] and "
-                                     "position = [...] (optionally velocity = [...]) or samples = 'motion.csv'")
-            dims = {"time": "time", "position": "length", "velocity": "velocity", "acceleration": "acceleration"}
-            kw.update({k: self.quantity_list(t[k], f"[drive] {k}", dims[k]) for k in dims if k in t})
-        return SampledDrive(**kw)
+            kw.setdefault("stroke", 0.012)
+        elif kind == "samples":
+            if "samples" in t:
+                extra = [k for k in _SAMPLED_KEYS[1:] if k in t]
+                if extra:
+                    raise InputError(f"[drive] give either samples = 'file.csv' or inline {', '.join(extra)}, not both")
+                kw.update(self._samples_file(t["samples"]))
+            else:
+                for req in ("time", "position"):
+                    if req not in t:
+                        raise InputError(f"[drive] a sampled motion needs {req!r}: give time = [...] and "
+                                         "position = [...] (optionally velocity = [...]) or samples = 'motion.csv'")
+        return _DRIVES[kind](**kw)
 
     def structure(self, t, drive_table) -> CoupledStructure:
         """[structure]: the container rides on a coupled oscillator (replaces [drive])."""
@@ -453,25 +503,17 @@ class _Reader:
             if req not in t:
                 raise InputError("[structure] mass is missing: give the structure's modal mass including the "
                                  "empty container, e.g. mass = '7kg'")
-        kw = {"mass": self.quantity(t, "structure", "mass", "mass")}
         if ("stiffness" in t) == ("natural_frequency" in t):
             raise InputError("[structure] give exactly one of stiffness (N/m, e.g. 1105) or natural_frequency "
                              "(e.g. '2Hz')")
-        if "stiffness" in t:
-            kw["stiffness"] = self.number(t, "structure", "stiffness")
-        else:
+        kw = self.fields(t, "structure", CoupledStructure)
+        if "natural_frequency" in t:
             fn = self.quantity(t, "structure", "natural_frequency", "frequency")
             if not (fn > 0 and math.isfinite(fn)):
                 raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r}; must be > 0, e.g. '2Hz'")
             if not (kw["mass"] > 0 and math.isfinite(kw["mass"])):
                 raise InputError(f"[structure] mass = {t['mass']!r}; must be > 0, e.g. '7kg'")
             kw["stiffness"] = kw["mass"] * (2.0 * math.pi * fn) ** 2
-        if "damping_ratio" in t:
-            kw["damping_ratio"] = self.number(t, "structure", "damping_ratio")
-        for key, dim in (("force_amplitude", "force"), ("force_frequency", "frequency"), ("displacement", "length"),
-                         ("velocity", "velocity"), ("angle", "angle")):
-            if key in t:
-                kw[key] = self.quantity(t, "structure", key, dim)
         return CoupledStructure(**kw)
 
     def _samples_file(self, value) -> dict:
@@ -528,19 +570,9 @@ class _Reader:
 
     def contact(self, t, material_names) -> ContactModel:
         self._check_keys(t, "contact", SECTIONS["contact"])
-        kw = {}
-        if "friction" in t:
-            kw["friction"] = self.number(t, "contact", "friction")
+        kw = self.fields(t, "contact", ContactModel)
         if "restitution" in t:
             kw["restitution"] = self.restitution(t["restitution"], "contact")
-        if "tau" in t:
-            kw["tau"] = self.number(t, "contact", "tau")
-        if "v_in_floor" in t:
-            kw["v_in_floor"] = self.quantity(t, "contact", "v_in_floor", "velocity")
-        if "damping" in t:
-            if not isinstance(t["damping"], str):
-                raise InputError(f"[contact] damping = {t['damping']!r} must be a string such as 'calibrated'")
-            kw["damping"] = t["damping"]
         pairs = t.get("pair", [])
         if isinstance(pairs, dict):
             pairs = [pairs]
@@ -578,28 +610,9 @@ class _Reader:
         return ContactModel(**kw)
 
     def flat(self, t, section, cls):
-        """A section of plain scalars, one key per field of ``cls``, read by the field's default."""
+        """A section whose every key is a plain field of ``cls``."""
         self._check_keys(t, section, SECTIONS[section])
-        kw = {}
-        for f in dataclasses.fields(cls):
-            if f.name not in t:
-                continue
-            key, default, dim = f.name, f.default, _FLAT_DIMENSIONS.get(f.name)
-            if key in _CHOICES:
-                kw[key] = self.choice(t, section, key, _CHOICES[key], None)
-            elif isinstance(default, str):
-                if not isinstance(t[key], str):
-                    raise InputError(f"[{section}] {key} = {t[key]!r} must be a string")
-                kw[key] = t[key]
-            elif isinstance(default, int) and not isinstance(default, bool):
-                kw[key] = self.integer(t, section, key)
-            elif default is None and isinstance(t[key], str) and t[key].strip().lower() == "auto":
-                kw[key] = None
-            elif dim is not None:
-                kw[key] = self.quantity(t, section, key, dim)
-            else:
-                kw[key] = self.number(t, section, key)
-        return cls(**kw)
+        return cls(**self.fields(t, section, cls))
 
     def numerics(self, t) -> Numerics:
         return self.flat(t, "numerics", Numerics)
@@ -608,24 +621,7 @@ class _Reader:
         return self.flat(t, "recording", Recording)
 
     def initial(self, t) -> InitialState:
-        s = "initial"
-        self._check_keys(t, s, SECTIONS[s])
-        kw = {}
-        if "arrangement" in t:
-            kw["arrangement"] = self.choice(t, s, "arrangement", ("block", "scatter"), None)
-        if "layers" in t:
-            kw["layers"] = self.choice(t, s, "layers", ("one", "auto"), None)
-        if "jitter" in t:
-            kw["jitter"] = self.quantity(t, s, "jitter", "length")
-        if "settle_time" in t:
-            kw["settle_time"] = self.quantity(t, s, "settle_time", "time")
-        if "seed" in t:
-            kw["seed"] = self.integer(t, s, "seed")
-        for key, dim, unit in (("positions", "length", "'5mm'"), ("velocities", "velocity", "'0.1m/s'"),
-                               ("spins", "frequency", "'10rad/s'")):
-            if key in t:
-                kw[key] = self.vectors(t[key], f"[{s}] {key}", dim, unit)
-        return InitialState(**kw)
+        return self.flat(t, "initial", InitialState)
 
 
 class _context:
@@ -744,8 +740,7 @@ def read_motion_csv(path) -> dict:
 def _material_to(m: Material):
     if LIBRARY.get(m.name) == m:
         return m.name
-    return {"name": m.name, "youngs_modulus": float(m.youngs_modulus), "poisson_ratio": float(m.poisson_ratio),
-            "density": float(m.density)}
+    return _fields_to(m)
 
 
 def _law_to(law):
@@ -767,59 +762,45 @@ def _num(v):
     return float(v)
 
 
-def _flat_to(obj) -> dict:
+def _fields_to(obj) -> dict:
+    """The plain fields of ``obj`` as config keys, type tags first (the inverse of ``_Reader.fields``)."""
     out = {}
     for f in dataclasses.fields(obj):
+        s = spec_of(f)
+        if s.kind == "tag":
+            out[s.key or f.name] = getattr(obj, f.name)
+    for f, s in plain_fields(type(obj)):
         v = getattr(obj, f.name)
-        out[f.name] = "auto" if v is None else v if isinstance(v, str) else _num(v)
+        key = s.key or f.name
+        if v is None:
+            if s.auto:
+                out[key] = "auto"
+        elif s.kind == "text":
+            out[key] = v
+        elif s.kind == "whole":
+            out[key] = int(v)
+        elif s.kind == "list":
+            out[key] = [float(x) for x in v]
+        elif s.kind == "rows":
+            out[key] = [[float(x) for x in row] for row in v]
+        else:
+            out[key] = float(v) if s.dimension is not None else _num(v)
     return out
 
 
 def case_to_dict(case: Case) -> dict:
     """The full config of ``case`` as a TOML-ready dict, every quantity in plain SI units.
 
+    Written from the same field specs the reader uses (:mod:`pdamper.schema`), so that
     ``case_from_dict(case_to_dict(case)) == case``.
     """
     c = case.container
-    g = c.geometry
-    container = {"shape": g.shape}
-    for k in _SHAPE_KEYS[g.shape]:
-        container[k] = float(getattr(g, k))
-    container.update(material=_material_to(c.material), tilt=[float(a) for a in c.tilt], mass=float(c.mass))
-
-    parts = [{"count": int(p.count), "radius": float(p.radius), "material": _material_to(p.material)}
-             for p in case.particles]
-
-    d = case.drive
-    if isinstance(d, HarmonicDrive):
-        drive = {"kind": "harmonic", "stroke": float(d.stroke), "frequency": float(d.frequency),
-                 "angle": float(d.angle)}
-    elif isinstance(d, SampledDrive):
-        drive = {"kind": "samples", "angle": float(d.angle)}
-        if d.frequency is not None:
-            drive["frequency"] = float(d.frequency)
-        drive["time"] = [float(v) for v in d.time]
-        drive["position"] = [float(v) for v in d.position]
-        for k in ("velocity", "acceleration"):
-            if getattr(d, k) is not None:
-                drive[k] = [float(v) for v in getattr(d, k)]
-    elif isinstance(d, Still):
-        drive = {"kind": "still", "duration": float(d.duration_s), "angle": float(d.angle)}
-    elif isinstance(d, CoupledStructure):
-        drive = None
-        structure = {"mass": float(d.mass), "stiffness": float(d.stiffness), "damping_ratio": float(d.damping_ratio),
-                     "force_amplitude": float(d.force_amplitude), "displacement": float(d.displacement),
-                     "velocity": float(d.velocity), "angle": float(d.angle)}
-        if d.force_frequency is not None:
-            structure["force_frequency"] = float(d.force_frequency)
-    else:
-        raise InputError(f"cannot write drive {type(d).__name__} to a config file")
+    container = {**_fields_to(c.geometry), "material": _material_to(c.material), "tilt": [float(a) for a in c.tilt],
+                 **_fields_to(c)}
+    parts = [{**_fields_to(p), "material": _material_to(p.material)} for p in case.particles]
 
     ct = case.contact
-    contact = {"friction": _num(ct.friction), "restitution": _law_to(ct.restitution), "tau": _num(ct.tau),
-               "v_in_floor": float(ct.v_in_floor)}
-    if hasattr(ct, "damping"):
-        contact["damping"] = ct.damping
+    contact = {**_fields_to(ct), "restitution": _law_to(ct.restitution)}
     pairs = []
     for key, mu in ct.pair_friction.items():
         pairs.append({"materials": list(key), "friction": _num(mu)})
@@ -833,22 +814,20 @@ def case_to_dict(case: Case) -> dict:
     if pairs:
         contact["pair"] = pairs
 
-    numerics = _flat_to(case.numerics)
-    recording = _flat_to(case.recording)
-    i = case.initial
-    initial = {"arrangement": i.arrangement, "jitter": float(i.jitter), "seed": int(i.seed),
-               "settle_time": float(i.settle_time), "layers": i.layers}
-    for key in ("positions", "velocities", "spins"):
-        rows = getattr(i, key, None)
-        if rows is not None:
-            initial[key] = [[float(v) for v in row] for row in rows]
-    run = {"cycles": _num(case.cycles), "drop_cycles": int(case.drop_cycles), "gravity": float(case.gravity)}
-    out = {"container": container, "particles": parts[0] if len(parts) == 1 else parts, "drive": drive,
-           "contact": contact, "numerics": numerics, "recording": recording, "initial": initial, "run": run}
-    if drive is None:
-        del out["drive"]
-        out["structure"] = structure
-    return out
+    out = {"container": container, "particles": parts[0] if len(parts) == 1 else parts}
+    d = case.drive
+    if isinstance(d, CoupledStructure):
+        drive_key, drive = "structure", _fields_to(d)
+        del drive["kind"]
+    elif isinstance(d, tuple(_DRIVES.values())):
+        drive_key, drive = "drive", _fields_to(d)
+    else:
+        raise InputError(f"cannot write drive {type(d).__name__} to a config file")
+    out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
+                "initial": _fields_to(case.initial), "run": _fields_to(case)})
+    # [drive] or [structure] after [particles], as a person writes it
+    return {**{k: out[k] for k in ("container", "particles")}, drive_key: drive,
+            **{k: v for k, v in out.items() if k not in ("container", "particles")}}
 
 
 _HEADER = ("# pdamper case configuration (written by pdamper {version}).\n"

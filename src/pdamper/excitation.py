@@ -8,11 +8,12 @@ the lab x axis (the container's length when untilted) towards the lab z axis.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from .errors import InputError
+from .schema import param
 
 __all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure"]
 
@@ -31,10 +32,10 @@ class HarmonicDrive:
         Direction of the drive in the horizontal plane [rad] (0: along the container's length).
     """
 
-    stroke: float
-    frequency: float = 2.0
-    angle: float = 0.0
-    kind: str = "harmonic"
+    stroke: float = param(dimension="length", paper="3-50 mm")
+    frequency: float = param(2.0, dimension="frequency", paper="2 Hz")
+    angle: float = param(0.0, dimension="angle")
+    kind: str = param("harmonic", kind="tag")
 
     def __post_init__(self):
         if not (self.stroke > 0 and math.isfinite(self.stroke)):
@@ -92,13 +93,13 @@ class SampledDrive:
     frequency : float, optional drive frequency [Hz] for the analysis (detected if omitted).
     """
 
-    time: tuple = field(default=())
-    position: tuple = field(default=())
-    velocity: tuple | None = None
-    acceleration: tuple | None = None
-    angle: float = 0.0
-    frequency: float | None = None
-    kind: str = "samples"
+    time: tuple = param((), kind="list", dimension="time")
+    position: tuple = param((), kind="list", dimension="length")
+    velocity: tuple | None = param(None, kind="list", dimension="velocity")
+    acceleration: tuple | None = param(None, kind="list", dimension="acceleration")
+    angle: float = param(0.0, dimension="angle")
+    frequency: float | None = param(None, dimension="frequency")
+    kind: str = param("samples", kind="tag")
 
     def __post_init__(self):
         t = np.asarray(self.time, dtype=float)
@@ -150,9 +151,9 @@ class SampledDrive:
 class Still:
     """A container at rest for ``duration`` [s] (settling, tests, free motion of the bed)."""
 
-    duration_s: float = 1.0
-    angle: float = 0.0
-    kind: str = "still"
+    duration_s: float = param(1.0, dimension="time", key="duration")
+    angle: float = param(0.0, dimension="angle")
+    kind: str = param("still", kind="tag")
 
     def __post_init__(self):
         if not (self.duration_s > 0 and math.isfinite(self.duration_s)):
@@ -178,8 +179,8 @@ class CoupledStructure:
 
     ``M x_s'' + c x_s' + K x_s = F0 sin(2 pi f_F t) - F_w`` with ``c = 2 zeta sqrt(K M)`` and F_w
     the force of the walls on the particles along the drive; the structure's motion is the
-    container's (see :mod:`pdamper.kernels.structure` and docs/structure.md). Only the
-    fixed-step Verlet integrator advances it (``numerics.integrator = "verlet"``).
+    container's (see :mod:`pdamper.kernels.structure` and docs/structure.md). Both integrators
+    advance it with the same structure step (Gear and Verlet, docs/structure.md).
 
     Parameters
     ----------
@@ -204,15 +205,15 @@ class CoupledStructure:
     2.0
     """
 
-    mass: float
-    stiffness: float
+    mass: float = param(dimension="mass")
+    stiffness: float = param(kind="number", unit="N/m")
     damping_ratio: float = 0.005
-    force_amplitude: float = 0.0
-    force_frequency: float | None = None
-    displacement: float = 0.0
-    velocity: float = 0.0
-    angle: float = 0.0
-    kind: str = "structure"
+    force_amplitude: float = param(0.0, dimension="force")
+    force_frequency: float | None = param(None, dimension="frequency")
+    displacement: float = param(0.0, dimension="length")
+    velocity: float = param(0.0, dimension="velocity")
+    angle: float = param(0.0, dimension="angle")
+    kind: str = param("structure", kind="tag")
 
     def __post_init__(self):
         for name, unit, ex in (("mass", "kg", "'7kg'"), ("stiffness", "N/m", "1105 (N/m)")):

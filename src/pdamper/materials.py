@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .errors import InputError
+from .schema import param
 
 __all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "effective_modulus", "LIBRARY"]
 
@@ -28,10 +29,10 @@ class Material:
         rho [kg/m^3], > 0.
     """
 
-    name: str
-    youngs_modulus: float
-    poisson_ratio: float
-    density: float
+    name: str = param(kind="text")
+    youngs_modulus: float = param(dimension="pressure", paper="steel 208 GPa")
+    poisson_ratio: float = param(kind="number", paper="steel 0.3")
+    density: float = param(dimension="density", paper="steel 7900 kg/m^3")
 
     def __post_init__(self):
         if not (self.youngs_modulus > 0):

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
@@ -20,6 +20,7 @@ from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .materials import PVC, STEEL_S235, Material
+from .schema import check_choice, param
 
 __all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case",
            "PAPER_TILT", "with_stroke"]
@@ -45,9 +46,9 @@ class ParticleSet:
     material : Material (paper: steel S235).
     """
 
-    count: int
-    radius: float = 0.005
-    material: Material = STEEL_S235
+    count: int = param(kind="whole")
+    radius: float = param(0.005, dimension="length", paper="5 mm")
+    material: Material = param(STEEL_S235, kind="custom")
 
     def __post_init__(self):
         if isinstance(self.count, bool) or not isinstance(self.count, int) or self.count < 1:
@@ -73,10 +74,10 @@ class Container:
     mass : float, m_c [kg] >= 0; enters the driving force as m_c x_c'' (no effect on Re P).
     """
 
-    geometry: Cuboid | Cylinder = field(default_factory=Cuboid)
-    material: Material = PVC
-    tilt: tuple = PAPER_TILT
-    mass: float = 0.0
+    geometry: Cuboid | Cylinder = param(default_factory=Cuboid, kind="custom")
+    material: Material = param(PVC, kind="custom")
+    tilt: tuple = param(PAPER_TILT, kind="custom")
+    mass: float = param(0.0, dimension="mass")
 
     def __post_init__(self):
         t = tuple(float(a) for a in self.tilt)
@@ -107,13 +108,13 @@ class ContactModel:
         ``("steel", "pvc")``) to a friction coefficient / a COR law; order does not matter.
     """
 
-    friction: float = 0.1
-    restitution: object = field(default_factory=ConstantRestitution)
-    tau: float = DEFAULT_TAU
-    v_in_floor: float = V_IN_FLOOR
-    damping: str = "calibrated"
-    pair_friction: dict = field(default_factory=dict)
-    pair_restitution: dict = field(default_factory=dict)
+    friction: float = param(0.1, paper="0.1")
+    restitution: object = param(default_factory=ConstantRestitution, kind="custom")
+    tau: float = param(DEFAULT_TAU, unit="s/m")
+    v_in_floor: float = param(V_IN_FLOOR, dimension="velocity")
+    damping: str = param("calibrated", choices=DAMPING_CHOICES)
+    pair_friction: dict = param(default_factory=dict, kind="custom")
+    pair_restitution: dict = param(default_factory=dict, kind="custom")
 
     def __post_init__(self):
         for mu in [self.friction, *self.pair_friction.values()]:
@@ -121,8 +122,7 @@ class ContactModel:
                 raise InputError(f"contact.friction = {mu!r}; a friction coefficient must be >= 0 (paper: 0.1)")
         _positive(self, "tau", "> 0 s/m (default 1000)")
         _positive(self, "v_in_floor", "> 0 m/s (default 1e-3)")
-        if self.damping not in DAMPING_CHOICES:
-            raise InputError(f"contact.damping = {self.damping!r}; choose one of {', '.join(DAMPING_CHOICES)}")
+        check_choice(self, "damping", "contact")
 
     def friction_for(self, a: str, b: str) -> float:
         """mu [-] for the material pair (a, b)."""
@@ -154,22 +154,20 @@ class Numerics:
     overlap_limit : a run stops when an overlap exceeds this fraction of the radius (default 0.05).
     """
 
-    integrator: str = "gear"
-    time_step: float | None = None
+    integrator: str = param("gear", choices=("verlet", "gear"))
+    time_step: float | None = param(None, dimension="time", auto=True)
     steps_per_contact: int = 15
-    max_impact_speed: float | None = None
-    max_time_step: float = 1e-5
-    gear_tolerance: float = 1e-10
-    gear_max_step: float = 5e-5
-    neighbour_search: str = "auto"
-    skin: float | None = None
+    max_impact_speed: float | None = param(None, dimension="velocity", auto=True)
+    max_time_step: float = param(1e-5, dimension="time")
+    gear_tolerance: float = param(1e-10, dimension="length")
+    gear_max_step: float = param(5e-5, dimension="time")
+    neighbour_search: str = param("auto", choices=("auto", "direct", "cells"))
+    skin: float | None = param(None, dimension="length", auto=True)
     overlap_limit: float = 0.05
 
     def __post_init__(self):
-        if self.integrator not in ("verlet", "gear"):
-            raise InputError(f"numerics.integrator = {self.integrator!r}; choose 'verlet' or 'gear'")
-        if self.neighbour_search not in ("auto", "direct", "cells"):
-            raise InputError(f"numerics.neighbour_search = {self.neighbour_search!r}; choose 'auto', 'direct' or 'cells'")
+        check_choice(self, "integrator", "numerics")
+        check_choice(self, "neighbour_search", "numerics")
         if self.time_step is not None:
             _positive(self, "time_step", "> 0 s (or omit it for the automatic step)")
         if not (isinstance(self.steps_per_contact, int) and self.steps_per_contact >= 4):
@@ -196,8 +194,8 @@ class Recording:
     trajectory_fps : frames per second of decimated particle trajectories (0: none).
     """
 
-    sample_rate: float = 1000.0
-    trajectory_fps: float = 0.0
+    sample_rate: float = param(1000.0, dimension="frequency", paper="1000 Hz")
+    trajectory_fps: float = param(0.0, dimension="frequency")
 
     def __post_init__(self):
         _positive(self, "sample_rate", "> 0 Hz (default 1000)")
@@ -228,26 +226,24 @@ class InitialState:
         lab frame at the start of the run (before settling; use ``settle_time = 0`` to keep them).
     """
 
-    arrangement: str = "block"
-    jitter: float = 1e-4
+    arrangement: str = param("block", choices=("block", "scatter"))
+    jitter: float = param(1e-4, dimension="length")
     seed: int = 0
-    settle_time: float = 0.1
-    layers: str = "one"
-    positions: tuple | None = None
-    velocities: tuple | None = None
-    spins: tuple | None = None
+    settle_time: float = param(0.1, dimension="time")
+    layers: str = param("one", choices=("one", "auto"))
+    positions: tuple | None = param(None, kind="rows", dimension="length", example="'5mm'")
+    velocities: tuple | None = param(None, kind="rows", dimension="velocity", example="'0.1m/s'")
+    spins: tuple | None = param(None, kind="rows", dimension="frequency", example="'10rad/s'")
 
     def __post_init__(self):
-        if self.arrangement not in ("block", "scatter"):
-            raise InputError(f"initial.arrangement = {self.arrangement!r}; choose 'block' or 'scatter'")
+        check_choice(self, "arrangement", "initial")
         if not (self.jitter >= 0 and math.isfinite(self.jitter)):
             raise InputError(f"initial.jitter = {self.jitter!r} m; must be >= 0")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise InputError(f"initial.seed = {self.seed!r}; must be a whole number >= 0")
         if not (self.settle_time >= 0 and math.isfinite(self.settle_time)):
             raise InputError(f"initial.settle_time = {self.settle_time!r} s; must be >= 0")
-        if self.layers not in ("one", "auto"):
-            raise InputError(f"initial.layers = {self.layers!r}; choose 'one' or 'auto'")
+        check_choice(self, "layers", "initial")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -255,16 +251,18 @@ class Case:
     """One simulated case: what is simulated (particles, container, drive, contact laws), how
     (numerics), what is recorded, how it starts, and for how long (``cycles`` of the drive)."""
 
-    particles: tuple
-    container: Container = field(default_factory=Container)
-    drive: HarmonicDrive | SampledDrive | Still | CoupledStructure = field(default_factory=lambda: HarmonicDrive(stroke=0.012))
-    contact: ContactModel = field(default_factory=ContactModel)
-    numerics: Numerics = field(default_factory=Numerics)
-    recording: Recording = field(default_factory=Recording)
-    initial: InitialState = field(default_factory=InitialState)
-    cycles: float = 20
-    drop_cycles: int = 2
-    gravity: float = 9.81
+    particles: tuple = param(kind="custom")
+    container: Container = param(default_factory=Container, kind="custom")
+    drive: HarmonicDrive | SampledDrive | Still | CoupledStructure = param(
+        default_factory=lambda: HarmonicDrive(stroke=0.012), kind="custom")
+    contact: ContactModel = param(default_factory=ContactModel, kind="custom")
+    numerics: Numerics = param(default_factory=Numerics, kind="custom")
+    recording: Recording = param(default_factory=Recording, kind="custom")
+    initial: InitialState = param(default_factory=InitialState, kind="custom")
+    # the [run] section of a config file
+    cycles: float = param(20, kind="number", paper="20")
+    drop_cycles: int = param(2, paper="2")
+    gravity: float = param(9.81, dimension="acceleration")
 
     def __post_init__(self):
         ps = self.particles

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..schema import param
 from .walls import PLANE, plane
 
 __all__ = ["Cuboid"]
@@ -30,10 +31,10 @@ class Cuboid:
         h [m] along y (floor to lid).
     """
 
-    length: float = 0.120
-    width: float = 0.0404
-    height: float = 0.040
-    shape: str = "cuboid"
+    length: float = param(0.120, dimension="length", paper="120 mm")
+    width: float = param(0.0404, dimension="length", paper="40.4 mm")
+    height: float = param(0.040, dimension="length", paper="40 mm")
+    shape: str = param("cuboid", kind="tag")
 
     def __post_init__(self):
         for name in ("length", "width", "height"):

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..schema import param
 from .walls import CYLINDER_INSIDE, PLANE, cylinder_inside, plane
 
 __all__ = ["Cylinder"]
@@ -29,9 +30,9 @@ class Cylinder:
         H [m] floor to lid.
     """
 
-    radius: float = 0.039
-    height: float = 0.011
-    shape: str = "cylinder"
+    radius: float = param(0.039, dimension="length", paper="39 mm")
+    height: float = param(0.011, dimension="length", paper="11 mm")
+    shape: str = param("cylinder", kind="tag")
 
     def __post_init__(self):
         for name in ("radius", "height"):

@@ -32,15 +32,11 @@ def _example(name: str):
 
 
 def _with(case, **changes):
-    """``case`` with nested fields replaced: keys like ``contact.friction`` or ``particles.radius``."""
-    for key, value in changes.items():
-        section, field = key.split(".")
-        if section == "particles":
-            parts = tuple(dataclasses.replace(p, **{field: value}) for p in case.particles)
-            case = dataclasses.replace(case, particles=parts)
-        else:
-            case = dataclasses.replace(case, **{section: dataclasses.replace(getattr(case, section), **{field: value})})
-    return case
+    """``case`` with dotted keys replaced (``contact.friction``, ``particles.radius``), by the one
+    override mechanism of pdamper (:func:`pdamper.config.with_overrides`)."""
+    from ..config import with_overrides
+
+    return with_overrides(case, changes)
 
 
 def _material(case, **changes):
