@@ -92,8 +92,10 @@ def test_override_errors_name_the_key_and_a_fix():
         with_overrides(BASE, {"numerics.integrator": "verlett"})
     with pytest.raises(InputError, match=r"unknown key 'stroek' in \[drive\]; did you mean 'stroke'"):
         with_overrides(BASE, {"drive.stroek": 0.01})
-    with pytest.raises(InputError, match=r"\[drive\] stroke"):
+    with pytest.raises(InputError, match=r"\[drive\] stroke.*\(paper: 3-50 mm\)"):
         with_overrides(BASE, {"drive.stroke": "3s"})
+    with pytest.raises(InputError, match=r"\[particles\] radius.*a length.*\(paper: 5 mm\)"):
+        with_overrides(BASE, {"particles.radius": "5kg"})
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)

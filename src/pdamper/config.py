@@ -320,7 +320,12 @@ class _Reader:
         for f, s in plain_fields(cls):
             key = s.key or f.name
             if key in t:
-                kw[f.name] = self.value(t, section, key, s)
+                try:
+                    kw[f.name] = self.value(t, section, key, s)
+                except InputError as exc:
+                    if s.paper is None or "paper" in str(exc):
+                        raise
+                    raise InputError(f"{exc} (paper: {s.paper})") from None
         return kw
 
     def value(self, t, section, key, s):
