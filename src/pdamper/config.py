@@ -86,11 +86,11 @@ from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .materials import LIBRARY, Material
 from .params import Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording
-from .schema import config_keys, plain_fields, spec_of
+from .schema import Spec, config_keys, plain_fields, spec_of
 from .units import parse_quantity, unit_factor
 
 __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
-           "with_overrides", "SECTIONS"]
+           "with_overrides", "key_spec", "SECTIONS"]
 
 # The sections are read from the parameter dataclasses' own fields (pdamper.schema): a field's
 # spec says its dimension, allowed values and key. What is written here by hand is only the
@@ -194,6 +194,33 @@ def _quoted(key, allowed) -> str:
     if near:
         return f"did you mean {near[0]!r}?"
     return "allowed keys: " + ", ".join(allowed)
+
+
+#: The parameter classes whose fields make each section's keys.
+_SECTION_CLASSES = {
+    "container": (Cuboid, Cylinder, Container), "particles": (ParticleSet,), "drive": tuple(_DRIVES.values()),
+    "contact": (ContactModel,), "numerics": (Numerics,), "recording": (Recording,), "initial": (InitialState,),
+    "run": (Case,), "structure": (CoupledStructure,),
+}
+#: Specs of the structured keys that also take one plain value (a constant COR; one tilt angle for all axes).
+_VALUE_SPECS = {"contact.restitution": Spec(kind="number"), "container.tilt": Spec(kind="number", dimension="angle")}
+
+
+def key_spec(dotted: str) -> Spec:
+    """The :class:`~pdamper.schema.Spec` of a config key written ``section.key`` (what a sweep axis
+    over it holds), or an :class:`InputError` naming the allowed keys."""
+    section, _, key = str(dotted).partition(".")
+    if section not in SECTIONS:
+        raise InputError(f"{dotted!r}: unknown section [{section}]; " + _suggest(section, SECTIONS, "[{}]"))
+    if key not in SECTIONS[section]:
+        raise InputError(f"{dotted!r}: unknown key {key!r} in [{section}]; " + _quoted(key, SECTIONS[section]))
+    if dotted in _VALUE_SPECS:
+        return _VALUE_SPECS[dotted]
+    for cls in _SECTION_CLASSES[section]:
+        for f, s in plain_fields(cls):
+            if (s.key or f.name) == key:
+                return s
+    raise InputError(f"{dotted!r} is not a single value (a table or a list); it cannot be a sweep axis")
 
 
 def with_overrides(case: Case, overrides: dict) -> Case:
@@ -805,7 +832,9 @@ def case_to_dict(case: Case) -> dict:
     parts = [{**_fields_to(p), "material": _material_to(p.material)} for p in case.particles]
 
     ct = case.contact
-    contact = {**_fields_to(ct), "restitution": _law_to(ct.restitution)}
+    plain = _fields_to(ct)
+    # friction, restitution, then the rest: the order of the text a store's fingerprint was taken of
+    contact = {"friction": plain.pop("friction"), "restitution": _law_to(ct.restitution), **plain}
     pairs = []
     for key, mu in ct.pair_friction.items():
         pairs.append({"materials": list(key), "friction": _num(mu)})
@@ -830,8 +859,10 @@ def case_to_dict(case: Case) -> dict:
         raise InputError(f"cannot write drive {type(d).__name__} to a config file")
     out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
-    # [drive] or [structure] after [particles], as a person writes it
-    return {**{k: out[k] for k in ("container", "particles")}, drive_key: drive,
+    # [drive] after [particles], [structure] last: the order of the text a store's fingerprint was taken of
+    if drive_key == "structure":
+        return {**out, "structure": drive}
+    return {**{k: out[k] for k in ("container", "particles")}, "drive": drive,
             **{k: v for k, v in out.items() if k not in ("container", "particles")}}
 
 

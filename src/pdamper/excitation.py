@@ -93,12 +93,13 @@ class SampledDrive:
     frequency : float, optional drive frequency [Hz] for the analysis (detected if omitted).
     """
 
+    # (the order of the fields is the order a config file is written in)
+    angle: float = param(0.0, dimension="angle")
+    frequency: float | None = param(None, dimension="frequency")
     time: tuple = param((), kind="list", dimension="time")
     position: tuple = param((), kind="list", dimension="length")
     velocity: tuple | None = param(None, kind="list", dimension="velocity")
     acceleration: tuple | None = param(None, kind="list", dimension="acceleration")
-    angle: float = param(0.0, dimension="angle")
-    frequency: float | None = param(None, dimension="frequency")
     kind: str = param("samples", kind="tag")
 
     def __post_init__(self):
@@ -209,10 +210,11 @@ class CoupledStructure:
     stiffness: float = param(kind="number", unit="N/m")
     damping_ratio: float = 0.005
     force_amplitude: float = param(0.0, dimension="force")
-    force_frequency: float | None = param(None, dimension="frequency")
     displacement: float = param(0.0, dimension="length")
     velocity: float = param(0.0, dimension="velocity")
     angle: float = param(0.0, dimension="angle")
+    # last: the order a config file is written in (a store's fingerprint is taken of that text)
+    force_frequency: float | None = param(None, dimension="frequency")
     kind: str = param("structure", kind="tag")
 
     def __post_init__(self):

@@ -7,6 +7,7 @@ import sys
 
 import click
 import pytest
+from pathlib import Path
 from click.testing import CliRunner
 
 from pdamper.cli import main
@@ -15,6 +16,9 @@ from pdamper.cli.common import OneLineCommand, Quantity, fail
 THEORY = ["--length", "120mm", "--particles", "36", "--max-particles", "48", "--frequency", "2Hz"]
 
 #: For each command: (arguments, a word the error line must contain).
+#: A valid config, for the errors that need one to get that far.
+EXAMPLE = str(Path(__file__).parents[2] / "examples" / "cuboid_36.toml")
+
 BAD = {
     "theory": [
         (["--length", "12kg", *THEORY[2:]], "'12kg' is not a length"),
@@ -50,6 +54,16 @@ BAD = {
         (["case.toml", "--seeds", "0"], "0 is not in the range"),
         (["case.toml", "--bogus"], "No such option"),
         ([], "Missing argument 'CONFIG.toml'"),
+        ([EXAMPLE, "--vary", "drive.strok=1mm:2mm:2"], "did you mean 'stroke'"),
+        ([EXAMPLE, "--vary", "drive.stroke=1mm:2mm"], "FIRST:LAST:COUNT"),
+        ([EXAMPLE, "--vary", "particles.count=30:31:8"], "whole numbers do not fit"),
+        ([EXAMPLE, "--vary", "contact.friction=1:2:3:cubic"], "is not 'log' or 'linear'"),
+        ([EXAMPLE, "--vary", "drive.stroke=1s:2s:2"], "--vary drive.stroke (first)"),
+    ],
+    "reanalyze": [
+        (["nostore"], "no pdamper result store"),
+        (["x", "--drop-cycles", "-1"], "is not in the range"),
+        ([], "Missing argument 'STORE'"),
     ],
     "animate": [
         (["run_dir", "--speed", "0"], "0.0 is not in the range"),
@@ -65,6 +79,8 @@ BAD = {
         (["modes"], "Missing argument 'RESULTS...'"),
         (["modes", "results", "--bogus"], "No such option"),
         (["nosuch"], "No such command 'nosuch'"),
+        (["map"], "Missing argument 'STORE'"),
+        (["map", "nostore"], "no such results file or store directory"),
     ],
     "decay": [
         (["case.toml", "--cycles", "0"], "is not in the range"),

@@ -128,6 +128,8 @@ def test_a_store_without_modes_opens_with_unknown_modes(tiny_config, tmp_path):
     store.save("X0.012_seed0", 0.012, 0, {"failed": "unstable"})
     ds = ResultStore.open(tmp_path / "old").dataset()
     assert ds["mode"].values.tolist() == [["unknown"], ["failed"]]
+    assert not (tmp_path / "old" / "results.nc").exists()  # opening writes nothing
+    ResultStore.open(tmp_path / "old").write_outputs(ds)
     again = open_results(tmp_path / "old" / "results.nc")
     assert again["mode"].values.tolist() == [["unknown"], ["failed"]]
     # a stroke asked for but not computed yet has an empty mode

@@ -37,7 +37,7 @@ def test_spec_makes_one_case_per_stroke_and_seed(tiny_config):
     base = load_case(tiny_config)
     spec = SweepSpec(base=base, strokes=[0.01, 0.002], seeds=[1, 0])
     items = spec.items()
-    assert [(x, s) for _, x, s in items] == [(0.002, 0), (0.002, 1), (0.01, 0), (0.01, 1)]
+    assert [(p["drive.stroke"], s) for _, p, s in items] == [(0.002, 0), (0.002, 1), (0.01, 0), (0.01, 1)]
     c = spec.case(0.01, 1)
     assert c.drive.stroke == 0.01 and c.initial.seed == 1 and c.n_particles == 8
     assert len({k for k, _, _ in items}) == 4

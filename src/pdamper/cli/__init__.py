@@ -21,5 +21,6 @@ from . import validate as _validate  # noqa: F401,E402
 from . import animate as _animate  # noqa: F401,E402
 from . import plot as _plot  # noqa: F401,E402
 from . import structure as _structure  # noqa: F401,E402
+from . import reanalyze as _reanalyze  # noqa: F401,E402
 
 __all__ = ["main"]

@@ -8,12 +8,12 @@ import click
 
 from .common import echo_json, main, user_errors
 
-__all__ = ["plot_group", "modes_command"]
+__all__ = ["plot_group", "modes_command", "map_command"]
 
 
 @main.group("plot", cls=type(main))
 def plot_group():
-    """Figures from stored results: 'pdamper plot modes RESULTS'."""
+    """Figures from stored results: 'pdamper plot modes RESULTS', 'pdamper plot map STORE'."""
 
 
 @plot_group.command("modes")
@@ -36,7 +36,7 @@ def modes_command(results, out, title, labels, as_json):
     """
     from ..analysis.modes import majority_mode
     from ..plotting.modes import mode_map_figure, mode_rows
-    from ..studies.store import open_results
+    from ..studies import open_results
 
     datasets = [open_results(p) for p in results]
     names = [Path(p).name if Path(p).is_dir() else Path(p).stem for p in results]
@@ -54,3 +54,40 @@ def modes_command(results, out, title, labels, as_json):
             mode, mixed = majority_mode(cell)
             if mode:
                 click.echo(f"    X = {x * 1e3:8.3g} mm  {mode}" + ("  (seeds disagree)" if mixed else ""))
+
+
+@plot_group.command("map")
+@click.argument("results", metavar="STORE")
+@click.option("--x", "x", help="Dimension on the x axis: a name (stroke) or config key (drive.stroke); default the first.")
+@click.option("--y", "y", help="Dimension on the y axis; default the second.")
+@click.option("--sel", "sel", multiple=True, metavar="DIM=VALUE",
+              help="Fix a third dimension at its value nearest VALUE (SI), e.g. --sel friction=0.1 (repeatable).")
+@click.option("--out", "out", type=click.Path(dir_okay=False), default="map.png", show_default=True,
+              help="Figure file (.png, .svg or .pdf).")
+@click.option("--title", help="Figure title.")
+@user_errors
+def map_command(results, x, y, sel, out, title):
+    """Design chart: eta* of a sweep over two keys as a coloured map, with X_opt and the lift-off bound.
+
+    STORE is the --out of a sweep with two or more --vary dimensions (or its results.nc). Cells are
+    coloured by eta* (mean over seeds) and hatched by the motion mode most seeds are in.
+
+    Example: pdamper plot map cuboid_36_sweep --x drive.stroke --y drive.frequency --out map.png
+    """
+    from ..errors import InputError
+    from ..plotting.map import _dim_of, map_figure
+    from ..studies import open_results
+
+    ds = open_results(results)
+    for item in sel:
+        dim, _, value = item.partition("=")
+        try:
+            v = float(value)
+        except ValueError:
+            v = value
+        d = _dim_of(ds, dim.strip())
+        if not value:
+            raise InputError(f"--sel {item!r}: write DIM=VALUE, e.g. --sel friction=0.1")
+        ds = ds.sel({d: v}, method="nearest" if isinstance(v, float) else None)
+    map_figure(ds, out, x=x, y=y, title=title)
+    click.echo(f"pdamper plot map: {out}")

@@ -4,6 +4,7 @@ local cores or a Dask cluster, resumable, with its plot."""
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import click
@@ -17,8 +18,13 @@ __all__ = ["sweep_command"]
 
 @main.command("sweep")
 @click.argument("config", metavar="CONFIG.toml")
-@click.option("--strokes", default="0.5mm:50mm:40", show_default=True,
-              help="FIRST:LAST:COUNT, log-spaced (the paper's 40 points), or a list such as 5mm,12mm,13mm.")
+@click.option("--strokes", default=None,
+              help="FIRST:LAST:COUNT, log-spaced, or a list such as 5mm,12mm,13mm; the shortcut for "
+                   "--vary drive.stroke=... [default without --vary: 0.5mm:50mm:40, the paper's 40 points]")
+@click.option("--vary", "vary", multiple=True, metavar="KEY=VALUES",
+              help="Vary any config key (repeatable; one dimension each): a range FIRST:LAST:COUNT[:log|:linear] "
+                   "(the stroke log-spaced, other keys linear unless said) or a list A,B,C, with units as in a "
+                   "config file, e.g. --vary drive.frequency=1Hz:4Hz:4 --vary contact.friction=0.01,0.1,1.")
 @click.option("--seeds", type=click.IntRange(min=1), default=1, show_default=True,
               help="Seeded initial states per stroke (0, 1, ...); the mean and spread are reported.")
 @click.option("--cycles", type=click.FloatRange(min=0, min_open=True), help="Drive cycles per case (default: the config's).")
@@ -28,20 +34,26 @@ __all__ = ["sweep_command"]
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster instead of locally.")
 @click.option("--plot", "plot", type=click.Path(dir_okay=False), help="Write the eta*(X) figure (png, svg or pdf).")
+@click.option("--signals", "keep", type=click.Choice(["none", "signals", "full"]), default="signals",
+              show_default=True, help="What the store keeps of each case: its 1 kHz force, motion and dissipated "
+              "energy (about 0.25 MB per 20-cycle case; 'pdamper reanalyze' needs them), also every energy-ledger "
+              "column ('full', about 0.7 MB), or nothing.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def sweep_command(config, strokes, seeds, cycles, settings, out, workers, scheduler, plot, as_json):
-    """Run CONFIG.toml over a range of strokes and report eta*(X) with the analytical laws.
+def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, plot, as_json):
+    """Run CONFIG.toml over a range of strokes (or any config keys) and report eta*.
 
-    Every (stroke, seed) case is independent and written to the store as soon as it finishes;
+    Every (point, seed) case is independent and written to the store as soon as it finishes;
     an interrupted sweep re-run with the same command resumes where it stopped.
 
-    Example: pdamper sweep examples/cuboid_36.toml --seeds 3 --plot sweep_36.png
+    Examples: pdamper sweep examples/cuboid_36.toml --seeds 3 --plot sweep_36.png;
+    pdamper sweep examples/cuboid_36.toml --vary drive.stroke=5mm:30mm:6 --vary drive.frequency=1Hz:4Hz:4
+    --plot map.png
     """
     from ..config import load_case
     from ..errors import InputError
     from ..analysis.modes import majority_mode
-    from ..studies import SweepSpec, parse_strokes, run_sweep
+    from ..studies import SweepSpec, parse_axis, parse_strokes, run_sweep
 
     if workers and scheduler:
         raise InputError("--workers and --scheduler exclude each other: local processes, or a Dask cluster")
@@ -49,13 +61,25 @@ def sweep_command(config, strokes, seeds, cycles, settings, out, workers, schedu
     if cycles is not None:
         overrides["run.cycles"] = cycles
     base = load_case(config, overrides)
-    spec = SweepSpec(base=base, strokes=parse_strokes(strokes), seeds=tuple(range(seeds)))
+    axes = tuple(parse_axis(v) for v in vary)
+    if strokes is None and not axes:
+        strokes = "0.5mm:50mm:40"
+    spec = SweepSpec(base=base, axes=axes, strokes=parse_strokes(strokes) if strokes is not None else None,
+                     seeds=tuple(range(seeds)))
     out = Path(out) if out else Path(f"{Path(config).stem}_sweep")
-    ds = run_sweep(spec, out, workers=workers, scheduler=scheduler, progress=None if not as_json else False)
+    if not as_json and axes:
+        for a in spec.axes:
+            how = {"log": "log-spaced", "linear": "linearly spaced", "list": "as listed"}[a.spacing]
+            click.echo(f"  {a.key}: {len(a.values)} values, {how}")
+    ds = run_sweep(spec, out, workers=workers, scheduler=scheduler, progress=None if not as_json else False, keep=keep,
+                   history="pdamper " + " ".join(sys.argv[1:]))
     if plot:
-        from ..plotting.sweep import sweep_figure
+        from ..plotting.map import results_figure
 
-        sweep_figure(ds, plot)
+        results_figure(ds, plot)
+    if [a.key for a in spec.axes] != ["drive.stroke"]:
+        _grid_summary(ds, spec, out, plot, as_json)
+        return
     eta = ds.eta_star
     mean = eta.mean("seed", skipna=True)
     summary = {
@@ -94,6 +118,40 @@ def sweep_command(config, strokes, seeds, cycles, settings, out, workers, schedu
                    f"{summary['energy_per_cycle_J_mean'][i] * 1e3:12.4g}  {summary['modes'][i] if summary['modes'] else ''}")
     if "eta_star_peak" in summary:
         click.echo(f"  peak eta* = {summary['eta_star_peak']:.3f} at X = {summary['stroke_at_peak_m'] * 1e3:.3g} mm")
+    if summary["failed_cases"]:
+        click.echo(f"  {summary['failed_cases']} case(s) failed numerically; see {out / 'cases'}")
+    click.echo(f"  results: {out / 'results.nc'} (xarray), {out / 'results.csv'}" + (f"; figure: {plot}" if plot else ""))
+
+
+def _grid_summary(ds, spec, out, plot, as_json):
+    """The report of a sweep over any keys: one row per point, mean/min/max over the seeds."""
+    from ..analysis.modes import majority_mode
+
+    eta = ds.eta_star
+    mean, lo, hi = (eta.mean("seed", skipna=True), eta.min("seed", skipna=True), eta.max("seed", skipna=True))
+    rows = []
+    for p in spec.points():
+        at = {a.name: p[a.key] for a in spec.axes}
+        rows.append({"point": p, "eta_star_mean": float(mean.sel(at)), "eta_star_min": float(lo.sel(at)),
+                     "eta_star_max": float(hi.sel(at)), "mode": majority_mode(ds["mode"].sel(at).values)[0]})
+    summary = {"store": str(out), "results_nc": str(out / "results.nc"), "results_csv": str(out / "results.csv"),
+               "plot": plot, "dims": {a.key: list(a.values) for a in spec.axes}, "seeds": ds.seed.values.tolist(),
+               "points": rows, "failed_cases": int(ds["failed"].sum()),
+               "wall_time_s_total": float(ds.wall_time.sum(skipna=True))}
+    if as_json:
+        echo_json(summary)
+        return
+    shape = " x ".join(f"{len(a.values)} {a.name}" for a in spec.axes)
+    click.echo(f"pdamper sweep: {shape} x {len(ds.seed)} seeds, {int(ds.attrs['particles'])} spheres in a "
+               f"{ds.attrs['shape']}")
+    head = "  ".join(f"{a.name + (' [' + ds[a.name].attrs['units'] + ']' if ds[a.name].attrs.get('units', '1') != '1' else ''):>14}"
+                     for a in spec.axes)
+    click.echo(f"  {head}  {'eta* mean':>9}  {'min':>7}  {'max':>7}  motion mode")
+    for r in rows:
+        if math.isnan(r["eta_star_mean"]):
+            continue
+        vals = "  ".join(f"{v:>14.4g}" if isinstance(v, (int, float)) else f"{v:>14}" for v in r["point"].values())
+        click.echo(f"  {vals}  {r['eta_star_mean']:9.3f}  {r['eta_star_min']:7.3f}  {r['eta_star_max']:7.3f}  {r['mode']}")
     if summary["failed_cases"]:
         click.echo(f"  {summary['failed_cases']} case(s) failed numerically; see {out / 'cases'}")
     click.echo(f"  results: {out / 'results.nc'} (xarray), {out / 'results.csv'}" + (f"; figure: {plot}" if plot else ""))

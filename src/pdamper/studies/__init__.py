@@ -6,7 +6,7 @@ written case by case to a resumable result store.
 - :mod:`.executor` -- where the cases run: an embedded local Dask cluster or a scheduler address.
 """
 
-from .store import ResultStore, open_results
-from .sweep import SweepSpec, parse_strokes, run_sweep, stroke_grid
+from .store import ResultStore
+from .sweep import Axis, SweepSpec, open_results, parse_axis, parse_strokes, run_sweep, stroke_grid
 
-__all__ = ["SweepSpec", "parse_strokes", "stroke_grid", "run_sweep", "ResultStore", "open_results"]
+__all__ = ["Axis", "parse_axis", "SweepSpec", "parse_strokes", "stroke_grid", "run_sweep", "ResultStore", "open_results"]

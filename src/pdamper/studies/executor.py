@@ -36,9 +36,17 @@ def _client(workers, scheduler):
     return Client(cluster), cluster
 
 
+def _weight(point) -> float:
+    """How long a case is expected to take, for ordering: the stroke (large strokes take longest)."""
+    if isinstance(point, dict):
+        return float(point.get("drive.stroke", 0.0)) if isinstance(point.get("drive.stroke"), (int, float)) else 0.0
+    return float(point)
+
+
 def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None, total=None, done=0):
-    """Run ``fn(case)`` for every ``(key, stroke, seed, case)`` of ``items``; call
-    ``on_result(key, stroke, seed, result)`` as each finishes.
+    """Run ``fn(case)`` for every ``(key, point, seed, case)`` of ``items``; call
+    ``on_result(key, point, seed, result)`` as each finishes (``point``: the case's ``{key: value}``
+    on the sweep's grid).
 
     ``progress``: show a bar (cases done / total, rate, time left) on stderr; default: when
     stderr is a terminal.
@@ -52,12 +60,12 @@ def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None
     bar = tqdm(total=total or len(items), initial=done, unit="case", desc="sweep", disable=not progress,
                file=sys.stderr, dynamic_ncols=True)
     # the longest cases (large strokes) first, for a balanced finish
-    order = sorted(items, key=lambda it: -it[1])
+    order = sorted(items, key=lambda it: -_weight(it[1]))
     futures = {client.submit(fn, it[3], key=f"pdamper-{it[0]}", pure=False): it for it in order}
     try:
         for fut in as_completed(futures):
-            key, stroke, seed, _ = futures[fut]
-            on_result(key, stroke, seed, fut.result())
+            key, point, seed, _ = futures[fut]
+            on_result(key, point, seed, fut.result())
             bar.update(1)
     finally:
         for fut in futures:

@@ -139,16 +139,18 @@ def _slug(label: str) -> str:
 
 
 def run_study(name, out, *, strokes, seeds, cycles=None, drop_cycles=None, workers=None, scheduler=None,
-              progress=None, only=None):
+              progress=None, only=None, keep="signals"):
     """Sweep every setting of study ``name`` (one store per setting under ``out``) on one
     cluster; return the combined dataset with a ``setting`` dimension. ``only``: a list of
     setting labels to run (default: all)."""
     import numpy as np
     import xarray as xr
 
+    import functools
+
     from .executor import execute
     from .store import ResultStore
-    from .sweep import SweepSpec, run_one
+    from .sweep import SweepSpec, run_one, theory_attrs
 
     settings = study_settings(name)
     if only is not None:
@@ -164,25 +166,25 @@ def run_study(name, out, *, strokes, seeds, cycles=None, drop_cycles=None, worke
         if drop_cycles is not None:
             case = dataclasses.replace(case, drop_cycles=drop_cycles)
         spec = SweepSpec(base=case, strokes=strokes, seeds=seeds)
-        store = ResultStore.create_or_open(out / _slug(label), spec)
+        store = ResultStore.create_or_open(out / _slug(label), spec, attrs=theory_attrs(case))
         stores.append((label, store))
-        for k, x, s in spec.items():
+        for k, p, s in spec.items():
             total += 1
             if not store.has(k):
-                items.append((f"{_slug(label)}|{k}", x, s, spec.case(x, s)))
+                items.append((f"{_slug(label)}--{k}", p, s, spec.case(p, s)))
     by_slug = {_slug(label): store for label, store in stores}
 
-    def save(key, stroke, seed, result):
-        slug, k = key.split("|", 1)
-        by_slug[slug].save(k, stroke, seed, result)
+    def save(key, point, seed, result):
+        slug, k = key.split("--", 1)
+        by_slug[slug].save(k, point, seed, result)
 
     if items:
-        execute([(k.replace("|", "--"), x, s, c) for k, x, s, c in items],
-                run_one, lambda key, x, s, r: save(key.replace("--", "|", 1), x, s, r),
-                workers=workers, scheduler=scheduler, progress=progress, total=total, done=total - len(items))
+        execute(items, functools.partial(run_one, keep=keep), save, workers=workers, scheduler=scheduler,
+                progress=progress, total=total, done=total - len(items))
     parts = []
     for label, store in stores:
         ds = store.dataset()
+        store.write_outputs(ds)
         ds = ds.assign_coords(setting=label).expand_dims("setting")
         ds["clearance"] = ("setting", [ds.attrs["clearance_m"]], {"units": "m"})
         parts.append(ds)

@@ -2,23 +2,30 @@
 
 Layout of ``PATH/``:
 
-- ``store.json`` -- what the store is for: the base configuration (TOML text, with the stroke
-  and the seed left out since the sweep sets them), its fingerprint, the strokes and seeds
-  asked for so far, the package version;
-- ``cases/<key>.json`` -- one file per finished case (stroke, seed, its results and its motion
-  mode with the measured features of :mod:`pdamper.analysis.modes`), each
-  written atomically (temporary file, fsync, rename) the moment the case finishes, so
-  Ctrl-C, ``kill -9`` or a power cut lose at most the cases that were running;
-- ``results.nc`` -- the labelled dataset (netCDF via h5netcdf), rewritten after every run,
-  and ``results.csv`` for spreadsheets.
+- ``store.json`` -- what the store is for: the base configuration (TOML text, with the varied keys
+  and the seed at canonical values), its fingerprint, the axes (config keys and their values) and
+  seeds asked for so far, the package version, the theory's numbers for the base case;
+- ``cases/<key>.json`` -- one file per finished case (its point on the grid, the seed, its results
+  and its motion mode with the measured features of :mod:`pdamper.analysis.modes`), written
+  atomically (temporary file, fsync, rename) the moment the case finishes, so Ctrl-C, ``kill -9``
+  or a power cut lose at most the cases that were running;
+- ``cases/<key>.signals.nc`` -- the case's recorded signals (1 kHz driving force, container
+  motion, the energy ledger's dissipated energy; with ``keep="full"`` every ledger column),
+  compressed netCDF written before the case's ``.json``, so :func:`pdamper.studies.reanalyze`
+  can recompute eta* without simulating;
+- ``results.nc`` (CF-style netCDF) and ``results.csv`` -- the labelled dataset, written by a
+  sweep when it ends (:meth:`ResultStore.write_outputs`). Opening a store never writes.
 
-The dataset's ``mode`` variable (text) holds each case's motion mode: one of
+The dataset's dimensions are the sweep's axes (``stroke``, ``frequency``, ``friction``, ...) and
+``seed``. Its ``mode`` variable (text) holds each case's motion mode: one of
 :data:`pdamper.analysis.modes.MODES`, ``"failed"`` for a numerically failed case, ``""`` for one
-not computed yet and ``"unknown"`` for a case stored by a pdamper without mode classification (an
-older store opens as before; re-run it into a new ``--out`` to get the modes).
+not computed yet and ``"unknown"`` for a case stored without mode classification.
 
 Re-running the same sweep on the same ``PATH`` computes only the missing cases. A store made
-with another configuration is refused with the first difference named, never mixed.
+with another configuration is refused with the first difference named, never mixed. A store of
+an earlier pdamper (a stroke sweep, ``pdamper-sweep-store/1``) opens and resumes as before.
+
+This module stores and reads; it computes no physics (the sweep passes the theory's numbers in).
 """
 
 from __future__ import annotations
@@ -26,7 +33,8 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import math
+import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -34,30 +42,85 @@ import numpy as np
 from ..errors import InputError
 from ..io.files import atomic_write, json_safe
 
-__all__ = ["ResultStore", "open_results", "VARIABLES", "NO_MODE", "UNKNOWN_MODE"]
+__all__ = ["ResultStore", "VARIABLES", "NO_MODE", "UNKNOWN_MODE", "KEEP", "signal_arrays", "FORMAT"]
+
+FORMAT = "pdamper-sweep-store/2"
+_OLD_FORMAT = "pdamper-sweep-store/1"
+STROKE = "drive.stroke"
 
 #: ``mode`` of a case not computed yet, and of a case stored without a mode (an older store).
 NO_MODE, UNKNOWN_MODE = "", "unknown"
 
-#: Data variables of a sweep dataset: name -> (summary key, units, description).
+#: What a sweep keeps of each case's signals: nothing; the signals (force, velocity, position at
+#: the sample rate, and the ledger's dissipated energy: what re-analysis needs); or also every
+#: ledger column.
+KEEP = ("none", "signals", "full")
+
+#: Data variables of a sweep dataset: name -> (summary key, units, long name).
 VARIABLES = {
-    "eta_star": ("eta_star", "1", "reduced loss factor eta*, eq. (5)"),
-    "energy_per_cycle": ("energy_per_cycle_J", "J", "dissipated energy per cycle, complex power, eq. (4)"),
+    "eta_star": ("eta_star", "1", "reduced loss factor eta*"),
+    "energy_per_cycle": ("energy_per_cycle_J", "J", "energy dissipated per cycle (complex power)"),
     "ledger_energy_per_cycle": ("ledger_dissipated_per_cycle_J", "J",
-                                "dissipated energy per cycle from the energy ledger (cross-check)"),
-    "energy_balance_error": ("energy_balance_error", "1", "largest energy-ledger residual / energy exchanged"),
-    "velocity_amplitude": ("velocity_amplitude_m_s", "m/s", "|V*| of the container at the drive frequency"),
+                                "energy dissipated per cycle (energy ledger)"),
+    "energy_balance_error": ("energy_balance_error", "1", "energy ledger residual relative to energy exchanged"),
+    "velocity_amplitude": ("velocity_amplitude_m_s", "m s-1", "container velocity amplitude at the drive frequency"),
     "steps": ("steps", "1", "time steps taken"),
     "wall_time": ("wall_time_s", "s", "wall-clock time of the case"),
 }
 
+#: Units of each dimension the config schema knows, written CF-style.
+_CF_UNITS = {"length": "m", "time": "s", "frequency": "Hz", "mass": "kg", "angle": "rad", "force": "N",
+             "velocity": "m s-1", "acceleration": "m s-2", "pressure": "Pa", "density": "kg m-3"}
+_LONG_NAMES = {"drive.stroke": "stroke X", "drive.frequency": "drive frequency f", "contact.friction": "friction mu",
+               "particles.count": "number of spheres N_p", "particles.radius": "sphere radius r",
+               "contact.restitution": "coefficient of restitution"}
 
-def _canonical(case):
-    """The base case with the fields a sweep sets (stroke, seed) at fixed values."""
-    from ..params import with_stroke
 
-    c = with_stroke(case, 1.0)
+def signal_arrays(signals, energy, keep: str = "signals") -> dict:
+    """The arrays of a run a store keeps (see :data:`KEEP`), as ``{name: 1-D array}``."""
+    if keep not in KEEP:
+        raise InputError(f"keep = {keep!r}; choose one of {', '.join(map(repr, KEEP))}")
+    if keep == "none":
+        return {}
+    out = {"time": signals.time, "time_end": signals.time_end, "force": signals.force,
+           "velocity": signals.velocity, "position": signals.position,
+           "ledger_time": energy.time, "ledger_dissipated": energy.damping + energy.friction}
+    if keep == "full":
+        from ..recorders.energy import COLUMNS
+
+        out.update({f"ledger_{c}": getattr(energy, c) for c in COLUMNS})
+    return {k: np.ascontiguousarray(v, dtype=float) for k, v in out.items()}
+
+
+_SIGNAL_ATTRS = {
+    "time": ("s", "centre of the sample interval"), "time_end": ("s", "end of the sample interval"),
+    "force": ("N", "driving force on the container along the drive, interval mean"),
+    "velocity": ("m s-1", "container velocity along the drive, interval mean"),
+    "position": ("m", "container position along the drive at the interval centre"),
+    "ledger_time": ("s", "time of the energy ledger"),
+    "ledger_dissipated": ("J", "energy dissipated so far (normal damping + friction)"),
+}
+
+
+def _canonical(spec):
+    """The base case with the fields a sweep sets (its axes' keys, the seed) at fixed values."""
+    from ..config import with_overrides
+
+    keys = [a.key for a in spec.axes]
+    if keys == [STROKE]:  # as pdamper-sweep-store/1 did, so those stores keep their fingerprint
+        from ..params import with_stroke
+
+        c = with_stroke(spec.base, 1.0)
+    else:
+        c = with_overrides(spec.base, {a.key: a.values[0] for a in spec.axes})
     return dataclasses.replace(c, initial=dataclasses.replace(c.initial, seed=0))
+
+
+def _fingerprint(text: str, keys) -> str:
+    body = "\n".join(line for line in text.splitlines() if not line.startswith("#"))
+    if list(keys) != [STROKE]:
+        body += "\n# varied: " + ", ".join(keys)
+    return hashlib.sha256(body.encode()).hexdigest()
 
 
 def _flat(d, prefix=""):
@@ -71,68 +134,118 @@ def _flat(d, prefix=""):
     return out
 
 
+def _merge(old: list, new) -> list:
+    """Values of an axis asked for so far: numbers sorted, text in the order first given."""
+    vals = list(old) + [v for v in new if v not in old]
+    if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in vals):
+        return sorted(set(vals))
+    return vals
+
+
 class ResultStore:
     """A sweep's result directory (see the module docstring)."""
 
     def __init__(self, path, meta: dict):
         self.path = Path(path)
-        self.meta = meta
+        self.meta = _upgrade(meta)
 
     # ---------------------------------------------------------------- opening
     @classmethod
-    def create_or_open(cls, path, spec) -> "ResultStore":
-        """Open the store at ``path`` for ``spec`` (creating it), refusing another configuration."""
+    def create_or_open(cls, path, spec, *, attrs: dict | None = None, history: str | None = None) -> "ResultStore":
+        """Open the store at ``path`` for ``spec`` (creating it), refusing another configuration.
+
+        ``attrs``: numbers the sweep computed for the base case (the theory's N_p,max, h, X_opt),
+        kept in ``store.json`` and put on the dataset. ``history``: the command line.
+        """
         from .. import __version__
         from ..config import case_to_dict, dumps_case
 
         path = Path(path)
-        base = _canonical(spec.base)
+        base = _canonical(spec)
+        keys = [a.key for a in spec.axes]
         text = dumps_case(base, name="sweep base")
-        body = "\n".join(line for line in text.splitlines() if not line.startswith("#"))
-        fp = hashlib.sha256(body.encode()).hexdigest()
+        fp = _fingerprint(text, keys)
         meta_file = path / "store.json"
+        axes = [{"key": a.key, "values": list(a.values), "spacing": a.spacing} for a in spec.axes]
+        seeds = list(spec.seeds)
+        old_history = []
         if meta_file.exists():
             try:
-                meta = json.loads(meta_file.read_text())
+                old = _upgrade(json.loads(meta_file.read_text()))
             except (OSError, ValueError) as exc:
                 raise InputError(f"{meta_file}: not a readable pdamper result store ({exc}); use another --out") from None
-            if meta.get("fingerprint") != fp:
+            old_keys = [a["key"] for a in old["axes"]]
+            if old_keys != keys:
+                raise InputError(f"{path}: this result store varies {', '.join(old_keys)}, this sweep "
+                                 f"{', '.join(keys)}; use another --out")
+            if old.get("fingerprint") != fp:
                 raise InputError(f"{path}: this result store was made with a different configuration "
-                                 f"({_first_difference(meta.get('config', ''), base)}); use another --out "
+                                 f"({_first_difference(old.get('config', ''), base)}); use another --out "
                                  "or delete the store to start over")
-            strokes = sorted(set(meta.get("strokes", [])) | set(spec.strokes))
-            seeds = sorted(set(meta.get("seeds", [])) | set(spec.seeds))
+            for a, o in zip(axes, old["axes"]):
+                a["values"] = _merge(o["values"], a["values"])
+                if o.get("spacing") != a["spacing"]:
+                    a["spacing"] = "list"
+            seeds = sorted(set(old["seeds"]) | set(seeds))
+            old_history = old.get("history", [])
+            attrs = {**old.get("attrs", {}), **(attrs or {})}
         else:
             if path.exists() and (not path.is_dir() or any(path.iterdir())):
                 raise InputError(f"{path}: exists and is not a pdamper result store; choose another --out")
-            strokes, seeds = list(spec.strokes), list(spec.seeds)
         (path / "cases").mkdir(parents=True, exist_ok=True)
-        meta = {"format": "pdamper-sweep-store/1", "fingerprint": fp, "config": text, "strokes": strokes,
-                "seeds": seeds, "pdamper_version": __version__,
-                "base": json_safe(case_to_dict(base))}
+        meta = {"format": FORMAT, "fingerprint": fp, "config": text, "axes": axes, "seeds": seeds,
+                "pdamper_version": __version__, "base": json_safe(case_to_dict(base)),
+                "attrs": json_safe(attrs or {}),
+                "history": old_history + [f"pdamper {__version__}: {history or _command_line()}"]}
+        if keys == [STROKE]:  # readable by an earlier pdamper too
+            meta["strokes"] = axes[0]["values"]
         atomic_write(meta_file, json.dumps(meta, indent=2))
         return cls(path, meta)
 
     @classmethod
     def open(cls, path) -> "ResultStore":
-        """Open an existing store for reading."""
+        """Open an existing store for reading (nothing is written)."""
         path = Path(path)
         meta_file = path / "store.json"
         if not meta_file.exists():
             raise InputError(f"{path}: no pdamper result store here (no store.json); give the --out of a sweep")
-        return cls(path, json.loads(meta_file.read_text()))
+        try:
+            meta = json.loads(meta_file.read_text())
+        except (OSError, ValueError) as exc:
+            raise InputError(f"{meta_file}: not a readable pdamper result store ({exc})") from None
+        return cls(path, meta)
+
+    @property
+    def axes(self) -> list[dict]:
+        """The axes: ``[{"key", "values", "spacing"}, ...]``."""
+        return self.meta["axes"]
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return tuple(a["key"].rsplit(".", 1)[-1] for a in self.axes) + ("seed",)
 
     # ---------------------------------------------------------------- cases
     def _case_file(self, key: str) -> Path:
         return self.path / "cases" / f"{key}.json"
 
+    def _signals_file(self, key: str) -> Path:
+        return self.path / "cases" / f"{key}.signals.nc"
+
     def has(self, key: str) -> bool:
         """True if the case ``key`` has finished and is stored."""
         return self._case_file(key).exists()
 
-    def save(self, key: str, stroke: float, seed: int, summary: dict) -> None:
-        """Store one finished case atomically."""
-        rec = {"key": key, "stroke": float(stroke), "seed": int(seed), **summary}
+    def save(self, key: str, point, seed: int, summary: dict) -> None:
+        """Store one finished case atomically: its signals first (if any), then its record."""
+        summary = dict(summary)
+        signals = summary.pop("signals", None)
+        if not isinstance(point, dict):
+            point = {STROKE: float(point)}
+        if signals:
+            atomic_write(self._signals_file(key), _signals_bytes(signals))
+        rec = {"key": key, "point": point, "seed": int(seed), **summary}
+        if STROKE in point:
+            rec["stroke"] = float(point[STROKE])
         atomic_write(self._case_file(key), json.dumps(json_safe(rec)))
 
     def records(self) -> list:
@@ -140,92 +253,157 @@ class ResultStore:
         out = []
         for f in sorted((self.path / "cases").glob("*.json")):
             try:
-                out.append(json.loads(f.read_text()))
+                rec = json.loads(f.read_text())
             except (OSError, ValueError):
                 continue
+            if "point" not in rec and "stroke" in rec:  # pdamper-sweep-store/1
+                rec["point"] = {STROKE: rec["stroke"]}
+            out.append(rec)
         return out
+
+    def signals(self, key: str):
+        """The kept signals of case ``key`` as an ``xarray.Dataset`` (None if none were kept)."""
+        import xarray as xr
+
+        f = self._signals_file(key)
+        if not f.exists():
+            return None
+        return xr.load_dataset(f, engine="h5netcdf")
 
     # ---------------------------------------------------------------- dataset
     def case(self):
-        """The base case of the store (stroke and seed at their canonical values)."""
+        """The base case of the store (the varied keys and the seed at their canonical values)."""
         from ..config import loads_case
 
         return loads_case(self.meta["config"], source=str(self.path / "store.json"))
 
-    def dataset(self):
-        """The stored results as an ``xarray.Dataset`` with dims (stroke, seed); NaN where a case
-        has not finished. Also rewrites ``results.nc`` and ``results.csv``."""
+    def dataset(self, records: list | None = None):
+        """The stored results as an ``xarray.Dataset`` with one dimension per axis and ``seed``;
+        NaN where a case has not finished. Writes nothing. ``records``: use these case records
+        instead of the stored ones (e.g. re-analysed)."""
         import xarray as xr
 
         from .. import __version__
-        from .. import theory
-        from ..analysis.modes import case_clearance, floor_capacity
+        from ..config import key_spec
 
-        recs = self.records()
-        strokes = sorted(set(self.meta.get("strokes", [])) | {r["stroke"] for r in recs})
-        seeds = sorted(set(self.meta.get("seeds", [])) | {r["seed"] for r in recs})
-        ix = {x: i for i, x in enumerate(strokes)}
+        recs = self.records() if records is None else records
+        values = [list(a["values"]) for a in self.axes]
+        for rec in recs:  # a case stored beyond the values asked for (e.g. by an older pdamper)
+            for vals, a in zip(values, self.axes):
+                v = rec["point"].get(a["key"])
+                if v is not None and v not in vals:
+                    vals.append(v)
+        values = [_merge([], v) for v in values]
+        seeds = sorted(set(self.meta["seeds"]) | {r["seed"] for r in recs})
+        index = [{v: i for i, v in enumerate(vals)} for vals in values]
+        shape = tuple(len(v) for v in values) + (len(seeds),)
         js = {s: j for j, s in enumerate(seeds)}
-        data = {name: np.full((len(strokes), len(seeds)), np.nan) for name in VARIABLES}
-        failed = np.zeros((len(strokes), len(seeds)), dtype=bool)
-        modes = np.full((len(strokes), len(seeds)), NO_MODE, dtype=object)
+        data = {name: np.full(shape, np.nan) for name in VARIABLES}
+        failed = np.zeros(shape, dtype=np.int8)
+        modes = np.full(shape, NO_MODE, dtype=object)
+        keys = np.full(shape, "", dtype=object)
         for r in recs:
-            i, j = ix[r["stroke"]], js[r["seed"]]
+            try:
+                at = tuple(ix[r["point"][a["key"]]] for ix, a in zip(index, self.axes)) + (js[r["seed"]],)
+            except KeyError:
+                continue  # a record of another grid: not part of this store's dataset
+            keys[at] = r.get("key", "")
             if "failed" in r:
-                failed[i, j] = True
-                modes[i, j] = "failed"
+                failed[at] = 1
+                modes[at] = "failed"
                 continue
-            modes[i, j] = str(r.get("mode") or UNKNOWN_MODE)
+            modes[at] = str(r.get("mode") or UNKNOWN_MODE)
             for name, (key, _, _) in VARIABLES.items():
                 v = r.get(key)
-                data[name][i, j] = np.nan if v is None else float(v)
+                data[name][at] = np.nan if v is None else float(v)
+        dims = self.dims
+        coords = {}
+        for a, vals in zip(self.axes, values):
+            spec = key_spec(a["key"])
+            attrs = {"long_name": _LONG_NAMES.get(a["key"], a["key"]), "config_key": a["key"],
+                     "spacing": a.get("spacing", "list")}
+            if spec.dimension in _CF_UNITS:
+                attrs["units"] = _CF_UNITS[spec.dimension]
+            elif spec.kind in ("number", "whole"):
+                attrs["units"] = spec.unit.replace("/", " ") + "-1" if spec.unit and "/" in spec.unit else "1"
+            arr = np.array(vals, dtype=np.int64 if spec.kind == "whole" else float if spec.kind == "number" else str)
+            coords[a["key"].rsplit(".", 1)[-1]] = (a["key"].rsplit(".", 1)[-1], arr, attrs)
+        coords["seed"] = ("seed", np.array(seeds, dtype=np.int64), {"long_name": "random seed of the initial jitter"})
+        ds = xr.Dataset({name: (dims, data[name], {"units": u, "long_name": d}) for name, (_, u, d) in VARIABLES.items()},
+                        coords=coords)
+        ds["failed"] = (dims, failed, {"long_name": "1 where the case failed numerically", "units": "1"})
+        ds["mode"] = (dims, modes.astype(str), {
+            "long_name": "motion mode of the bed ('' not computed, 'unknown' stored without a mode)"})
+        ds["case_key"] = (dims, keys.astype(str), {"long_name": "key of the case in the store's cases/ directory"})
         base = self.case()
         geo = base.container.geometry
-        n_max = floor_capacity(base)
-        n = base.n_particles
-        _, h = case_clearance(base)
-        ds = xr.Dataset(
-            {name: (("stroke", "seed"), data[name], {"units": u, "long_name": d})
-             for name, (_, u, d) in VARIABLES.items()},
-            coords={"stroke": ("stroke", np.array(strokes), {"units": "m", "long_name": "stroke X"}),
-                    "seed": ("seed", np.array(seeds, dtype=np.int64), {"long_name": "random seed of the initial jitter"})},
-        )
-        ds["failed"] = (("stroke", "seed"), failed.astype(np.int8), {"long_name": "1 where the case failed numerically"})
-        ds["mode"] = (("stroke", "seed"), modes.astype(str), {
-            "long_name": "motion mode of the bed (pdamper.analysis.modes; '' not computed, 'unknown' stored "
-                         "without a mode)"})
+        varied = ", ".join(a["key"] for a in self.axes)
         ds.attrs.update({
-            "title": f"pdamper stroke sweep: {n} spheres in a {geo.shape}",
+            "Conventions": "CF-1.10",
+            "title": f"pdamper sweep over {varied}: {base.n_particles} spheres in a {geo.shape}",
+            "source": f"pdamper {self.meta.get('pdamper_version', __version__)} DEM simulation",
+            "history": "\n".join(self.meta.get("history", [])),
             "config": self.meta["config"],
+            "varied_keys": varied,
             "pdamper_version": self.meta.get("pdamper_version", __version__),
             "shape": geo.shape,
-            "particles": n,
-            "max_particles": n_max,
-            "clearance_m": h,
-            "x_opt_m": float(theory.optimal_stroke(h)) if math.isfinite(h) and h > 0 else float("nan"),
-            "frequency_hz": float(base.drive.frequency),
+            "particles": base.n_particles,
+            "frequency_hz": float(getattr(base.drive, "frequency", float("nan")) or float("nan")),
             "bed_mass_kg": float(base.bed_mass),
+            "gravity_m_s2": float(base.gravity),
             "cycles": float(base.cycles),
             "drop_cycles": int(base.drop_cycles),
+            **self.meta.get("attrs", {}),
         })
-        self._write_outputs(ds)
         return ds
 
-    def _write_outputs(self, ds):
-        import io
+    def write_outputs(self, ds) -> None:
+        """Write ``results.nc`` (CF-style netCDF) and ``results.csv`` (one row per case) atomically."""
+        atomic_write(self.path / "results.nc", bytes(ds.to_netcdf(engine="h5netcdf")))
+        table = ds[list(VARIABLES) + ["failed", "mode"]].to_dataframe()
+        table.columns = [f"{c} [{ds[c].attrs['units']}]" if c in VARIABLES else c for c in table.columns]
+        table.index.names = [f"{n} [{ds[n].attrs['units']}]" if "units" in ds[n].attrs else n
+                             for n in table.index.names]
+        atomic_write(self.path / "results.csv", table.to_csv(float_format=repr))
 
-        buf = ds.to_netcdf(engine="h5netcdf")
-        atomic_write(self.path / "results.nc", bytes(buf))
-        out = io.StringIO()
-        cols = ["stroke [m]", "seed"] + [f"{name} [{VARIABLES[name][1]}]" for name in VARIABLES] + ["failed", "mode"]
-        out.write(",".join(cols) + "\n")
-        for i, x in enumerate(ds.stroke.values):
-            for j, s in enumerate(ds.seed.values):
-                vals = [repr(float(x)), str(int(s))] + [repr(float(ds[name].values[i, j])) for name in VARIABLES]
-                vals.append(str(int(ds["failed"].values[i, j])))
-                vals.append(str(ds["mode"].values[i, j]))
-                out.write(",".join(vals) + "\n")
-        atomic_write(self.path / "results.csv", out.getvalue())
+
+def _upgrade(meta: dict) -> dict:
+    """A ``store.json`` of any format as the current one reads it (in memory; nothing written)."""
+    meta = dict(meta)
+    if "axes" not in meta:
+        if meta.get("format", _OLD_FORMAT) != _OLD_FORMAT or "strokes" not in meta:
+            raise InputError(f"store.json: format {meta.get('format')!r} is not one this pdamper reads; "
+                             "update pdamper or re-run the sweep into a new --out")
+        meta["axes"] = [{"key": STROKE, "values": list(meta["strokes"]), "spacing": "list"}]
+        meta.setdefault("attrs", {})
+    meta.setdefault("seeds", [])
+    return meta
+
+
+def _signals_bytes(arrays: dict) -> bytes:
+    """The arrays as compressed netCDF (zlib with shuffle) in memory.
+
+    Written with h5netcdf directly, not xarray: the store writes while the sweep's Dask client is
+    active, and xarray would then ask that client for a distributed write lock."""
+    import io
+
+    import h5netcdf
+
+    n_ledger = len(arrays.get("ledger_time", ()))
+    buf = io.BytesIO()
+    with h5netcdf.File(buf, "w") as f:
+        f.dimensions = {"sample": len(arrays["time"]), "ledger_sample": n_ledger}
+        for k, v in arrays.items():
+            dim = "ledger_sample" if k.startswith("ledger_") else "sample"
+            var = f.create_variable(k, (dim,), data=v, compression="gzip", compression_opts=4, shuffle=True)
+            units, long_name = _SIGNAL_ATTRS.get(k, ("J", k.replace("_", " ")))
+            var.attrs["units"] = units
+            var.attrs["long_name"] = long_name
+    return buf.getvalue()
+
+
+def _command_line() -> str:
+    return " ".join([os.path.basename(sys.argv[0])] + sys.argv[1:]) if sys.argv and sys.argv[0] else "python API"
 
 
 def _first_difference(old_text: str, new_case) -> str:
@@ -241,16 +419,3 @@ def _first_difference(old_text: str, new_case) -> str:
         if old.get(k) != new.get(k):
             return f"{k} = {old.get(k)!r} there, {new.get(k)!r} now"
     return "a setting differs"
-
-
-def open_results(path):
-    """The results of a sweep as an ``xarray.Dataset``: ``path`` is a store directory or a
-    ``results.nc`` file."""
-    import xarray as xr
-
-    p = Path(path)
-    if p.is_dir():
-        return ResultStore.open(p).dataset()
-    if not p.exists():
-        raise InputError(f"{p}: no such results file or store directory")
-    return xr.load_dataset(p, engine="h5netcdf")

@@ -1,26 +1,37 @@
-"""A stroke sweep: the base case at every stroke X for every seed (SPEC Sect. 1, 5, 7).
+"""A sweep: the base case at every point of a grid of config keys, for every seed (SPEC Sect. 1, 5, 7).
 
-Every (stroke, seed) case is independent: it starts from rest with its own seeded jitter
-(the paper's drive pauses between points), so the cases can run in any order, anywhere.
+The grid's axes are any config keys (``drive.stroke``, ``drive.frequency``, ``contact.friction``,
+``particles.count``, ...; :class:`Axis`); each point is the base case with those keys set by the one
+override mechanism of :func:`pdamper.config.with_overrides`, so a value is read and checked exactly
+as in a config file. The paper's sweep is one axis, the stroke (:data:`PAPER_STROKES`).
+
+Every (point, seed) case is independent: it starts from rest with its own seeded jitter (the
+paper's drive pauses between points), so the cases can run in any order, anywhere.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
-from ..excitation import HarmonicDrive
-from ..params import Case, with_stroke
+from ..params import Case
 from ..units import parse_quantity
 
-__all__ = ["SweepSpec", "stroke_grid", "parse_strokes", "case_key", "run_one", "run_sweep"]
+__all__ = ["Axis", "SweepSpec", "stroke_grid", "parse_strokes", "parse_axis", "case_key", "run_one", "run_sweep",
+           "open_results", "PAPER_STROKES", "STROKE"]
 
 #: The paper's sweep: 40 log-spaced strokes from 0.5 to 50 mm.
 PAPER_STROKES = (0.5e-3, 50e-3, 40)
+#: The config key of the stroke, the paper's sweep axis.
+STROKE = "drive.stroke"
+#: How a range FIRST:LAST:COUNT is spaced when the text does not say: the stroke log-spaced (the
+#: paper's sweep), every other key linearly.
+SPACINGS = ("log", "linear")
 
 
 def stroke_grid(lo: float, hi: float, n: int) -> np.ndarray:
@@ -52,43 +63,211 @@ def parse_strokes(text: str) -> np.ndarray:
     return np.array(sorted(set(values)))
 
 
+@dataclass(frozen=True, kw_only=True)
+class Axis:
+    """One dimension of a sweep: a config key and its values (SI numbers, whole numbers or text).
+
+    ``spacing`` says how the values were made: ``"log"`` or ``"linear"`` for a range, ``"list"``
+    for values given one by one.
+    """
+
+    key: str
+    values: tuple
+    spacing: str = "list"
+
+    def __post_init__(self):
+        from ..config import key_spec
+
+        spec = key_spec(self.key)  # raises for an unknown key, with a suggestion
+        vals = tuple(np.atleast_1d(np.asarray(self.values, dtype=object)).tolist())
+        if not vals:
+            raise InputError(f"--vary {self.key}: give at least one value")
+        if spec.kind == "whole":
+            vals = tuple(int(v) for v in vals)
+        elif spec.kind == "number" or spec.dimension is not None:
+            vals = tuple(float(v) for v in vals)
+        else:
+            vals = tuple(str(v) for v in vals)
+        if spec.kind != "text":
+            vals = tuple(sorted(set(vals)))
+        else:
+            vals = tuple(dict.fromkeys(vals))
+        object.__setattr__(self, "values", vals)
+        if self.spacing not in SPACINGS + ("list",):
+            raise InputError(f"axis {self.key}: spacing {self.spacing!r}; choose 'log', 'linear' or 'list'")
+
+    @property
+    def name(self) -> str:
+        """The dimension's name in the dataset: the key's last part (``drive.stroke`` -> ``stroke``)."""
+        return self.key.rsplit(".", 1)[-1]
+
+
+def parse_axis(text: str) -> Axis:
+    """An axis from the CLI's ``--vary KEY=VALUES``.
+
+    VALUES is a range ``FIRST:LAST:COUNT`` (optionally ``:log`` or ``:linear``; without it the
+    stroke is log-spaced, as the paper's sweep, and every other key linearly spaced) or a list
+    ``A,B,C``; each value with a unit as in a config file (``5mm``, ``2Hz``) or plain SI. A whole-
+    number key (``particles.count``) takes whole numbers: ``30:44:8`` is 30, 32, ..., 44.
+    """
+    from ..config import key_spec
+
+    key, sep, values = str(text).partition("=")
+    key, values = key.strip(), values.strip()
+    if not sep or not key or not values:
+        raise InputError(f"--vary {text!r}: write KEY=VALUES, e.g. drive.stroke=0.5mm:50mm:40 (a range) or "
+                         "contact.friction=0.01,0.1,1 (a list)")
+    spec = key_spec(key)
+    dimension = spec.dimension or "dimensionless"
+
+    def one(v, what):
+        v = v.strip()
+        if spec.kind == "text" or spec.choices:
+            return v
+        if spec.kind == "whole":
+            try:
+                f = float(v)
+            except ValueError:
+                raise InputError(f"--vary {key}: {what} {v!r} is not a whole number") from None
+            if not f.is_integer():
+                raise InputError(f"--vary {key}: {what} {v!r} is not a whole number")
+            return int(f)
+        return parse_quantity(v, dimension, name=f"--vary {key} ({what})")
+
+    if ":" in values:
+        parts = values.split(":")
+        spacing = "log" if key == STROKE else "linear"
+        if len(parts) == 4:
+            spacing = parts.pop().strip().lower()
+            spacing = {"lin": "linear"}.get(spacing, spacing)
+            if spacing not in SPACINGS:
+                raise InputError(f"--vary {text!r}: the spacing {spacing!r} is not 'log' or 'linear'")
+        if len(parts) != 3:
+            raise InputError(f"--vary {text!r}: write FIRST:LAST:COUNT[:log|:linear], e.g. {key}=1:4:4")
+        if spec.kind == "text" or spec.choices:
+            raise InputError(f"--vary {key}: a text key takes a list of values, e.g. "
+                             f"{key}={','.join(spec.choices or ('a', 'b'))}")
+        lo, hi = one(parts[0], "first"), one(parts[1], "last")
+        try:
+            n = int(parts[2])
+        except ValueError:
+            raise InputError(f"--vary {text!r}: the count {parts[2]!r} is not a whole number") from None
+        if n < 1 or lo > hi:
+            raise InputError(f"--vary {text!r}: need FIRST <= LAST and a COUNT >= 1")
+        if spacing == "log":
+            if lo <= 0:
+                raise InputError(f"--vary {text!r}: log spacing needs FIRST > 0; add :linear for a linear range")
+            vals = np.geomspace(lo, hi, n) if n > 1 else np.array([lo])
+        else:
+            vals = np.linspace(lo, hi, n) if n > 1 else np.array([lo])
+        if spec.kind == "whole":
+            ints = np.round(vals).astype(int)
+            if len(set(ints.tolist())) != n:
+                raise InputError(f"--vary {text!r}: {n} whole numbers do not fit between {lo} and {hi}")
+            vals = ints
+        return Axis(key=key, values=tuple(vals.tolist()), spacing=spacing)
+    return Axis(key=key, values=tuple(one(v, "value") for v in values.split(",") if v.strip()), spacing="list")
+
+
 def case_key(stroke: float, seed: int) -> str:
-    """File-safe, exact key of one case: the stroke's full float repr and the seed."""
+    """File-safe, exact key of one case of a stroke sweep: the stroke's full float repr and the seed."""
     return f"X{float(stroke)!r}_seed{int(seed)}"
+
+
+def point_key(point: dict, seed: int) -> str:
+    """File-safe, exact key of one case: each axis value's full repr and the seed (a stroke sweep
+    keeps the key of :func:`case_key`, so its stores resume across versions)."""
+    if list(point) == [STROKE]:
+        return case_key(point[STROKE], seed)
+    parts = [f"{k.rsplit('.', 1)[-1]}{v!r}" for k, v in point.items()]
+    return re.sub(r"[^A-Za-z0-9.+=_-]", "-", "_".join(parts)) + f"_seed{int(seed)}"
 
 
 @dataclass(frozen=True, kw_only=True)
 class SweepSpec:
-    """A base case, the strokes [m] and the seeds to run it at."""
+    """A base case, the axes of the grid and the seeds to run every point at.
+
+    ``strokes`` is the shortcut for one axis over ``drive.stroke`` (the paper's sweep)::
+
+        SweepSpec(base=case, strokes=[0.005, 0.012], seeds=[0, 1])
+        SweepSpec(base=case, axes=[Axis(key="drive.stroke", values=[0.005, 0.012]),
+                                   Axis(key="drive.frequency", values=[1.0, 2.0])], seeds=[0])
+    """
 
     base: Case
-    strokes: tuple
-    seeds: tuple
+    axes: tuple = ()
+    seeds: tuple = (0,)
+    strokes: tuple | None = None
 
     def __post_init__(self):
-        if not isinstance(self.base.drive, HarmonicDrive):
-            raise InputError("a stroke sweep needs a harmonic drive ([drive] stroke and frequency)")
-        strokes = tuple(float(x) for x in np.atleast_1d(self.strokes))
-        if not strokes or any(not (x > 0 and math.isfinite(x)) for x in strokes):
-            raise InputError(f"sweep strokes must be positive lengths, got {self.strokes!r}")
+        axes = list(self.axes)
+        if self.strokes is not None:
+            strokes = tuple(float(x) for x in np.atleast_1d(self.strokes))
+            if not strokes or any(not (x > 0 and math.isfinite(x)) for x in strokes):
+                raise InputError(f"sweep strokes must be positive lengths, got {self.strokes!r}")
+            if any(a.key == STROKE for a in axes):
+                raise InputError("give the strokes either as strokes=... or as an axis over drive.stroke, not both")
+            axes.insert(0, Axis(key=STROKE, values=strokes, spacing="list"))
+        if not axes:
+            raise InputError("a sweep needs at least one axis (e.g. strokes=... or --vary drive.stroke=...)")
+        keys = [a.key for a in axes]
+        if len(set(keys)) != len(keys):
+            raise InputError(f"a key is varied twice: {keys}")
+        names = [a.name for a in axes]
+        if len(set(names)) != len(names) or "seed" in names:
+            raise InputError(f"two axes would share a dimension name ({names}); vary them in separate sweeps")
+        if any(k.startswith("drive.") for k in keys) and self.base.drive.kind != "harmonic":
+            raise InputError("a sweep over drive keys needs a harmonic drive ([drive] stroke and frequency)")
         seeds = tuple(int(s) for s in np.atleast_1d(self.seeds))
         if not seeds or any(s < 0 for s in seeds):
             raise InputError(f"sweep seeds must be whole numbers >= 0, got {self.seeds!r}")
-        object.__setattr__(self, "strokes", tuple(sorted(set(strokes))))
+        object.__setattr__(self, "axes", tuple(axes))
         object.__setattr__(self, "seeds", tuple(sorted(set(seeds))))
+        object.__setattr__(self, "strokes", self.axis(STROKE).values if STROKE in keys else None)
+        # every value must make a valid case: check one point per value now, before anything runs
+        for a in self.axes:
+            for v in a.values:
+                self.case({a.key: v}, self.seeds[0])
 
-    def case(self, stroke: float, seed: int) -> Case:
-        """The base case at ``stroke`` [m] with random seed ``seed``."""
-        c = with_stroke(self.base, stroke)
+    def axis(self, key: str) -> Axis:
+        """The axis over ``key``."""
+        for a in self.axes:
+            if a.key == key:
+                return a
+        raise KeyError(key)
+
+    def case(self, point, seed: int) -> Case:
+        """The base case at ``point`` (``{key: value}``; a bare number is a stroke) with seed ``seed``."""
+        from ..config import with_overrides
+
+        if not isinstance(point, dict):
+            point = {STROKE: float(point)}
+        if list(point) == [STROKE]:  # the paper's sweep: a plain replace, as before (bit-identical cases)
+            from ..params import with_stroke
+
+            c = with_stroke(self.base, point[STROKE])
+        else:
+            c = with_overrides(self.base, point)
         return dataclasses.replace(c, initial=dataclasses.replace(c.initial, seed=int(seed)))
 
+    def points(self) -> list[dict]:
+        """Every point of the grid as ``{key: value}``, the first axis slowest."""
+        grids = np.meshgrid(*[np.arange(len(a.values)) for a in self.axes], indexing="ij")
+        idx = np.stack([g.ravel() for g in grids], axis=1)
+        return [{a.key: a.values[i] for a, i in zip(self.axes, row)} for row in idx]
+
     def items(self):
-        """(key, stroke, seed) of every case, small strokes first."""
-        return [(case_key(x, s), x, s) for x in self.strokes for s in self.seeds]
+        """(key, point, seed) of every case."""
+        return [(point_key(p, s), p, s) for p in self.points() for s in self.seeds]
+
+    def dims(self) -> tuple[str, ...]:
+        """The dataset's dimensions: one per axis, then ``seed``."""
+        return tuple(a.name for a in self.axes) + ("seed",)
 
 
-def run_one(case: Case) -> dict:
-    """Run one case and return its summary (plain floats, the motion mode; what the store keeps).
+def run_one(case: Case, keep: str = "signals") -> dict:
+    """Run one case and return its summary (plain floats, the motion mode; what the store keeps)
+    and, unless ``keep == "none"``, its signals (:data:`pdamper.studies.store.SIGNALS`).
 
     The mode is classified on a coarse trajectory the run records for it (50 frames/s,
     :data:`pdamper.run.MODE_FPS`; not stored).
@@ -98,13 +277,14 @@ def run_one(case: Case) -> dict:
     """
     from ..errors import SimulationError
     from ..run import run_case
+    from .store import signal_arrays
 
     try:
         res = run_case(case)
     except SimulationError as exc:
         return {"failed": str(exc)}
     s = res.summary()
-    return {
+    out = {
         "eta_star": s["eta_star"],
         "energy_per_cycle_J": s["energy_per_cycle_J"],
         "ledger_dissipated_per_cycle_J": s["ledger_dissipated_per_cycle_J"],
@@ -115,22 +295,88 @@ def run_one(case: Case) -> dict:
         "mode": s.get("mode", "unknown"),
         "mode_features": s.get("mode_features", {}),
     }
+    if keep != "none":
+        out["signals"] = signal_arrays(res.signals, res.energy, keep)
+    return out
+
+
+def theory_attrs(case: Case) -> dict:
+    """The theory's numbers for a base case: N_p,max, the clearance h and X_opt (dataset attributes)."""
+    from .. import theory
+    from ..analysis.modes import case_clearance, floor_capacity
+
+    _, h = case_clearance(case)
+    return {"max_particles": int(floor_capacity(case)), "clearance_m": h,
+            "x_opt_m": float(theory.optimal_stroke(h)) if math.isfinite(h) and h > 0 else float("nan")}
+
+
+def add_theory(ds, base: Case):
+    """Put the theory's X_opt on ``ds`` as a variable ``x_opt`` [m] over the axes other than the
+    stroke (a filling, a container size or a radius moves X_opt; the stroke does not), when the
+    sweep has such axes; a stroke sweep keeps the attribute ``x_opt_m`` alone."""
+    import xarray as xr
+
+    from ..config import with_overrides
+
+    dims = [d for d in ds["eta_star"].dims if d not in ("seed", "stroke")]
+    if not dims:
+        return ds
+    keys = [ds[d].attrs.get("config_key", d) for d in dims]
+    grids = np.meshgrid(*[ds[d].values for d in dims], indexing="ij")
+    xo = np.full(grids[0].shape, np.nan)
+    for idx in np.ndindex(xo.shape):
+        point = {k: g[idx].item() for k, g in zip(keys, grids)}
+        try:
+            xo[idx] = theory_attrs(with_overrides(base, point))["x_opt_m"]
+        except InputError:
+            pass  # a point that is no valid case has no X_opt
+    ds["x_opt"] = xr.DataArray(xo, dims=dims, attrs={"units": "m", "long_name": "optimal stroke X_opt (theory)"})
+    return ds
 
 
 def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: str | None = None,
-              progress: bool | None = None):
+              progress: bool | None = None, keep: str = "signals", history: str | None = None):
     """Run every case of ``spec`` not yet in the store at ``path``; return the results dataset.
 
     Cases already in the store are not run again (resume after an interruption). Each case is
     written to the store as soon as it finishes. ``workers`` local processes (default: all
-    cores) or an existing Dask cluster at ``scheduler``.
+    cores) or an existing Dask cluster at ``scheduler``. ``keep``: what of each case's signals
+    the store keeps (:data:`pdamper.studies.store.KEEP`). ``history``: the command line, for the
+    dataset's ``history`` attribute.
     """
+    import functools
+
     from .executor import execute
     from .store import ResultStore
 
-    store = ResultStore.create_or_open(path, spec)
-    todo = [(k, x, s, spec.case(x, s)) for k, x, s in spec.items() if not store.has(k)]
+    store = ResultStore.create_or_open(path, spec, attrs=theory_attrs(spec.base), history=history)
+    items = spec.items()
+    todo = [(k, p, s, spec.case(p, s)) for k, p, s in items if not store.has(k)]
     if todo:
-        execute(todo, run_one, store.save, workers=workers, scheduler=scheduler, progress=progress,
-                total=len(spec.items()), done=len(spec.items()) - len(todo))
-    return store.dataset()
+        execute(todo, functools.partial(run_one, keep=keep), store.save, workers=workers, scheduler=scheduler,
+                progress=progress, total=len(items), done=len(items) - len(todo))
+    ds = add_theory(store.dataset(), store.case())
+    store.write_outputs(ds)
+    return ds
+
+
+def open_results(path):
+    """The results of a sweep as an ``xarray.Dataset``: ``path`` is a store directory or a
+    ``results.nc`` file. Nothing is written (a store opened while its sweep runs shows the cases
+    finished so far)."""
+    from pathlib import Path
+
+    import xarray as xr
+
+    from .store import ResultStore
+
+    p = Path(path)
+    if p.is_dir():
+        store = ResultStore.open(p)
+        ds = store.dataset()
+        if "x_opt_m" not in ds.attrs:  # a store of an earlier pdamper keeps no theory numbers
+            ds.attrs.update(theory_attrs(store.case()))
+        return add_theory(ds, store.case())
+    if not p.exists():
+        raise InputError(f"{p}: no such results file or store directory")
+    return xr.load_dataset(p, engine="h5netcdf")

@@ -1,0 +1,211 @@
+"""A design chart: η* of a sweep over two config keys as a coloured map.
+
+The mean over seeds of ``eta_star`` is drawn as coloured cells over any two dimensions of the
+results dataset (e.g. stroke x frequency), the motion mode of each cell (the seeds' majority) as
+hatching, and where the stroke is an axis: the theory's optimal stroke X_opt (eq. (17) of the
+paper; the dataset's ``x_opt`` variable or ``x_opt_m`` attribute) and the lift-off bound
+A = X (2 pi f)^2 = g, above which the bed leaves the floor. A third dimension left in the
+dataset (besides ``seed``) must be fixed by the caller with ``ds.sel(...)``.
+
+:func:`results_figure` picks the figure a sweep's dataset needs: η*(X) with the laws for a
+stroke sweep (:func:`pdamper.plotting.sweep.sweep_figure`), this map for two dimensions, and η*
+over the one key for a one-dimensional sweep over another key.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..analysis.modes import MODES, majority_mode
+from ..errors import InputError
+from .sweep import _check_path, _save
+
+__all__ = ["map_figure", "line_figure", "results_figure"]
+
+_HATCHES = {"lift-off": "oo", "rolling-collect-and-collide": "", "single-sided": "//", "scattered": "..",
+            "failed": "xx"}
+_SCALES = {"m": (1e3, "mm"), "s": (1e3, "ms"), "rad": (180 / math.pi, "deg")}
+
+
+def _dim_of(ds, key_or_dim: str) -> str:
+    """A dataset dimension from its name (``stroke``) or its config key (``drive.stroke``)."""
+    if key_or_dim in ds.dims:
+        return key_or_dim
+    for d in ds.dims:
+        if ds[d].attrs.get("config_key") == key_or_dim:
+            return d
+    dims = [d for d in ds.dims if d != "seed"]
+    raise InputError(f"{key_or_dim!r} is not a dimension of these results; they have "
+                     + ", ".join(f"{d} ({ds[d].attrs.get('config_key', d)})" for d in dims))
+
+
+def _axis_values(ds, dim):
+    """(values scaled for display, axis label, log?)."""
+    units = ds[dim].attrs.get("units", "")
+    scale, shown = _SCALES.get(units, (1.0, units))
+    label = ds[dim].attrs.get("long_name", dim)
+    if shown and shown != "1":
+        label += f" [{shown}]"
+    vals = np.asarray(ds[dim].values, dtype=float) * scale
+    log = ds[dim].attrs.get("spacing") == "log" and np.all(vals > 0)
+    return vals, label, log, scale
+
+
+def _edges(v, log):
+    """Cell edges around sorted centres ``v`` (geometric midpoints on a log axis)."""
+    v = np.asarray(v, dtype=float)
+    if v.size == 1:
+        return np.array([v[0] * 0.8, v[0] * 1.25]) if log else np.array([v[0] - 0.5, v[0] + 0.5])
+    t = np.log(v) if log else v
+    mid = (t[1:] + t[:-1]) / 2
+    e = np.concatenate([[t[0] - (mid[0] - t[0])], mid, [t[-1] + (t[-1] - mid[-1])]])
+    return np.exp(e) if log else e
+
+
+def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0), dpi: int = 150):
+    """η* (mean over seeds) as a coloured map over dimensions ``x`` and ``y`` (names or config
+    keys; default: the first two), modes hatched, X_opt and the lift-off bound A = g drawn where
+    the stroke is an axis. Returns the :class:`matplotlib.figure.Figure`; saved to ``path`` if given."""
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch, Rectangle
+
+    target = _check_path(path)
+    dims = [d for d in ds["eta_star"].dims if d != "seed"]
+    if len(dims) < 2:
+        raise InputError(f"a map needs two dimensions; these results have {dims or 'none'} "
+                         "(use the sweep figure for one)")
+    xd = _dim_of(ds, x) if x else dims[0]
+    yd = _dim_of(ds, y) if y else next(d for d in dims if d != xd)
+    if xd == yd:
+        raise InputError(f"--x and --y are both {xd!r}; choose two different dimensions")
+    rest = [d for d in dims if d not in (xd, yd)]
+    if rest:
+        raise InputError(f"these results also vary {', '.join(rest)}; pick one value with ds.sel({rest[0]}=...) "
+                         "before drawing a map")
+    eta = ds["eta_star"].mean("seed", skipna=True).transpose(yd, xd)
+    xv, xlabel, xlog, xscale = _axis_values(ds, xd)
+    yv, ylabel, ylog, yscale = _axis_values(ds, yd)
+    fig = Figure(figsize=figsize, layout="constrained")
+    ax = fig.add_subplot()
+    mesh = ax.pcolormesh(_edges(xv, xlog), _edges(yv, ylog), eta.values, cmap="viridis", vmin=0.0,
+                         vmax=max(1.0, float(np.nanmax(eta.values)) if np.isfinite(eta.values).any() else 1.0))
+    fig.colorbar(mesh, ax=ax, label="η* (mean over seeds)")
+    # motion modes, hatched cell by cell
+    modes = ds["mode"].transpose(yd, xd, "seed").values if "mode" in ds else None
+    shown = set()
+    if modes is not None:
+        xe, ye = _edges(xv, xlog), _edges(yv, ylog)
+        for i in range(len(yv)):
+            for j in range(len(xv)):
+                m, _ = majority_mode(modes[i, j])
+                hatch = _HATCHES.get(m, "")
+                if hatch:
+                    ax.add_patch(Rectangle((xe[j], ye[i]), xe[j + 1] - xe[j], ye[i + 1] - ye[i],
+                                           fill=False, hatch=hatch, edgecolor="white", linewidth=0, alpha=0.7))
+                if m:
+                    shown.add(m)
+    handles = []
+    # theory: X_opt and the lift-off bound where the stroke is an axis
+    cfg = {d: ds[d].attrs.get("config_key") for d in (xd, yd)}
+    stroke_dim = next((d for d in (xd, yd) if cfg[d] == "drive.stroke"), None)
+    freq_dim = next((d for d in (xd, yd) if cfg[d] == "drive.frequency"), None)
+    if stroke_dim is not None:
+        other = yd if stroke_dim == xd else xd
+        oth_vals, oth_log = (yv, ylog) if stroke_dim == xd else (xv, xlog)
+        oth_edges = _edges(oth_vals, oth_log)
+        sscale = xscale if stroke_dim == xd else yscale
+
+        def draw(stroke_pts, other_pts, **kw):
+            return ax.plot(stroke_pts, other_pts, **kw) if stroke_dim == xd else ax.plot(other_pts, stroke_pts, **kw)
+
+        if "x_opt" in ds and other in ds["x_opt"].dims:  # X_opt moves along the other axis: a step per cell
+            xo = np.repeat(np.asarray(ds["x_opt"].transpose(other).values, dtype=float) * sscale, 2)
+            span = np.repeat(oth_edges, 2)[1:-1]
+        else:
+            xo = np.full(2, float(ds.attrs.get("x_opt_m", math.nan)) * sscale)
+            span = oth_edges[[0, -1]]
+        if np.isfinite(xo).any():
+            handles += draw(xo, span, color="black", lw=2, ls="--", label="X_opt (theory)")
+        g = float(ds.attrs.get("gravity_m_s2", 9.81))
+        if freq_dim is not None:
+            fscale = yscale if freq_dim == yd else xscale
+            f = np.geomspace(max(oth_edges[0], 1e-9), oth_edges[-1], 200) / fscale
+            pts = (g / (2 * math.pi * f) ** 2 * sscale, f * fscale)
+        else:
+            fr = float(ds.attrs.get("frequency_hz", math.nan))
+            pts = (np.full(2, g / (2 * math.pi * fr) ** 2 * sscale if math.isfinite(fr) else math.nan), oth_edges[[0, -1]])
+        if np.isfinite(pts[0]).any():
+            handles += draw(*pts, color="tab:red", lw=1.8, label="lift-off bound A = g")
+    from matplotlib.ticker import ScalarFormatter
+
+    ax.set_xscale("log" if xlog else "linear")
+    ax.set_yscale("log" if ylog else "linear")
+    for axis, log in ((ax.xaxis, xlog), (ax.yaxis, ylog)):
+        if log:
+            axis.set_major_formatter(ScalarFormatter())
+            axis.set_minor_formatter(ScalarFormatter())
+    ax.set_xlim(_edges(xv, xlog)[[0, -1]])
+    ax.set_ylim(_edges(yv, ylog)[[0, -1]])
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    for m in [m for m in (*MODES, "failed") if m in shown and _HATCHES.get(m)]:
+        handles.append(Patch(facecolor="grey", hatch=_HATCHES[m], edgecolor="white", label=m))
+    if "rolling-collect-and-collide" in shown:
+        handles.append(Patch(facecolor="grey", edgecolor="white", label="rolling-collect-and-collide (plain)"))
+    if handles:
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, fontsize=8, frameon=False)
+    ax.set_title(title or _title(ds), fontsize=10)
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+def line_figure(ds, path=None, *, title=None, figsize=(7.0, 4.5), dpi: int = 150):
+    """η* over the one dimension of a sweep over a key other than the stroke: the mean over
+    seeds (line with markers) and the single seeds (dots)."""
+    from matplotlib.figure import Figure
+
+    target = _check_path(path)
+    dims = [d for d in ds["eta_star"].dims if d != "seed"]
+    if len(dims) != 1:
+        raise InputError(f"a line figure needs one dimension besides seed; these results have {dims}")
+    d = dims[0]
+    xv, xlabel, xlog, _ = _axis_values(ds, d)
+    fig = Figure(figsize=figsize, layout="constrained")
+    ax = fig.add_subplot()
+    eta = ds["eta_star"].transpose(d, "seed").values
+    for k in range(eta.shape[1]):
+        ax.plot(xv, eta[:, k], "o", color="tab:blue", alpha=0.35, ms=4, label="single seeds" if k == 0 else None)
+    ax.plot(xv, np.nanmean(np.where(np.isfinite(eta), eta, np.nan), axis=1) if np.isfinite(eta).any() else eta[:, 0],
+            "-o", color="tab:blue", label="mean over seeds")
+    ax.set_xscale("log" if xlog else "linear")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("η*")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title or _title(ds), fontsize=10)
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+def results_figure(ds, path=None, **kw):
+    """The figure a sweep's results need: η*(X) with the laws for a stroke sweep, a map for two
+    dimensions, η* over the key for one other dimension."""
+    from .sweep import sweep_figure
+
+    dims = [d for d in ds["eta_star"].dims if d not in ("seed", "setting")]
+    if dims == ["stroke"]:
+        return sweep_figure(ds, path, **kw)
+    if len(dims) == 1:
+        return line_figure(ds, path, **kw)
+    return map_figure(ds, path, **kw)
+
+
+def _title(ds) -> str:
+    n, shape = ds.attrs.get("particles"), ds.attrs.get("shape", "container")
+    varied = ds.attrs.get("varied_keys", "")
+    return f"η* over {varied}: {n} spheres in a {shape}" if n else f"η* over {varied}"
