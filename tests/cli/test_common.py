@@ -43,7 +43,7 @@ BAD = {
     "study": [
         (["frction"], "did you mean 'friction'"),
         (["fig4", "--bogus"], "No such option"),
-        ([], "Missing argument 'NAME'"),
+        ([], "Missing argument 'NAME|FILE.toml'"),
     ],
     "validate": [
         (["--seeds", "0"], "0 is not in the range"),

@@ -60,3 +60,43 @@ def test_a_study_runs_into_one_dataset_with_a_setting_dimension(tmp_path):
     run_study("fig4", tmp_path / "s", strokes=(0.013,), seeds=(0,), cycles=2.5, drop_cycles=1, workers=2,
               progress=False)
     assert sorted(p.stat().st_mtime_ns for p in (tmp_path / "s").rglob("cases/*.json")) == stamps
+
+
+def test_a_users_study_file_runs_and_bad_files_are_explained(tiny_config, tmp_path):
+    from pdamper.errors import InputError
+    from pdamper.plotting.sweep import study_figure
+    from pdamper.studies.named import load_study
+
+    study = tmp_path / "mine.toml"
+    study.write_text(f'''title = "mine"
+vary = ["drive.stroke=2mm:12mm:2"]
+[[setting]]
+label = "mu = 0.05"
+config = "{tiny_config.name}"
+set = {{ "contact.friction" = 0.05 }}
+panel = "first"
+[[setting]]
+label = "mu = 0.5"
+config = "{tiny_config.name}"
+set = {{ "contact.friction" = 0.5 }}
+panel = "second"
+''')
+    (tmp_path / tiny_config.name).write_text(tiny_config.read_text())
+    s = load_study(study)
+    assert [c.contact.friction for _, c, _ in s.settings] == [0.05, 0.5] and s.vary == ("drive.stroke=2mm:12mm:2",)
+    ds = run_study(study, tmp_path / "out", seeds=(0,), workers=1, progress=False)
+    assert ds.eta_star.dims == ("setting", "stroke", "seed") and ds.panel.values.tolist() == ["first", "second"]
+    assert ds.stroke.values == pytest.approx([0.002, 0.012]) and np.isfinite(ds.eta_star.values).all()
+    fig = study_figure(ds, tmp_path / "mine.png")
+    assert [sf._suptitle.get_text() for sf in fig.subfigs] == ["(a) first", "(b) second"]
+    assert (tmp_path / "mine.png").exists()
+    for text, words in [('title = "x"\n', "no settings"),
+                        ('titel = "x"\n', "did you mean 'title'"),
+                        ('[[setting]]\nlabel = "a"\nbase = "cuboid_63"\n', "did you mean 'cuboid_36'"),
+                        ('[[setting]]\nlabel = "a"\nbase = "cuboid_36"\nset = { "contact.frction" = 1 }\n',
+                         "did you mean 'friction'"),
+                        ('[[setting]]\nlabel = "a"\n', "exactly one of base")]:
+        bad = tmp_path / "bad.toml"
+        bad.write_text(text)
+        with pytest.raises(InputError, match=words):
+            load_study(bad)

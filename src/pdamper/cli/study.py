@@ -23,9 +23,10 @@ def _names():
 
 
 @main.command("study")
-@click.argument("name", metavar="NAME")
+@click.argument("name", metavar="NAME|FILE.toml")
 @click.option("--quick", is_flag=True, help="8 strokes, 6 cycles, 1 seed: a first look in 10 s to about a minute on 2 cores (docs/sweeps.md).")
-@click.option("--strokes", help="FIRST:LAST:COUNT or a list (default 0.5mm:50mm:40; --quick: 0.5mm:50mm:8).")
+@click.option("--strokes", help="FIRST:LAST:COUNT or a list, replacing the study's strokes (the paper's: "
+              "0.5mm:50mm:40; --quick: 0.5mm:50mm:8).")
 @click.option("--seeds", type=click.IntRange(min=1), default=1, show_default=True, help="Seeds per stroke.")
 @click.option("--cycles", type=click.FloatRange(min=0, min_open=True), help="Drive cycles per case (default 20).")
 @click.option("--out", type=click.Path(), help="Study directory (default study_<NAME>[_quick]).")
@@ -35,35 +36,39 @@ def _names():
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
 def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, as_json):
-    """Run the paper's study NAME and write its dataset and figure.
+    """Run a study (one of the paper's, or your study file) and write its dataset and figure.
 
     NAME is one of: fig4, friction, modulus, density, restitution, radius, tilt, cylinder,
-    cylinder-tilt. Every setting is swept over the strokes into its own resumable store under
-    the study directory; study.nc holds them all with a 'setting' dimension.
+    cylinder-tilt (their study files ship with pdamper), or the path of a study file
+    (docs/sweeps.md). Every setting is swept into its own resumable store under the study
+    directory; study.nc holds them all with a 'setting' dimension; studies with two fillings
+    draw two panels.
 
     Example: pdamper study fig4 --quick
     """
     from ..errors import InputError
-    from ..plotting.sweep import sweep_figure
-    from ..studies.named import run_study, study_settings
+    from ..plotting.sweep import study_figure
+    from ..studies.named import load_study, run_study
     from ..studies.sweep import parse_strokes, stroke_grid
 
     if workers and scheduler:
         raise InputError("--workers and --scheduler exclude each other: local processes, or a Dask cluster")
-    study_settings(name)  # unknown names fail here, with a suggestion
+    study = load_study(name)  # unknown names fail here, with a suggestion
+    name = study.name
     if strokes:
-        xs = parse_strokes(strokes)
+        xs = tuple(parse_strokes(strokes))
+    elif quick:
+        xs = tuple(stroke_grid(*QUICK["strokes"]))
     else:
-        lo, hi, n = QUICK["strokes"] if quick else (0.5e-3, 50e-3, 40)
-        xs = stroke_grid(lo, hi, n)
+        xs = None  # the study file's
     if cycles is None and quick:
         cycles = QUICK["cycles"]
     drop = QUICK["drop_cycles"] if quick else None
     out = Path(out) if out else Path(f"study_{name}{'_quick' if quick else ''}")
-    ds = run_study(name, out, strokes=tuple(xs), seeds=tuple(range(seeds)), cycles=cycles, drop_cycles=drop,
+    ds = run_study(study.source, out, strokes=xs, seeds=tuple(range(seeds)), cycles=cycles, drop_cycles=drop,
                    workers=workers, scheduler=scheduler, progress=False if as_json else None)
     plot = Path(plot) if plot else out / f"{name}.png"
-    sweep_figure(ds, plot)
+    study_figure(ds, plot)
     mean = ds.eta_star.mean("seed", skipna=True)
     rows = []
     for k, label in enumerate(ds.setting.values.tolist()):

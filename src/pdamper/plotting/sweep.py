@@ -27,7 +27,7 @@ from .. import theory as _th
 from ..errors import InputError
 from .theory import draw_theory_curves
 
-__all__ = ["sweep_figure", "energy_figure", "FORMATS"]
+__all__ = ["sweep_figure", "study_figure", "energy_figure", "FORMATS"]
 
 #: File formats the figures are written in, by extension.
 FORMATS = (".png", ".svg", ".pdf")
@@ -35,6 +35,7 @@ FORMATS = (".png", ".svg", ".pdf")
 _MM = 1e3  # metres -> millimetres on the stroke axis
 _STROKE_UNITS = {"m": 1.0, "mm": 1e-3}  # stroke coordinate units -> metres
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "h")
+_LINESTYLES = ("-", (0, (5, 2)), (0, (1, 1.5)), (0, (6, 2, 1, 2)))  # solid, dashed, dotted, dash-dot
 
 
 # --------------------------------------------------------------------------- public figures
@@ -72,9 +73,42 @@ def sweep_figure(ds, path=None, *, title: str | None = None, theory: bool = True
         ``ds`` is not a sweep dataset (no ``eta_star``, no ``stroke`` dimension, ...) or
         ``path`` has an unknown extension or a missing folder.
     """
+    from matplotlib.figure import Figure
+
     target = _check_path(path)
+    fig = Figure(figsize=figsize, layout="constrained")
+    _sweep_into(fig, ds, title=title, theory=theory)
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+def study_figure(ds, path=None, *, title: str | None = None, theory: bool = True, dpi: int = 150):
+    """η*(X) of a study: one panel per filling, (a), (b), ..., as the paper's figures, when the
+    dataset's ``setting`` dimension has a ``panel`` coordinate with more than one value; else
+    :func:`sweep_figure`. Settings are told apart by colour, marker and line style."""
+    from matplotlib.figure import Figure
+
+    panels = list(dict.fromkeys(ds["panel"].values.tolist())) if "panel" in ds.coords else []
+    if len(panels) < 2:
+        return sweep_figure(ds, path, title=title, theory=theory, dpi=dpi)
+    target = _check_path(path)
+    fig = Figure(figsize=(6.4 * len(panels), 5.6), layout="constrained")
+    subs = fig.subfigures(1, len(panels))
+    for k, (sub, panel) in enumerate(zip(subs, panels)):
+        part = ds.isel(setting=[i for i, p in enumerate(ds["panel"].values.tolist()) if p == panel])
+        _sweep_into(sub, part, title=f"({chr(ord('a') + k)}) {panel}", theory=theory)
+    if title or ds.attrs.get("title"):
+        fig.suptitle(str(title or ds.attrs.get("title")), fontsize="large")
+    if target is not None:
+        _save(fig, target, dpi)
+    return fig
+
+
+def _sweep_into(fig, ds, *, title, theory):
+    """Draw η*(X) of ``ds`` into ``fig`` (a Figure or SubFigure): data, laws, axes, legend, titles."""
     sw = _Sweep(ds, "eta_star")
-    fig, ax = _new_figure(figsize)
+    ax = fig.add_subplot()
     handles = _draw_data(ax, sw, scale=1.0)
 
     if theory:
@@ -97,9 +131,6 @@ def sweep_figure(ds, path=None, *, title: str | None = None, theory: bool = True
         _no_data_note(ax)
     _legend(fig, ax, handles)
     _titles(fig, ax, sw, title)
-    if target is not None:
-        _save(fig, target, dpi)
-    return fig
 
 
 def energy_figure(ds, path=None, *, title: str | None = None, theory: bool = True,
@@ -347,9 +378,10 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
         count = have.sum(axis=1)
         rows = count > 0  # strokes with at least one computed seed
         marker = _MARKERS[k % len(_MARKERS)]
+        style = _LINESTYLES[k % len(_LINESTYLES)]
         name = "DEM" if not label else f"DEM, {label}"
         if not rows.any():
-            handles.append((Line2D([], [], color=colour, marker=marker, lw=1.4, ms=4.5),
+            handles.append((Line2D([], [], color=colour, marker=marker, ls=style, lw=1.4, ms=4.5),
                             f"{name} (no data yet)"))
             continue
         with np.errstate(all="ignore"):
@@ -360,7 +392,7 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
         if log:
             mean = np.where(mean > 0, mean, np.nan)
             lo = np.maximum(lo, floor) if floor is not None else lo
-        line, = ax.plot(xs, mean, color=colour, lw=1.4, marker=marker, ms=4.5, mfc=colour,
+        line, = ax.plot(xs, mean, color=colour, lw=1.4, ls=style, marker=marker, ms=4.5, mfc=colour,
                         mec="white", mew=0.6, zorder=3)
         handle = line
         spread = count[rows] > 1

@@ -1,29 +1,50 @@
-"""The paper's studies (SPEC Sect. 5), each a set of labelled settings swept over strokes.
+"""Studies: labelled settings swept over the same axes, read from study files.
 
-Every study is a list of ``(label, Case)`` settings built from the paper's four cases (Table 1
-materials, mu = 0.1, 0.1 deg tilt; the same as ``examples/*.toml``) with one thing changed;
-:func:`run_study` sweeps them all on one cluster and returns one dataset with a ``setting``
-dimension (strokes x seeds per setting, each setting its own resumable store).
+A study file (TOML) says what a study is: its title, the axes every setting is swept over
+(``vary``, as ``pdamper sweep --vary``), the figure it wants, and its settings -- each a paper
+case (``base = "cuboid_36"``) or a config file (``config = "my_case.toml"``, relative to the study
+file) with keys set as in a config file (``set = { "contact.friction" = 0.01 }``) and optionally
+the panel of the figure it is drawn in (two fillings: two panels, (a) and (b), as the paper's
+figures). The paper's nine studies (SPEC Sect. 5) are study files shipped with pdamper
+(``pdamper/studies/data/<name>.toml``; :data:`STUDIES`); a user writes their own the same way::
+
+    title = "friction of my damper"
+    vary = ["drive.stroke=2mm:40mm:12"]
+
+    [[setting]]
+    label = "mu = 0.05"
+    config = "my_damper.toml"
+    set = { "contact.friction" = 0.05 }
+
+:func:`run_study` sweeps every setting on one cluster (each setting its own resumable store) and
+returns one dataset with a ``setting`` dimension (and a ``panel`` coordinate along it).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 import re
+import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
-from ..contact import ConstantRestitution, ThorntonRestitution
 from ..errors import InputError
-from ..geometry import Cylinder
-from ..materials import Material
 
-__all__ = ["STUDIES", "study_settings", "run_study"]
+__all__ = ["STUDIES", "Study", "load_study", "study_settings", "run_study", "PAPER_CASES"]
+
+_DATA = Path(__file__).parent / "data"
+#: The paper's four cases a setting can start from (``base = ...``).
+PAPER_CASES = ("cuboid_36", "cuboid_44", "cylinder_30", "cylinder_42")
+_STUDY_KEYS = ("title", "figure", "vary", "setting")
+_SETTING_KEYS = ("label", "base", "config", "set", "panel")
+FIGURES = ("sweep",)
+
 
 def _example(name: str):
     """The paper's case ``cuboid_36``, ``cuboid_44``, ``cylinder_30`` or ``cylinder_42``: Table 1
     materials, mu = 0.1, eps = 0.9, 0.1 deg tilt, 2 Hz, 20 cycles (the defaults of
     :mod:`pdamper.params`; ``examples/<name>.toml`` spell out the same cases)."""
+    from ..geometry import Cylinder
     from ..params import Case, Container, ParticleSet
 
     shape, n = name.split("_")
@@ -31,148 +52,163 @@ def _example(name: str):
     return Case(particles=(ParticleSet(count=int(n)),), container=container)
 
 
-def _with(case, **changes):
-    """``case`` with dotted keys replaced (``contact.friction``, ``particles.radius``), by the one
-    override mechanism of pdamper (:func:`pdamper.config.with_overrides`)."""
-    from ..config import with_overrides
+@dataclass(frozen=True)
+class Study:
+    """A study read from its file: title, axes (``--vary`` texts), figure and
+    ``(label, case, panel)`` settings."""
 
-    return with_overrides(case, changes)
-
-
-def _material(case, **changes):
-    m = case.particles[0].material
-    return _with(case, **{"particles.material": Material(name=f"{m.name}-mod", **{
-        "youngs_modulus": m.youngs_modulus, "poisson_ratio": m.poisson_ratio, "density": m.density, **changes})})
-
-
-def _tilt(case, axis: int, deg: float):
-    t = [math.radians(0.1)] * 3
-    t[axis] = math.radians(deg)
-    return _with(case, **{"container.tilt": tuple(t)})
+    name: str
+    title: str
+    vary: tuple
+    figure: str
+    settings: tuple
+    source: str
 
 
-def _fig4():
-    return [("N_p = 36", _example("cuboid_36")), ("N_p = 44", _example("cuboid_44"))]
+def _suggest(word, allowed) -> str:
+    import difflib
+
+    near = difflib.get_close_matches(str(word), list(allowed), n=1, cutoff=0.5)
+    return f"did you mean {near[0]!r}? " if near else ""
 
 
-def _friction():
-    return [(f"{n}, mu = {mu:g}", _with(_example(f"cuboid_{n}"), **{"contact.friction": mu}))
-            for n in (36, 44) for mu in (0.01, 0.1, 1.0)]
+def load_study(name_or_path) -> Study:
+    """The study ``name_or_path``: a name of :data:`STUDIES` or the path of a study file."""
+    from ..config import load_case, with_overrides
+
+    text = str(name_or_path)
+    path = Path(text)
+    if not text.endswith(".toml") and (_DATA / f"{text}.toml").exists():
+        path = _DATA / f"{text}.toml"
+    elif not path.exists():
+        if text.endswith(".toml"):
+            raise InputError(f"study file not found: {path}")
+        raise InputError(f"unknown study {text!r}; {_suggest(text, STUDIES)}Studies: {', '.join(STUDIES)} "
+                         "(or give the path of a study file, NAME.toml)")
+    where = str(path) if path.parent != _DATA else f"study {path.stem!r}"
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{where}: invalid TOML: {exc}") from None
+    for key in data:
+        if key not in _STUDY_KEYS:
+            raise InputError(f"{where}: unknown key {key!r}; {_suggest(key, _STUDY_KEYS)}allowed: "
+                             + ", ".join(_STUDY_KEYS))
+    vary = data.get("vary", ["drive.stroke=0.5mm:50mm:40"])
+    if isinstance(vary, str):
+        vary = [vary]
+    if not isinstance(vary, list) or not all(isinstance(v, str) for v in vary):
+        raise InputError(f"{where}: vary = {vary!r} must be a list of 'KEY=VALUES' texts, e.g. "
+                         "['drive.stroke=0.5mm:50mm:40']")
+    figure = data.get("figure", "sweep")
+    if figure not in FIGURES:
+        raise InputError(f"{where}: figure = {figure!r}; choose one of {', '.join(map(repr, FIGURES))}")
+    rows = data.get("setting", [])
+    if not isinstance(rows, list) or not rows:
+        raise InputError(f"{where}: no settings; give one or more [[setting]] tables with label = ... and "
+                         "base = 'cuboid_36' (or config = 'case.toml')")
+    settings, labels = [], set()
+    for k, row in enumerate(rows):
+        what = f"{where}, setting #{k + 1}"
+        if not isinstance(row, dict):
+            raise InputError(f"{what}: must be a table")
+        for key in row:
+            if key not in _SETTING_KEYS:
+                raise InputError(f"{what}: unknown key {key!r}; {_suggest(key, _SETTING_KEYS)}allowed: "
+                                 + ", ".join(_SETTING_KEYS))
+        label = row.get("label")
+        if not isinstance(label, str) or not label:
+            raise InputError(f"{what}: give it a label = '...'")
+        if label in labels:
+            raise InputError(f"{what}: the label {label!r} is used twice")
+        labels.add(label)
+        if ("base" in row) == ("config" in row):
+            raise InputError(f"{what} ({label}): give exactly one of base = 'cuboid_36' (a paper case: "
+                             f"{', '.join(PAPER_CASES)}) or config = 'case.toml'")
+        if "base" in row:
+            if row["base"] not in PAPER_CASES:
+                raise InputError(f"{what} ({label}): base = {row['base']!r} is not a paper case; "
+                                 f"{_suggest(row['base'], PAPER_CASES)}choose one of {', '.join(PAPER_CASES)}")
+            case = _example(row["base"])
+        else:
+            cfg = Path(row["config"])
+            case = load_case(cfg if cfg.is_absolute() else path.parent / cfg)
+        sets = row.get("set", {})
+        if not isinstance(sets, dict):
+            raise InputError(f"{what} ({label}): set = {sets!r} must be a table of config keys, e.g. "
+                             "{ \"contact.friction\" = 0.01 }")
+        try:
+            case = with_overrides(case, sets) if sets else case
+        except InputError as exc:
+            raise InputError(f"{what} ({label}): {exc}") from None
+        settings.append((label, case, str(row.get("panel", ""))))
+    return Study(name=path.stem, title=str(data.get("title", path.stem)), vary=tuple(vary), figure=figure,
+                 settings=tuple(settings), source=str(path))
 
 
-def _modulus():
-    return [(f"E = {e:g} GPa", _material(_example("cuboid_36"), youngs_modulus=e * 1e9)) for e in (3, 208, 405)]
+def _builder(name):
+    return lambda: [(label, case) for label, case, _ in load_study(name).settings]
 
 
-def _density():
-    return [(f"rho = {r:g} kg/m3", _material(_example("cuboid_36"), density=float(r))) for r in (1400, 7900, 19250)]
+def _title(path: Path) -> str:
+    return str(tomllib.loads(path.read_text(encoding="utf-8")).get("title", path.stem))
 
 
-def _restitution():
-    base = _example("cuboid_36")
-    out = [(f"eps = {e:g}", _with(base, **{"contact.restitution": ConstantRestitution(value=e)}))
-           for e in (0.8, 0.9, 0.95)]
-    # velocity dependent: elastic-plastic (Thornton) with a hardened-steel yield pressure
-    out.append(("eps(v), Thornton p_y = 2 GPa",
-                _with(base, **{"contact.restitution": ThorntonRestitution(yield_pressure=2e9)})))
-    return out
-
-
-def _radius():
-    return [(f"r = 2.5 mm, N_p = {n}", _with(_with(_example("cuboid_36"), **{"particles.radius": 0.0025}),
-                                             **{"particles.count": n}))
-            for n in (144, 176)]
-
-
-def _tilt_study():
-    out = []
-    for n in (36, 44):
-        base = _example(f"cuboid_{n}")
-        out.append((f"{n}, baseline 0.1 deg", base))
-        out += [(f"{n}, 3 deg about {ax}", _tilt(base, i, 3.0)) for i, ax in enumerate("xyz")]
-    return out
-
-
-def _cylinder():
-    return [("cylinder N_p = 30", _example("cylinder_30")), ("cylinder N_p = 42", _example("cylinder_42")),
-            ("cuboid N_p = 36", _example("cuboid_36")), ("cuboid N_p = 44", _example("cuboid_44"))]
-
-
-def _cylinder_tilt():
-    out = []
-    for n in (30, 42):
-        base = _example(f"cylinder_{n}")
-        out.append((f"{n}, baseline 0.1 deg", base))
-        out += [(f"{n}, 3 deg about {ax}", _tilt(base, i, 3.0)) for i, ax in ((0, "x"), (2, "z"))]
-    return out
-
-
-#: Study name -> (builder of the settings, what it shows).
-STUDIES = {
-    "fig4": (_fig4, "Fig. 4: eta*(X), DEM vs theory, cuboid with 36 and 44 spheres"),
-    "friction": (_friction, "Fig. 6: friction mu = 0.01, 0.1, 1 (36 and 44 spheres)"),
-    "modulus": (_modulus, "Sect. 6.1: Young's modulus of the spheres 3, 208, 405 GPa"),
-    "density": (_density, "Sect. 6.1: density of the spheres 1400, 7900, 19250 kg/m^3"),
-    "restitution": (_restitution, "Sect. 6.1: COR 0.8, 0.9, 0.95 and velocity dependent"),
-    "radius": (_radius, "Sect. 6.1: r = 2.5 mm with 144 and 176 spheres (N_p,max = 192)"),
-    "tilt": (_tilt_study, "Fig. 7: tilt of 3 deg about x, y, z (36 and 44 spheres)"),
-    "cylinder": (_cylinder, "Fig. 9: cylinder with 30 and 42 spheres vs the cuboid"),
-    "cylinder-tilt": (_cylinder_tilt, "Fig. 10: cylinder tilted 3 deg about x and z"),
-}
+_ORDER = ("fig4", "friction", "modulus", "density", "restitution", "radius", "tilt", "cylinder", "cylinder-tilt")
+#: Study name -> (builder of the settings, what it shows): the paper's studies, from their files.
+STUDIES = {p.stem: (_builder(p.stem), _title(p))
+           for p in sorted(_DATA.glob("*.toml"), key=lambda p: (_ORDER.index(p.stem) if p.stem in _ORDER else 99, p.stem))}
 
 
 def study_settings(name: str):
-    """The ``(label, Case)`` settings of study ``name``."""
-    try:
-        build, _ = STUDIES[name]
-    except KeyError:
-        import difflib
-
-        near = difflib.get_close_matches(name, STUDIES, n=1)
-        hint = f"; did you mean {near[0]!r}?" if near else ""
-        raise InputError(f"unknown study {name!r}{hint} Studies: {', '.join(STUDIES)}") from None
-    return build()
+    """The ``(label, Case)`` settings of study ``name`` (a name or a study file)."""
+    return [(label, case) for label, case, _ in load_study(name).settings]
 
 
 def _slug(label: str) -> str:
     return re.sub(r"[^A-Za-z0-9.]+", "_", label).strip("_")
 
 
-def run_study(name, out, *, strokes, seeds, cycles=None, drop_cycles=None, workers=None, scheduler=None,
+def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, workers=None, scheduler=None,
               progress=None, only=None, keep="signals"):
-    """Sweep every setting of study ``name`` (one store per setting under ``out``) on one
-    cluster; return the combined dataset with a ``setting`` dimension. ``only``: a list of
-    setting labels to run (default: all)."""
+    """Sweep every setting of study ``name`` (a name of :data:`STUDIES` or a study file; one store
+    per setting under ``out``) on one cluster; return the combined dataset with a ``setting``
+    dimension. ``strokes`` replaces the study's stroke axis; ``only``: a list of setting labels
+    to run (default: all)."""
+    import functools
+
     import numpy as np
     import xarray as xr
 
-    import functools
-
     from .executor import execute
     from .store import ResultStore
-    from .sweep import SweepSpec, run_one, theory_attrs
+    from .sweep import STROKE, SweepSpec, add_theory, parse_axis, run_one, theory_attrs
 
-    settings = study_settings(name)
+    study = load_study(name)
+    settings = list(study.settings)
     if only is not None:
-        unknown = set(only) - {lbl for lbl, _ in settings}
+        unknown = set(only) - {lbl for lbl, _, _ in settings}
         if unknown:
-            raise InputError(f"study {name!r} has no setting {sorted(unknown)}")
-        settings = [(lbl, c) for lbl, c in settings if lbl in only]
+            raise InputError(f"study {study.name!r} has no setting {sorted(unknown)}")
+        settings = [s for s in settings if s[0] in only]
+    axes = [parse_axis(v) for v in study.vary]
+    if strokes is not None:
+        axes = [a for a in axes if a.key != STROKE]
     out = Path(out)
     stores, items, total = [], [], 0
-    for label, case in settings:
+    for label, case, _ in settings:
         if cycles is not None:
             case = dataclasses.replace(case, cycles=cycles)
         if drop_cycles is not None:
             case = dataclasses.replace(case, drop_cycles=drop_cycles)
-        spec = SweepSpec(base=case, strokes=strokes, seeds=seeds)
+        spec = SweepSpec(base=case, axes=axes, strokes=strokes, seeds=seeds)
         store = ResultStore.create_or_open(out / _slug(label), spec, attrs=theory_attrs(case))
-        stores.append((label, store))
+        stores.append((label, store, case))
         for k, p, s in spec.items():
             total += 1
             if not store.has(k):
                 items.append((f"{_slug(label)}--{k}", p, s, spec.case(p, s)))
-    by_slug = {_slug(label): store for label, store in stores}
+    by_slug = {_slug(label): store for label, store, _ in stores}
 
     def save(key, point, seed, result):
         slug, k = key.split("--", 1)
@@ -181,17 +217,19 @@ def run_study(name, out, *, strokes, seeds, cycles=None, drop_cycles=None, worke
     if items:
         execute(items, functools.partial(run_one, keep=keep), save, workers=workers, scheduler=scheduler,
                 progress=progress, total=total, done=total - len(items))
+    panels = {label: panel for label, _, panel in settings}
     parts = []
-    for label, store in stores:
-        ds = store.dataset()
+    for label, store, case in stores:
+        ds = add_theory(store.dataset(), store.case())
         store.write_outputs(ds)
         ds = ds.assign_coords(setting=label).expand_dims("setting")
         ds["clearance"] = ("setting", [ds.attrs["clearance_m"]], {"units": "m"})
         parts.append(ds)
     combined = xr.concat(parts, dim="setting", combine_attrs="drop_conflicts")
-    combined.attrs["study"] = name
-    combined.attrs["title"] = STUDIES[name][1]
-    combined.attrs["configs"] = "\n\n".join(f"# setting: {lbl}\n{st.meta['config']}" for lbl, st in stores)
+    combined = combined.assign_coords(panel=("setting", [panels[str(s)] for s in combined.setting.values]))
+    combined.attrs["study"] = study.name
+    combined.attrs["title"] = study.title
+    combined.attrs["configs"] = "\n\n".join(f"# setting: {lbl}\n{st.meta['config']}" for lbl, st, _ in stores)
     combined["x_opt"] = ("setting", np.array([p.attrs["x_opt_m"] for p in parts]), {"units": "m"})
     buf = combined.to_netcdf(engine="h5netcdf")
     from ..io.files import atomic_write
