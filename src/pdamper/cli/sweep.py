@@ -144,13 +144,18 @@ def _grid_summary(ds, spec, out, plot, as_json):
     shape = " x ".join(f"{len(a.values)} {a.name}" for a in spec.axes)
     click.echo(f"pdamper sweep: {shape} x {len(ds.seed)} seeds, {int(ds.attrs['particles'])} spheres in a "
                f"{ds.attrs['shape']}")
-    head = "  ".join(f"{a.name + (' [' + ds[a.name].attrs['units'] + ']' if ds[a.name].attrs.get('units', '1') != '1' else ''):>14}"
-                     for a in spec.axes)
+    shown = {"m": (1e3, "mm"), "rad": (180 / math.pi, "deg"), "m s-1": (1.0, "m/s"), "1": (1.0, "")}
+    scale = {}
+    for a in spec.axes:
+        units = ds[a.name].attrs.get("units", "1")
+        scale[a.key] = shown.get(units, (1.0, units))
+    head = "  ".join(f"{a.name + (' [' + scale[a.key][1] + ']' if scale[a.key][1] else ''):>14}" for a in spec.axes)
     click.echo(f"  {head}  {'eta* mean':>9}  {'min':>7}  {'max':>7}  motion mode")
     for r in rows:
         if math.isnan(r["eta_star_mean"]):
             continue
-        vals = "  ".join(f"{v:>14.4g}" if isinstance(v, (int, float)) else f"{v:>14}" for v in r["point"].values())
+        vals = "  ".join(f"{v * scale[k][0]:>14.4g}" if isinstance(v, (int, float)) else f"{v:>14}"
+                         for k, v in r["point"].items())
         click.echo(f"  {vals}  {r['eta_star_mean']:9.3f}  {r['eta_star_min']:7.3f}  {r['eta_star_max']:7.3f}  {r['mode']}")
     if summary["failed_cases"]:
         click.echo(f"  {summary['failed_cases']} case(s) failed numerically; see {out / 'cases'}")
