@@ -137,3 +137,80 @@ def test_bad_options(tmp_path):
 def test_record_needs_exactly_one_motion():
     with pytest.raises(InputError, match="exactly one motion"):
         Record(time=np.zeros(3), force=np.zeros(3))
+
+
+# --------------------------------------------------------------------------- files as loggers write them
+
+def _logger_text(t, F, a_g, *, decimal_comma=True):
+    rows = "\n".join(f'{ti:.4f};"{Fi:.6f}";{ai:.6f}'.replace(".", ",") if decimal_comma else f"{ti},{Fi},{ai}"
+                     for ti, Fi, ai in zip(t, F, a_g))
+    return ("Device: NI-9234\nOperator: J. Doe\nRate: 1000 Hz\n\n"
+            "Time;Force;Accel\ns;N;g\n" + rows + "\n")
+
+
+def test_a_logger_file_with_preamble_units_row_semicolons_decimal_commas_and_g(tmp_path, signals):
+    t, x, v, F = signals
+    a = -(2 * np.pi * 2.0) ** 2 * x
+    p = write(tmp_path / "log.txt", _logger_text(t, F, a / 9.80665))
+    rec = read_record(p, columns={"acceleration": "Accel"})
+    assert rec.meta == {"Device": "NI-9234", "Operator": "J. Doe", "Rate": "1000 Hz"}
+    assert rec.headers == {"time": "Time [s]", "force": "Force [N]", "acceleration": "Accel [g]"}
+    assert rec.time == pytest.approx(np.round(t, 4), abs=1e-12)
+    assert rec.acceleration == pytest.approx(a, abs=1e-5)  # 'g' is the standard gravity (6 digits in g)
+    assert rec.force == pytest.approx(F, abs=1e-6)
+
+
+def test_standard_input_and_a_bad_cell_is_named_with_its_line(tmp_path, signals, monkeypatch):
+    import io
+
+    t, x, v, F = signals
+    text = "time,force,position\n" + "\n".join(f"{a},{b},{c}" for a, b, c in zip(t, F, x)) + "\n"
+    monkeypatch.setattr("sys.stdin", io.StringIO(text))
+    rec = read_record("-")
+    assert rec.source == "<stdin>" and rec.position == pytest.approx(x)
+    bad = text.replace(f"{F[7]}", "oops", 1)
+    with pytest.raises(InputError, match=r"line 9, column 'force': cannot read 'oops' as a number"):
+        read_record(write(tmp_path / "b.csv", bad))
+
+
+def test_hdf5_mat_and_tdms_files_with_a_channel_map(tmp_path, signals):
+    import h5py
+    import scipy.io
+    from nptdms import ChannelObject, TdmsWriter
+
+    t, x, v, F = signals
+    with h5py.File(tmp_path / "r.h5", "w") as f:
+        g = f.create_group("daq")
+        g["t"] = t
+        g["F_x"] = F / 1e3
+        g["F_x"].attrs["units"] = "kN"
+        g["x"] = x * 1e3
+        g["x"].attrs["units"] = "mm"
+    rec = read_record(tmp_path / "r.h5", columns={"time": "t", "force": "F_x", "position": "x"})
+    assert rec.force == pytest.approx(F) and rec.position == pytest.approx(x) and rec.time == pytest.approx(t)
+    scipy.io.savemat(tmp_path / "r.mat", {"time": t, "force": F, "velocity": v})
+    rec = read_record(tmp_path / "r.mat")
+    assert rec.motion_kind == "velocity" and rec.velocity == pytest.approx(v)
+    with TdmsWriter(tmp_path / "r.tdms") as w:
+        w.write_segment([ChannelObject("rig", "force", F, properties={"wf_increment": 1e-3, "unit_string": "N"}),
+                         ChannelObject("rig", "position", x * 1e3, properties={"wf_increment": 1e-3,
+                                                                                 "unit_string": "mm"})])
+    rec = read_record(tmp_path / "r.tdms")
+    assert rec.time == pytest.approx(t) and rec.position == pytest.approx(x) and rec.force == pytest.approx(F)
+    with pytest.raises(InputError, match="no force column"):
+        read_record(tmp_path / "r.h5", columns={"time": "t"})
+
+
+def test_pdamper_run_output_is_a_record(tmp_path):
+    from pdamper.io.runs import write_run
+    from pdamper.run import run_case
+    from dem_fixtures import TINY_CONFIG
+    from pdamper.config import loads_case
+
+    res = run_case(loads_case(TINY_CONFIG))
+    write_run(res, tmp_path / "run")
+    for target in (tmp_path / "run", tmp_path / "run" / "signals.csv"):
+        rec = read_record(target)
+        assert rec.motion_kind == "velocity"
+        np.testing.assert_array_equal(rec.velocity, res.signals.velocity)
+        np.testing.assert_array_equal(rec.force, res.signals.force)

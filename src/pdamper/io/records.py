@@ -1,21 +1,33 @@
-"""Measured force/motion records from delimited text files (CSV, semicolon or tab separated).
+"""Measured force/motion records as loggers write them: text files, HDF5, MATLAB, NI TDMS, and
+pdamper's own run output.
 
-A record file has one header row and one row per sample. The columns that
-matter are ``time``, ``force`` and one motion column, ``position``,
-``velocity`` or ``acceleration``; other columns are ignored. A column name may
-carry its unit in brackets or parentheses, e.g. ``time [ms]``, ``force [kN]``,
-``position (mm)``, ``acceleration [m/s^2]``; without a unit the column is taken
-as SI (s, N, m, m/s, m/s^2). Units are read with :mod:`pint` through
-:func:`pdamper.units.unit_factor`, so any unit of the right dimension works
-(``us``, ``lbf``, ``in``, ``g0`` ...). Names match case-insensitively, ignoring
-surrounding whitespace; other names are mapped with ``columns``.
-
-The delimiter is sniffed from the header (comma, semicolon or tab). Blank lines
-and lines starting with ``#`` are skipped. In semicolon- and tab-separated files
-a decimal comma (``0,25``) is accepted.
-
+A record has the columns (channels) ``time``, ``force`` and one motion channel, ``position``,
+``velocity`` or ``acceleration``; other columns are ignored. Names match case-insensitively;
+other names are mapped with ``columns`` (``{"force": "F_x"}``). Units are read with :mod:`pint`
+through :func:`pdamper.units.unit_factor`, so any unit of the right dimension works (``ms``,
+``kN``, ``mm``, ``lbf``, ``in``); for an acceleration ``g`` is the standard gravity (not the gram).
 Everything is returned in SI as a :class:`Record`; every problem raises
-:class:`pdamper.errors.InputError` naming the file, line and column.
+:class:`pdamper.errors.InputError` naming the file, the line or channel, and the fix.
+
+**Text files** (CSV, ``;`` or tab separated; ``-`` reads standard input):
+
+- a logger's preamble before the header (``Device: NI-9234``, ``Rate: 1000 Hz`` ...) is skipped:
+  the header is the first line naming the time and force columns; ``key: value`` preamble lines
+  are kept in :attr:`Record.meta`;
+- a unit may be in the header (``time [ms]``, ``force (kN)``) or in a second header row of units
+  (``s;N;mm``); without one the column is SI;
+- the delimiter is sniffed from the header; with ``;`` or tab a decimal comma (``0,25``) is read;
+  quoted fields are read; blank lines and lines starting with ``#`` are skipped;
+- the data are read by :func:`pandas.read_csv` (C parser): 5 million rows in a few seconds
+  (docs/analysis.md); a cell that is not a number is reported with its line and column.
+
+**Binary files** (by extension): HDF5 (``.h5``, ``.hdf5``; datasets found by name in any group,
+units from a ``units`` attribute), MATLAB (``.mat``; variables by name), NI TDMS (``.tdms``;
+channels by name, ``group/channel`` if ambiguous; the time from the waveform's increment when
+there is no time channel; units from ``unit_string``).
+
+**pdamper's own run output** (a ``pdamper run --out`` directory or its ``signals.csv``) is read
+with its velocity (each sample the interval mean, what the run analysed).
 """
 
 from __future__ import annotations
@@ -60,6 +72,8 @@ class Record:
         Where the record came from (the file path).
     headers : dict
         The file's header text of each column used, by role (for messages and plots).
+    meta : dict
+        ``key: value`` lines of a logger's preamble, if any.
     """
 
     time: np.ndarray
@@ -69,6 +83,7 @@ class Record:
     acceleration: np.ndarray | None = None
     source: str | None = None
     headers: dict = field(default_factory=dict)
+    meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
         given = [m for m in MOTIONS if getattr(self, m) is not None]
@@ -91,23 +106,24 @@ class Record:
 
 
 def read_record(path, *, columns: dict | None = None, motion: str | None = None,
-                delimiter: str | None = None) -> Record:
-    """Read a measured record (time, force, one motion column) from a delimited text file.
+                delimiter: str | None = None, decimal: str | None = None) -> Record:
+    """Read a measured record (time, force, one motion channel) from a file (see the module docstring).
 
     Parameters
     ----------
     path : str or os.PathLike
-        The file.
+        The file (text, ``.h5``/``.hdf5``, ``.mat``, ``.tdms``), a ``pdamper run --out`` directory,
+        or ``"-"`` for text on standard input.
     columns : dict, optional
         Map of role (``"time"``, ``"force"``, ``"position"``, ``"velocity"``,
-        ``"acceleration"``) to the column's name in the file, e.g.
+        ``"acceleration"``) to the column's (channel's) name in the file, e.g.
         ``{"time": "t", "force": "F_x"}``. The name is matched without its unit
         (``"F_x"`` finds ``F_x [kN]``) or as the full header text.
     motion : str, optional
         Which motion column to use when the file has several. Mapping exactly one
         motion role in ``columns`` chooses it too.
-    delimiter : str, optional
-        Column delimiter; sniffed from the header if omitted.
+    delimiter, decimal : str, optional
+        Column delimiter and decimal mark of a text file; detected if omitted.
 
     Returns
     -------
@@ -120,7 +136,6 @@ def read_record(path, *, columns: dict | None = None, motion: str | None = None,
         Missing file or column, ambiguous motion, unknown unit, unreadable or
         non-finite cell (with line and column), empty file.
     """
-    path = Path(path)
     columns = dict(columns or {})
     for role in columns:
         if role not in ROLES:
@@ -134,21 +149,34 @@ def read_record(path, *, columns: dict | None = None, motion: str | None = None,
     if motion is None and len(mapped_motions) > 1:
         raise InputError(f"the column map names several motion columns "
                          f"({', '.join(mapped_motions)}); choose one")
+    if str(path) == "-":
+        import sys
 
-    lines = _read_lines(path)
-    content = [(no, line) for no, line in lines
-               if line.strip() and not line.lstrip().startswith("#")]
-    if not content:
-        raise InputError(f"{path}: the file is empty; expected a header row "
-                         "(time, force, position|velocity|acceleration) and data rows")
-    header_no, header_line = content[0]
-    if delimiter is None:
-        delimiter = _sniff(path, header_no, header_line)
-    rows = list(csv.reader([line for _, line in content], delimiter=delimiter))
-    header = [h.strip() for h in rows[0]]
-    data = rows[1:]
-    line_nos = [no for no, _ in content[1:]]
-    names, units = zip(*(_split_header(h) for h in header))
+        return _read_text(_lines_of(sys.stdin.read()), "<stdin>", columns, motion, delimiter, decimal, None)
+    path = Path(path)
+    if path.is_dir() and (path / "signals.csv").exists():
+        path = path / "signals.csv"
+    if not path.exists():
+        raise InputError(f"record file not found: {path}")
+    if path.is_dir():
+        raise InputError(f"{path} is a directory without a run's signals.csv; give the record file")
+    suffix = path.suffix.lower()
+    if suffix in (".h5", ".hdf5", ".hdf"):
+        return _read_channels(path, _hdf5_channels(path), columns, motion)
+    if suffix == ".mat":
+        return _read_channels(path, _mat_channels(path), columns, motion)
+    if suffix == ".tdms":
+        return _read_channels(path, _tdms_channels(path), columns, motion)
+    return _read_text(_read_lines(path, head=600), str(path), columns, motion, delimiter, decimal, path)
+
+
+#: The header of a pdamper run's signals.csv: read with its velocity (the analysed signal).
+_RUN_HEADER = ["time [s]", "force [N]", "velocity [m/s]", "position [m]"]
+
+
+def _choose(source, header, names, columns, motion) -> dict:
+    """Role -> index of the column used, from the header texts and names (without units)."""
+    mapped_motions = [m for m in MOTIONS if m in columns]
 
     def find(role: str, required: bool) -> int | None:
         target = columns.get(role, role)
@@ -156,62 +184,246 @@ def read_record(path, *, columns: dict | None = None, motion: str | None = None,
         hits = [i for i, (h, n) in enumerate(zip(header, names))
                 if n.casefold() == key or h.casefold() == key]
         if len(hits) > 1:
-            raise InputError(f"{path}: {len(hits)} columns match {role} ({target!r}): "
+            raise InputError(f"{source}: {len(hits)} columns match {role} ({target!r}): "
                              f"{', '.join(repr(header[i]) for i in hits)}; rename one or "
                              f"map {role} to the full header text")
         if not hits:
             if required:
                 hint = (f"map it with --{role}-column NAME (columns={{'{role}': NAME}})")
-                raise InputError(f"{path}: no {role} column ({target!r}); the header has "
+                raise InputError(f"{source}: no {role} column ({target!r}); the header has "
                                  f"{', '.join(repr(h) for h in header)}; rename the column or {hint}")
             return None
         return hits[0]
 
-    i_time = find("time", True)
-    i_force = find("force", True)
+    used = {"time": find("time", True), "force": find("force", True)}
     chosen = motion or (mapped_motions[0] if mapped_motions else None)
+    if chosen is None and [h.strip() for h in header] == _RUN_HEADER:
+        chosen = "velocity"  # pdamper's own run output: the signal its analysis used
     if chosen is not None:
-        i_motion = find(chosen, True)
+        used[chosen] = find(chosen, True)
+        return used
+    present = {m: i for m in MOTIONS if (i := find(m, False)) is not None}
+    if not present:
+        raise InputError(
+            f"{source}: no motion column; need one of position, velocity, acceleration "
+            f"(the header has {', '.join(repr(h) for h in header)}); rename it or map it "
+            "with --position-column/--velocity-column/--acceleration-column NAME")
+    if len(present) > 1:
+        listing = " and ".join(repr(header[i]) for i in present.values())
+        first = next(iter(present))
+        raise InputError(
+            f"{source}: the record has {len(present)} motion columns, {listing}; choose the "
+            f"one to use, e.g. --{first}-column {shlex.quote(names[present[first]])} "
+            f"(motion={first!r})")
+    used.update(present)
+    return used
+
+
+def _lines_of(text: str) -> list[tuple[int, str]]:
+    return list(enumerate(text.lstrip("\ufeff").splitlines(), start=1))
+
+
+def _fields(line: str, delimiter: str) -> list[str]:
+    return next(csv.reader([line], delimiter=delimiter))
+
+
+def _is_number(cell: str, decimal: str = ".") -> bool:
+    cell = cell.strip()
+    if decimal == ",":
+        cell = cell.replace(",", ".")
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
+def _find_header(source, content, columns):
+    """(position in content, delimiter) of the header: the first line naming time and force."""
+    wanted = [columns.get(r, r).strip().casefold() for r in ("time", "force")]
+    for pos, (no, line) in enumerate(content[:500]):
+        for d in (",", ";", "\t"):
+            if d not in line:
+                continue
+            cells = [c.strip() for c in _fields(line, d)]
+            names = {_split_header(c)[0].casefold() for c in cells} | {c.casefold() for c in cells}
+            if all(w in names for w in wanted):
+                return pos, d
+    # no line names both: the first line with a delimiter that is not data is the header, and the
+    # missing column is named from it
+    for pos, (no, line) in enumerate(content[:500]):
+        counts = {d: line.count(d) for d in (",", ";", "\t")}
+        d = max(counts, key=counts.get)
+        if counts[d] and not all(_is_number(c, ",") for c in _fields(line, d)):
+            return pos, d
+    no, header = content[0]
+    raise InputError(
+        f"{source}, line {no}: cannot find the column delimiter in the header {header.strip()!r}; "
+        "separate the columns with commas, semicolons or tabs")
+
+
+def _read_text(lines, source, columns, motion, delimiter, decimal, path) -> Record:
+    """A record from text: ``lines`` are the first lines of the file (all of it for standard
+    input); the data are read by pandas from ``path`` (or from the lines) after the header."""
+    content = [(no, line) for no, line in lines if line.strip() and not line.lstrip().startswith("#")]
+    if not content:
+        raise InputError(f"{source}: the file is empty; expected a header row "
+                         "(time, force, position|velocity|acceleration) and data rows")
+    if delimiter is None:
+        pos, delimiter = _find_header(source, content, columns)
     else:
-        present = {m: i for m in MOTIONS if (i := find(m, False)) is not None}
-        if not present:
-            raise InputError(
-                f"{path}: no motion column; need one of position, velocity, acceleration "
-                f"(the header has {', '.join(repr(h) for h in header)}); rename it or map it "
-                "with --position-column/--velocity-column/--acceleration-column NAME")
-        if len(present) > 1:
-            listing = " and ".join(repr(header[i]) for i in present.values())
-            first = next(iter(present))
-            raise InputError(
-                f"{path}: the record has {len(present)} motion columns, {listing}; choose the "
-                f"one to use, e.g. --{first}-column {shlex.quote(names[present[first]])} "
-                f"(motion={first!r})")
-        chosen, i_motion = next(iter(present.items()))
-
+        pos = next((k for k, (_, ln) in enumerate(content) if delimiter in ln), 0)
+    header_no, header_line = content[pos]
+    meta = {}
+    for _, line in content[:pos]:  # a logger's preamble: keep its "key: value" lines
+        key, sep, value = line.partition(":")
+        if sep and key.strip():
+            meta[key.strip()] = value.strip()
+    header = [h.strip() for h in _fields(header_line, delimiter)]
+    names, units = (list(x) for x in zip(*(_split_header(h) for h in header)))
+    data = content[pos + 1:]
+    last_header = header_no
+    if data and not any(_is_number(c, ",") for c in _fields(data[0][1], delimiter)):
+        # a second header row of units ("s;N;mm" or "[s];[N];[mm]")
+        row = [c.strip().strip("[]()").strip() for c in _fields(data[0][1], delimiter)]
+        for i, u in enumerate(row[:len(units)]):
+            if u and not units[i]:
+                units[i] = u
+        header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
+        last_header = data[0][0]
+        data = data[1:]
+    used = _choose(source, header, names, columns, motion)
     if not data:
-        raise InputError(f"{path}: the file has a header but no data rows")
-    used = {"time": i_time, "force": i_force, chosen: i_motion}
-    width = max(used.values()) + 1
-    for no, row in zip(line_nos, data):
-        if len(row) < width:
-            raise InputError(f"{path}, line {no}: {len(row)} field{'s' if len(row) != 1 else ''} "
-                             f"but the header has {len(header)}; fix or remove the row")
-
-    values = {}
+        raise InputError(f"{source}: the file has a header but no data rows")
+    if decimal is None:
+        sample = [c for _, ln in data[:50] for c in _fields(ln, delimiter)]
+        decimal = "," if delimiter != "," and any("," in c for c in sample) else "."
+    values = _parse_columns(source, lines, last_header, header, used, delimiter, decimal, path)
     for role, i in used.items():
-        col = _column(path, header[i], [row[i] for row in data], line_nos, delimiter)
-        unit = units[i]
-        if unit:
-            col = col * _factor(path, header[i], unit, _DIMENSION[role])
-        values[role] = col
+        if units[i]:
+            values[role] = values[role] * _factor(source, header[i], units[i], _DIMENSION[role])
+    motion_role = next(r for r in used if r in MOTIONS)
+    return Record(time=values["time"], force=values["force"], **{motion_role: values[motion_role]}, source=source,
+                  headers={role: header[i] for role, i in used.items()}, meta=meta)
 
-    return Record(time=values["time"], force=values["force"],
-                  **{chosen: values[chosen]}, source=str(path),
+
+def _parse_columns(source, lines, last_header, header, used, delimiter, decimal, path) -> dict:
+    """The used columns as float arrays, read by pandas' C parser after line ``last_header``;
+    where it fails (or a cell is empty), the file is scanned for the wrong row or cell."""
+    import io
+
+    import pandas as pd
+
+    cols = sorted(set(used.values()))
+    target = path if path is not None else io.StringIO("\n".join(ln for _, ln in lines))
+    try:
+        frame = pd.read_csv(target, sep=delimiter, decimal=decimal, header=None, skiprows=last_header, usecols=cols,
+                            dtype=float, engine="c", quotechar='"', comment="#", skip_blank_lines=True,
+                            encoding="utf-8-sig" if path is not None else None, encoding_errors="replace")
+        out = {role: frame[i].to_numpy(dtype=float) for role, i in used.items()}
+        if all(np.isfinite(c).all() for c in out.values()) and len(frame):
+            return out
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError):
+        pass
+    # the slow path: every data line, to name the line and cell that is wrong
+    if path is not None:
+        lines = _read_lines(path)
+    data = [(no, ln) for no, ln in lines if no > last_header and ln.strip() and not ln.lstrip().startswith("#")]
+    if not data:
+        raise InputError(f"{source}: the file has a header but no data rows")
+    width = max(used.values()) + 1
+    rows = [_fields(ln, delimiter) for _, ln in data]
+    line_nos = np.array([no for no, _ in data])
+    for no, row in zip(line_nos, rows):
+        if len(row) < width:
+            raise InputError(f"{source}, line {no}: {len(row)} field{'s' if len(row) != 1 else ''} "
+                             f"but the header has {len(header)}; fix or remove the row")
+    return {role: _column(source, header[i], [row[i] for row in rows], line_nos, decimal) for role, i in used.items()}
+
+
+# ----------------------------------------------------------------------------- binary files
+
+def _read_channels(path: Path, channels: dict, columns, motion) -> Record:
+    """A record from named 1-D channels ``{name: (array, unit)}`` of a binary file."""
+    if not channels:
+        raise InputError(f"{path}: no 1-D numeric channels found; is this a record file?")
+    header = list(channels)
+    names = [h.rsplit("/", 1)[-1] for h in header]
+    used = _choose(str(path), header, names, columns, motion)
+    values = {}
+    n = None
+    for role, i in used.items():
+        arr, unit = channels[header[i]]
+        arr = np.asarray(arr, dtype=float).ravel()
+        if n is not None and arr.size != n:
+            raise InputError(f"{path}: channel {header[i]!r} has {arr.size} samples, the time {n}; give channels of "
+                             "one length")
+        n = arr.size
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise InputError(f"{path}: channel {header[i]!r}, sample {int(bad[0])}: not a finite number "
+                             f"({bad.size} such samples); fill the gaps")
+        values[role] = arr * (_factor(str(path), header[i], unit, _DIMENSION[role]) if unit else 1.0)
+    motion_role = next(r for r in used if r in MOTIONS)
+    return Record(time=values["time"], force=values["force"], **{motion_role: values[motion_role]}, source=str(path),
                   headers={role: header[i] for role, i in used.items()})
 
 
-def _factor(path: Path, header: str, unit: str, dim: str) -> float:
-    """SI factor of a column's unit; a dimensionless unit (``%``, ``fortnight/s``) is refused."""
+def _hdf5_channels(path: Path) -> dict:
+    import h5py
+
+    out = {}
+    try:
+        with h5py.File(path, "r") as f:
+            def visit(name, obj):
+                if isinstance(obj, h5py.Dataset) and obj.ndim <= 2 and obj.dtype.kind in "fiu" and max(obj.shape, default=0) > 1:
+                    unit = obj.attrs.get("units", obj.attrs.get("unit", ""))
+                    unit = unit.decode() if isinstance(unit, bytes) else str(unit)
+                    out[name] = (obj[()], unit)
+            f.visititems(visit)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read as HDF5 ({exc})") from None
+    return out
+
+
+def _mat_channels(path: Path) -> dict:
+    import scipy.io
+
+    try:
+        data = scipy.io.loadmat(path, squeeze_me=True)
+    except (ValueError, NotImplementedError, OSError) as exc:
+        raise InputError(f"{path}: cannot read as a MATLAB file ({exc}); save it with -v7 or read it as HDF5 "
+                         "(a -v7.3 file is HDF5: rename it to .h5)") from None
+    return {k: (v, "") for k, v in data.items() if not k.startswith("__") and isinstance(v, np.ndarray)
+            and v.dtype.kind in "fiu" and v.ndim == 1 and v.size > 1}
+
+
+def _tdms_channels(path: Path) -> dict:
+    from nptdms import TdmsFile
+
+    try:
+        tdms = TdmsFile.read(path)
+    except Exception as exc:  # npTDMS raises plain exceptions for a damaged file
+        raise InputError(f"{path}: cannot read as an NI TDMS file ({exc})") from None
+    out = {}
+    for group in tdms.groups():
+        for ch in group.channels():
+            data = ch[:]
+            if data.dtype.kind not in "fiu" or data.size < 2:
+                continue
+            out[f"{group.name}/{ch.name}"] = (data, str(ch.properties.get("unit_string", "")))
+            if "time" not in {h.rsplit("/", 1)[-1].casefold() for h in out} and "wf_increment" in ch.properties:
+                inc = float(ch.properties["wf_increment"])
+                out[f"{group.name}/time"] = (float(ch.properties.get("wf_start_offset", 0.0)) + inc * np.arange(data.size),
+                                             "s")
+    return out
+
+
+def _factor(path, header: str, unit: str, dim: str) -> float:
+    """SI factor of a column's unit; a dimensionless unit (``%``, ``fortnight/s``) is refused.
+    For an acceleration ``g`` is the standard gravity (pint's ``g`` is the gram)."""
+    if dim == "acceleration" and unit.strip() in ("g", "G", "g0", "gn"):
+        return 9.80665
     try:
         unit_factor(unit, "dimensionless")
     except InputError:
@@ -226,27 +438,19 @@ def _factor(path: Path, header: str, unit: str, dim: str) -> float:
                          f"use one such as {_UNIT_EXAMPLES[dim]}") from None
 
 
-def _read_lines(path: Path) -> list[tuple[int, str]]:
+def _read_lines(path: Path, head: int | None = None) -> list[tuple[int, str]]:
+    """(line number, text) of the file's lines (only the first ``head`` with ``head``)."""
     if not path.exists():
         raise InputError(f"record file not found: {path}")
     if path.is_dir():
         raise InputError(f"{path} is a directory; give the record file")
-    raw = path.read_bytes()
+    with open(path, "rb") as f:
+        raw = b"".join(f.readline() for _ in range(head)) if head else f.read()
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         text = raw.decode("latin-1")
     return list(enumerate(text.splitlines(), start=1))
-
-
-def _sniff(path: Path, no: int, header: str) -> str:
-    counts = {d: header.count(d) for d in (",", ";", "\t")}
-    best = max(counts, key=counts.get)
-    if counts[best] == 0:
-        raise InputError(
-            f"{path}, line {no}: cannot find the column delimiter in the header {header.strip()!r}; "
-            "separate the columns with commas, semicolons or tabs")
-    return best
 
 
 def _split_header(text: str) -> tuple[str, str]:
@@ -258,15 +462,14 @@ def _split_header(text: str) -> tuple[str, str]:
     return m.group("name").strip(), unit.strip()
 
 
-def _column(path: Path, header: str, cells: list[str], line_nos: list[int],
-            delimiter: str) -> np.ndarray:
+def _column(path, header: str, cells: list[str], line_nos, decimal: str) -> np.ndarray:
     """Cells of one column as floats; the first unreadable or non-finite cell is reported."""
     cells = [c.strip() for c in cells]
     try:
         col = np.array(cells, dtype=float)
     except ValueError:
         col = np.empty(len(cells))
-        comma_ok = delimiter != ","
+        comma_ok = decimal == ","
         for k, cell in enumerate(cells):
             try:
                 col[k] = float(cell)
