@@ -390,8 +390,8 @@ def _record(n=10_000):
     (lambda t, F, v: (np.where(np.arange(t.size) == 5, np.nan, t), F, v), "time has 1 non-finite"),
     (lambda t, F, v: (np.concatenate([t[:100], t[99:-1]]), F, v), "increase strictly.*index 100"),
     (lambda t, F, v: (t[::-1], F, v), "increase strictly"),
-    (lambda t, F, v: (np.concatenate([t[:500], t[501:], [t[-1] + 1e-3]]), F, v),
-     "not uniformly sampled.*off the uniform grid by"),
+    (lambda t, F, v: (np.concatenate([t[:500], t[700:], t[-1] + 1e-3 * np.arange(1, 201)]), F, v),
+     "gap of 0.201 s after t = 0.499 s.*not observed"),
     (lambda t, F, v: (t, F.reshape(-1, 2), v), "1-D"),
 ])
 def test_bad_records(mutate, pattern):

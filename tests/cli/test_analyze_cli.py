@@ -131,7 +131,7 @@ def _bad_cases(tmp_path):
         ([paths["text"]], "line 3, column 'force': cannot read 'oops'"),
         ([paths["nan"]], "not a finite number"),
         ([paths["unit"]], "not a unit of time"),
-        ([paths["jitter"], "--frequency", "100Hz"], "not uniformly sampled"),
+        ([paths["jitter"], "--frequency", "100Hz"], "holds 0.3 cycles"),
         ([paths["reverse"]], "increase strictly"),
         ([short], "holds 2.5 cycles.*--drop-cycles"),
         ([noise], "no clear drive peak"),

@@ -200,6 +200,9 @@ class PowerResult:
         the record is not steady.
     signals : Signals or None
         The signals on the record's samples (for plotting); not part of :meth:`to_dict`.
+    time_base : pdamper.analysis.nonuniform.TimeBase or None
+        How the time stamps are spaced: jitter, gaps, effective rate, and whether the uniform
+        (FFT) or the least-squares path at the true times was used.
     """
 
     frequency_hz: float
@@ -226,6 +229,7 @@ class PowerResult:
     cycle_used: np.ndarray
     cycle_energy_spread: float
     signals: Signals | None = field(default=None, repr=False)
+    time_base: object = None
 
     @property
     def period_s(self) -> float:
@@ -284,6 +288,7 @@ class PowerResult:
             "cycle_start_s": [num(t) for t in self.cycle_start_s],
             "cycle_used": [bool(u) for u in self.cycle_used],
             "cycle_energy_spread": num(self.cycle_energy_spread),
+            "time_base": self.time_base.to_dict() if self.time_base is not None else None,
         }
 
 
@@ -433,7 +438,14 @@ def detect_frequency(time, signal, *, name: str = "motion",
     _check_finite("time", t, None)
     _check_finite(name, s, t)
     _check_tolerance(time_tolerance)
-    _t0, dt = _uniform_grid(t, time_tolerance)
+    try:
+        _t0, dt = _uniform_grid(t, time_tolerance)
+    except InputError:
+        if not np.all(np.diff(t) > 0):
+            raise
+        from .nonuniform import detect_nonuniform
+
+        return detect_nonuniform(t, s, name)[0]
     f, _share = _detect(s, dt, name)
     return f
 
@@ -453,7 +465,16 @@ def _analyze(time, force, motion, kind, *, frequency, drop_cycles, bed_mass,
     drop = _check_drop(drop_cycles)
     bed = _check_bed_mass(bed_mass)
     _check_tolerance(time_tolerance)
-    t0, dt = _uniform_grid(t, time_tolerance)
+    try:
+        t0, dt = _uniform_grid(t, time_tolerance)
+    except InputError as exc:
+        if not np.all(np.diff(t) > 0):
+            raise
+        # jitter, rounded stamps or a dropped sample: the phasors at the true time stamps
+        from .nonuniform import analyze_nonuniform
+
+        return analyze_nonuniform(t, F, s, kind, frequency=frequency, drop=drop, bed=bed,
+                                  keep_signals=keep_signals, uniform_error=str(exc))
     n_samples = t.size
     fs = 1.0 / dt
 
@@ -599,7 +620,14 @@ def _analyze(time, force, motion, kind, *, frequency, drop_cycles, bed_mass,
         cycle_used=used,
         cycle_energy_spread=spread,
         signals=signals,
+        time_base=_time_base(t, True),
     )
+
+
+def _time_base(t, uniform):
+    from .nonuniform import time_base
+
+    return time_base(t, uniform)
 
 
 def _amplitude(x: np.ndarray, n_cycles: int) -> complex:

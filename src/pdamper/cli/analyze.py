@@ -20,7 +20,7 @@ STEADY_SPREAD = 0.10
 
 
 @main.command("analyze")
-@click.argument("record", type=click.Path(dir_okay=True))
+@click.argument("record", type=click.Path(dir_okay=True, allow_dash=True))
 @click.option("--bed-mass", type=Quantity("mass"),
               help="Mass of all particles m_bed, e.g. 149g; needed for eta* (eq. 5).")
 @click.option("--frequency", type=Quantity("frequency"),
@@ -40,10 +40,12 @@ def analyze_command(record, bed_mass, frequency, drop_cycles, time_column, force
                     position_column, velocity_column, acceleration_column, as_json, plot):
     """Energy dissipated per cycle and eta* of a force/motion RECORD (paper Sect. 4.1).
 
-    RECORD is a CSV (comma, semicolon or tab separated) with a header row and the
-    columns time, force and one of position, velocity, acceleration; units in
-    brackets are honoured, e.g. "time [ms]", "force [kN]", "position [mm]"
-    (without a unit: SI).
+    RECORD is a text file (comma, semicolon or tab separated; a logger's preamble, a
+    units row and decimal commas are read; '-' reads standard input), an HDF5, MATLAB
+    or NI TDMS file, or a 'pdamper run --out' directory, with the columns (channels)
+    time, force and one of position, velocity, acceleration; units are honoured, e.g.
+    "time [ms]", "force [kN]", "accel [g]" (without a unit: SI). Time stamps with
+    jitter, rounding or a dropped sample are analysed at their true times.
 
     Example: pdamper analyze run.csv --bed-mass 149g --plot run.png
     """
@@ -105,6 +107,10 @@ def _table(path, rec, r) -> str:
     rows = [
         ("record", str(path), f"{len(rec)} samples at {rate}"),
         ("columns", ", ".join(rec.headers.values()), f"motion: {r.motion}"),
+        *([("time stamps", "not uniform: phasors at the true times (least squares)",
+            f"jitter {100 * r.time_base.jitter:.2g} % of an interval, {r.time_base.gaps} gap(s), "
+            f"longest interval {r.time_base.max_gap_s:.4g} s")]
+          if r.time_base is not None and not r.time_base.uniform else []),
         ("drive frequency f", f"{r.frequency_hz:.7g} Hz",
          "detected from the motion" if r.frequency_detected else "given"),
         ("FFT window", f"{r.window_s[0]:.6g} s .. {r.window_s[1]:.6g} s",
