@@ -61,7 +61,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING
 
-__version__ = "0.1.0"
+from ._version import __version__
 
 from .errors import InputError, PdamperError, SimulationError  # noqa: E402
 from .units import parse_quantity  # noqa: E402

@@ -875,7 +875,7 @@ def dumps_case(case: Case, *, name: str = "config.toml") -> str:
     """``case`` as TOML text (see :func:`case_to_dict`), with a comment header."""
     import tomli_w
 
-    from . import __version__
+    from ._version import __version__
 
     return _HEADER.format(version=__version__, name=name) + tomli_w.dumps(case_to_dict(case))
 

@@ -13,7 +13,7 @@ from PIL import Image
 
 from pdamper.analysis.modes import MODES
 from pdamper.cli import main
-from pdamper.io.runs import read_run
+from pdamper.rundir import read_run
 
 
 def invoke(args):

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from pdamper.cli import main
 from pdamper.config import load_case
-from pdamper.io.runs import read_run
+from pdamper.rundir import read_run
 
 from dem_fixtures import TINY_CONFIG as TINY  # noqa: E402
 

@@ -202,7 +202,7 @@ def test_hdf5_mat_and_tdms_files_with_a_channel_map(tmp_path, signals):
 
 
 def test_pdamper_run_output_is_a_record(tmp_path):
-    from pdamper.io.runs import write_run
+    from pdamper.rundir import write_run
     from pdamper.run import run_case
     from dem_fixtures import TINY_CONFIG
     from pdamper.config import loads_case

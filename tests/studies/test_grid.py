@@ -140,7 +140,7 @@ def test_a_two_dimensional_sweep_resumes_after_kill_minus_nine(tiny_config, tmp_
 
 def test_a_stroke_store_of_the_previous_format_opens_and_resumes(tiny_config, tmp_path):
     spec = SweepSpec(base=load_case(tiny_config), strokes=(0.002, 0.012), seeds=(0,))
-    store = ResultStore.create_or_open(tmp_path / "old", spec)
+    ResultStore.create_or_open(tmp_path / "old", spec)
     # as pdamper-sweep-store/1 wrote it: strokes instead of axes, case files without a point
     meta = json.loads((tmp_path / "old" / "store.json").read_text())
     old = {k: meta[k] for k in ("fingerprint", "config", "seeds", "pdamper_version", "base")}

@@ -57,6 +57,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+
 __all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_features", "classify_trajectory",
            "case_clearance", "floor_capacity", "bed_centre", "majority_mode", "container_track"]
 
@@ -120,19 +121,12 @@ def case_clearance(case) -> tuple[float, float]:
     return float(length), h
 
 
-def container_track(trajectory: dict, case) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(displacement (F, 3) [m], velocity (F, 3) [m/s], drive direction d (3,)) of the container at
-    the trajectory's frames, in the container's axes: the recorded ``container_position`` and
-    ``container_velocity`` when the trajectory has them (a coupled structure's motion included),
-    else x_c d and v_c d of the case's prescribed drive."""
-    from ..geometry.tilt import container_vectors
+def container_track(trajectory: dict, case):
+    """The container's track at the trajectory's frames: :func:`pdamper.geometry.track.container_track`
+    (imported on use: the geometry package compiles its walls with numba)."""
+    from ..geometry.track import container_track as track
 
-    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
-    if "container_position" in trajectory and "container_velocity" in trajectory:
-        return (np.asarray(trajectory["container_position"], dtype=float),
-                np.asarray(trajectory["container_velocity"], dtype=float), dvec)
-    xc, vc, _ = case.drive.motion(np.asarray(trajectory["time"], dtype=float))
-    return np.outer(xc, dvec), np.outer(vc, dvec), dvec
+    return track(trajectory, case)
 
 
 def majority_mode(modes) -> tuple[str, bool]:

@@ -95,7 +95,7 @@ def detect_nonuniform(t: np.ndarray, s: np.ndarray, name: str) -> tuple[float, f
     interpolated onto the mean grid, refined by the sinusoid fit at the true times."""
     from scipy.optimize import minimize_scalar
 
-    from .complex_power import _MIN_DETECTED_SHARE, _detect
+    from .frequency import _MIN_DETECTED_SHARE, _detect
 
     n = t.size
     grid = t[0] + np.arange(n) * (t[-1] - t[0]) / (n - 1)
@@ -139,10 +139,11 @@ def analyze_nonuniform(t, F, s, kind, *, frequency, drop, bed, keep_signals, uni
     """The complex power method on a record whose times are not a uniform grid (module docstring)."""
     from scipy.interpolate import CubicSpline
 
-    from .complex_power import _MIN_GIVEN_SHARE, PowerResult, Signals, _check_frequency
+    from .checks import _check_frequency
+    from .complex_power import _MIN_GIVEN_SHARE
+    from .results import PowerResult, Signals
 
     tb = time_base(t, uniform=False)
-    n = t.size
     if frequency is None:
         f, _ = detect_nonuniform(t, s, kind)
         detected = True

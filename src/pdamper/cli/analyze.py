@@ -6,7 +6,7 @@ import math
 
 import click
 
-from .. import __version__
+from .._version import __version__
 from ..analysis import DEFAULT_DROP_CYCLES, analyze_record
 from ..errors import InputError
 from ..io.records import read_record

@@ -20,7 +20,7 @@ __all__ = ["animate_command", "export_command", "load_trajectory_run"]
 
 def load_trajectory_run(run_dir):
     """The stored run of ``run_dir``, refusing one without a trajectory with the way to record it."""
-    from ..io.runs import FILES, read_run
+    from ..rundir import FILES, read_run
 
     run = read_run(run_dir)
     if run.trajectory is None:

@@ -10,7 +10,7 @@ import sys
 
 import click
 
-from .. import __version__
+from .._version import __version__
 from ..io.files import json_safe
 from ..errors import InputError, SimulationError
 from ..units import parse_quantity

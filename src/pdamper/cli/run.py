@@ -67,7 +67,7 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     Example: pdamper run examples/cuboid_36.toml --stroke 20mm --trajectory --out runs/x20
     """
     from ..config import load_case
-    from ..io.runs import check_run_dir, write_run
+    from ..rundir import check_run_dir, write_run
     from ..run import run_case
 
     overrides = parse_set(settings)

@@ -6,7 +6,8 @@ import math
 
 import click
 
-from .. import __version__, theory as th  # its formulas load on first use (scipy)
+from .._version import __version__
+from .. import theory as th  # its formulas load on first use (scipy)
 from ..errors import InputError
 from .common import Quantity, echo_json, main, user_errors
 

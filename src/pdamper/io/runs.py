@@ -1,4 +1,7 @@
-"""Run directories: everything one simulated run produced, with the config that re-creates it.
+"""Run directories on disk: the files of one simulated run, with the config that re-creates it.
+
+This module reads and writes the files from plain data (text, arrays, dicts);
+:mod:`pdamper.rundir` turns a :class:`pdamper.run.RunResult` into them and back.
 
 A run directory holds
 
@@ -24,8 +27,6 @@ from __future__ import annotations
 
 import io
 import json
-import math
-from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -34,7 +35,8 @@ import numpy as np
 from ..errors import InputError
 from .files import atomic_write, json_safe
 
-__all__ = ["write_run", "read_run", "check_run_dir", "StoredRun", "RUN_FORMAT", "FILES"]
+__all__ = ["write_run_files", "read_run_files", "check_run_dir", "RUN_FORMAT", "FILES", "SIGNAL_COLUMNS",
+           "ENERGY_COLUMNS"]
 
 #: Marker and version of the run-directory layout, stored in ``result.json``.
 RUN_FORMAT = {"name": "pdamper-run", "version": 1}
@@ -44,32 +46,6 @@ FILES = {"config": "config.toml", "signals": "signals.csv", "energy": "energy.cs
 SIGNAL_COLUMNS = ("time [s]", "force [N]", "velocity [m/s]", "position [m]")
 ENERGY_COLUMNS = ("time [s]", "kinetic [J]", "rotational [J]", "potential [J]", "elastic [J]", "work [J]",
                   "damping [J]", "friction [J]")
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class StoredRun:
-    """A run read back from its directory (see :func:`read_run`).
-
-    Attributes
-    ----------
-    path : the run directory.
-    case : :class:`pdamper.params.Case` from ``config.toml``.
-    signals : :class:`pdamper.recorders.signals.Signals` (SI).
-    energy : :class:`pdamper.recorders.energy.EnergyLedger` [J].
-    summary : dict, as :meth:`pdamper.run.RunResult.summary` (NaN stored as null -> NaN).
-    analysis : dict of the complex-power result (``PowerResult.to_dict()``) or None.
-    version : the pdamper version that wrote the run.
-    trajectory : dict of arrays or None.
-    """
-
-    path: Path
-    case: object
-    signals: object
-    energy: object
-    summary: dict
-    analysis: dict | None
-    version: str
-    trajectory: dict | None = None
 
 
 # --------------------------------------------------------------------------- writing
@@ -113,15 +89,15 @@ def _csv_bytes(columns, arrays) -> bytes:
     return ("\n".join(lines) + "\n").encode("utf-8")
 
 
-def write_run(result, out_dir) -> Path:
-    """Write the run ``result`` (a :class:`pdamper.run.RunResult`) to the directory ``out_dir``.
-
-    Creates the directory (and its parents); see the module docstring for the files and for when an
-    existing directory is overwritten. Returns the directory.
+def write_run_files(out_dir, *, config_text: str, signals: list, energy: list, trajectory: dict | None,
+                    meta: dict) -> Path:
+    """Write a run directory from plain data: the config's TOML text, the columns of
+    ``signals.csv`` and ``energy.csv`` (arrays in the order of :data:`SIGNAL_COLUMNS` and
+    :data:`ENERGY_COLUMNS`), the trajectory arrays (or None) and the ``result.json`` content
+    (``meta``, to which the format marker, version, time and file list are added; written last).
+    See the module docstring for when an existing directory is overwritten. Returns the directory.
     """
-    from .. import __version__
-    from ..config import dumps_case
-    from ..recorders.energy import COLUMNS
+    from .._version import __version__
 
     path = check_run_dir(out_dir)
     try:
@@ -134,22 +110,18 @@ def write_run(result, out_dir) -> Path:
             (path / stale).unlink()
         except FileNotFoundError:
             pass
-    atomic_write(path / FILES["config"], dumps_case(result.case, name=FILES["config"]).encode("utf-8"))
-    s = result.signals
-    atomic_write(path / FILES["signals"], _csv_bytes(SIGNAL_COLUMNS, [s.time, s.force, s.velocity, s.position]))
-    e = result.energy
-    atomic_write(path / FILES["energy"], _csv_bytes(ENERGY_COLUMNS, [e.time] + [getattr(e, c) for c in COLUMNS]))
+    atomic_write(path / FILES["config"], config_text.encode("utf-8"))
+    atomic_write(path / FILES["signals"], _csv_bytes(SIGNAL_COLUMNS, signals))
+    atomic_write(path / FILES["energy"], _csv_bytes(ENERGY_COLUMNS, energy))
     files = [FILES["config"], FILES["signals"], FILES["energy"]]
-    if result.trajectory is not None:
+    if trajectory is not None:
         buf = io.BytesIO()
-        np.savez_compressed(buf, **{k: np.asarray(v) for k, v in result.trajectory.items()})
+        np.savez_compressed(buf, **{k: np.asarray(v) for k, v in trajectory.items()})
         atomic_write(path / FILES["trajectory"], buf.getvalue())
         files.append(FILES["trajectory"])
-    analysis = result.analysis.to_dict() if result.analysis is not None else None
     meta = {"format": RUN_FORMAT, "pdamper_version": __version__,
             "written": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-            "files": files + [FILES["result"]], "units": "SI (keys name their unit where it is not obvious)",
-            "summary": result.summary(), "analysis": analysis}
+            "files": files + [FILES["result"]], "units": "SI (keys name their unit where it is not obvious)", **meta}
     text = json.dumps(json_safe(meta), indent=2, allow_nan=False) + "\n"
     atomic_write(path / FILES["result"], text.encode("utf-8"))
     return path
@@ -168,12 +140,10 @@ def _read_csv(path: Path, columns) -> np.ndarray:
     return data.reshape(-1, len(columns))
 
 
-def read_run(out_dir) -> StoredRun:
-    """Read a run directory written by :func:`write_run`."""
-    from ..config import load_case
-    from ..recorders.energy import COLUMNS, EnergyLedger
-    from ..recorders.signals import Signals
-
+def read_run_files(out_dir) -> dict:
+    """The plain content of a complete run directory: ``config_path``, ``signals`` and ``energy``
+    (2-D arrays, columns as :data:`SIGNAL_COLUMNS` / :data:`ENERGY_COLUMNS`), ``trajectory``
+    (dict or None) and ``meta`` (``result.json``)."""
     path = Path(out_dir)
     if not path.is_dir():
         raise InputError(f"run directory not found: {path}")
@@ -187,21 +157,15 @@ def read_run(out_dir) -> StoredRun:
         raise InputError(f"{result}: not valid JSON ({exc})") from None
     if not isinstance(meta, dict) or meta.get("format", {}).get("name") != RUN_FORMAT["name"]:
         raise InputError(f"{result} was not written by pdamper (no run format marker)")
-    case = load_case(path / FILES["config"])
     sig = _read_csv(path / FILES["signals"], SIGNAL_COLUMNS)
     eng = _read_csv(path / FILES["energy"], ENERGY_COLUMNS)
     if eng.shape[0] != sig.shape[0]:
         raise InputError(f"{path}: {FILES['signals']} has {sig.shape[0]} rows but {FILES['energy']} has "
                          f"{eng.shape[0]}; the run directory is inconsistent")
-    signals = Signals(time=sig[:, 0], time_end=eng[:, 0].copy(), force=sig[:, 1], velocity=sig[:, 2],
-                      position=sig[:, 3])
-    energy = EnergyLedger(time=eng[:, 0], **{c: eng[:, k + 1] for k, c in enumerate(COLUMNS)})
     trajectory = None
     tpath = path / FILES["trajectory"]
     if tpath.is_file():
         with np.load(tpath) as z:
             trajectory = {k: z[k] for k in z.files}
-    summary = {k: (math.nan if v is None else v) for k, v in (meta.get("summary") or {}).items()}
-    return StoredRun(path=path, case=case, signals=signals, energy=energy, summary=summary,
-                     analysis=meta.get("analysis"), version=str(meta.get("pdamper_version", "")),
-                     trajectory=trajectory)
+    return {"config_path": path / FILES["config"], "signals": sig, "energy": eng, "trajectory": trajectory,
+            "meta": meta}

@@ -133,7 +133,7 @@ def write_case_vtk(out_dir, trajectory: dict, case, *, cycles: float | None = No
     """:func:`write_vtk_series` for a trajectory of ``case`` (a :class:`pdamper.params.Case`):
     the container mesh from the case, its motion from the trajectory's recorded pose (or the
     case's drive). ``cycles``: only the last ``cycles`` drive cycles."""
-    from ..analysis.modes import container_track
+    from ..geometry.track import container_track
 
     t = np.asarray(trajectory["time"], dtype=float)
     keep = np.ones(t.size, dtype=bool)

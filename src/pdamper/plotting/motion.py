@@ -1,7 +1,7 @@
 """Figures of the bed's motion from a recorded trajectory (paper Figs. 2, 3, 5a) and its animation.
 
 All take a trajectory dict in the container frame (``time`` [s], ``position`` (F, N, 3) [m],
-``radius``; as :class:`pdamper.run.RunResult` and :func:`pdamper.io.runs.read_run` give
+``radius``; as :class:`pdamper.run.RunResult` and :func:`pdamper.rundir.read_run` give
 it) and a :class:`pdamper.params.Case` for the container, the drive and the transient.
 
 * :func:`paths_figure` -- top view of the sphere paths in the container frame, one panel per run
@@ -152,7 +152,8 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
     """
     from matplotlib.figure import Figure
 
-    from ..analysis.modes import case_clearance, classify_trajectory, container_track
+    from ..analysis.modes import case_clearance, classify_trajectory
+    from ..geometry.track import container_track
 
     target = _check_path(path)
     drive = case.drive
@@ -236,7 +237,7 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
     pos = np.asarray(traj["position"])[idx]
     vel = np.asarray(traj["velocity"])[idx] if "velocity" in traj else np.zeros_like(pos)
     rad = np.broadcast_to(np.asarray(traj["radius"], dtype=float), pos.shape[1])
-    from ..analysis.modes import container_track
+    from ..geometry.track import container_track
 
     drive = case.drive
     shift = container_track(traj, case)[0][idx]   # container origin in the lab frame (F, 3)

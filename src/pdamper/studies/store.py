@@ -157,7 +157,7 @@ class ResultStore:
         ``attrs``: numbers the sweep computed for the base case (the theory's N_p,max, h, X_opt),
         kept in ``store.json`` and put on the dataset. ``history``: the command line.
         """
-        from .. import __version__
+        from .._version import __version__
         from ..config import case_to_dict, dumps_case
 
         path = Path(path)
@@ -283,7 +283,7 @@ class ResultStore:
         instead of the stored ones (e.g. re-analysed)."""
         import xarray as xr
 
-        from .. import __version__
+        from .._version import __version__
         from ..config import key_spec
 
         recs = self.records() if records is None else records

@@ -125,7 +125,7 @@ def evaluate_checks(ds: dict) -> list:
 
 def write_report(path, checks, figures, command, seconds):
     """Write the Markdown report (docs/validation.md): the table, the figures, the command."""
-    from .. import __version__
+    from .._version import __version__
 
     lines = ["# Validation against the paper (SPEC Sect. 9)", "",
              f"Produced by `{command}` (pdamper {__version__}, {time.strftime('%Y-%m-%d')}, "

@@ -12,8 +12,7 @@ import pytest
 from pdamper.config import load_case
 from pdamper.errors import InputError
 from pdamper.excitation import HarmonicDrive
-from pdamper.io import runs
-from pdamper.io.runs import check_run_dir, read_run, write_run
+from pdamper.rundir import check_run_dir, read_run, write_run
 from pdamper.params import Case, ParticleSet, Recording
 from pdamper.recorders.energy import COLUMNS, EnergyLedger
 from pdamper.recorders.signals import Signals
