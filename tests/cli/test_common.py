@@ -60,6 +60,16 @@ BAD = {
         ([EXAMPLE, "--vary", "contact.friction=1:2:3:cubic"], "is not 'log' or 'linear'"),
         ([EXAMPLE, "--vary", "drive.stroke=1s:2s:2"], "--vary drive.stroke (first)"),
     ],
+    "campaign": [
+        (["nofile.csv", "--bed-mass", "149g"], "record file not found"),
+        (["x.csv", "--bed-mass", "3s"], "not a mass"),
+        ([], "Missing argument 'RECORD...'"),
+    ],
+    "calibrate": [
+        (["camp", EXAMPLE], "Missing option '--fit'"),
+        (["camp", EXAMPLE, "--fit", "contact.friction"], "KEY=LOW:HIGH"),
+        (["camp", EXAMPLE, "--fit", "contact.friction=0.01:1"], "no such results file"),
+    ],
     "reanalyze": [
         (["nostore"], "no pdamper result store"),
         (["x", "--drop-cycles", "-1"], "is not in the range"),

@@ -8,7 +8,7 @@ import click
 
 from .common import echo_json, main, user_errors
 
-__all__ = ["plot_group", "modes_command", "map_command"]
+__all__ = ["plot_group", "modes_command", "map_command", "compare_command"]
 
 
 @main.group("plot", cls=type(main))
@@ -91,3 +91,23 @@ def map_command(results, x, y, sel, out, title):
         ds = ds.sel({d: v}, method="nearest" if isinstance(v, float) else None)
     map_figure(ds, out, x=x, y=y, title=title)
     click.echo(f"pdamper plot map: {out}")
+
+
+@plot_group.command("compare")
+@click.argument("campaign", metavar="CAMPAIGN")
+@click.argument("sweeps", nargs=-1, metavar="SWEEP...")
+@click.option("--out", "out", type=click.Path(dir_okay=False), default="compare.png", show_default=True,
+              help="Figure file (.png, .svg or .pdf).")
+@click.option("--title", help="Figure title.")
+@user_errors
+def compare_command(campaign, sweeps, out, title):
+    """Measured eta*(X) (a 'pdamper campaign' dataset) with error bars over the DEM of SWEEP stores.
+
+    Example: pdamper plot compare rig/campaign/campaign.nc cuboid_36_sweep --out fig4_measured.png
+    """
+    from ..plotting.compare import compare_figure
+    from ..studies import open_results
+
+    camp = open_results(Path(campaign) / "campaign.nc" if Path(campaign).is_dir() else campaign)
+    compare_figure(camp, [open_results(s) for s in sweeps], out, title=title)
+    click.echo(f"pdamper plot compare: {out}")

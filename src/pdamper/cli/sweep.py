@@ -38,9 +38,12 @@ __all__ = ["sweep_command"]
               show_default=True, help="What the store keeps of each case: its 1 kHz force, motion and dissipated "
               "energy (about 0.25 MB per 20-cycle case; 'pdamper reanalyze' needs them), also every energy-ledger "
               "column ('full', about 0.7 MB), or nothing.")
+@click.option("--measured", type=click.Path(exists=True), metavar="CAMPAIGN",
+              help="Draw a measured campaign ('pdamper campaign') with error bars on the --plot figure.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, plot, as_json):
+def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, plot, measured,
+                  as_json):
     """Run CONFIG.toml over a range of strokes (or any config keys) and report eta*.
 
     Every (point, seed) case is independent and written to the store as soon as it finishes;
@@ -73,7 +76,13 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
             click.echo(f"  {a.key}: {len(a.values)} values, {how}")
     ds = run_sweep(spec, out, workers=workers, scheduler=scheduler, progress=None if not as_json else False, keep=keep,
                    history="pdamper " + " ".join(sys.argv[1:]))
-    if plot:
+    if plot and measured:
+        from ..plotting.compare import compare_figure
+        from ..studies import open_results
+
+        m = Path(measured)
+        compare_figure(open_results(m / "campaign.nc" if m.is_dir() else m), [ds], plot)
+    elif plot:
         from ..plotting.map import results_figure
 
         results_figure(ds, plot)
