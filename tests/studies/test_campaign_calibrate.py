@@ -21,17 +21,10 @@ from pdamper.run import run_case
 from pdamper.studies.calibrate import calibrate, parse_fit
 from pdamper.studies.campaign import analyse_records, campaign_dataset
 
-CASE = """[particles]
-count = 8
-[drive]
-stroke = "13mm"
-frequency = "2Hz"
-[initial]
-settle_time = "50ms"
-[run]
-cycles = 8
-drop_cycles = 2
-"""
+from dem_fixtures import TINY_CONFIG  # noqa: E402
+
+CASE = TINY_CONFIG.replace("cycles = 3", "cycles = 8").replace("drop_cycles = 1", "drop_cycles = 2")
+assert "cycles = 8" in CASE and "drop_cycles = 2" in CASE
 MU_TRUE = 0.3
 STROKES = ("3mm", "20mm", "30mm")
 

@@ -5,15 +5,13 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import kill_after
 
 from pdamper.config import dumps_case, load_case
 from pdamper.errors import InputError
@@ -118,15 +116,7 @@ def test_a_two_dimensional_sweep_resumes_after_kill_minus_nine(tiny_config, tmp_
     store = tmp_path / "store"
     cmd = [sys.executable, "-m", "pdamper.cli", "sweep", str(tiny_config), "--vary", "drive.stroke=1mm:20mm:3",
            "--vary", "contact.friction=0.01,0.1", "--seeds", "1", "--workers", "1", "--out", str(store), "--json"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    try:
-        deadline = time.time() + 120
-        while time.time() < deadline and len([f for f in (store / "cases").glob("*.json")]) < 2:
-            time.sleep(0.1)
-    finally:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait()
-    done_before = {f.name: f.read_bytes() for f in (store / "cases").glob("*.json")}
+    done_before = kill_after(cmd, store)
     assert 2 <= len(done_before) < 6
     out = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr

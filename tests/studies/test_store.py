@@ -4,14 +4,12 @@ and a real local Dask cluster (processes) behind the sweep."""
 from __future__ import annotations
 
 import json
-import os
-import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
+from conftest import kill_after
 
 from pdamper.config import load_case
 from pdamper.errors import InputError
@@ -100,15 +98,7 @@ def test_kill_minus_nine_loses_nothing_finished_and_the_rerun_completes(tiny_con
     store = tmp_path / "store"
     cmd = [sys.executable, "-m", "pdamper.cli", "sweep", str(tiny_config), "--strokes", "1mm:20mm:6",
            "--seeds", "1", "--workers", "1", "--out", str(store), "--json"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    try:
-        deadline = time.time() + 120
-        while time.time() < deadline and len(list((store / "cases").glob("*.json"))) < 2:
-            time.sleep(0.1)
-    finally:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait()
-    done_before = {f.name: f.read_bytes() for f in (store / "cases").glob("*.json")}
+    done_before = kill_after(cmd, store)
     assert 2 <= len(done_before) < 6
     for blob in done_before.values():
         json.loads(blob)  # every stored case is whole

@@ -103,13 +103,7 @@ def _detect(s: np.ndarray, dt: float, name: str) -> tuple[float, float]:
         if den < 0:
             f0 = freqs[k] + 0.5 * (a - c) / den * (freqs[1] - freqs[0])
 
-    def rss(f):
-        w = 2.0 * math.pi * f * u
-        basis = np.column_stack([np.cos(w), np.sin(w), np.ones(n), u])
-        cf, *_ = np.linalg.lstsq(basis, s, rcond=None)
-        e = s - basis @ cf
-        return float(e @ e)
-
+    rss = sinusoid_rss(u, s)
     half_bin = 0.5 / record
     lo_f = max(f0 - half_bin, 0.5 / record)
     hi_f = min(f0 + half_bin, 0.5 / dt)
@@ -124,6 +118,21 @@ def _detect(s: np.ndarray, dt: float, name: str) -> tuple[float, float]:
             f"(at least {100 * _MIN_DETECTED_SHARE:.0f} % needed); give the drive frequency "
             "(frequency=..., --frequency 2Hz)")
     return f, share
+
+
+def sinusoid_rss(u: np.ndarray, s: np.ndarray):
+    """The residual sum of squares of the best fit ``a cos(2 pi f u) + b sin(2 pi f u) + c + d u`` to
+    ``s`` at times ``u``, as a function of f."""
+    n = s.size
+
+    def rss(f):
+        w = 2.0 * math.pi * f * u
+        basis = np.column_stack([np.cos(w), np.sin(w), np.ones(n), u])
+        cf, *_ = np.linalg.lstsq(basis, s, rcond=None)
+        e = s - basis @ cf
+        return float(e @ e)
+
+    return rss
 
 
 def _gauss_newton(s: np.ndarray, u: np.ndarray, f: float, rss) -> float:

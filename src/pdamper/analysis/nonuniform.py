@@ -95,7 +95,7 @@ def detect_nonuniform(t: np.ndarray, s: np.ndarray, name: str) -> tuple[float, f
     interpolated onto the mean grid, refined by the sinusoid fit at the true times."""
     from scipy.optimize import minimize_scalar
 
-    from .frequency import _MIN_DETECTED_SHARE, _detect
+    from .frequency import _MIN_DETECTED_SHARE, _detect, sinusoid_rss
 
     n = t.size
     grid = t[0] + np.arange(n) * (t[-1] - t[0]) / (n - 1)
@@ -106,13 +106,7 @@ def detect_nonuniform(t: np.ndarray, s: np.ndarray, name: str) -> tuple[float, f
     r = s - trend @ coef
     tss = float(r @ r)
 
-    def rss(f):
-        w = 2.0 * math.pi * f * u
-        basis = np.column_stack([np.cos(w), np.sin(w), np.ones(n), u])
-        cf, *_ = np.linalg.lstsq(basis, s, rcond=None)
-        e = s - basis @ cf
-        return float(e @ e)
-
+    rss = sinusoid_rss(u, s)
     half_bin = 0.5 / (t[-1] - t[0])
     best = minimize_scalar(rss, bounds=(f0 - half_bin, f0 + half_bin), method="bounded",
                            options={"xatol": 1e-13 * f0, "maxiter": 200})
