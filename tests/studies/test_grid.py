@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import kill_after
+from sweep_helpers import kill_after
 
 from pdamper.config import dumps_case, load_case
 from pdamper.errors import InputError

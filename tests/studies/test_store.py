@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import kill_after
+from sweep_helpers import kill_after
 
 from pdamper.config import load_case
 from pdamper.errors import InputError
