@@ -126,3 +126,26 @@ def test_a_store_without_modes_opens_with_unknown_modes(tiny_config, tmp_path):
     spec2 = _spec(tiny_config, strokes=(0.002, 0.012, 0.02), seeds=(0,))
     ds2 = ResultStore.create_or_open(tmp_path / "old", spec2).dataset()
     assert ds2["mode"].values.tolist() == [["unknown"], ["failed"], [""]]
+
+
+def test_a_store_heals_a_bad_case_file_and_a_lost_store_json(tiny_config, tmp_path):
+    store = tmp_path / "store"
+    spec = _spec(tiny_config, strokes=(0.002, 0.012), seeds=(0,))
+    ds = run_sweep(spec, store, workers=1, progress=False, keep="none")
+    good = sorted((store / "cases").glob("*.json"))
+    assert len(good) == 2
+    # valid JSON with the wrong content: set aside (renamed, warned) and computed again
+    good[0].write_text('{"eta_star": "abc"}')
+    with pytest.warns(UserWarning, match=r"not a case record .*set aside"):
+        again = run_sweep(spec, store, workers=1, progress=False, keep="none")
+    assert (store / "cases" / (good[0].name + ".bad")).exists()
+    np.testing.assert_array_equal(again.eta_star.values, ds.eta_star.values)  # same seeds, same numbers
+    # store.json deleted: refused with the way out, then rebuilt from the config and the case files
+    (store / "store.json").unlink()
+    with pytest.raises(InputError, match="--repair"):
+        run_sweep(spec, store, workers=1, progress=False)
+    stamps = {f.name: f.stat().st_mtime_ns for f in (store / "cases").glob("*.json")}
+    repaired = run_sweep(spec, store, workers=1, progress=False, repair=True)
+    assert {f.name: f.stat().st_mtime_ns for f in (store / "cases").glob("*.json")} == stamps  # nothing recomputed
+    np.testing.assert_array_equal(repaired.eta_star.values, ds.eta_star.values)
+    assert "rebuilt from 2 case files" in repaired.attrs["history"]

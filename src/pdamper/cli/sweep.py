@@ -38,12 +38,13 @@ __all__ = ["sweep_command"]
               show_default=True, help="What the store keeps of each case: its 1 kHz force, motion and dissipated "
               "energy (about 0.25 MB per 20-cycle case; 'pdamper reanalyze' needs them), also every energy-ledger "
               "column ('full', about 0.7 MB), or nothing.")
+@click.option("--repair", is_flag=True, help="Rebuild a store whose store.json was lost from this config and its case files.")
 @click.option("--measured", type=click.Path(exists=True), metavar="CAMPAIGN",
               help="Draw a measured campaign ('pdamper campaign') with error bars on the --plot figure.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, plot, measured,
-                  as_json):
+def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, plot, repair,
+                  measured, as_json):
     """Run CONFIG.toml over a range of strokes (or any config keys) and report eta*.
 
     Every (point, seed) case is independent and written to the store as soon as it finishes;
@@ -74,8 +75,15 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
         for a in spec.axes:
             how = {"log": "log-spaced", "linear": "linearly spaced", "list": "as listed"}[a.spacing]
             click.echo(f"  {a.key}: {len(a.values)} values, {how}")
-    ds = run_sweep(spec, out, workers=workers, scheduler=scheduler, progress=None if not as_json else False, keep=keep,
-                   history="pdamper " + " ".join(sys.argv[1:]))
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = run_sweep(spec, out, workers=workers, scheduler=scheduler, progress=None if not as_json else False,
+                       keep=keep, history="pdamper " + " ".join(sys.argv[1:]), repair=repair)
+    for w in caught:
+        if "set aside" in str(w.message):
+            click.echo(f"warning: {w.message}", err=True)
     if plot and measured:
         from ..plotting.compare import compare_figure
         from ..studies import open_results

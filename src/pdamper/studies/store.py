@@ -151,11 +151,14 @@ class ResultStore:
 
     # ---------------------------------------------------------------- opening
     @classmethod
-    def create_or_open(cls, path, spec, *, attrs: dict | None = None, history: str | None = None) -> "ResultStore":
+    def create_or_open(cls, path, spec, *, attrs: dict | None = None, history: str | None = None,
+                       repair: bool = False) -> "ResultStore":
         """Open the store at ``path`` for ``spec`` (creating it), refusing another configuration.
 
         ``attrs``: numbers the sweep computed for the base case (the theory's N_p,max, h, X_opt),
-        kept in ``store.json`` and put on the dataset. ``history``: the command line.
+        kept in ``store.json`` and put on the dataset. ``history``: the command line. ``repair``:
+        a store whose ``store.json`` was lost is rebuilt from ``spec`` and its case files (the
+        cases are taken to be of this configuration: the caller vouches for it).
         """
         from .._version import __version__
         from ..config import case_to_dict, dumps_case
@@ -189,9 +192,17 @@ class ResultStore:
             seeds = sorted(set(old["seeds"]) | set(seeds))
             old_history = old.get("history", [])
             attrs = {**old.get("attrs", {}), **(attrs or {})}
+        elif repair and (path / "cases").is_dir():
+            found = cls(path, {"axes": axes, "seeds": seeds, "config": text}).records()
+            for a in axes:
+                a["values"] = _merge(a["values"], [r["point"][a["key"]] for r in found if a["key"] in r["point"]])
+            seeds = sorted(set(seeds) | {int(r["seed"]) for r in found})
+            old_history = [f"store.json rebuilt from {len(found)} case files ({_command_line()})"]
         else:
             if path.exists() and (not path.is_dir() or any(path.iterdir())):
-                raise InputError(f"{path}: exists and is not a pdamper result store; choose another --out")
+                hint = (" It has case files but no store.json: re-run the same command with --repair to rebuild it"
+                        if (path / "cases").is_dir() and any((path / "cases").glob("*.json")) else "")
+                raise InputError(f"{path}: exists and is not a pdamper result store; choose another --out.{hint}")
         (path / "cases").mkdir(parents=True, exist_ok=True)
         meta = {"format": FORMAT, "fingerprint": fp, "config": text, "axes": axes, "seeds": seeds,
                 "pdamper_version": __version__, "base": json_safe(case_to_dict(base)),
@@ -249,17 +260,30 @@ class ResultStore:
         atomic_write(self._case_file(key), json.dumps(json_safe(rec)))
 
     def records(self) -> list:
-        """All stored cases (dicts), in no particular order; unreadable files are skipped."""
+        """All stored cases (dicts), in no particular order; a file that is not a case record is
+        skipped (:meth:`set_aside_bad` moves such files out of the way)."""
         out = []
         for f in sorted((self.path / "cases").glob("*.json")):
-            try:
-                rec = json.loads(f.read_text())
-            except (OSError, ValueError):
-                continue
-            if "point" not in rec and "stroke" in rec:  # pdamper-sweep-store/1
-                rec["point"] = {STROKE: rec["stroke"]}
-            out.append(rec)
+            rec = _valid_record(f)
+            if isinstance(rec, dict):
+                out.append(rec)
         return out
+
+    def set_aside_bad(self) -> list[tuple[str, str]]:
+        """Rename every case file that is not a valid case record to ``<name>.bad`` (so its case is
+        computed again) and return ``(file, reason)`` of each."""
+        bad = []
+        for f in sorted((self.path / "cases").glob("*.json")):
+            why = _valid_record(f)
+            if isinstance(why, str):
+                target = f.with_name(f.name + ".bad")
+                k = 1
+                while target.exists():
+                    target = f.with_name(f"{f.name}.bad{k}")
+                    k += 1
+                f.rename(target)
+                bad.append((str(f), why))
+        return bad
 
     def signals(self, key: str):
         """The kept signals of case ``key`` as an ``xarray.Dataset`` (None if none were kept)."""
@@ -365,6 +389,29 @@ class ResultStore:
         table.index.names = [f"{n} [{ds[n].attrs['units']}]" if "units" in ds[n].attrs else n
                              for n in table.index.names]
         atomic_write(self.path / "results.csv", table.to_csv(float_format=repr))
+
+
+def _valid_record(f: Path):
+    """The case record in file ``f`` (a dict), or why it is not one (a str)."""
+    try:
+        rec = json.loads(f.read_text())
+    except (OSError, ValueError) as exc:
+        return f"not readable JSON ({exc})"
+    if not isinstance(rec, dict):
+        return "not a JSON object"
+    if "point" not in rec and "stroke" in rec:  # pdamper-sweep-store/1
+        rec["point"] = {STROKE: rec["stroke"]}
+    if not isinstance(rec.get("point"), dict) or not isinstance(rec.get("seed"), int):
+        return "no point and seed of a case"
+    if "failed" in rec:
+        return rec
+    for name, (key, _, _) in VARIABLES.items():
+        v = rec.get(key)
+        if v is not None and not isinstance(v, (int, float)):
+            return f"{key} = {v!r} is not a number"
+    if "eta_star" not in rec:
+        return "no eta_star"
+    return rec
 
 
 def _upgrade(meta: dict) -> dict:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+from pathlib import Path
 from dataclasses import dataclass
 
 import numpy as np
@@ -335,21 +336,28 @@ def add_theory(ds, base: Case):
 
 
 def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: str | None = None,
-              progress: bool | None = None, keep: str = "signals", history: str | None = None):
+              progress: bool | None = None, keep: str = "signals", history: str | None = None, repair: bool = False):
     """Run every case of ``spec`` not yet in the store at ``path``; return the results dataset.
 
     Cases already in the store are not run again (resume after an interruption). Each case is
     written to the store as soon as it finishes. ``workers`` local processes (default: all
     cores) or an existing Dask cluster at ``scheduler``. ``keep``: what of each case's signals
     the store keeps (:data:`pdamper.studies.store.KEEP`). ``history``: the command line, for the
-    dataset's ``history`` attribute.
+    dataset's ``history`` attribute. A case file that is not a case record is set aside (renamed
+    ``.bad``, warned) and its case computed again; ``repair`` rebuilds a lost ``store.json`` from
+    ``spec`` and the case files.
     """
     import functools
 
     from .executor import execute
     from .store import ResultStore
 
-    store = ResultStore.create_or_open(path, spec, attrs=theory_attrs(spec.base), history=history)
+    import warnings
+
+    store = ResultStore.create_or_open(path, spec, attrs=theory_attrs(spec.base), history=history, repair=repair)
+    for f, why in store.set_aside_bad():
+        warnings.warn(f"{f}: not a case record ({why}); set aside as {Path(f).name}.bad, the case is computed again",
+                      stacklevel=2)
     items = spec.items()
     todo = [(k, p, s, spec.case(p, s)) for k, p, s in items if not store.has(k)]
     if todo:
