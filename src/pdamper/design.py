@@ -166,7 +166,7 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
                         "a thin bed carries little mass per impact; a longer container or smaller spheres help")
     if x_opt <= x < MARGINAL * x_opt:
         warnings.append(f"marginal: X = {x * 1e3:.4g} mm is only {100 * (x / x_opt - 1):.2g} % above X_opt = "
-                        f"{x_opt * 1e3:.4g} mm; a real bed may fall out of collect-and-collide there (SPEC Sect. 10)"
+                        f"{x_opt * 1e3:.4g} mm; a real bed may fall out of collect-and-collide there (docs/motion.md)"
                         + (f"; {n + 1} spheres give X_opt = {th.optimal_stroke(th.clearance(big_l, n + 1, n_max)) * 1e3:.4g} mm"
                            if n + 1 < n_max else ""))
     return Design(shape=shape, length_m=big_l, width_m=getattr(geo, "width", None), sphere_radius_m=r,

@@ -187,3 +187,14 @@ def test_quantity_outside_pdamper_group_is_still_a_usage_error():
     assert ok.exit_code == 0 and ok.stdout.strip() == "0.013"
     bad = CliRunner().invoke(cmd, ["--length", "12kg"])
     assert bad.exit_code == 2 and "--length: '12kg' is not a length" in bad.stderr
+
+
+def test_top_level_help_never_cuts_a_description_mid_word():
+    """Each command's one-line description ends with a whole word and balanced brackets."""
+    runner = CliRunner()
+    out = runner.invoke(main, ["--help"]).output
+    lines = [ln for ln in out.split("Commands:")[1].splitlines() if ln.strip()]
+    for line in lines:
+        desc = line.split(None, 1)[1]
+        assert desc.count("(") == desc.count(")") or desc.endswith("..."), line
+        assert not desc.rstrip(".").endswith(("e.g", "Fig", "i.e", "eq")), line

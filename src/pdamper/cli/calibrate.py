@@ -11,7 +11,7 @@ from .common import echo_json, main, user_errors
 __all__ = ["calibrate_command"]
 
 
-@main.command("calibrate")
+@main.command("calibrate", short_help="Fit config keys (friction, tilt) so the DEM matches a campaign.")
 @click.argument("campaign", metavar="CAMPAIGN")
 @click.argument("config", metavar="CONFIG.toml")
 @click.option("--fit", "fits", multiple=True, required=True, metavar="KEY=LOW:HIGH",

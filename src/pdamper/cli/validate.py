@@ -11,14 +11,15 @@ from .common import echo_json, main, user_errors
 __all__ = ["validate_command"]
 
 
-@main.command("validate")
+@main.command("validate", short_help="Run the paper-level validation and report pass/fail per check.")
 @click.option("--quick", is_flag=True, help="12 strokes and 8 cycles per study (a rough first look).")
 @click.option("--seeds", type=click.IntRange(min=1), default=1, show_default=True, help="Seeds per stroke.")
 @click.option("--fig4-seeds", type=click.IntRange(min=1), default=3, show_default=True,
               help="Seeds per stroke for Fig. 4, whose checks judge the seed mean (--quick: --seeds).")
 @click.option("--out", type=click.Path(), default="validation", show_default=True, help="Directory of the study stores.")
-@click.option("--report", type=click.Path(dir_okay=False), default="docs/validation.md", show_default=True,
-              help="Markdown report to write (its figures go beside it, in img/validation/).")
+@click.option("--report", type=click.Path(dir_okay=False),
+              help="Markdown report to write, its figures beside it in img/validation/ [default: <out>/validation.md; "
+                   "the project's own page: --report docs/validation.md].")
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
 @click.option("--json", "as_json", is_flag=True, help="Print the checks as JSON.")
@@ -33,7 +34,7 @@ def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, 
 
     checks, datasets, seconds = run_validation(out, quick=quick, seeds=seeds, fig4_seeds=None if quick else fig4_seeds, workers=workers, scheduler=scheduler,
                                                progress=False if as_json else None)
-    report = Path(report)
+    report = Path(report) if report else Path(out) / "validation.md"
     img = report.parent / "img" / "validation"
     img.mkdir(parents=True, exist_ok=True)
     figures = []

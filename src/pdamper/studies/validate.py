@@ -127,9 +127,9 @@ def write_report(path, checks, figures, command, seconds):
     """Write the Markdown report (docs/validation.md): the table, the figures, the command."""
     from .._version import __version__
 
-    lines = ["# Validation against the paper (SPEC Sect. 9)", "",
+    lines = ["# Validation against the paper", "",
              f"Produced by `{command}` (pdamper {__version__}, {time.strftime('%Y-%m-%d')}, "
-             f"{seconds / 60:.1f} min on this machine). The unit-level physics checks of SPEC Sect. 9 run in "
+             f"{seconds / 60:.1f} min on this machine). The unit-level physics checks run in "
              "the test suite; these are the paper-level ones.", "",
              f"**{sum(c.passed for c in checks)} of {len(checks)} checks pass.**", "",
              "| check | expected | measured | result |", "|---|---|---|---|"]
