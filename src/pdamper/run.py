@@ -114,6 +114,10 @@ def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True) -
     ``result.recorded``. ``progress(done_fraction)`` is called as the run goes. With
     ``analyse=False`` only the recording is done (no complex power, no mode).
     """
+    if analyse:
+        from .plausible import check_case
+
+        check_case(case, analyse=True)  # whole cycles for the analysis, before anything is simulated
     recorders = list(recorders)
     builtin = default_recorders(case)
     periodic = float(getattr(case.drive, "frequency", 0.0) or 0.0) > 0

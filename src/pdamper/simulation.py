@@ -105,7 +105,13 @@ class Simulation:
     """
 
     def __init__(self, case: Case, recorders=None):
+        from .plausible import check_case, check_memory
+
         self.case = case
+        check_case(case)
+        recs = default_recorders(case) if recorders is None else recorders
+        check_memory(case, max((getattr(r, "fps", 0.0) or 0.0 for r in recs if "frames" in getattr(r, "channels", ())),
+                               default=0.0))
         self.engine = build(case)
         fs = case.recording.sample_rate
         self.interval = 1.0 / fs

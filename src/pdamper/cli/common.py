@@ -87,12 +87,16 @@ class Quantity(click.ParamType):
             return value
         label = f"--{param.name.replace('_', '-')}" if param is not None else self.dimension
         try:
-            return parse_quantity(value, self.dimension, name=label)
+            v = parse_quantity(value, self.dimension, name=label)
         except InputError as exc:
             # A UsageError (not BadParameter, which would prefix "Invalid value for ...") so the
             # message, which already names the option, is printed once; OneLineCommand makes it
             # one line, and outside pdamper's group click still exits with code 2.
             raise click.UsageError(" ".join(str(exc).split()), ctx) from None
+        if self.dimension == "length" and v > 5.0:  # a bare number is metres: 120 is a 120 m container
+            raise click.UsageError(f"{label} {value} is {v:g} m, not a damper's size (a number without a unit is "
+                                   f"metres); did you mean '{value}mm'?", ctx)
+        return v
 
     def get_metavar(self, param, ctx=None):  # noqa: D401 - click API
         return self.dimension.upper()

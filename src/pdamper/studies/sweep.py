@@ -225,10 +225,18 @@ class SweepSpec:
         object.__setattr__(self, "axes", tuple(axes))
         object.__setattr__(self, "seeds", tuple(sorted(set(seeds))))
         object.__setattr__(self, "strokes", self.axis(STROKE).values if STROKE in keys else None)
-        # every value must make a valid case: check one point per value now, before anything runs
-        for a in self.axes:
-            for v in a.values:
-                self.case({a.key: v}, self.seeds[0])
+        # every value must make a valid, plausible case: one point per value, before anything runs
+        from ..plausible import check_case, check_memory
+
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # lift-off at some points is allowed; run_case says so
+            for a in self.axes:
+                for v in a.values:
+                    c = self.case({a.key: v}, self.seeds[0])
+                    check_case(c, analyse=True)
+                    check_memory(c)
 
     def axis(self, key: str) -> Axis:
         """The axis over ``key``."""
