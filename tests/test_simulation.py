@@ -373,3 +373,18 @@ def test_stroke_can_be_swept_over_a_base_case():
     assert case.drive.stroke == 0.004 and case.drive.frequency == 2.0
     with pytest.raises(InputError, match="harmonic"):
         with_stroke(dataclasses.replace(case, drive=Still(duration_s=1.0)), 0.01)
+
+
+def test_results_print_as_one_short_line():
+    """A notebook cell showing a result prints names, shapes and key numbers, not a dump."""
+    from dem_fixtures import TINY_CONFIG
+    from pdamper import run_case
+    from pdamper.config import loads_case
+
+    r = run_case(loads_case(TINY_CONFIG))
+    for obj in (r, r.signals, r.energy, r.analysis, r.case):
+        text = repr(obj)
+        assert len(text) < 600 and "\n" not in text, text
+    assert repr(r).startswith(f"RunResult(eta_star={r.eta_star:.6g}")
+    assert repr(r.case).startswith("Case(8 x r = 5 mm steel in a cuboid (L 120 x W 40.4 x H 40 mm), harmonic X = 13 mm")
+    assert "<float64 array 1500>" in repr(r.signals)

@@ -282,6 +282,17 @@ class Case:
         if not (self.gravity >= 0 and math.isfinite(self.gravity)):
             raise InputError(f"gravity = {self.gravity!r} m/s^2; must be >= 0")
 
+    def __repr__(self) -> str:
+        """One line: what is simulated, how long (``dataclasses.asdict`` gives every field)."""
+        g = self.container.geometry
+        keys = ("length", "width", "height") if g.shape == "cuboid" else ("radius", "height")
+        dims = " x ".join(f"{k[0].upper()} {getattr(g, k) * 1e3:g}" for k in keys)
+        d = self.drive
+        drive = (f"harmonic X = {d.stroke * 1e3:g} mm, f = {d.frequency:g} Hz" if d.kind == "harmonic" else d.kind)
+        parts = ", ".join(f"{p.count} x r = {p.radius * 1e3:g} mm {p.material.name}" for p in self.particles)
+        return (f"Case({parts} in a {g.shape} ({dims} mm), {drive}, mu = {self.contact.friction:g}, "
+                f"{self.numerics.integrator}, {self.cycles:g} cycles, seed {self.initial.seed})")
+
     @property
     def n_particles(self) -> int:
         """Total number of spheres."""

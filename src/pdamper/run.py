@@ -8,6 +8,8 @@ classifier (:mod:`pdamper.analysis.modes`), and returns a :class:`RunResult`.
 
 from __future__ import annotations
 
+from ._repr import short_repr
+
 import math
 from dataclasses import dataclass, field
 
@@ -145,3 +147,8 @@ def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True) -
                      steps=record.steps, time_step=record.time_step, wall_time_s=record.wall_time_s,
                      neighbour_search=record.neighbour_search, extras=extras, structure=record.structure,
                      recorded={r.name: out[r.name] for r in recorders})
+
+
+# short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)
+RunResult._repr_first = ("eta_star", "mode")
+RunResult.__repr__ = short_repr

@@ -14,6 +14,8 @@ progress and clean interrupts), stopping also wherever a Python recorder is due.
 
 from __future__ import annotations
 
+from ._repr import short_repr
+
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -308,3 +310,7 @@ def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_r
     return StructureRecord(time=(np.arange(n) + 1) * ts, displacement=out[:, 0].copy(), velocity=out[:, 1].copy(),
                            external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(), mass=structure.mass,
                            stiffness=structure.stiffness, x0=structure.displacement, v0=structure.velocity)
+
+
+# short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)
+RunRecord.__repr__ = short_repr

@@ -3,6 +3,8 @@ keeps for plots (see :mod:`pdamper.analysis.complex_power` for the method)."""
 
 from __future__ import annotations
 
+from .._repr import short_repr
+
 import math
 from dataclasses import dataclass, field
 
@@ -184,3 +186,8 @@ class PowerResult:
             "cycle_energy_spread": num(self.cycle_energy_spread),
             "time_base": self.time_base.to_dict() if self.time_base is not None else None,
         }
+
+
+# short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)
+PowerResult.__repr__ = short_repr
+Signals.__repr__ = short_repr

@@ -11,6 +11,16 @@ import sys
 import click
 
 from .._version import __version__
+
+import warnings  # noqa: E402
+
+
+def _format_warning(message, category, filename, lineno, line=None):
+    """On the command line a warning is one line, 'warning: ...', without a source path."""
+    return f"warning: {message}\n"
+
+
+warnings.formatwarning = _format_warning
 from ..io.files import json_safe
 from ..errors import InputError, SimulationError
 from ..units import parse_quantity

@@ -9,6 +9,8 @@ since then by normal damping and by friction. Balance:
 
 from __future__ import annotations
 
+from .._repr import short_repr
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,3 +85,7 @@ class EnergyRecorder:
 
     def finalize(self, data) -> EnergyLedger:
         return EnergyLedger.from_array(data.time_end, data.channels["energy"])
+
+
+# short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)
+EnergyLedger.__repr__ = short_repr

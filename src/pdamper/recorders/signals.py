@@ -9,6 +9,8 @@ truth, so the complex power (eq. 3) sees no aliasing and no relative phase error
 
 from __future__ import annotations
 
+from .._repr import short_repr
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,3 +82,7 @@ class SignalsRecorder:
 
             motion = StructureRecord.from_channel(self.case, data).edges()
         return Signals.from_run(self.case, data.info.interval, data.channels["wall_force"], motion=motion)
+
+
+# short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)
+Signals.__repr__ = short_repr

@@ -14,6 +14,8 @@ walls did on the bed, the same sum the structure lost to the bed) the whole syst
 
 from __future__ import annotations
 
+from .._repr import short_repr
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -92,3 +94,7 @@ class StructureRecorder:
 
     def finalize(self, data) -> StructureRecord:
         return StructureRecord.from_channel(self.case, data)
+
+
+# short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)
+StructureRecord.__repr__ = short_repr
