@@ -10,7 +10,7 @@ from .._version import __version__
 from ..analysis import DEFAULT_DROP_CYCLES, analyze_record
 from ..errors import InputError
 from ..io.records import read_record
-from .common import Quantity, echo_json, main, user_errors
+from .common import Quantity, column_options, echo_json, main, user_errors
 
 __all__ = ["analyze_command", "STEADY_SPREAD"]
 
@@ -27,17 +27,12 @@ STEADY_SPREAD = 0.10
               help="Drive frequency, e.g. 2Hz; detected from the motion if omitted.")
 @click.option("--drop-cycles", type=int, default=DEFAULT_DROP_CYCLES, show_default=True,
               help="Whole cycles dropped at the start (the transient).")
-@click.option("--time-column", metavar="NAME", help="Name of the time column (default: time).")
-@click.option("--force-column", metavar="NAME", help="Name of the force column (default: force).")
-@click.option("--position-column", metavar="NAME", help="Use this column as the position.")
-@click.option("--velocity-column", metavar="NAME", help="Use this column as the velocity.")
-@click.option("--acceleration-column", metavar="NAME", help="Use this column as the acceleration.")
+@column_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @click.option("--plot", type=click.Path(dir_okay=False),
               help="Write a figure of the signals and per-cycle energies (.png, .svg, .pdf).")
 @user_errors
-def analyze_command(record, bed_mass, frequency, drop_cycles, time_column, force_column,
-                    position_column, velocity_column, acceleration_column, as_json, plot):
+def analyze_command(record, bed_mass, frequency, drop_cycles, columns, motion, as_json, plot):
     """Energy dissipated per cycle and eta* of a force/motion RECORD (paper Sect. 4.1).
 
     RECORD is a text file (comma, semicolon or tab separated; a logger's preamble, a
@@ -49,15 +44,6 @@ def analyze_command(record, bed_mass, frequency, drop_cycles, time_column, force
 
     Example: pdamper analyze run.csv --bed-mass 149g --plot run.png
     """
-    motions = {"position": position_column, "velocity": velocity_column,
-               "acceleration": acceleration_column}
-    chosen = [m for m, name in motions.items() if name is not None]
-    if len(chosen) > 1:
-        raise InputError("give only one of --position-column, --velocity-column, "
-                         f"--acceleration-column (got {', '.join('--' + m + '-column' for m in chosen)})")
-    columns = {role: name for role, name in
-               (("time", time_column), ("force", force_column), *motions.items())
-               if name is not None}
     if plot is not None:
         from ..plotting.analysis import FORMATS
 
@@ -65,7 +51,7 @@ def analyze_command(record, bed_mass, frequency, drop_cycles, time_column, force
             raise InputError(f"--plot {plot!r}: unknown format; use a file ending in "
                              f"{', '.join(FORMATS)}")
 
-    rec = read_record(record, columns=columns, motion=chosen[0] if chosen else None)
+    rec = read_record(record, columns=columns, motion=motion)
     result = analyze_record(rec.time, rec.force, **{rec.motion_kind: rec.motion},
                             frequency=frequency, drop_cycles=drop_cycles, bed_mass=bed_mass)
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .common import Quantity, echo_json, main, user_errors
+from .common import Quantity, column_options, echo_json, main, user_errors
 
 __all__ = ["campaign_command"]
 
@@ -20,18 +20,13 @@ __all__ = ["campaign_command"]
 @click.option("--drop-cycles", type=click.IntRange(min=0), help="Whole cycles dropped at the start (default 2).")
 @click.option("--manifest", type=click.Path(dir_okay=False, exists=True),
               help="Campaign manifest (default: campaign.toml beside the records, if there is one).")
-@click.option("--time-column", metavar="NAME", help="Name of the time column in every record.")
-@click.option("--force-column", metavar="NAME", help="Name of the force column.")
-@click.option("--position-column", metavar="NAME", help="Use this column as the position.")
-@click.option("--velocity-column", metavar="NAME", help="Use this column as the velocity.")
-@click.option("--acceleration-column", metavar="NAME", help="Use this column as the acceleration.")
+@column_options
 @click.option("--out", type=click.Path(file_okay=False), help="Directory for campaign.nc and campaign.csv "
               "(default: campaign beside the first record).")
 @click.option("--plot", type=click.Path(dir_okay=False), help="Figure of eta*(X) with error bars (.png, .svg, .pdf).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @user_errors
-def campaign_command(records, bed_mass, frequency, drop_cycles, manifest, time_column, force_column,
-                     position_column, velocity_column, acceleration_column, out, plot, as_json):
+def campaign_command(records, bed_mass, frequency, drop_cycles, manifest, columns, motion, out, plot, as_json):
     """Analyse test-rig records (one per stroke) into an eta*(X) curve with error bars.
 
     Each RECORD (a file, a folder of files, or a 'pdamper run --out' directory) is read as its
@@ -44,13 +39,8 @@ def campaign_command(records, bed_mass, frequency, drop_cycles, manifest, time_c
     from ..io.files import atomic_write
     from ..studies.campaign import analyse_records, campaign_dataset
 
-    motions = {"position": position_column, "velocity": velocity_column, "acceleration": acceleration_column}
-    chosen = [m for m, n in motions.items() if n]
-    if len(chosen) > 1:
-        raise InputError("give only one of --position-column, --velocity-column, --acceleration-column")
-    columns = {r: n for r, n in (("time", time_column), ("force", force_column), *motions.items()) if n}
     points, failures = analyse_records(records, bed_mass=bed_mass, frequency=frequency, drop_cycles=drop_cycles,
-                                       columns=columns, motion=chosen[0] if chosen else None, manifest=manifest)
+                                       columns=columns, motion=motion, manifest=manifest)
     if not points:
         more = f" (and {len(failures) - 1} more record(s) that could not be analysed)" if len(failures) > 1 else ""
         raise InputError(f"{failures[0][1]}{more}")

@@ -165,3 +165,26 @@ def fraction_bar(desc: str, total: float, unit: str, enabled: bool):
         yield progress
     finally:
         bar.close()
+
+
+def column_options(func):
+    """The options that map a record's columns (``--time-column`` ... ``--acceleration-column``);
+    the command receives them as ``columns`` (role -> name) and ``motion`` (the chosen motion or None)."""
+    names = ("time_column", "force_column", "position_column", "velocity_column", "acceleration_column")
+
+    @functools.wraps(func)
+    def wrapper(*args, **kw):
+        given = {n[:-len("_column")]: kw.pop(n) for n in names}
+        chosen = [m for m in ("position", "velocity", "acceleration") if given[m]]
+        if len(chosen) > 1:
+            raise InputError("give only one of --position-column, --velocity-column, --acceleration-column "
+                             f"(got {', '.join('--' + m + '-column' for m in chosen)})")
+        return func(*args, columns={r: n for r, n in given.items() if n}, motion=chosen[0] if chosen else None, **kw)
+
+    for role, text in reversed((("time", "Name of the time column (default: time)."),
+                                ("force", "Name of the force column (default: force)."),
+                                ("position", "Use this column as the position."),
+                                ("velocity", "Use this column as the velocity."),
+                                ("acceleration", "Use this column as the acceleration."))):
+        wrapper = click.option(f"--{role}-column", metavar="NAME", help=text)(wrapper)
+    return wrapper
