@@ -84,6 +84,55 @@ def _rescale(nord, ratio):
 
 
 @njit
+def _predict(nord, pred, ratio, inv_h, bodies):
+    """Rescale the Nordsieck vector to the new step (``r_k *= ratio^k``, skipped when ``ratio`` is
+    1), predict it into ``pred`` (Pascal triangle) and unpack the predicted positions, velocities
+    and spins into ``bodies``: one pass over the state instead of three (same arithmetic as
+    :func:`_rescale` followed by the prediction and :func:`_unpack`, so bit-identical)."""
+    f1 = ratio
+    f2 = f1 * ratio
+    f3 = f2 * ratio
+    f4 = f3 * ratio
+    f5 = f4 * ratio
+    rescale = ratio != 1.0
+    pos = bodies.position
+    vel = bodies.velocity
+    omg = bodies.spin
+    for i in range(nord.shape[1]):
+        for c in range(6):
+            r0 = nord[0, i, c]
+            r1 = nord[1, i, c]
+            r2 = nord[2, i, c]
+            r3 = nord[3, i, c]
+            r4 = nord[4, i, c]
+            r5 = nord[5, i, c]
+            if rescale:
+                r1 *= f1
+                r2 *= f2
+                r3 *= f3
+                r4 *= f4
+                r5 *= f5
+                nord[1, i, c] = r1
+                nord[2, i, c] = r2
+                nord[3, i, c] = r3
+                nord[4, i, c] = r4
+                nord[5, i, c] = r5
+            p0 = r0 + r1 + r2 + r3 + r4 + r5
+            p1 = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
+            pred[0, i, c] = p0
+            pred[1, i, c] = p1
+            pred[2, i, c] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
+            pred[3, i, c] = r3 + 4.0 * r4 + 10.0 * r5
+            pred[4, i, c] = r4 + 5.0 * r5
+            pred[5, i, c] = r5
+            if c < 3:
+                pos[i, c] = p0
+                vel[i, c] = p1 * inv_h
+            else:
+                omg[i, c - 3] = p1 * inv_h
+
+
+@njit
 def _unpack(nord, inv_h, bodies):
     """Positions, velocities and spins from the Nordsieck vector (scaled to step 1/inv_h)."""
     pos = bodies.position
@@ -334,37 +383,24 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             hh = tb - t
         if hh > t_end - t:
             hh = t_end - t
+        ratio = 1.0
         if hh != hs:
-            _rescale(nord, hh / hs)
+            ratio = hh / hs
             hs = hh
-        # neighbour lists at the current positions
-        for i in range(n):
-            for c in range(3):
-                pos[i, c] = nord[0, i, c]
-        if max_displacement_sq(pos, search.reference) > skin2:
+        # neighbour lists at the current positions (the Nordsieck vector's first row)
+        if max_displacement_sq(nord[0], search.reference) > skin2:
+            for i in range(n):
+                for c in range(3):
+                    pos[i, c] = nord[0, i, c]
             r = rebuild_lists(bodies, pairs, walls, search, table)
             if r < 0:
                 gear.step[0] = hs
+                _rescale(nord, ratio)
                 return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), steps, -1, t, h, rejected
-        # predict into ``predicted`` (the Nordsieck vector itself stays as it was, so a rejected
-        # step has nothing to restore): Pascal-triangle prediction
-        nf = nord.reshape(6, 6 * n)
-        sf = pred.reshape(6, 6 * n)
-        for m in range(6 * n):
-            r0 = nf[0, m]
-            r1 = nf[1, m]
-            r2 = nf[2, m]
-            r3 = nf[3, m]
-            r4 = nf[4, m]
-            r5 = nf[5, m]
-            sf[0, m] = r0 + r1 + r2 + r3 + r4 + r5
-            sf[1, m] = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
-            sf[2, m] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
-            sf[3, m] = r3 + 4.0 * r4 + 10.0 * r5
-            sf[4, m] = r4 + 5.0 * r5
-            sf[5, m] = r5
+        # rescale to the step, predict into ``predicted`` (the Nordsieck vector itself stays as
+        # it was, so a rejected step has nothing to restore) and unpack the prediction
         inv_h = 1.0 / hs
-        _unpack(pred, inv_h, bodies)
+        _predict(nord, pred, ratio, inv_h, bodies)
         # contact history as it was, in case the step is rejected
         npair = pairs.row[n]
         pvin = pairs.approach_speed
