@@ -13,15 +13,20 @@ from ._repr import short_repr
 import math
 from dataclasses import dataclass, field
 
+from .errors import InputError
 from .params import Case
 from .simulation import Simulation, default_recorders
 from .recorders.trajectory import TrajectoryRecorder
 
-__all__ = ["run_case", "RunResult", "analyse_signals", "MODE_FPS"]
+__all__ = ["run_case", "RunResult", "analyse_signals", "MODE_FPS", "MIN_STEADY_CYCLES"]
 
 #: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
 #: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
 MODE_FPS = 50.0
+
+#: Analysed cycles a run with ``until_steady`` always drives (after the dropped ones) before it
+#: may stop: fewer give too rough an error to stop on.
+MIN_STEADY_CYCLES = 6
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -108,14 +113,49 @@ def analyse_signals(case: Case, signals):
                          drop_cycles=case.drop_cycles, bed_mass=case.bed_mass)
 
 
-def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True) -> RunResult:
+def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=None):
+    """Drive ``sim`` cycle by cycle from ``case.drop_cycles + MIN_STEADY_CYCLES`` cycles on and stop
+    after the first cycle at which the record so far is steady and eta*'s standard error is at
+    most ``tolerance``; never beyond the case's cycles. Returns the cycles driven."""
+    from .analysis.steady import cycle_statistics
+    from .recorders.signals import Signals
+
+    sim.settle()
+    per_cycle = case.recording.sample_rate / case.drive.frequency
+    k = case.drop_cycles + MIN_STEADY_CYCLES
+    while True:
+        target = min(sim.n_samples, int(math.ceil(k * per_cycle - 1e-9)))
+        sim.advance(target - sim.sample, progress=progress)
+        if sim.sample >= sim.n_samples:
+            return float(case.cycles)
+        sig = Signals.from_run(case, sim.interval, sim.samples.wall_force[:sim.sample])
+        a = analyse_signals(case, sig)
+        st = cycle_statistics(a.cycle_energies_J, a.cycle_used, a.eta_star)
+        if st.steady and st.eta_star_error <= tolerance:
+            return float(k)
+        k += 1
+
+
+def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True,
+             until_steady: float | None = None) -> RunResult:
     """Simulate ``case`` and analyse it: energy per cycle and eta* by the complex power method,
     the motion mode from the trajectory.
 
     ``recorders`` are recorded too (:mod:`pdamper.recorders.base`); their results are in
     ``result.recorded``. ``progress(done_fraction)`` is called as the run goes. With
     ``analyse=False`` only the recording is done (no complex power, no mode).
+
+    ``until_steady``: stop the run early, after at least ``drop_cycles + MIN_STEADY_CYCLES``
+    cycles, at the first whole cycle at which the record is steady and eta*'s standard error
+    (:mod:`pdamper.analysis.steady`) is at most this value; never beyond ``case.cycles``. The
+    cycles driven are ``result.extras["cycles_run"]``. Harmonic drives only.
     """
+    if until_steady is not None:
+        if not (until_steady > 0 and math.isfinite(until_steady)):
+            raise InputError(f"until_steady = {until_steady!r}: give eta*'s standard error to stop at, > 0 "
+                             "(e.g. 0.01)")
+        if case.drive.kind != "harmonic" or not analyse:
+            raise InputError("until_steady needs a harmonic drive ([drive] stroke and frequency) and the analysis")
     if analyse:
         from .plausible import check_case
 
@@ -126,12 +166,23 @@ def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True) -
     classify = analyse and periodic
     if classify and not case.recording.trajectory_fps:
         builtin.append(TrajectoryRecorder(min(MODE_FPS, case.recording.sample_rate)))
-    record = Simulation(case, builtin + recorders).run(progress=progress)
+    sim = Simulation(case, builtin + recorders)
+    cycles_run = float(case.cycles)
+    if until_steady is not None:
+        cycles_run = _run_until_steady(sim, case, until_steady, progress)
+    else:
+        sim.run(progress=progress)
+    record = sim.finalize()
     out = record.outputs
     analysis = None
     if analyse and case.drive.kind not in ("still", "structure"):
         analysis = analyse_signals(case, record.signals)
     extras = {"rejected_steps": record.rejected_steps} if record.rejected_steps is not None else {}
+    if analysis is not None:
+        st = analysis.statistics
+        extras.update(eta_star_error=st.eta_star_error, steady=st.steady)
+    if periodic:
+        extras["cycles_run"] = cycles_run
     trajectory = record.trajectory
     if classify and trajectory is not None:
         from .analysis.modes import classify_trajectory

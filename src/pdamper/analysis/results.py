@@ -138,6 +138,24 @@ class PowerResult:
         return 2.0 * math.pi * self.frequency_hz
 
     @property
+    def statistics(self):
+        """eta*'s standard error over the analysed cycles and the steady-state flag
+        (:class:`~pdamper.analysis.steady.CycleStatistics`)."""
+        from .steady import cycle_statistics
+
+        return cycle_statistics(self.cycle_energies_J, self.cycle_used, self.eta_star)
+
+    @property
+    def eta_star_error(self) -> float:
+        """Standard error of eta* over the analysed cycles [-] (:mod:`pdamper.analysis.steady`)."""
+        return self.statistics.eta_star_error
+
+    @property
+    def steady(self) -> bool:
+        """True when the analysed cycles show no drift (:mod:`pdamper.analysis.steady`)."""
+        return self.statistics.steady
+
+    @property
     def check_relative_difference(self) -> float:
         """``|mean_power_check_J - energy_per_cycle_J|`` relative to the apparent energy per cycle.
 
@@ -184,6 +202,8 @@ class PowerResult:
             "cycle_start_s": [num(t) for t in self.cycle_start_s],
             "cycle_used": [bool(u) for u in self.cycle_used],
             "cycle_energy_spread": num(self.cycle_energy_spread),
+            "eta_star_error": num(self.eta_star_error),
+            "steady": bool(self.steady),
             "time_base": self.time_base.to_dict() if self.time_base is not None else None,
         }
 

@@ -33,9 +33,13 @@ def _names():
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
 @click.option("--plot", type=click.Path(dir_okay=False), help="Figure file (default <out>/<NAME>.png).")
+@click.option("--until-steady", "until_steady", type=click.FloatRange(min=0, min_open=True), metavar="TOL",
+              help="Stop a case early once its record is steady and eta*'s standard error over the analysed "
+                   "cycles is at most TOL (e.g. 0.01), after at least 6 analysed cycles; never beyond the "
+                   "configured cycles. Default: the paper's protocol, all cycles.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, as_json):
+def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, until_steady, as_json):
     """Run a study (one of the paper's, or your study file) and write its dataset and figure.
 
     NAME is one of: fig4, friction, modulus, density, restitution, radius, tilt, cylinder,
@@ -66,7 +70,7 @@ def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, 
     drop = QUICK["drop_cycles"] if quick else None
     out = Path(out) if out else Path(f"study_{name}{'_quick' if quick else ''}")
     ds = run_study(study.source, out, strokes=xs, seeds=tuple(range(seeds)), cycles=cycles, drop_cycles=drop,
-                   workers=workers, scheduler=scheduler, progress=False if as_json else None)
+                   workers=workers, scheduler=scheduler, progress=False if as_json else None, until_steady=until_steady)
     plot = Path(plot) if plot else out / f"{name}.png"
     study_figure(ds, plot)
     mean = ds.eta_star.mean("seed", skipna=True)

@@ -38,13 +38,17 @@ __all__ = ["sweep_command"]
               show_default=True, help="What the store keeps of each case: its 1 kHz force, motion and dissipated "
               "energy (about 0.25 MB per 20-cycle case; 'pdamper reanalyze' needs them), also every energy-ledger "
               "column ('full', about 0.7 MB), or nothing.")
+@click.option("--until-steady", "until_steady", type=click.FloatRange(min=0, min_open=True), metavar="TOL",
+              help="Stop a case early once its record is steady and eta*'s standard error over the analysed "
+                   "cycles is at most TOL (e.g. 0.01), after at least 6 analysed cycles; never beyond the "
+                   "configured cycles. Default: the paper's protocol, all cycles.")
 @click.option("--repair", is_flag=True, help="Rebuild a store whose store.json was lost from this config and its case files.")
 @click.option("--measured", type=click.Path(exists=True), metavar="CAMPAIGN",
               help="Draw a measured campaign ('pdamper campaign') with error bars on the --plot figure.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, plot, repair,
-                  measured, as_json):
+def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, until_steady, plot,
+                  repair, measured, as_json):
     """Run CONFIG.toml over a range of strokes (or any config keys) and report eta*.
 
     Every (point, seed) case is independent and written to the store as soon as it finishes;
@@ -80,7 +84,8 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         ds = run_sweep(spec, out, workers=workers, scheduler=scheduler, progress=None if not as_json else False,
-                       keep=keep, history="pdamper " + " ".join(sys.argv[1:]), repair=repair)
+                       keep=keep, history="pdamper " + " ".join(sys.argv[1:]), repair=repair,
+                       until_steady=until_steady)
     for w in caught:
         if "set aside" in str(w.message):
             click.echo(f"warning: {w.message}", err=True)

@@ -20,7 +20,7 @@ Records whose strokes agree within 0.5 % (and frequencies within 0.5 %) are repe
 the dataset has dimensions ``stroke`` and ``seed`` (the repeat) like a sweep, plus ``frequency``
 when the records were taken at more than one. The variables are the sweep's (``eta_star``,
 ``energy_per_cycle``, ``velocity_amplitude``) plus ``eta_star_error`` (the standard error of eta*
-from the spread of the used cycles' energies: the error bar), ``cycles_used`` and ``file``.
+from the spread of the used cycles' energies, corrected for their correlation (:mod:`pdamper.analysis.steady`): the error bar), ``cycles_used`` and ``file``.
 
 A record that cannot be read or analysed is reported (its file and the reason) and the others go on.
 """
@@ -148,10 +148,7 @@ def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
         except InputError as exc:
             failures.append((str(f), str(exc)))
             continue
-        used = np.asarray(r.cycle_energies_J)[np.asarray(r.cycle_used)]
-        err = math.nan
-        if used.size >= 2 and np.mean(used) != 0:
-            err = abs(r.eta_star) * float(np.std(used, ddof=1) / abs(np.mean(used))) / math.sqrt(used.size)
+        err = r.eta_star_error
         stroke = entry.get("stroke", r.velocity_amplitude_m_s / r.angular_frequency)
         points.append(MeasuredPoint(file=str(f), stroke_m=float(stroke), frequency_hz=float(r.frequency_hz),
                                     eta_star=float(r.eta_star), eta_star_error=float(err),

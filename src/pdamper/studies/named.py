@@ -170,11 +170,12 @@ def _slug(label: str) -> str:
 
 
 def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, workers=None, scheduler=None,
-              progress=None, only=None, keep="signals"):
+              progress=None, only=None, keep="signals", until_steady=None):
     """Sweep every setting of study ``name`` (a name of :data:`STUDIES` or a study file; one store
     per setting under ``out``) on one cluster; return the combined dataset with a ``setting``
     dimension. ``strokes`` replaces the study's stroke axis; ``only``: a list of setting labels
-    to run (default: all)."""
+    to run (default: all); ``until_steady``: every case stops early at this error of eta*
+    (:func:`pdamper.run.run_case`)."""
     import functools
 
     import numpy as np
@@ -202,7 +203,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         if drop_cycles is not None:
             case = dataclasses.replace(case, drop_cycles=drop_cycles)
         spec = SweepSpec(base=case, axes=axes, strokes=strokes, seeds=seeds)
-        store = ResultStore.create_or_open(out / _slug(label), spec, attrs=theory_attrs(case))
+        store = ResultStore.create_or_open(out / _slug(label), spec, attrs=theory_attrs(case), until_steady=until_steady)
         stores.append((label, store, case))
         for k, p, s in spec.items():
             total += 1
@@ -215,7 +216,8 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         by_slug[slug].save(k, point, seed, result)
 
     if items:
-        execute(items, functools.partial(run_one, keep=keep), save, workers=workers, scheduler=scheduler,
+        execute(items, functools.partial(run_one, keep=keep, until_steady=until_steady), save, workers=workers,
+                scheduler=scheduler,
                 progress=progress, total=total, done=total - len(items))
     panels = {label: panel for label, _, panel in settings}
     parts = []

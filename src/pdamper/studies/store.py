@@ -64,6 +64,9 @@ VARIABLES = {
                                 "energy dissipated per cycle (energy ledger)"),
     "energy_balance_error": ("energy_balance_error", "1", "energy ledger residual relative to energy exchanged"),
     "velocity_amplitude": ("velocity_amplitude_m_s", "m s-1", "container velocity amplitude at the drive frequency"),
+    "eta_star_error": ("eta_star_error", "1", "standard error of eta* over the analysed cycles"),
+    "steady": ("steady", "1", "steady state reached over the analysed cycles (1) or not (0)"),
+    "cycles_run": ("cycles_run", "1", "drive cycles simulated"),
     "steps": ("steps", "1", "time steps taken"),
     "wall_time": ("wall_time_s", "s", "wall-clock time of the case"),
 }
@@ -152,11 +155,13 @@ class ResultStore:
     # ---------------------------------------------------------------- opening
     @classmethod
     def create_or_open(cls, path, spec, *, attrs: dict | None = None, history: str | None = None,
-                       repair: bool = False) -> "ResultStore":
+                       repair: bool = False, until_steady: float | None = None) -> "ResultStore":
         """Open the store at ``path`` for ``spec`` (creating it), refusing another configuration.
 
         ``attrs``: numbers the sweep computed for the base case (the theory's N_p,max, h, X_opt),
-        kept in ``store.json`` and put on the dataset. ``history``: the command line. ``repair``:
+        kept in ``store.json`` and put on the dataset. ``until_steady``: the runs stop early at this
+        error of eta* (:func:`pdamper.run.run_case`); a store's cases all share one setting, so
+        another one is refused. ``history``: the command line. ``repair``:
         a store whose ``store.json`` was lost is rebuilt from ``spec`` and its case files (the
         cases are taken to be of this configuration: the caller vouches for it).
         """
@@ -185,6 +190,12 @@ class ResultStore:
                 raise InputError(f"{path}: this result store was made with a different configuration "
                                  f"({_first_difference(old.get('config', ''), base)}); use another --out "
                                  "or delete the store to start over")
+            if old.get("until_steady") != until_steady:
+                def said(v):
+                    return f"--until-steady {v:g}" if v is not None else "the full cycles (no --until-steady)"
+
+                raise InputError(f"{path}: this result store's cases ran {said(old.get('until_steady'))}, this sweep "
+                                 f"asks for {said(until_steady)}; use the same setting or another --out")
             for a, o in zip(axes, old["axes"]):
                 a["values"] = _merge(o["values"], a["values"])
                 if o.get("spacing") != a["spacing"]:
@@ -208,6 +219,8 @@ class ResultStore:
                 "pdamper_version": __version__, "base": json_safe(case_to_dict(base)),
                 "attrs": json_safe(attrs or {}),
                 "history": old_history + [f"pdamper {__version__}: {history or _command_line()}"]}
+        if until_steady is not None:
+            meta["until_steady"] = float(until_steady)
         if keys == [STROKE]:  # readable by an earlier pdamper too
             meta["strokes"] = axes[0]["values"]
         atomic_write(meta_file, json.dumps(meta, indent=2))

@@ -274,9 +274,10 @@ class SweepSpec:
         return tuple(a.name for a in self.axes) + ("seed",)
 
 
-def run_one(case: Case, keep: str = "signals") -> dict:
+def run_one(case: Case, keep: str = "signals", until_steady: float | None = None) -> dict:
     """Run one case and return its summary (plain floats, the motion mode; what the store keeps)
     and, unless ``keep == "none"``, its signals (:data:`pdamper.studies.store.SIGNALS`).
+    ``until_steady``: stop the run early at this error of eta* (:func:`pdamper.run.run_case`).
 
     The mode is classified on a coarse trajectory the run records for it (50 frames/s,
     :data:`pdamper.run.MODE_FPS`; not stored).
@@ -289,7 +290,7 @@ def run_one(case: Case, keep: str = "signals") -> dict:
     from .store import signal_arrays
 
     try:
-        res = run_case(case)
+        res = run_case(case, until_steady=until_steady)
     except SimulationError as exc:
         return {"failed": str(exc)}
     s = res.summary()
@@ -299,6 +300,9 @@ def run_one(case: Case, keep: str = "signals") -> dict:
         "ledger_dissipated_per_cycle_J": s["ledger_dissipated_per_cycle_J"],
         "energy_balance_error": s["energy_balance_error"],
         "velocity_amplitude_m_s": float(res.analysis.velocity_amplitude_m_s) if res.analysis is not None else math.nan,
+        "eta_star_error": s.get("eta_star_error", math.nan),
+        "steady": float(s["steady"]) if "steady" in s else math.nan,
+        "cycles_run": s.get("cycles_run", math.nan),
         "steps": int(s["steps"]),
         "wall_time_s": s["wall_time_s"],
         "mode": s.get("mode", "unknown"),
@@ -344,7 +348,8 @@ def add_theory(ds, base: Case):
 
 
 def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: str | None = None,
-              progress: bool | None = None, keep: str = "signals", history: str | None = None, repair: bool = False):
+              progress: bool | None = None, keep: str = "signals", history: str | None = None, repair: bool = False,
+              until_steady: float | None = None):
     """Run every case of ``spec`` not yet in the store at ``path``; return the results dataset.
 
     Cases already in the store are not run again (resume after an interruption). Each case is
@@ -353,7 +358,8 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
     the store keeps (:data:`pdamper.studies.store.KEEP`). ``history``: the command line, for the
     dataset's ``history`` attribute. A case file that is not a case record is set aside (renamed
     ``.bad``, warned) and its case computed again; ``repair`` rebuilds a lost ``store.json`` from
-    ``spec`` and the case files.
+    ``spec`` and the case files. ``until_steady``: every case stops early at this error of eta*
+    (:func:`pdamper.run.run_case`; the store keeps the setting and refuses to mix).
     """
     import functools
 
@@ -362,14 +368,16 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
 
     import warnings
 
-    store = ResultStore.create_or_open(path, spec, attrs=theory_attrs(spec.base), history=history, repair=repair)
+    store = ResultStore.create_or_open(path, spec, attrs=theory_attrs(spec.base), history=history, repair=repair,
+                                       until_steady=until_steady)
     for f, why in store.set_aside_bad():
         warnings.warn(f"{f}: not a case record ({why}); set aside as {Path(f).name}.bad, the case is computed again",
                       stacklevel=2)
     items = spec.items()
     todo = [(k, p, s, spec.case(p, s)) for k, p, s in items if not store.has(k)]
     if todo:
-        execute(todo, functools.partial(run_one, keep=keep), store.save, workers=workers, scheduler=scheduler,
+        execute(todo, functools.partial(run_one, keep=keep, until_steady=until_steady), store.save, workers=workers,
+                scheduler=scheduler,
                 progress=progress, total=len(items), done=len(items) - len(todo))
     ds = add_theory(store.dataset(), store.case())
     store.write_outputs(ds)
