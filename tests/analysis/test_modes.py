@@ -142,9 +142,11 @@ def _rolling_features():
     return f
 
 
-@pytest.mark.parametrize("phase, mode", [(-100.0, "rolling-collect-and-collide"), (-139.0, "rolling-collect-and-collide"),
-                                         (-141.0, "swaying"), (-179.0, "swaying"), (179.0, "swaying"),
-                                         (141.0, "swaying"), (139.0, "rolling-collect-and-collide")])
+ROLLING = "rolling-collect-and-collide"
+
+
+@pytest.mark.parametrize("phase, mode", [(-100.0, ROLLING), (-139.0, ROLLING), (-141.0, "swaying"), (-179.0, "swaying"),
+                                         (179.0, "swaying"), (141.0, "swaying"), (139.0, ROLLING)])
 def test_the_phase_separates_swaying_from_rolling_collect_and_collide(phase, mode):
     import dataclasses
 
