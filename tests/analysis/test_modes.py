@@ -108,11 +108,63 @@ def test_scattered_spheres_each_their_own_way():
     assert classify_features(f) == "scattered"
 
 
-def test_swaying_in_the_middle_is_not_rolling():
-    # in step with the drive, but never reaching the walls (the marginal low state at X_opt)
+def test_in_step_in_the_middle_without_reaching_the_walls_is_scattered():
+    # in step with the drive, but never reaching the walls (unlike the swaying bed near X_opt)
     f = features(*frames(lambda t: 0.3 * H_CLEAR * np.sin(2 * np.pi * F * t)))
     assert f.sync > 0.95 and f.impacts_lo == 0 and f.impacts_hi == 0
     assert classify_features(f) == "scattered"
+
+
+def swaying_frames(amplitude=0.010, stretch=1.125, cycles=4):
+    """A bed at rest in the lab while the container moves by ``amplitude`` about it: in the container
+    frame its centre moves as -amplitude sin(Omega t). The bed lies ``stretch`` times longer than a
+    compact block, so its leading spheres just touch each end wall at the container's turning points."""
+    t, pos = frames(lambda t: -amplitude * np.sin(2 * np.pi * F * t), cycles=cycles)
+    sites_x = np.tile(block()[:, 0], (len(t), 1))
+    pos[:, :, 0] += (stretch - 1.0) * sites_x
+    return t, pos
+
+
+def test_swaying_bed_touches_both_walls_in_step_but_in_antiphase():
+    t, pos = swaying_frames()
+    f = features(t, pos)
+    front = pos[:, :, 0].max(axis=1) + R
+    assert front.max() == pytest.approx(L / 2, abs=1e-4)        # the leading spheres reach the wall, no deeper
+    assert f.impacts_lo == pytest.approx(1.0, abs=0.3) and f.impacts_hi == pytest.approx(1.0, abs=0.3)
+    assert f.sync > 0.99 and f.swing > THRESHOLDS["swing_min"]
+    assert abs(f.phase_deg) == pytest.approx(180.0, abs=1.0)
+    assert classify_features(f) == "swaying"
+
+
+def _rolling_features():
+    f = features(*frames(rolling_centre))
+    assert classify_features(f) == "rolling-collect-and-collide" and abs(f.phase_deg) < 120
+    return f
+
+
+ROLLING = "rolling-collect-and-collide"
+
+
+@pytest.mark.parametrize("phase, mode", [(-100.0, ROLLING), (-139.0, ROLLING), (-141.0, "swaying"), (-179.0, "swaying"),
+                                         (179.0, "swaying"), (141.0, "swaying"), (139.0, ROLLING)])
+def test_the_phase_separates_swaying_from_rolling_collect_and_collide(phase, mode):
+    import dataclasses
+
+    f = dataclasses.replace(_rolling_features(), phase_deg=phase)
+    assert THRESHOLDS["phase_max"] == 140.0
+    assert classify_features(f) == mode
+
+
+def test_swaying_needs_both_walls_and_the_drive_frequency():
+    import dataclasses
+
+    sway = features(*swaying_frames())
+    assert classify_features(dataclasses.replace(sway, impacts_hi=0.0)) == "scattered"      # one wall only
+    assert classify_features(dataclasses.replace(sway, sync=0.69)) == "scattered"           # not in step
+    assert classify_features(dataclasses.replace(sway, swing=0.4)) == "scattered"           # barely moves
+    assert classify_features(dataclasses.replace(sway, airborne=0.1)) == "lift-off"
+    # the phase threshold is a parameter like the others
+    assert classify_features(sway, {"phase_max": 180.0}) == "rolling-collect-and-collide"
 
 
 def test_wall_to_wall_out_of_step_with_the_drive_is_not_rolling():
@@ -169,7 +221,7 @@ def test_bad_shapes_and_too_few_frames_are_refused():
 
 
 def test_modes_listed():
-    assert set(MODES) == {"scattered", "rolling-collect-and-collide", "single-sided", "lift-off"}
+    assert set(MODES) == {"scattered", "rolling-collect-and-collide", "swaying", "single-sided", "lift-off"}
 
 
 def test_case_clearance_of_the_paper_cases():
@@ -213,6 +265,14 @@ def _dem_mode(name, stroke, **over):
 def test_dem_36_spheres_scattered_below_and_rolling_above_x_opt(stroke, mode):
     got, feats = _dem_mode("cuboid_36", stroke)
     assert got == mode, feats
+
+
+def test_dem_36_spheres_just_below_x_opt_sway():
+    # 10 mm = 0.82 X_opt: the bed touches both walls in step with the drive but stays nearly at rest
+    # in the lab (docs/motion.md: 4/1 cycles, seeds 0-2, phase -152 to -156 deg, eta* 0.28-0.38)
+    got, feats = _dem_mode("cuboid_36", "10mm")
+    assert got == "swaying", feats
+    assert abs(feats["phase_deg"]) > THRESHOLDS["phase_max"] and min(feats["impacts_lo"], feats["impacts_hi"]) >= 0.5
 
 
 def test_dem_44_spheres_tilted_3deg_below_g_tan_alpha_is_single_sided():

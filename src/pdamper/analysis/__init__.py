@@ -16,7 +16,7 @@ Pure functions on arrays; they know nothing of the simulator, files or plots.
 Motion modes (:mod:`.modes`, docs/motion.md), from particle trajectories:
 
 - :func:`classify_trajectory` -- the mode (:data:`MODES`: scattered, rolling collect-and-collide,
-  single-sided, lift-off) and the measured features of a recorded trajectory of a case;
+  swaying, single-sided, lift-off) and the measured features of a recorded trajectory of a case;
 - :func:`mode_features`, :func:`classify_features` -- the same in two steps, on plain arrays;
   :data:`THRESHOLDS` the thresholds.
 - :func:`extrema`, :func:`decay_damping`, :func:`harmonic_amplitude` -- a structure's free

@@ -151,6 +151,7 @@ def _table(config, case, s, written) -> str:
         f = s.get("mode_features") or {}
         rows.insert(2, ("motion mode", s["mode"], "", ""))
         rows.insert(3, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
+                                    f"phase {f.get('phase_deg', math.nan):.0f} deg, "
                                     f"wall arrivals/cycle -x {f.get('impacts_lo', math.nan):.2f} "
                                     f"+x {f.get('impacts_hi', math.nan):.2f}; docs/motion.md"))
     if written is not None:

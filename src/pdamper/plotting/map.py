@@ -24,8 +24,8 @@ from .sweep import _check_path, _save
 
 __all__ = ["map_figure", "line_figure", "results_figure"]
 
-_HATCHES = {"lift-off": "oo", "rolling-collect-and-collide": "", "single-sided": "//", "scattered": "..",
-            "failed": "xx"}
+_HATCHES = {"lift-off": "oo", "rolling-collect-and-collide": "", "swaying": "--", "single-sided": "//",
+            "scattered": "..", "failed": "xx"}
 _SCALES = {"m": (1e3, "mm"), "s": (1e3, "ms"), "rad": (180 / math.pi, "deg")}
 
 

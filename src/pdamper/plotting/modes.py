@@ -24,6 +24,7 @@ __all__ = ["mode_map_figure", "MODE_COLOURS", "mode_rows"]
 MODE_COLOURS = {
     "scattered": "#9ecae1",
     "rolling-collect-and-collide": "#31a354",
+    "swaying": "#c7e9c0",
     "single-sided": "#fd8d3c",
     "lift-off": "#de2d26",
     "unknown": "#ffffff",
