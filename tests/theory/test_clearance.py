@@ -48,7 +48,7 @@ def test_whole_valued_floats_count_as_particle_numbers():
         ((-0.12, 36, 48), "length = -0.12"),
         ((0.0, 36, 48), "length = 0"),
         ((math.nan, 36, 48), "length = nan"),
-        (("12cm", 36, 48), "length = '12cm'"),
+        (("12kg", 36, 48), "length: '12kg' is not a length"),
     ],
 )
 def test_bad_clearance_inputs_name_the_field_and_value(args, field):

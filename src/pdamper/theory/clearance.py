@@ -15,6 +15,7 @@ import math
 import numbers
 
 from ..errors import InputError
+from ..units import quantities
 from ._common import positive
 
 __all__ = ["SHAPES", "container_length", "clearance"]
@@ -23,6 +24,7 @@ __all__ = ["SHAPES", "container_length", "clearance"]
 SHAPES = ("cuboid", "cylinder")
 
 
+@quantities(length="length", radius="length")
 def container_length(shape: str, length: float | None = None, radius: float | None = None) -> float:
     """Inner length L [m] of the container along the drive, as used in eq. (6).
 
@@ -66,6 +68,7 @@ def container_length(shape: str, length: float | None = None, radius: float | No
     return 2.0 * positive("radius", radius, "m", "0.039 (39 mm)")
 
 
+@quantities(length="length")
 def clearance(length: float, particles: int, max_particles: int) -> float:
     """Clearance h [m] of the particle bed, eq. (6): ``h = L (1 - N_p / N_p,max)``.
 
