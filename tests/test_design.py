@@ -35,7 +35,7 @@ def test_the_choice_is_the_best_whole_filling_of_the_laws(stroke):
 def test_agrees_with_pdamper_theory():
     runner = CliRunner()
     r = runner.invoke(main, ["design", "--frequency", "2Hz", "--stroke", "10mm", "--length", "120mm",
-                             "--width", "40.4mm", "--radius", "5mm", "--json"])
+                             "--width", "40.4mm", "--sphere-radius", "5mm", "--json"])
     assert r.exit_code == 0, r.output
     d = json.loads(r.stdout)
     for key in ("particles", "max_particles", "clearance_m", "x_opt_m", "eta_star", "energy_per_cycle_J", "warnings"):
@@ -80,7 +80,7 @@ def test_cylinder_and_bad_inputs():
     with pytest.raises(InputError, match="--length"):
         design_filling(stroke=0.01, frequency=2.0, sphere_radius=0.005)
     r = CliRunner().invoke(main, ["design", "--frequency", "2Hz", "--stroke", "10kg", "--length", "120mm",
-                                  "--width", "40mm", "--radius", "5mm"])
+                                  "--width", "40mm", "--sphere-radius", "5mm"])
     assert r.exit_code == 2 and r.output.startswith("Error:") and "--stroke" in r.output
     assert len(r.output.strip().splitlines()) == 1
 
@@ -101,7 +101,7 @@ def test_verify_runs_a_sweep_of_the_proposal(monkeypatch):
 
     monkeypatch.setattr(pdamper.studies, "run_sweep", fake_sweep)
     r = CliRunner().invoke(main, ["design", "--frequency", "2Hz", "--stroke", "13mm", "--length", "120mm",
-                                  "--width", "40.4mm", "--radius", "5mm", "--verify", "--json"])
+                                  "--width", "40.4mm", "--sphere-radius", "5mm", "--verify", "--json"])
     assert r.exit_code == 0, r.output
     v = json.loads(r.stdout)["verify"]
     spec = seen["spec"]

@@ -247,7 +247,7 @@ def _shown(q) -> str:
 
 
 def _quantity_to_si(q, dimension: str | None, unit: str | None, name: str):
-    """A pint quantity -> SI float (rounded like a unit text) or float array."""
+    """A pint quantity -> SI float (rounded like a unit text) or float array (not rounded)."""
     if unit is not None:
         try:
             out = q.to(unit).magnitude
@@ -263,7 +263,7 @@ def _quantity_to_si(q, dimension: str | None, unit: str | None, name: str):
         return out
     import numpy as np
 
-    return np.vectorize(_round, otypes=[float])(np.asarray(out, dtype=float))
+    return np.asarray(out, dtype=float)  # arrays (records) are not rounded: a quantity in SI stays bit for bit
 
 
 def _text_to_unit(text: str, unit: str, name: str) -> float:

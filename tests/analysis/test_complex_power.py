@@ -36,7 +36,7 @@ def viscous_energy(c, f, X):
 
 
 def apparent(r: PowerResult) -> float:
-    return np.pi * r.force_amplitude_N * r.velocity_amplitude_m_s / r.angular_frequency
+    return np.pi * r.force_amplitude_N * r.velocity_amplitude_m_s / r.angular_frequency_rad_s
 
 
 # --------------------------------------------------------------------------- closed forms
@@ -413,7 +413,7 @@ def test_too_few_cycles_says_how_many_and_suggests_drop_cycles():
     (dict(frequency=0.0), "positive"),
     (dict(frequency=-2.0), "positive"),
     (dict(frequency=float("nan")), "positive"),
-    (dict(frequency="2Hz"), "number in Hz"),
+    (dict(frequency="2mm"), "is not a frequency"),
     (dict(bed_mass=0.0), "bed mass must be positive"),
     (dict(bed_mass=-1.0), "bed mass must be positive"),
     (dict(drop_cycles=-1), "0 or more"),

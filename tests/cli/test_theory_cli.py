@@ -61,7 +61,7 @@ def test_bed_mass_gives_energies_and_stroke_gives_the_operating_point():
 
 
 def test_cylinder_uses_l_equal_2r():
-    out = run_json(["theory", "--shape", "cylinder", "--radius", "39mm", "--particles", "42",
+    out = run_json(["theory", "--shape", "cylinder", "--container-radius", "39mm", "--particles", "42",
                     "--max-particles", "48", "--frequency", "2Hz"])
     assert out["length_m"] == pytest.approx(0.078)
     assert out["clearance_m"] == pytest.approx(0.00975)
@@ -99,7 +99,7 @@ def test_plot_files_are_written(tmp_path):
 def test_fig5_at_x_opt_for_any_filling(tmp_path, particles):
     # X_opt/h recomputed from X_opt and h may fall an ulp below X_OPT_OVER_H (42 in a cylinder).
     fig5 = tmp_path / "fig5.png"
-    for shape in (["--length", "120mm"], ["--shape", "cylinder", "--radius", "39mm"]):
+    for shape in (["--length", "120mm"], ["--shape", "cylinder", "--container-radius", "39mm"]):
         result = run(["theory", *shape, "--particles", particles, "--max-particles", "48",
                       "--frequency", "2Hz", "--fig5", str(fig5)])
         assert result.exit_code == 0, result.output
@@ -128,8 +128,8 @@ OPTS = ["--max-particles", "48", "--frequency", "2Hz"]
     ["--length", "120mm", "--particles", "36", *OPTS, "--plot", "eta.xyz"],
     ["--length", "120mm", "--particles", "36", *OPTS, "--plot", "/no/such/dir/eta.png"],
     ["--shape", "cylinder", "--particles", "36", *OPTS],
-    ["--shape", "cylinder", "--radius", "39mm", "--length", "120mm", "--particles", "36", *OPTS],
-    ["--radius", "39mm", "--particles", "36", *OPTS],
+    ["--shape", "cylinder", "--container-radius", "39mm", "--length", "120mm", "--particles", "36", *OPTS],
+    ["--container-radius", "39mm", "--particles", "36", *OPTS],
     ["--particles", "36", *OPTS],
 ])
 def test_bad_input_is_one_error_line_with_exit_code_2(args):

@@ -9,7 +9,7 @@ import click
 from .._version import __version__
 from .. import theory as th  # its formulas load on first use (scipy)
 from ..errors import InputError
-from .common import Quantity, echo_json, main, user_errors
+from .common import Quantity, echo_json, main, renamed, user_errors
 
 __all__ = ["theory_command"]
 
@@ -19,8 +19,9 @@ __all__ = ["theory_command"]
               help="Container shape; the cylinder uses L = 2R.")
 @click.option("--length", type=Quantity("length"),
               help="Cuboid: inner length along the drive, e.g. 120mm.")
-@click.option("--radius", type=Quantity("length"),
+@click.option("--container-radius", type=Quantity("length"),
               help="Cylinder: inner radius, e.g. 39mm.")
+@click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --container-radius.")
 @click.option("--particles", type=int, required=True, help="Number of spheres N_p.")
 @click.option("--max-particles", type=int, required=True,
               help="Spheres that cover the floor in one layer, N_p,max.")
@@ -43,12 +44,13 @@ __all__ = ["theory_command"]
               help="Write the paper's Fig. 5 (rolling bed over the phase) at --stroke, "
                    "else at X_opt.")
 @user_errors
-def theory_command(shape, length, radius, particles, max_particles, frequency, tilt, gravity,
+def theory_command(shape, length, container_radius, radius, particles, max_particles, frequency, tilt, gravity,
                    bed_mass, stroke, kappa, as_json, plot, fig5):
     """Clearance, optimal stroke X_opt, eta*_max and the operating bounds (paper Sect. 5).
 
     Example: pdamper theory --length 120mm --particles 36 --max-particles 48 --frequency 2Hz
     """
+    radius = renamed(container_radius, radius, new="--container-radius", old="--radius")
     result = _compute(shape=shape, length=length, radius=radius, particles=particles,
                       max_particles=max_particles, frequency=frequency, tilt=tilt,
                       gravity=gravity, bed_mass=bed_mass, stroke=stroke, kappa=kappa)
@@ -75,12 +77,12 @@ def theory_command(shape, length, radius, particles, max_particles, frequency, t
 def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt, gravity,
              bed_mass, stroke, kappa) -> dict:
     if shape == "cylinder" and (radius is None or length is not None):
-        raise InputError("--shape cylinder takes --radius (inner radius, e.g. 39mm) and no "
+        raise InputError("--shape cylinder takes --container-radius (inner radius, e.g. 39mm) and no "
                          "--length: the clearance uses L = 2R")
     if shape == "cuboid" and (length is None or radius is not None):
         raise InputError("--shape cuboid (the default) takes --length (inner length along the "
-                         "drive, e.g. 120mm) and no --radius; for a cylinder give --shape cylinder")
-    big_l = th.container_length(shape, length=length, radius=radius)
+                         "drive, e.g. 120mm) and no --container-radius; for a cylinder give --shape cylinder")
+    big_l = th.container_length(shape, length=length, container_radius=radius)
     h = th.clearance(big_l, particles, max_particles)
     if h == 0:
         raise InputError(f"particles = {particles} fill the floor (max_particles = "
@@ -93,7 +95,8 @@ def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt
         "version": __version__,
         "shape": shape,
         "length_m": big_l,
-        "radius_m": radius,
+        "container_radius_m": radius,
+        "radius_m": radius,  # deprecated: the old key of container_radius_m
         "particles": particles,
         "max_particles": max_particles,
         "frequency_hz": frequency,
