@@ -447,3 +447,15 @@ def test_docstring_examples_run():
 def test_input_error_is_a_value_error():
     with pytest.raises(ValueError):
         complex_power([0, 1], [0, 1], [0, 1])
+
+
+def test_records_and_arguments_with_units():
+    import pint
+
+    u = pint.UnitRegistry()
+    t, F, v = _record()
+    si = complex_power(t, F, v, frequency=2.0, bed_mass=0.149)
+    q = complex_power(t * u.s, F * u.N, v * u.m / u.s, frequency="2Hz", bed_mass=149 * u.g)
+    assert q.energy_per_cycle_J == si.energy_per_cycle_J and q.eta_star == si.eta_star
+    with pytest.raises(InputError, match="force: .* is not a force"):
+        complex_power(t, F * u.m, v, frequency=2.0)

@@ -123,8 +123,9 @@ def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt
             f"the bed lifts off before the optimum and the rolling law does not hold; use a "
             f"frequency below {f_max:.3g} Hz or a smaller clearance (more particles)")
     if bed_mass is not None:
-        out["energy_per_cycle_at_x_opt_j"] = th.energy_per_cycle_rolling(
+        out["energy_per_cycle_at_x_opt_J"] = th.energy_per_cycle_rolling(
             x_opt, h, frequency=frequency, bed_mass=bed_mass)
+        out["energy_per_cycle_at_x_opt_j"] = out["energy_per_cycle_at_x_opt_J"]  # deprecated old key
     if tilt is not None:
         a_min = th.min_acceleration_tilt(tilt, gravity=gravity)
         out["min_accel_tilt_m_s2"] = a_min
@@ -168,7 +169,8 @@ def _at_stroke(stroke, h, frequency, bed_mass, kappa, x_opt) -> dict:
     }
     if bed_mass is not None:
         v = th.velocity_amplitude(stroke, frequency)
-        out["energy_per_cycle_at_stroke_j"] = math.pi * bed_mass * v**2 * eta  # eqs. (4), (5)
+        out["energy_per_cycle_at_stroke_J"] = math.pi * bed_mass * v**2 * eta  # eqs. (4), (5)
+        out["energy_per_cycle_at_stroke_j"] = out["energy_per_cycle_at_stroke_J"]  # deprecated old key
     return out
 
 
@@ -188,8 +190,8 @@ def _table(r: dict) -> str:
          f"A = X Omega^2 = {r['accel_at_x_opt_m_s2'] / r['gravity_m_s2']:.3g} g"),
         ("max stroke, no lift-off", mm(r["max_stroke_no_liftoff_m"]), "A < g"),
     ]
-    if "energy_per_cycle_at_x_opt_j" in r:
-        rows.append(("energy per cycle at X_opt", f"{r['energy_per_cycle_at_x_opt_j']:.4g} J",
+    if "energy_per_cycle_at_x_opt_J" in r:
+        rows.append(("energy per cycle at X_opt", f"{r['energy_per_cycle_at_x_opt_J']:.4g} J",
                      f"eq. (15), m_bed = {r['bed_mass_kg'] * 1e3:.4g} g"))
     rows += [
         ("bouncing X_opt", mm(r["x_opt_bouncing_m"]), "h/pi, block without rolling"),
@@ -211,8 +213,8 @@ def _table(r: dict) -> str:
              else f"eq. (8), kappa = {r['kappa']:g}"),
             ("  eta* bouncing", _num(r["eta_bouncing_at_stroke"]), "for comparison"),
         ]
-        if "energy_per_cycle_at_stroke_j" in r:
-            rows.append(("  energy per cycle", f"{r['energy_per_cycle_at_stroke_j']:.4g} J", ""))
+        if "energy_per_cycle_at_stroke_J" in r:
+            rows.append(("  energy per cycle", f"{r['energy_per_cycle_at_stroke_J']:.4g} J", ""))
     width = max(len(label) for label, _, _ in rows) + 2
     vwidth = max(len(value) for _, value, _ in rows) + 2
     lines = [f"{label:<{width}}{value:<{vwidth}}{note}".rstrip() for label, value, note in rows]
