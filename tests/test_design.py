@@ -35,7 +35,7 @@ def test_the_choice_is_the_best_whole_filling_of_the_laws(stroke):
 def test_agrees_with_pdamper_theory():
     runner = CliRunner()
     r = runner.invoke(main, ["design", "--frequency", "2Hz", "--stroke", "10mm", "--length", "120mm",
-                             "--width", "40.4mm", "--radius", "5mm", "--json"])
+                             "--width", "40.4mm", "--sphere-radius", "5mm", "--json"])
     assert r.exit_code == 0, r.output
     d = json.loads(r.stdout)
     for key in ("particles", "max_particles", "clearance_m", "x_opt_m", "eta_star", "energy_per_cycle_J", "warnings"):
@@ -48,7 +48,7 @@ def test_agrees_with_pdamper_theory():
     assert d["clearance_m"] == pytest.approx(t["clearance_m"], rel=1e-12)
     assert d["x_opt_m"] == pytest.approx(t["x_opt_m"], rel=1e-12)
     assert d["eta_star"] == pytest.approx(t["eta_at_stroke"], rel=1e-12)
-    assert d["energy_per_cycle_J"] == pytest.approx(t["energy_per_cycle_at_stroke_j"], rel=1e-12)
+    assert d["energy_per_cycle_J"] == pytest.approx(t["energy_per_cycle_at_stroke_J"], rel=1e-12)
 
 
 def test_warnings():
@@ -80,7 +80,7 @@ def test_cylinder_and_bad_inputs():
     with pytest.raises(InputError, match="--length"):
         design_filling(stroke=0.01, frequency=2.0, sphere_radius=0.005)
     r = CliRunner().invoke(main, ["design", "--frequency", "2Hz", "--stroke", "10kg", "--length", "120mm",
-                                  "--width", "40mm", "--radius", "5mm"])
+                                  "--width", "40mm", "--sphere-radius", "5mm"])
     assert r.exit_code == 2 and r.output.startswith("Error:") and "--stroke" in r.output
     assert len(r.output.strip().splitlines()) == 1
 
@@ -101,10 +101,34 @@ def test_verify_runs_a_sweep_of_the_proposal(monkeypatch):
 
     monkeypatch.setattr(pdamper.studies, "run_sweep", fake_sweep)
     r = CliRunner().invoke(main, ["design", "--frequency", "2Hz", "--stroke", "13mm", "--length", "120mm",
-                                  "--width", "40.4mm", "--radius", "5mm", "--verify", "--json"])
+                                  "--width", "40.4mm", "--sphere-radius", "5mm", "--verify", "--json"])
     assert r.exit_code == 0, r.output
     v = json.loads(r.stdout)["verify"]
     spec = seen["spec"]
     assert spec.base.n_particles == 36 and spec.base.drive.stroke == pytest.approx(0.013)
     assert len(v["strokes_m"]) == 4 and v["eta_star_mean"] == [0.8] * 4
     assert v["eta_theory"][1] == pytest.approx(th.eta_theory(0.013, 0.03))
+
+
+def test_old_radius_option_still_works_and_warns():
+    args = ["design", "--frequency", "2Hz", "--stroke", "10mm", "--length", "120mm", "--width", "40.4mm", "--json"]
+    r_new = CliRunner().invoke(main, args + ["--sphere-radius", "5mm"])
+    r_old = CliRunner().invoke(main, args + ["--radius", "5mm"])
+    assert r_new.exit_code == r_old.exit_code == 0, r_old.output
+    assert json.loads(r_old.stdout) == json.loads(r_new.stdout)
+    assert "--radius is deprecated; use --sphere-radius" in r_old.stderr
+    missing = CliRunner().invoke(main, args)
+    assert missing.exit_code != 0 and "missing --sphere-radius" in missing.output
+
+
+def test_design_filling_takes_units():
+    import pint
+
+    u = pint.UnitRegistry()
+    si = design_filling(frequency=2.0, stroke=0.01, sphere_radius=0.005, length=0.12, width=0.0404)
+    texts = design_filling(frequency="2Hz", stroke="10mm", sphere_radius="5mm", length="120mm", width="40.4mm")
+    pints = design_filling(frequency=2 * u.Hz, stroke=1 * u.cm, sphere_radius=5 * u.mm, length=12 * u.cm,
+                           width=40.4 * u.mm, density=7.9 * u.g / u.cm**3)
+    assert si.to_dict() == texts.to_dict() == pints.to_dict()
+    with pytest.raises(InputError, match="sphere_radius: '5 s' is not a length"):
+        design_filling(frequency=2.0, stroke=0.01, sphere_radius="5 s", length=0.12, width=0.0404)

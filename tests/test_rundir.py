@@ -39,7 +39,7 @@ def synthetic_result(trajectory: bool = True) -> RunResult:
                 "position": rng.random((k, 4, 3)), "velocity": rng.random((k, 4, 3)), "spin": rng.random((k, 4, 3)),
                 "radius": np.full(4, 0.005)}
     return RunResult(case=case, signals=signals, energy=energy, analysis=analyse_signals(case, signals), trajectory=traj,
-                     steps=12345, time_step=2e-6, wall_time_s=0.25, neighbour_search="direct")
+                     steps=12345, time_step_s=2e-6, wall_time_s=0.25, neighbour_search="direct")
 
 
 def test_files_and_headers_carry_units(tmp_path):

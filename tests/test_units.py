@@ -124,3 +124,53 @@ def test_common_units_do_not_import_pint():
             "print('pint' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+# --- the Python API's conversion: to_si and the quantities decorator (issue 17, part 4) ---
+
+import numpy as np  # noqa: E402
+import pint  # noqa: E402
+
+from pdamper.units import quantities, to_si  # noqa: E402
+
+U = pint.UnitRegistry()
+
+
+def test_parse_quantity_takes_pint_quantities():
+    assert parse_quantity(13 * U.mm, "length") == 0.013
+    assert parse_quantity(3 * U.deg, "angle") == pytest.approx(math.radians(3), rel=1e-14)
+    with pytest.raises(InputError, match="expected one value"):
+        parse_quantity([1, 2] * U.mm, "length")
+    with pytest.raises(InputError, match="'5 kg' is not a length"):
+        parse_quantity(5 * U.kg, "length")
+
+
+def test_to_si_leaves_numbers_and_arrays_as_they_are():
+    a = np.array([0.1, 0.2])
+    for v in (0.12, 3, a, None, np.float64(0.5)):
+        assert to_si(v, "length") is v
+
+
+def test_to_si_texts_quantities_and_lists():
+    assert to_si("120mm", "length") == 0.12
+    assert to_si(120 * U.mm, "length") == 0.12
+    np.testing.assert_array_equal(to_si([1.0, 2.0] * U.s, "time"), [1.0, 2.0])
+    assert to_si(("5mm", 0.01), "length") == (0.005, 0.01)
+    assert to_si("1.1 kN/m", None, unit="N/m") == 1100.0
+    assert to_si(2 * U.kN / U.m, None, unit="N/m") == 2000.0
+    with pytest.raises(InputError, match=r"k: '2 kg' is not in N/m.*e\.g\. '1 N/m'"):
+        to_si("2 kg", None, unit="N/m", name="k")
+
+
+def test_quantities_decorator():
+    @quantities(x="length", f="frequency")
+    def g(x, *, f=1.0):
+        return x * f
+
+    assert g("2mm", f="3Hz") == g(0.002, f=3.0) == pytest.approx(0.006)
+    assert g(2 * U.mm, f=3 * U.Hz) == pytest.approx(0.006)
+    assert g.__quantities__ == {"x": "length", "f": "frequency"}
+    with pytest.raises(InputError, match="x: '2 s' is not a length"):
+        g("2 s")
+    with pytest.raises(TypeError, match="has no argument"):
+        quantities(y="length")(lambda x: x)

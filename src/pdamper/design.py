@@ -24,6 +24,7 @@ from .errors import InputError
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .theory.bounds import TILT_MARGIN  # the margin `pdamper theory` uses
+from .units import quantities
 
 __all__ = ["Design", "design_filling", "TILT_MARGIN", "MIN_ROWS", "MARGINAL"]
 
@@ -71,6 +72,8 @@ class Design:
         return asdict(self)
 
 
+@quantities(frequency="frequency", stroke="length", sphere_radius="length", length="length", width="length",
+            container_radius="length", tilt="angle", density="density", gravity="acceleration")
 def design_filling(*, frequency: float, stroke: float, sphere_radius: float, shape: str = "cuboid",
                    length: float | None = None, width: float | None = None,
                    container_radius: float | None = None, max_particles: int | None = None,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .schema import param
+from .schema import convert_fields, param
 
 __all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure"]
 
@@ -38,6 +38,7 @@ class HarmonicDrive:
     kind: str = param("harmonic", kind="tag")
 
     def __post_init__(self):
+        convert_fields(self, "drive")
         if not (self.stroke > 0 and math.isfinite(self.stroke)):
             raise InputError(f"drive.stroke = {self.stroke!r} m; must be > 0 (e.g. '12mm')")
         if not (self.frequency > 0 and math.isfinite(self.frequency)):
@@ -103,6 +104,7 @@ class SampledDrive:
     kind: str = param("samples", kind="tag")
 
     def __post_init__(self):
+        convert_fields(self, "drive")
         t = np.asarray(self.time, dtype=float)
         x = np.asarray(self.position, dtype=float)
         if t.ndim != 1 or t.size < 4 or x.shape != t.shape:
@@ -157,6 +159,7 @@ class Still:
     kind: str = param("still", kind="tag")
 
     def __post_init__(self):
+        convert_fields(self, "drive")
         if not (self.duration_s > 0 and math.isfinite(self.duration_s)):
             raise InputError(f"drive.duration = {self.duration_s!r} s; must be > 0")
 
@@ -218,6 +221,7 @@ class CoupledStructure:
     kind: str = param("structure", kind="tag")
 
     def __post_init__(self):
+        convert_fields(self, "structure")
         for name, unit, ex in (("mass", "kg", "'7kg'"), ("stiffness", "N/m", "1105 (N/m)")):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):

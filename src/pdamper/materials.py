@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .errors import InputError
-from .schema import param
+from .schema import convert_fields, param
 
 __all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "effective_modulus", "LIBRARY"]
 
@@ -35,6 +35,7 @@ class Material:
     density: float = param(dimension="density", paper="steel 7900 kg/m^3")
 
     def __post_init__(self):
+        convert_fields(self, "material")
         if not (self.youngs_modulus > 0):
             raise InputError(f"material {self.name!r}: youngs_modulus = {self.youngs_modulus!r} Pa; must be > 0 (steel: 208e9)")
         if not (-1.0 < self.poisson_ratio < 0.5):

@@ -20,7 +20,8 @@ from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
 from .materials import PVC, STEEL_S235, Material
-from .schema import check_choice, param
+from .units import is_quantity, quantities, to_si
+from .schema import check_choice, convert_fields, param
 
 __all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case",
            "PAPER_TILT", "with_stroke"]
@@ -51,6 +52,7 @@ class ParticleSet:
     material: Material = param(STEEL_S235, kind="custom")
 
     def __post_init__(self):
+        convert_fields(self, "particles")
         if isinstance(self.count, bool) or not isinstance(self.count, int) or self.count < 1:
             raise InputError(f"particles.count = {self.count!r}; must be a whole number >= 1")
         _positive(self, "radius", "> 0 m (paper: 5 mm)")
@@ -80,7 +82,13 @@ class Container:
     mass: float = param(0.0, dimension="mass")
 
     def __post_init__(self):
-        t = tuple(float(a) for a in self.tilt)
+        convert_fields(self, "container")
+        tilt = self.tilt
+        if isinstance(tilt, str) or is_quantity(tilt) and tilt.ndim == 0:
+            raise InputError(f"container.tilt = {tilt!r}; give three angles about x, y, z, e.g. "
+                             "('0.1deg', '0.1deg', '0.1deg')")
+        tilt = to_si(list(tilt), "angle", name="container.tilt")
+        t = tuple(float(a) for a in tilt)
         if len(t) != 3 or any(not math.isfinite(a) or abs(a) >= math.pi / 4 for a in t):
             raise InputError(f"container.tilt = {self.tilt!r}; give three angles about x, y, z, each below 45 deg")
         object.__setattr__(self, "tilt", t)
@@ -117,6 +125,7 @@ class ContactModel:
     pair_restitution: dict = param(default_factory=dict, kind="custom")
 
     def __post_init__(self):
+        convert_fields(self, "contact")
         for mu in [self.friction, *self.pair_friction.values()]:
             if not (isinstance(mu, (int, float)) and mu >= 0 and math.isfinite(mu)):
                 raise InputError(f"contact.friction = {mu!r}; a friction coefficient must be >= 0 (paper: 0.1)")
@@ -166,6 +175,7 @@ class Numerics:
     overlap_limit: float = 0.05
 
     def __post_init__(self):
+        convert_fields(self, "numerics")
         check_choice(self, "integrator", "numerics")
         check_choice(self, "neighbour_search", "numerics")
         if self.time_step is not None:
@@ -198,6 +208,7 @@ class Recording:
     trajectory_fps: float = param(0.0, dimension="frequency")
 
     def __post_init__(self):
+        convert_fields(self, "recording")
         _positive(self, "sample_rate", "> 0 Hz (default 1000)")
         if not (self.trajectory_fps >= 0 and math.isfinite(self.trajectory_fps)):
             raise InputError(f"recording.trajectory_fps = {self.trajectory_fps!r}; must be >= 0")
@@ -236,6 +247,7 @@ class InitialState:
     spins: tuple | None = param(None, kind="rows", dimension="frequency", example="'10rad/s'")
 
     def __post_init__(self):
+        convert_fields(self, "initial")
         check_choice(self, "arrangement", "initial")
         if not (self.jitter >= 0 and math.isfinite(self.jitter)):
             raise InputError(f"initial.jitter = {self.jitter!r} m; must be >= 0")
@@ -265,6 +277,7 @@ class Case:
     gravity: float = param(9.81, dimension="acceleration")
 
     def __post_init__(self):
+        convert_fields(self, "run")
         ps = self.particles
         if isinstance(ps, ParticleSet):
             ps = (ps,)
@@ -309,8 +322,9 @@ class Case:
         return self.drive.duration(self.cycles)
 
 
+@quantities(stroke="length")
 def with_stroke(case: Case, stroke: float) -> Case:
-    """The same case at another stroke X [m] (harmonic drives only)."""
+    """The same case at another stroke X [m] (harmonic drives only; ``"12mm"`` works too)."""
     if not isinstance(case.drive, HarmonicDrive):
         raise InputError("a stroke can only be set on a harmonic drive")
     return dataclasses.replace(case, drive=dataclasses.replace(case.drive, stroke=stroke))

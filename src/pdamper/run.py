@@ -11,6 +11,7 @@ from __future__ import annotations
 from ._repr import short_repr
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 from .errors import InputError
@@ -49,8 +50,9 @@ class RunResult:
     extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
         the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
         ``rejected_steps``.
-    steps : time steps taken; time_step : the step [s] (Verlet) or the mean accepted step (Gear);
-    wall_time_s : run time [s].
+    steps : time steps taken; time_step_s : the step [s] (Verlet) or the mean accepted step (Gear);
+    wall_time_s : run time [s]. Numbers on a result carry their unit in the name, as in
+    :meth:`summary` (docs/names.md); ``energy_per_cycle`` and ``time_step`` are the old names.
     """
 
     case: Case
@@ -59,7 +61,7 @@ class RunResult:
     analysis: object = None
     trajectory: dict | None = None
     steps: int = 0
-    time_step: float = 0.0
+    time_step_s: float = 0.0
     wall_time_s: float = 0.0
     neighbour_search: str = ""
     extras: dict = field(default_factory=dict)
@@ -77,16 +79,28 @@ class RunResult:
         return self.extras.get("mode")
 
     @property
-    def energy_per_cycle(self) -> float:
+    def energy_per_cycle_J(self) -> float:
         """Dissipated energy per cycle [J] (eq. 4)."""
         return float(self.analysis.energy_per_cycle_J) if self.analysis is not None else math.nan
+
+    @property
+    def energy_per_cycle(self) -> float:
+        """Deprecated: the old name of :attr:`energy_per_cycle_J`."""
+        _renamed("energy_per_cycle", "energy_per_cycle_J")
+        return self.energy_per_cycle_J
+
+    @property
+    def time_step(self) -> float:
+        """Deprecated: the old name of :attr:`time_step_s`."""
+        _renamed("time_step", "time_step_s")
+        return self.time_step_s
 
     def summary(self) -> dict:
         """Plain dict for JSON output."""
         a = self.analysis
         return {
             "eta_star": self.eta_star,
-            "energy_per_cycle_J": self.energy_per_cycle,
+            "energy_per_cycle_J": self.energy_per_cycle_J,
             "mean_power_check_J": float(a.mean_power_check_J) if a is not None else math.nan,
             "ledger_dissipated_per_cycle_J": self.energy.dissipated_per_cycle(self.case),
             "energy_balance_error": self.energy.balance_error(),
@@ -95,13 +109,18 @@ class RunResult:
             "particles": self.case.n_particles,
             "bed_mass_kg": self.case.bed_mass,
             "steps": self.steps,
-            "time_step_s": self.time_step,
+            "time_step_s": self.time_step_s,
             "wall_time_s": self.wall_time_s,
             "us_per_step": 1e6 * self.wall_time_s / max(self.steps, 1),
             "integrator": self.case.numerics.integrator,
             "neighbour_search": self.neighbour_search,
             **self.extras,
         }
+
+
+def _renamed(old: str, new: str) -> None:
+    warnings.warn(f"RunResult.{old} is deprecated; use RunResult.{new} (same value; docs/names.md)",
+                  DeprecationWarning, stacklevel=3)
 
 
 def analyse_signals(case: Case, signals):
@@ -195,7 +214,7 @@ def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True,
     if not case.recording.trajectory_fps:
         trajectory = None  # recorded only to classify the motion mode
     return RunResult(case=case, signals=record.signals, energy=record.energy, analysis=analysis, trajectory=trajectory,
-                     steps=record.steps, time_step=record.time_step, wall_time_s=record.wall_time_s,
+                     steps=record.steps, time_step_s=record.time_step, wall_time_s=record.wall_time_s,
                      neighbour_search=record.neighbour_search, extras=extras, structure=record.structure,
                      recorded={r.name: out[r.name] for r in recorders})
 

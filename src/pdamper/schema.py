@@ -12,7 +12,12 @@ a written key at once, with the same error messages as every other key. Fields w
 structured (a material, a restitution law, the container's geometry) say ``kind="custom"`` and
 are read by the section's own code in :mod:`pdamper.config`.
 
-This module sits at the bottom of the layers: it imports only :mod:`pdamper.errors`.
+The same specs let the Python API take units: :func:`convert_fields`, called first in each
+dataclass's ``__post_init__``, turns ``Cuboid(length="120mm")`` or a pint quantity into SI floats
+and leaves plain numbers untouched.
+
+This module sits at the bottom of the layers: it imports only :mod:`pdamper.errors` and
+:mod:`pdamper.units`.
 """
 
 from __future__ import annotations
@@ -22,8 +27,9 @@ import difflib
 from dataclasses import MISSING, dataclass
 
 from .errors import InputError
+from .units import _needs_conversion, to_si
 
-__all__ = ["Spec", "param", "spec_of", "plain_fields", "config_keys", "check_choice"]
+__all__ = ["Spec", "param", "spec_of", "plain_fields", "config_keys", "check_choice", "convert_fields"]
 
 #: Kinds of field value: a real number, a whole number, a text, a list of numbers, a list of
 #: [x, y, z] rows, a constant type tag (``kind`` / ``shape``, written but not read as a value),
@@ -103,3 +109,25 @@ def check_choice(obj, name: str, section: str) -> None:
     hint = f"did you mean {near[0]!r}? " if near else ""
     listed = ", ".join(repr(c) for c in choices[:-1]) + f" or {choices[-1]!r}" if len(choices) > 1 else repr(choices[0])
     raise InputError(f"{section}.{name} = {v!r}; {hint}choose {listed}")
+
+
+def convert_fields(obj, section: str) -> None:
+    """Convert the fields of the (frozen) dataclass ``obj`` given as unit texts or pint quantities to
+    SI floats, as their specs say (``"120mm"`` -> 0.12 for a length); called first in
+    ``__post_init__``. Numbers, arrays and None are left as they are (the same objects), so a
+    case built from SI floats is exactly the case it was before. Fields with a ``dimension``,
+    a ``unit`` or a plain number kind are converted; ``section`` names the field in messages
+    (``"container.length"``)."""
+    for f in dataclasses.fields(obj):
+        v = getattr(obj, f.name)
+        if not _needs_conversion(v):
+            continue
+        s = spec_of(f)
+        if s.kind not in ("number", "list", "rows"):
+            continue
+        name = f"{section}.{s.key or f.name}"
+        if s.dimension is None and s.unit is not None:
+            new = to_si(v, None, unit=s.unit, name=name)
+        else:
+            new = to_si(v, s.dimension or "dimensionless", name=name)
+        object.__setattr__(obj, f.name, new)

@@ -19,6 +19,11 @@ Common units (``mm``, ``Hz``, ``deg``, ``g``, ``GPa``, ``kg/m^3``, ``mm/s`` ...)
 from a small table; anything else (``"120/min"``, ``"2 inch"``, ``"0.5 g_0"``) goes to
 :mod:`pint`, which is imported only then (it takes about half a second). The table agrees
 with pint (tested).
+
+The Python API takes the same inputs: every parameter object converts its fields in
+``__post_init__`` (:func:`pdamper.schema.convert_fields`) and every public function declares
+the dimension of its arguments with :func:`quantities`; both go through :func:`to_si`, which
+also takes pint quantities (of any unit registry) and leaves plain numbers untouched.
 """
 
 from __future__ import annotations
@@ -30,7 +35,7 @@ import re
 
 from .errors import InputError
 
-__all__ = ["parse_quantity", "unit_factor", "DIMENSIONS"]
+__all__ = ["parse_quantity", "to_si", "quantities", "is_quantity", "unit_factor", "DIMENSIONS"]
 
 #: Dimension names accepted by :func:`parse_quantity`, with their SI unit.
 DIMENSIONS = {
@@ -118,8 +123,8 @@ def _round(x: float) -> float:
 def parse_quantity(value, dimension: str, *, name: str = "value") -> float:
     """Return ``value`` in SI units of ``dimension`` as a float.
 
-    ``value`` is a number (taken as SI, returned unchanged) or a string such as
-    ``"120mm"``, ``"2 Hz"``, ``"3deg"``, ``"0.5 m/s^2"``; converted values are rounded
+    ``value`` is a number (taken as SI, returned unchanged), a string such as
+    ``"120mm"``, ``"2 Hz"``, ``"3deg"``, ``"0.5 m/s^2"`` or a pint quantity; converted values are rounded
     to 15 significant digits. ``dimension`` is a key of :data:`DIMENSIONS`. ``name``
     is used in error messages (e.g. ``"--length"``). Raises
     :class:`~pdamper.errors.InputError` with a one-line message for anything else.
@@ -140,6 +145,10 @@ def parse_quantity(value, dimension: str, *, name: str = "value") -> float:
                          f"got {value!r}")
     if isinstance(value, numbers.Real):
         out = float(value)
+    elif is_quantity(value):
+        out = _quantity_to_si(value, dimension, None, name)
+        if not isinstance(out, float):
+            raise InputError(f"{name}: expected one value, got an array {_shown(value)!r}")
     else:
         text = str(value).strip()
         if not text:
@@ -180,35 +189,172 @@ def _convert_pint(text: str, shown: str, dimension: str, name: str) -> float:
         # No unit at all ("1/2", "2*3"): a plain number, SI.
         magnitude = q if isinstance(q, numbers.Real) else q.magnitude
         return float(magnitude)
+    return float(_from_quantity(q, shown, dimension, name))
+
+
+def _from_quantity(q, shown: str, dimension: str, name: str):
+    """A pint quantity (of any registry; scalar or array) -> its SI magnitude in ``dimension``."""
     unit = f"{q.units:~}" or str(q.units)
-    root = ureg.get_root_units(q.units)[1]
-    is_angle = root == ureg.radian
-    has_angle = "radian" in str(root)
+    root = str(q.to_root_units().units)
+    is_angle = root == "radian"
+    has_angle = "radian" in root
     if dimension == "angle":
-        if is_angle:
-            return float(q.to("radian").magnitude)
+        if is_angle or not list(q.unit_items()):
+            return q.to("radian").magnitude
         raise InputError(f"{name}: {shown!r} is not an angle (its unit is {unit}); use an angle "
                          f"unit such as {_example(dimension)} (a bare number is radians)")
     if dimension == "dimensionless":
         if q.dimensionless and not has_angle:
-            return float(q.to("").magnitude)
+            return q.to("").magnitude
         raise InputError(f"{name}: {shown!r} is not a pure number (its unit is {unit}); "
                          f"give a number such as {_example(dimension)}")
     if q.dimensionless:
         raise InputError(
-            f"{name}: {shown!r} is not {_a(dimension)}: {unit} has no physical dimension; "
-            f"use a unit such as {_example(dimension)} (a bare number is taken in "
+            f"{name}: {shown!r} is not {_a(dimension)}: {unit or 'a bare quantity'} has no physical "
+            f"dimension; use a unit such as {_example(dimension)} (a bare number is taken in "
             f"{_si(dimension)})")
     if has_angle and dimension != "frequency":
         # "frequency" [1/s] also reads angular velocities (spins in rad/s, radian taken as 1).
         raise InputError(f"{name}: {shown!r} is not {_a(dimension)} (its unit {unit} contains "
                          f"an angle); use a unit such as {_example(dimension)}")
     try:
-        return float(q.to(DIMENSIONS[dimension]).magnitude)
+        return q.to(DIMENSIONS[dimension]).magnitude
     except Exception:
         raise InputError(
             f"{name}: {shown!r} is not {_a(dimension)} (its unit is {unit}); "
             f"use a unit such as {_example(dimension)}") from None
+
+
+def is_quantity(value) -> bool:
+    """True for a pint quantity (of any unit registry); pint itself is not imported."""
+    return hasattr(value, "dimensionality") and hasattr(value, "magnitude") and hasattr(value, "to")
+
+
+def _needs_conversion(value) -> bool:
+    """True for what :func:`to_si` converts: a text, a pint quantity, or a list/tuple holding one."""
+    if isinstance(value, str) or is_quantity(value):
+        return True
+    if isinstance(value, (list, tuple)):
+        return any(_needs_conversion(v) for v in value)
+    return False
+
+
+def _shown(q) -> str:
+    try:
+        return f"{q:~}"
+    except Exception:  # pragma: no cover - a quantity that cannot format itself
+        return str(q)
+
+
+def _quantity_to_si(q, dimension: str | None, unit: str | None, name: str):
+    """A pint quantity -> SI float (rounded like a unit text) or float array (not rounded)."""
+    if unit is not None:
+        try:
+            out = q.to(unit).magnitude
+        except Exception:
+            raise InputError(f"{name}: {_shown(q)!r} is not in {unit} or a unit convertible to it; "
+                             f"give e.g. '1 {unit}' or a bare number in {unit}") from None
+    else:
+        out = _from_quantity(q, _shown(q), dimension, name)
+    if isinstance(out, numbers.Real):
+        out = _round(float(out))
+        if not math.isfinite(out):
+            raise InputError(f"{name}: {_shown(q)!r} is not a finite number")
+        return out
+    import numpy as np
+
+    return np.asarray(out, dtype=float)  # arrays (records) are not rounded: a quantity in SI stays bit for bit
+
+
+def _text_to_unit(text: str, unit: str, name: str) -> float:
+    """A text in a unit that is not one of :data:`DIMENSIONS` (``"1.1 kN/m"`` for N/m)."""
+    try:
+        return float(text)
+    except ValueError:
+        pass
+    try:
+        q = _registry().Quantity(text.replace("µ", "u").replace("μ", "u"))
+    except Exception:
+        raise InputError(f"{name}: cannot read {text!r}; give a number in {unit} or a number with a unit "
+                         f"such as '1 {unit}'") from None
+    if isinstance(q, numbers.Real):
+        return float(q)
+    return _quantity_to_si(q, None, unit, name)
+
+
+def to_si(value, dimension: str | None = "dimensionless", *, unit: str | None = None, name: str = "value"):
+    """``value`` in SI: what every public function and parameter object does with its inputs.
+
+    - a number, a numpy array, None or anything else that is not a text nor a pint quantity is
+      returned *unchanged* (the same object: plain SI floats are never touched);
+    - a text (``"120mm"``, ``"2 Hz"``) goes through :func:`parse_quantity`;
+    - a pint quantity (scalar or array, any unit registry) is converted to the SI unit of
+      ``dimension`` (a float, or a float array), checked like a text;
+    - a list or tuple holding texts or quantities is converted entry by entry (same type back).
+
+    ``unit`` instead of ``dimension`` names the SI unit of a quantity without a dimension name
+    (``"N/m"``, ``"s/m"``). Raises :class:`~pdamper.errors.InputError` naming ``name``, what was
+    expected and an example.
+
+    >>> to_si("120mm", "length", name="length")
+    0.12
+    >>> to_si(0.12, "length") is not None
+    True
+    >>> to_si(["5mm", 0.01], "length")
+    [0.005, 0.01]
+    """
+    if isinstance(value, str):
+        if unit is not None:
+            return _text_to_unit(value.strip(), unit, name)
+        return parse_quantity(value, dimension, name=name)
+    if is_quantity(value):
+        return _quantity_to_si(value, dimension, unit, name)
+    if isinstance(value, (list, tuple)) and _needs_conversion(value):
+        return type(value)(to_si(v, dimension, unit=unit, name=f"{name}[{i}]") for i, v in enumerate(value))
+    return value
+
+
+def quantities(**dimensions):
+    """Decorator: the named arguments of a function accept unit texts and pint quantities.
+
+    ``dimensions`` maps an argument's name to a key of :data:`DIMENSIONS` (``stroke="length"``)
+    or to an SI unit (``stiffness="N/m"``). Each such argument goes through :func:`to_si`
+    before the function sees it; numbers and arrays are passed on as they are (a call with SI
+    floats only costs one quick look at its arguments). The mapping is kept on the wrapper as
+    ``__quantities__``.
+
+    >>> @quantities(stroke="length")
+    ... def twice(stroke):
+    ...     return 2 * stroke
+    >>> twice("6mm")
+    0.012
+    """
+    def decorate(func):
+        import inspect
+
+        sig = inspect.signature(func)
+        unknown = set(dimensions) - set(sig.parameters)
+        if unknown:  # a programming error, caught when the module is imported
+            raise TypeError(f"{func.__qualname__} has no argument(s) {sorted(unknown)}")
+
+        @functools.wraps(func)
+        def wrapper(*args, **kwargs):
+            if not any(map(_needs_conversion, args)) and not any(map(_needs_conversion, kwargs.values())):
+                return func(*args, **kwargs)
+            bound = sig.bind(*args, **kwargs)
+            for key, dim in dimensions.items():
+                if key in bound.arguments:
+                    v = bound.arguments[key]
+                    if dim in DIMENSIONS:
+                        bound.arguments[key] = to_si(v, dim, name=key)
+                    else:
+                        bound.arguments[key] = to_si(v, None, unit=dim, name=key)
+            return func(*bound.args, **bound.kwargs)
+
+        wrapper.__quantities__ = dict(dimensions)
+        return wrapper
+
+    return decorate
 
 
 def unit_factor(unit: str, dimension: str, *, name: str = "unit") -> float:

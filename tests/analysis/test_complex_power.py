@@ -36,7 +36,7 @@ def viscous_energy(c, f, X):
 
 
 def apparent(r: PowerResult) -> float:
-    return np.pi * r.force_amplitude_N * r.velocity_amplitude_m_s / r.angular_frequency
+    return np.pi * r.force_amplitude_N * r.velocity_amplitude_m_s / r.angular_frequency_rad_s
 
 
 # --------------------------------------------------------------------------- closed forms
@@ -413,7 +413,7 @@ def test_too_few_cycles_says_how_many_and_suggests_drop_cycles():
     (dict(frequency=0.0), "positive"),
     (dict(frequency=-2.0), "positive"),
     (dict(frequency=float("nan")), "positive"),
-    (dict(frequency="2Hz"), "number in Hz"),
+    (dict(frequency="2mm"), "is not a frequency"),
     (dict(bed_mass=0.0), "bed mass must be positive"),
     (dict(bed_mass=-1.0), "bed mass must be positive"),
     (dict(drop_cycles=-1), "0 or more"),
@@ -447,3 +447,15 @@ def test_docstring_examples_run():
 def test_input_error_is_a_value_error():
     with pytest.raises(ValueError):
         complex_power([0, 1], [0, 1], [0, 1])
+
+
+def test_records_and_arguments_with_units():
+    import pint
+
+    u = pint.UnitRegistry()
+    t, F, v = _record()
+    si = complex_power(t, F, v, frequency=2.0, bed_mass=0.149)
+    q = complex_power(t * u.s, F * u.N, v * u.m / u.s, frequency="2Hz", bed_mass=149 * u.g)
+    assert q.energy_per_cycle_J == si.energy_per_cycle_J and q.eta_star == si.eta_star
+    with pytest.raises(InputError, match="force: .* is not a force"):
+        complex_power(t, F * u.m, v, frequency=2.0)

@@ -103,9 +103,9 @@ BAD = {
         ([], "Missing argument 'CONFIG.toml'"),
     ],
     "design": [
-        (["--frequency", "2Hz", "--stroke", "10kg", "--radius", "5mm"], "'10kg' is not a length"),
-        (["--stroke", "10mm", "--radius", "5mm"], "Missing option '--frequency'"),
-        (["--frequency", "2Hz", "--stroke", "10mm", "--radius", "5mm", "--shape", "sphere"], "sphere"),
+        (["--frequency", "2Hz", "--stroke", "10kg", "--sphere-radius", "5mm"], "'10kg' is not a length"),
+        (["--stroke", "10mm", "--sphere-radius", "5mm"], "Missing option '--frequency'"),
+        (["--frequency", "2Hz", "--stroke", "10mm", "--sphere-radius", "5mm", "--shape", "sphere"], "sphere"),
     ],
 }
 

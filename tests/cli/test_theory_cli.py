@@ -44,24 +44,25 @@ def test_json_keys_and_values_for_the_paper_cuboid():
 
 def test_without_tilt_or_mass_the_optional_keys_are_absent():
     out = run_json(BASE)
-    assert "min_accel_tilt_m_s2" not in out and "energy_per_cycle_at_x_opt_j" not in out
+    assert "min_accel_tilt_m_s2" not in out and "energy_per_cycle_at_x_opt_J" not in out
     assert out["warnings"] == []
 
 
 def test_bed_mass_gives_energies_and_stroke_gives_the_operating_point():
     out = run_json(BASE + ["--bed-mass", "149g", "--stroke", "15mm"])
     v_opt = out["x_opt_m"] * 4 * math.pi
-    assert out["energy_per_cycle_at_x_opt_j"] == pytest.approx(20 / 7 * 0.149 * v_opt**2)
+    assert out["energy_per_cycle_at_x_opt_J"] == pytest.approx(20 / 7 * 0.149 * v_opt**2)
     assert out["regime"] == "rolling collect-and-collide"
     assert out["eta_at_stroke"] == pytest.approx(theory.eta_rolling(0.015, 0.03))
-    assert out["energy_per_cycle_at_stroke_j"] == pytest.approx(
+    assert out["energy_per_cycle_at_stroke_j"] == out["energy_per_cycle_at_stroke_J"]  # old key kept
+    assert out["energy_per_cycle_at_stroke_J"] == pytest.approx(
         theory.energy_per_cycle_rolling(0.015, 0.03, frequency=2.0, bed_mass=0.149))
     low = run_json(BASE + ["--stroke", "5mm"])
     assert low["regime"] == "scattered" and low["eta_rolling_at_stroke"] is None
 
 
 def test_cylinder_uses_l_equal_2r():
-    out = run_json(["theory", "--shape", "cylinder", "--radius", "39mm", "--particles", "42",
+    out = run_json(["theory", "--shape", "cylinder", "--container-radius", "39mm", "--particles", "42",
                     "--max-particles", "48", "--frequency", "2Hz"])
     assert out["length_m"] == pytest.approx(0.078)
     assert out["clearance_m"] == pytest.approx(0.00975)
@@ -99,7 +100,7 @@ def test_plot_files_are_written(tmp_path):
 def test_fig5_at_x_opt_for_any_filling(tmp_path, particles):
     # X_opt/h recomputed from X_opt and h may fall an ulp below X_OPT_OVER_H (42 in a cylinder).
     fig5 = tmp_path / "fig5.png"
-    for shape in (["--length", "120mm"], ["--shape", "cylinder", "--radius", "39mm"]):
+    for shape in (["--length", "120mm"], ["--shape", "cylinder", "--container-radius", "39mm"]):
         result = run(["theory", *shape, "--particles", particles, "--max-particles", "48",
                       "--frequency", "2Hz", "--fig5", str(fig5)])
         assert result.exit_code == 0, result.output
@@ -128,8 +129,8 @@ OPTS = ["--max-particles", "48", "--frequency", "2Hz"]
     ["--length", "120mm", "--particles", "36", *OPTS, "--plot", "eta.xyz"],
     ["--length", "120mm", "--particles", "36", *OPTS, "--plot", "/no/such/dir/eta.png"],
     ["--shape", "cylinder", "--particles", "36", *OPTS],
-    ["--shape", "cylinder", "--radius", "39mm", "--length", "120mm", "--particles", "36", *OPTS],
-    ["--radius", "39mm", "--particles", "36", *OPTS],
+    ["--shape", "cylinder", "--container-radius", "39mm", "--length", "120mm", "--particles", "36", *OPTS],
+    ["--container-radius", "39mm", "--particles", "36", *OPTS],
     ["--particles", "36", *OPTS],
 ])
 def test_bad_input_is_one_error_line_with_exit_code_2(args):
@@ -152,3 +153,17 @@ def test_unreadable_options_give_exit_code_2_and_one_error_line(args):
     assert result.exit_code == 2
     assert "Traceback" not in result.output
     assert sum(line.startswith("Error: ") for line in result.stderr.splitlines()) == 1
+
+
+def test_old_radius_option_still_works_and_warns():
+    new = ["theory", "--shape", "cylinder", "--container-radius", "39mm", "--particles", "42", "--max-particles",
+           "48", "--frequency", "2Hz", "--json"]
+    old = [("--radius" if a == "--container-radius" else a) for a in new]
+    r_new, r_old = CliRunner().invoke(main, new), CliRunner().invoke(main, old)
+    assert r_new.exit_code == r_old.exit_code == 0, r_old.output
+    assert json.loads(r_old.stdout) == json.loads(r_new.stdout)
+    assert "--radius is deprecated; use --container-radius" in r_old.stderr
+    assert "deprecated" not in r_new.stderr
+    assert json.loads(r_new.stdout)["container_radius_m"] == pytest.approx(0.039)
+    both = CliRunner().invoke(main, new + ["--radius", "39mm"])
+    assert both.exit_code != 0 and "give --container-radius only" in both.output

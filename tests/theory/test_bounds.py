@@ -39,10 +39,16 @@ def test_velocity_amplitude():
     assert theory.angular_frequency(2.0) == pytest.approx(4 * math.pi)
 
 
-@pytest.mark.parametrize("tilt", [-0.01, math.pi / 2, 2.0, math.nan, "3deg"])
+@pytest.mark.parametrize("tilt", [-0.01, math.pi / 2, 2.0, math.nan, "95deg", "3mm"])
 def test_bad_tilt(tilt):
     with pytest.raises(InputError, match="tilt"):
         theory.min_acceleration_tilt(tilt)
+
+
+def test_tilt_in_degrees():
+    # "3deg" was refused when the theory took SI floats only; now it is 3 degrees
+    assert theory.min_acceleration_tilt("3deg") == pytest.approx(theory.min_acceleration_tilt(math.radians(3)),
+                                                                 rel=1e-14)
 
 
 @pytest.mark.parametrize("call", [

@@ -15,7 +15,7 @@ def test_paper_clearances_for_the_cuboid():
 
 
 def test_cylinder_uses_twice_the_radius():
-    length = container_length("cylinder", radius=0.039)
+    length = container_length("cylinder", container_radius=0.039)
     assert length == pytest.approx(0.078, rel=1e-12)
     # Sect. 6.3: 30 and 42 spheres give about the cuboid's 30 and 10 mm.
     assert clearance(length, 30, 48) == pytest.approx(0.02925, rel=1e-12)
@@ -48,7 +48,7 @@ def test_whole_valued_floats_count_as_particle_numbers():
         ((-0.12, 36, 48), "length = -0.12"),
         ((0.0, 36, 48), "length = 0"),
         ((math.nan, 36, 48), "length = nan"),
-        (("12cm", 36, 48), "length = '12cm'"),
+        (("12kg", 36, 48), "length: '12kg' is not a length"),
     ],
 )
 def test_bad_clearance_inputs_name_the_field_and_value(args, field):
@@ -63,13 +63,20 @@ def test_bad_clearance_inputs_name_the_field_and_value(args, field):
     [
         ({"shape": "sphere", "length": 0.1}, "cuboid, cylinder"),
         ({"shape": "cuboid"}, "length"),
-        ({"shape": "cuboid", "length": 0.1, "radius": 0.04}, "cylinder only"),
-        ({"shape": "cylinder"}, "radius"),
-        ({"shape": "cylinder", "radius": 0.04, "length": 0.1}, "cuboid only"),
-        ({"shape": "cylinder", "radius": -0.04}, "radius = -0.04"),
+        ({"shape": "cuboid", "length": 0.1, "container_radius": 0.04}, "cylinder only"),
+        ({"shape": "cylinder"}, "container_radius"),
+        ({"shape": "cylinder", "container_radius": 0.04, "length": 0.1}, "cuboid only"),
+        ({"shape": "cylinder", "container_radius": -0.04}, "container_radius = -0.04"),
+        ({"shape": "cylinder", "container_radius": "4cm", "radius": 0.04}, "give container_radius only"),
     ],
 )
 def test_bad_container_inputs(kwargs, text):
     with pytest.raises(InputError) as info:
         container_length(**kwargs)
     assert text in str(info.value)
+
+
+def test_old_radius_keyword_still_works_and_warns():
+    with pytest.warns(DeprecationWarning, match="container_radius"):
+        old = container_length("cylinder", radius=0.039)
+    assert old == container_length("cylinder", container_radius=0.039) == container_length("cylinder", None, "39mm")

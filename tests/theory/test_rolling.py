@@ -171,7 +171,7 @@ def test_rolling_law_decreases_with_stroke(h, a, b):
 
 @pytest.mark.parametrize("stroke, h", [(0.0, 0.03), (-0.01, 0.03), (math.inf, 0.03),
                                        ([0.01, math.nan], 0.03), (0.01, 0.0), (0.01, -1.0),
-                                       ("12mm", 0.03)])
+                                       ("12 kg", 0.03), (["12mm", "3 s"], 0.03)])
 def test_bad_inputs_raise_input_error(stroke, h):
     with pytest.raises(InputError):
         theory.eta_rolling(stroke, h)

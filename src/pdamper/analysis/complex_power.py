@@ -88,6 +88,7 @@ from .checks import (_as_1d, _check_bed_mass, _check_drop, _check_finite, _check
                      _check_tolerance, _uniform_grid)
 from .frequency import TIME_TOLERANCE, _detect, detect_frequency
 from .results import PowerResult, Signals
+from ..units import quantities
 
 # The method lives here; the result types (results.py), the input checks (checks.py) and the
 # frequency detection (frequency.py) have their own modules and are re-exported for the names
@@ -121,6 +122,8 @@ _VELOCITY_HARMONICS = 20
 # --------------------------------------------------------------------------- public API
 
 
+@quantities(time="time", force="force", velocity="velocity", frequency="frequency", bed_mass="mass",
+            time_tolerance="dimensionless")
 def complex_power(
     time,
     force,
@@ -185,6 +188,8 @@ def complex_power(
                     time_tolerance=time_tolerance, keep_signals=keep_signals)
 
 
+@quantities(time="time", force="force", position="length", velocity="velocity", acceleration="acceleration",
+            frequency="frequency", bed_mass="mass", time_tolerance="dimensionless")
 def analyze_record(
     time,
     force,

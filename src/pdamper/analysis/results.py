@@ -133,7 +133,7 @@ class PowerResult:
         return 1.0 / self.frequency_hz
 
     @property
-    def angular_frequency(self) -> float:
+    def angular_frequency_rad_s(self) -> float:
         """``Omega = 2 pi f`` [rad/s]."""
         return 2.0 * math.pi * self.frequency_hz
 
@@ -156,13 +156,22 @@ class PowerResult:
         return self.statistics.steady
 
     @property
+    def angular_frequency(self) -> float:
+        """Deprecated: the old name of :attr:`angular_frequency_rad_s`."""
+        import warnings
+
+        warnings.warn("PowerResult.angular_frequency is deprecated; use angular_frequency_rad_s (docs/names.md)",
+                      DeprecationWarning, stacklevel=2)
+        return self.angular_frequency_rad_s
+
+    @property
     def check_relative_difference(self) -> float:
         """``|mean_power_check_J - energy_per_cycle_J|`` relative to the apparent energy per cycle.
 
         The apparent energy ``pi |F*| |V*| / Omega`` is the scale of the
         exchanged energy; a dissipated energy of zero then still gives a finite number.
         """
-        scale = math.pi * self.force_amplitude_N * self.velocity_amplitude_m_s / self.angular_frequency
+        scale = math.pi * self.force_amplitude_N * self.velocity_amplitude_m_s / self.angular_frequency_rad_s
         diff = abs(self.mean_power_check_J - self.energy_per_cycle_J)
         if scale == 0.0:
             return 0.0 if diff == 0.0 else math.inf

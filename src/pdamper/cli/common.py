@@ -25,7 +25,7 @@ from ..io.files import json_safe
 from ..errors import InputError, SimulationError
 from ..units import parse_quantity
 
-__all__ = ["main", "OneLineCommand", "Quantity", "user_errors", "echo_json", "fail"]
+__all__ = ["main", "OneLineCommand", "Quantity", "user_errors", "echo_json", "fail", "renamed"]
 
 # Raised when a group is called without arguments (click >= 8.2): it carries the help text,
 # which must be shown as it is, not squeezed into one error line.
@@ -188,3 +188,14 @@ def column_options(func):
                                 ("acceleration", "Use this column as the acceleration."))):
         wrapper = click.option(f"--{role}-column", metavar="NAME", help=text)(wrapper)
     return wrapper
+
+
+def renamed(new_value, old_value, *, new: str, old: str):
+    """The value of option ``new``, or of its old name ``old`` (hidden) with a one-line warning on
+    stderr; both given is an error. See docs/names.md."""
+    if old_value is None:
+        return new_value
+    if new_value is not None:
+        raise InputError(f"{old} is the old name of {new}; give {new} only")
+    click.echo(f"warning: {old} is deprecated; use {new} (same meaning)", err=True)
+    return old_value

@@ -9,7 +9,7 @@ import tempfile
 
 import click
 
-from .common import Quantity, echo_json, fraction_bar, main, user_errors
+from .common import Quantity, echo_json, fraction_bar, main, renamed, user_errors
 from .run import parse_set
 
 __all__ = ["decay_command", "response_command", "design_command"]
@@ -180,7 +180,8 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
 @click.option("--length", type=Quantity("length"), help="Cuboid: inner length along the motion, e.g. 120mm.")
 @click.option("--width", type=Quantity("length"), help="Cuboid: inner width, e.g. 40.4mm.")
 @click.option("--container-radius", type=Quantity("length"), help="Cylinder: inner radius R, e.g. 39mm.")
-@click.option("--radius", type=Quantity("length"), required=True, help="Sphere radius r, e.g. 5mm.")
+@click.option("--sphere-radius", type=Quantity("length"), help="Sphere radius r, e.g. 5mm (required).")
+@click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --sphere-radius.")
 @click.option("--density", type=Quantity("density"), default=7900.0, show_default=True,
               help="Sphere density [kg/m^3] (steel).")
 @click.option("--max-particles", type=click.IntRange(min=2),
@@ -192,17 +193,22 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes for --verify (default: all cores).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @user_errors
-def design_command(frequency, stroke, shape, length, width, container_radius, radius, density, max_particles, tilt,
-                   verify, verify_cycles, workers, as_json):
+def design_command(frequency, stroke, shape, length, width, container_radius, sphere_radius, radius, density,
+                   max_particles, tilt, verify, verify_cycles, workers, as_json):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
     Inverts eqs. (6), (17): h = X / 0.4075, N_p = N_p,max (1 - h/L), rounded up so that X is at
     or just above X_opt (the largest eta* of the paper's laws). Reports the expected eta*,
     energy per cycle and bed mass, and warns about lift-off, tilt sensitivity and thin beds.
 
-    Example: pdamper design --frequency 2Hz --stroke 10mm --length 120mm --width 40.4mm --radius 5mm
+    Example: pdamper design --frequency 2Hz --stroke 10mm --length 120mm --width 40.4mm --sphere-radius 5mm
     """
     from ..design import design_filling
+    from ..errors import InputError
+
+    radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
+    if radius is None:
+        raise InputError("missing --sphere-radius (the sphere radius r, e.g. 5mm)")
 
     d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius, shape=shape, length=length,
                        width=width, container_radius=container_radius, max_particles=max_particles, tilt=tilt,

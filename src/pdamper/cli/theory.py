@@ -9,7 +9,7 @@ import click
 from .._version import __version__
 from .. import theory as th  # its formulas load on first use (scipy)
 from ..errors import InputError
-from .common import Quantity, echo_json, main, user_errors
+from .common import Quantity, echo_json, main, renamed, user_errors
 
 __all__ = ["theory_command"]
 
@@ -19,8 +19,9 @@ __all__ = ["theory_command"]
               help="Container shape; the cylinder uses L = 2R.")
 @click.option("--length", type=Quantity("length"),
               help="Cuboid: inner length along the drive, e.g. 120mm.")
-@click.option("--radius", type=Quantity("length"),
+@click.option("--container-radius", type=Quantity("length"),
               help="Cylinder: inner radius, e.g. 39mm.")
+@click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --container-radius.")
 @click.option("--particles", type=int, required=True, help="Number of spheres N_p.")
 @click.option("--max-particles", type=int, required=True,
               help="Spheres that cover the floor in one layer, N_p,max.")
@@ -43,12 +44,13 @@ __all__ = ["theory_command"]
               help="Write the paper's Fig. 5 (rolling bed over the phase) at --stroke, "
                    "else at X_opt.")
 @user_errors
-def theory_command(shape, length, radius, particles, max_particles, frequency, tilt, gravity,
+def theory_command(shape, length, container_radius, radius, particles, max_particles, frequency, tilt, gravity,
                    bed_mass, stroke, kappa, as_json, plot, fig5):
     """Clearance, optimal stroke X_opt, eta*_max and the operating bounds (paper Sect. 5).
 
     Example: pdamper theory --length 120mm --particles 36 --max-particles 48 --frequency 2Hz
     """
+    radius = renamed(container_radius, radius, new="--container-radius", old="--radius")
     result = _compute(shape=shape, length=length, radius=radius, particles=particles,
                       max_particles=max_particles, frequency=frequency, tilt=tilt,
                       gravity=gravity, bed_mass=bed_mass, stroke=stroke, kappa=kappa)
@@ -75,12 +77,12 @@ def theory_command(shape, length, radius, particles, max_particles, frequency, t
 def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt, gravity,
              bed_mass, stroke, kappa) -> dict:
     if shape == "cylinder" and (radius is None or length is not None):
-        raise InputError("--shape cylinder takes --radius (inner radius, e.g. 39mm) and no "
+        raise InputError("--shape cylinder takes --container-radius (inner radius, e.g. 39mm) and no "
                          "--length: the clearance uses L = 2R")
     if shape == "cuboid" and (length is None or radius is not None):
         raise InputError("--shape cuboid (the default) takes --length (inner length along the "
-                         "drive, e.g. 120mm) and no --radius; for a cylinder give --shape cylinder")
-    big_l = th.container_length(shape, length=length, radius=radius)
+                         "drive, e.g. 120mm) and no --container-radius; for a cylinder give --shape cylinder")
+    big_l = th.container_length(shape, length=length, container_radius=radius)
     h = th.clearance(big_l, particles, max_particles)
     if h == 0:
         raise InputError(f"particles = {particles} fill the floor (max_particles = "
@@ -93,7 +95,8 @@ def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt
         "version": __version__,
         "shape": shape,
         "length_m": big_l,
-        "radius_m": radius,
+        "container_radius_m": radius,
+        "radius_m": radius,  # deprecated: the old key of container_radius_m
         "particles": particles,
         "max_particles": max_particles,
         "frequency_hz": frequency,
@@ -120,8 +123,9 @@ def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt
             f"the bed lifts off before the optimum and the rolling law does not hold; use a "
             f"frequency below {f_max:.3g} Hz or a smaller clearance (more particles)")
     if bed_mass is not None:
-        out["energy_per_cycle_at_x_opt_j"] = th.energy_per_cycle_rolling(
+        out["energy_per_cycle_at_x_opt_J"] = th.energy_per_cycle_rolling(
             x_opt, h, frequency=frequency, bed_mass=bed_mass)
+        out["energy_per_cycle_at_x_opt_j"] = out["energy_per_cycle_at_x_opt_J"]  # deprecated old key
     if tilt is not None:
         a_min = th.min_acceleration_tilt(tilt, gravity=gravity)
         out["min_accel_tilt_m_s2"] = a_min
@@ -165,7 +169,8 @@ def _at_stroke(stroke, h, frequency, bed_mass, kappa, x_opt) -> dict:
     }
     if bed_mass is not None:
         v = th.velocity_amplitude(stroke, frequency)
-        out["energy_per_cycle_at_stroke_j"] = math.pi * bed_mass * v**2 * eta  # eqs. (4), (5)
+        out["energy_per_cycle_at_stroke_J"] = math.pi * bed_mass * v**2 * eta  # eqs. (4), (5)
+        out["energy_per_cycle_at_stroke_j"] = out["energy_per_cycle_at_stroke_J"]  # deprecated old key
     return out
 
 
@@ -185,8 +190,8 @@ def _table(r: dict) -> str:
          f"A = X Omega^2 = {r['accel_at_x_opt_m_s2'] / r['gravity_m_s2']:.3g} g"),
         ("max stroke, no lift-off", mm(r["max_stroke_no_liftoff_m"]), "A < g"),
     ]
-    if "energy_per_cycle_at_x_opt_j" in r:
-        rows.append(("energy per cycle at X_opt", f"{r['energy_per_cycle_at_x_opt_j']:.4g} J",
+    if "energy_per_cycle_at_x_opt_J" in r:
+        rows.append(("energy per cycle at X_opt", f"{r['energy_per_cycle_at_x_opt_J']:.4g} J",
                      f"eq. (15), m_bed = {r['bed_mass_kg'] * 1e3:.4g} g"))
     rows += [
         ("bouncing X_opt", mm(r["x_opt_bouncing_m"]), "h/pi, block without rolling"),
@@ -208,8 +213,8 @@ def _table(r: dict) -> str:
              else f"eq. (8), kappa = {r['kappa']:g}"),
             ("  eta* bouncing", _num(r["eta_bouncing_at_stroke"]), "for comparison"),
         ]
-        if "energy_per_cycle_at_stroke_j" in r:
-            rows.append(("  energy per cycle", f"{r['energy_per_cycle_at_stroke_j']:.4g} J", ""))
+        if "energy_per_cycle_at_stroke_J" in r:
+            rows.append(("  energy per cycle", f"{r['energy_per_cycle_at_stroke_J']:.4g} J", ""))
     width = max(len(label) for label, _, _ in rows) + 2
     vwidth = max(len(value) for _, value, _ in rows) + 2
     lines = [f"{label:<{width}}{value:<{vwidth}}{note}".rstrip() for label, value, note in rows]

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..schema import convert_fields, param
 
 __all__ = ["ConstantRestitution"]
 
@@ -25,10 +26,11 @@ class ConstantRestitution:
         epsilon [-], in (0, 1].
     """
 
-    value: float = 0.9
+    value: float = param(0.9, dimension="dimensionless")
     kind: str = "constant"
 
     def __post_init__(self):
+        convert_fields(self, "restitution")
         if not (0.0 < self.value <= 1.0):
             raise InputError(f"restitution = {self.value!r}: a coefficient of restitution must be in (0, 1] "
                              "(0.9 is the paper's default; 1 is elastic)")

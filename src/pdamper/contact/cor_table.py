@@ -12,11 +12,12 @@ This module also holds :func:`tabulate_law`, the one representation the kernels 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
+from ..schema import convert_fields, param
 
 __all__ = ["TabulatedRestitution", "SPEED_GRID", "tabulate_law"]
 
@@ -36,11 +37,12 @@ class TabulatedRestitution:
         epsilon at those speeds, each in (0, 1].
     """
 
-    speeds: tuple = field(default=())
-    values: tuple = field(default=())
+    speeds: tuple = param((), kind="list", dimension="velocity")
+    values: tuple = param((), kind="list", dimension="dimensionless")
     kind: str = "table"
 
     def __post_init__(self):
+        convert_fields(self, "restitution")
         s = np.asarray(self.speeds, dtype=float)
         e = np.asarray(self.values, dtype=float)
         if s.ndim != 1 or s.size < 1 or s.shape != e.shape:

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..schema import convert_fields, param
 from ..jit import njit
 
 __all__ = ["ThorntonRestitution", "yield_speed", "thornton_restitution"]
@@ -58,10 +59,11 @@ class ThorntonRestitution:
         p_y [Pa], > 0 (hardened bearing steel ~ 1e9 ... 4e9 Pa; PVC ~ 1e8 Pa).
     """
 
-    yield_pressure: float
+    yield_pressure: float = param(dimension="pressure")
     kind: str = "thornton"
 
     def __post_init__(self):
+        convert_fields(self, "restitution")
         if not (self.yield_pressure > 0 and np.isfinite(self.yield_pressure)):
             raise InputError(f"thornton restitution: yield_pressure = {self.yield_pressure!r} Pa; must be > 0")
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..schema import param
+from ..schema import convert_fields, param
 from .walls import PLANE, plane
 
 __all__ = ["Cuboid"]
@@ -37,6 +37,7 @@ class Cuboid:
     shape: str = param("cuboid", kind="tag")
 
     def __post_init__(self):
+        convert_fields(self, "container")
         for name in ("length", "width", "height"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and np.isfinite(v)):

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..schema import param
+from ..schema import convert_fields, param
 from .walls import CYLINDER_INSIDE, PLANE, cylinder_inside, plane
 
 __all__ = ["Cylinder"]
@@ -35,6 +35,7 @@ class Cylinder:
     shape: str = param("cylinder", kind="tag")
 
     def __post_init__(self):
+        convert_fields(self, "container")
         for name in ("radius", "height"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and np.isfinite(v)):

@@ -149,7 +149,7 @@ def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
             failures.append((str(f), str(exc)))
             continue
         err = r.eta_star_error
-        stroke = entry.get("stroke", r.velocity_amplitude_m_s / r.angular_frequency)
+        stroke = entry.get("stroke", r.velocity_amplitude_m_s / r.angular_frequency_rad_s)
         points.append(MeasuredPoint(file=str(f), stroke_m=float(stroke), frequency_hz=float(r.frequency_hz),
                                     eta_star=float(r.eta_star), eta_star_error=float(err),
                                     energy_per_cycle_J=float(r.energy_per_cycle_J),

@@ -25,6 +25,7 @@ from ..analysis.decay import decay_damping, extrema, harmonic_amplitude
 from ..errors import InputError
 from ..excitation import CoupledStructure
 from ..params import Case
+from ..units import quantities
 
 __all__ = ["DecayResult", "ResponseResult", "run_decay", "run_response", "response_case", "parse_frequencies"]
 
@@ -188,6 +189,7 @@ class ResponseResult:
     summary: dict = field(default_factory=dict)
 
 
+@quantities(frequencies="frequency", force_amplitude="force")
 def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cycles: int = 8,
                  workers: int | None = 1, scheduler: str | None = None, progress: bool | None = None) -> ResponseResult:
     """Frequency response of the structure of ``case`` under ``force_amplitude`` [N] at each of

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..params import Case
-from ..units import parse_quantity
+from ..units import is_quantity, parse_quantity, quantities, to_si
 
 __all__ = ["Axis", "SweepSpec", "stroke_grid", "parse_strokes", "parse_axis", "case_key", "run_one", "run_sweep",
            "open_results", "PAPER_STROKES", "STROKE"]
@@ -35,6 +35,7 @@ STROKE = "drive.stroke"
 SPACINGS = ("log", "linear")
 
 
+@quantities(lo="length", hi="length")
 def stroke_grid(lo: float, hi: float, n: int) -> np.ndarray:
     """``n`` log-spaced strokes [m] from ``lo`` to ``hi`` (the paper: 0.5 mm, 50 mm, 40)."""
     if not (0 < lo <= hi) or not (isinstance(n, (int, np.integer)) and n >= 1):
@@ -80,7 +81,15 @@ class Axis:
         from ..config import key_spec
 
         spec = key_spec(self.key)  # raises for an unknown key, with a suggestion
-        vals = tuple(np.atleast_1d(np.asarray(self.values, dtype=object)).tolist())
+        values = self.values
+        if spec.kind != "text" and (spec.dimension is not None or spec.kind == "number"):
+            # "12mm", ["5mm", "12mm"] or a pint quantity: SI floats (numbers stay as they are)
+            if isinstance(values, str) or is_quantity(values) and np.ndim(values) == 0:
+                values = [values]
+            elif isinstance(values, (list, tuple)):
+                values = list(values)
+            values = to_si(values, spec.dimension or "dimensionless", name=f"axis {self.key}")
+        vals = tuple(np.atleast_1d(np.asarray(values, dtype=object)).tolist())
         if not vals:
             raise InputError(f"--vary {self.key}: give at least one value")
         if spec.kind == "whole":
@@ -203,7 +212,12 @@ class SweepSpec:
     def __post_init__(self):
         axes = list(self.axes)
         if self.strokes is not None:
-            strokes = tuple(float(x) for x in np.atleast_1d(self.strokes))
+            given = self.strokes
+            if isinstance(given, str) or is_quantity(given) and np.ndim(given) == 0:
+                given = [given]
+            elif isinstance(given, (list, tuple)):
+                given = list(given)
+            strokes = tuple(float(x) for x in np.atleast_1d(to_si(given, "length", name="strokes")))
             if not strokes or any(not (x > 0 and math.isfinite(x)) for x in strokes):
                 raise InputError(f"sweep strokes must be positive lengths, got {self.strokes!r}")
             if any(a.key == STROKE for a in axes):

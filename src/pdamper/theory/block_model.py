@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from ..units import quantities
 from ._common import positive
 from .bounds import angular_frequency
 
@@ -47,6 +48,7 @@ class BlockImpact:
     eta: float  #: reduced loss factor Ẽ_diss / (π m_bed V²) [-]
 
 
+@quantities(stroke="length", clearance="length", frequency="frequency", bed_mass="mass", particle_radius="length")
 def integrate_rolling_block(stroke: float, clearance: float, *, frequency: float,
                             bed_mass: float = 1.0, particle_radius: float = 5e-3,
                             rtol: float = 1e-11) -> BlockImpact:

@@ -25,6 +25,7 @@ import math
 import numpy as np
 
 from . import bounds
+from ..units import quantities
 from ._common import as_output, positive, positive_array, solve_phase
 
 __all__ = [
@@ -47,6 +48,7 @@ def _gap_slope(th):
     return 2.0 * np.sin(th / 2) ** 2  # 1 - cos θ without cancellation
 
 
+@quantities(stroke="length", clearance="length")
 def impact_phase_bouncing(stroke, clearance):
     """Impact phase θ_i [rad] of the bouncing block, from ``θ_i - sin θ_i = h/X``.
 
@@ -73,6 +75,7 @@ def impact_phase_bouncing(stroke, clearance):
     return as_output(solve_phase(_gap, _gap_slope, h / x), stroke, clearance)
 
 
+@quantities(clearance="length")
 def optimal_stroke_bouncing(clearance):
     """Optimal stroke of the bouncing law X_opt = h/π [m].
 
@@ -83,6 +86,7 @@ def optimal_stroke_bouncing(clearance):
     return as_output(h / math.pi, clearance)
 
 
+@quantities(stroke="length", clearance="length")
 def eta_bouncing(stroke, clearance):
     """Reduced loss factor η* = (1 - cos θ_i)²/π [-] of the bouncing law; NaN for X < h/π.
 
@@ -93,6 +97,7 @@ def eta_bouncing(stroke, clearance):
     return as_output((2.0 * np.sin(theta / 2) ** 2) ** 2 / math.pi, stroke, clearance)
 
 
+@quantities(stroke="length", clearance="length", frequency="frequency", bed_mass="mass")
 def energy_per_cycle_bouncing(stroke, clearance, *, frequency: float, bed_mass: float):
     """Energy dissipated per cycle Ẽ_diss = m_bed V² (1 - cos θ_i)² [J]; NaN for X < h/π.
 

@@ -20,6 +20,7 @@ import math
 import numbers
 
 from ..errors import InputError
+from ..units import quantities
 from ._common import as_output, positive, positive_array
 
 __all__ = [
@@ -40,6 +41,7 @@ GRAVITY = 9.81
 #: paper's 36-sphere case (factor 3.7 at 3°) still loses much of its peak to a 3° tilt.
 TILT_MARGIN = 10.0
 
+@quantities(frequency="frequency")
 def angular_frequency(frequency: float) -> float:
     """Angular frequency Ω = 2πf [rad/s] of the drive frequency ``frequency`` f [Hz].
 
@@ -49,6 +51,7 @@ def angular_frequency(frequency: float) -> float:
     return 2.0 * math.pi * positive("frequency", frequency, "Hz", "2.0")
 
 
+@quantities(stroke="length", frequency="frequency")
 def velocity_amplitude(stroke, frequency: float):
     """Container velocity amplitude V = XΩ [m/s] for stroke X [m] and frequency f [Hz].
 
@@ -61,6 +64,7 @@ def velocity_amplitude(stroke, frequency: float):
     return as_output(x * angular_frequency(frequency), stroke)
 
 
+@quantities(stroke="length", frequency="frequency")
 def acceleration_amplitude(stroke, frequency: float):
     """Container acceleration amplitude A = XΩ² [m/s²] for stroke X [m] and frequency f [Hz].
 
@@ -71,6 +75,7 @@ def acceleration_amplitude(stroke, frequency: float):
     return as_output(x * angular_frequency(frequency) ** 2, stroke)
 
 
+@quantities(frequency="frequency", gravity="acceleration")
 def max_stroke_no_liftoff(frequency: float, *, gravity: float = GRAVITY) -> float:
     """Largest stroke X = g/Ω² [m] for which A < g, so the bed stays on the floor (Sect. 4.2).
 
@@ -81,6 +86,7 @@ def max_stroke_no_liftoff(frequency: float, *, gravity: float = GRAVITY) -> floa
     return g / angular_frequency(frequency) ** 2
 
 
+@quantities(tilt="angle", gravity="acceleration")
 def min_acceleration_tilt(tilt: float, *, gravity: float = GRAVITY) -> float:
     """Smallest acceleration amplitude g tan α [m/s²] that lifts the bed off the low wall.
 
@@ -102,6 +108,7 @@ def min_acceleration_tilt(tilt: float, *, gravity: float = GRAVITY) -> float:
     return g * math.tan(_tilt(tilt))
 
 
+@quantities(tilt="angle", frequency="frequency", gravity="acceleration")
 def min_stroke_tilt(tilt: float, frequency: float, *, gravity: float = GRAVITY) -> float:
     """Smallest stroke X = g tan α / Ω² [m] at which the bed leaves the low wall (Sect. 6.2).
 

@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 
 from ..errors import InputError
+from ..units import quantities
 from ._common import positive
 
 __all__ = ["SHAPES", "container_length", "clearance"]
@@ -23,7 +25,9 @@ __all__ = ["SHAPES", "container_length", "clearance"]
 SHAPES = ("cuboid", "cylinder")
 
 
-def container_length(shape: str, length: float | None = None, radius: float | None = None) -> float:
+@quantities(length="length", container_radius="length", radius="length")
+def container_length(shape: str, length: float | None = None, container_radius: float | None = None, *,
+                     radius: float | None = None) -> float:
     """Inner length L [m] of the container along the drive, as used in eq. (6).
 
     Parameters
@@ -32,8 +36,10 @@ def container_length(shape: str, length: float | None = None, radius: float | No
         Container shape.
     length : float, optional
         Inner length of the cuboid along the drive [m]; required for the cuboid only.
-    radius : float, optional
+    container_radius : float, optional
         Inner radius R of the cylinder [m]; required for the cylinder only (``L = 2R``).
+    radius : float, optional
+        Deprecated: the old name of ``container_radius`` (warns).
 
     Returns
     -------
@@ -44,14 +50,21 @@ def container_length(shape: str, length: float | None = None, radius: float | No
     --------
     >>> container_length("cuboid", length=0.12)
     0.12
-    >>> round(container_length("cylinder", radius=0.039), 6)
+    >>> round(container_length("cylinder", container_radius="39mm"), 6)
     0.078
     """
+    if radius is not None:
+        if container_radius is not None:
+            raise InputError("radius is the old name of container_radius; give container_radius only")
+        warnings.warn("container_length(radius=...) is deprecated; use container_radius=...",
+                      DeprecationWarning, stacklevel=3)
+        container_radius = radius
+    radius = container_radius
     if shape not in SHAPES:
         raise InputError(f"shape = {shape!r} is unknown; use one of {', '.join(SHAPES)}")
     if shape == "cuboid":
         if radius is not None:
-            raise InputError(f"radius = {radius!r} applies to the cylinder only; "
+            raise InputError(f"container_radius = {radius!r} applies to the cylinder only; "
                              "for the cuboid give its inner length along the drive")
         if length is None:
             raise InputError("the cuboid needs its inner length along the drive "
@@ -59,13 +72,14 @@ def container_length(shape: str, length: float | None = None, radius: float | No
         return positive("length", length, "m", "0.12 (120 mm)")
     if length is not None:
         raise InputError(f"length = {length!r} applies to the cuboid only; the cylinder takes "
-                         "its radius R and uses L = 2R")
+                         "its container_radius R and uses L = 2R")
     if radius is None:
-        raise InputError("the cylinder needs its inner radius (radius, e.g. 0.039 m = 39 mm); "
+        raise InputError("the cylinder needs its inner radius (container_radius, e.g. 0.039 m = 39 mm); "
                          "the clearance uses L = 2R")
-    return 2.0 * positive("radius", radius, "m", "0.039 (39 mm)")
+    return 2.0 * positive("container_radius", radius, "m", "0.039 (39 mm)")
 
 
+@quantities(length="length")
 def clearance(length: float, particles: int, max_particles: int) -> float:
     """Clearance h [m] of the particle bed, eq. (6): ``h = L (1 - N_p / N_p,max)``.
 

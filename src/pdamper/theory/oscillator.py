@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from ..units import quantities
 from ._common import positive
 
 __all__ = ["natural_frequency", "free_decay", "steady_amplitude", "oscillator_response"]
@@ -28,6 +29,7 @@ def _check_zeta(damping_ratio) -> float:
     return z
 
 
+@quantities(mass="mass", stiffness="N/m")
 def natural_frequency(mass: float, stiffness: float) -> float:
     """Undamped natural frequency f_n = sqrt(K/M) / 2π [Hz].
 
@@ -39,6 +41,7 @@ def natural_frequency(mass: float, stiffness: float) -> float:
     return math.sqrt(k / m) / (2.0 * math.pi)
 
 
+@quantities(t="time", mass="mass", stiffness="N/m", damping_ratio="dimensionless", displacement="length")
 def free_decay(t, *, mass: float, stiffness: float, damping_ratio: float, displacement: float):
     """Free decay from rest at ``displacement`` X0 [m]:
     ``x(t) = X0 e^{-ζωt} (cos ω_d t + ζ/sqrt(1-ζ²) sin ω_d t)`` [m].
@@ -51,6 +54,7 @@ def free_decay(t, *, mass: float, stiffness: float, damping_ratio: float, displa
     return x
 
 
+@quantities(force_frequency="frequency", mass="mass", stiffness="N/m", damping_ratio="dimensionless", force_amplitude="force")
 def steady_amplitude(force_frequency, *, mass: float, stiffness: float, damping_ratio: float,
                      force_amplitude: float):
     """Steady-state amplitude |X| = (F0/K) / sqrt((1 - r²)² + (2ζr)²) [m], r = Ω/ω.
@@ -67,6 +71,7 @@ def steady_amplitude(force_frequency, *, mass: float, stiffness: float, damping_
     return float(out) if np.ndim(force_frequency) == 0 else out
 
 
+@quantities(t="time", mass="mass", stiffness="N/m", damping_ratio="dimensionless", force_amplitude="force", force_frequency="frequency", displacement="length", velocity="velocity")
 def oscillator_response(t, *, mass: float, stiffness: float, damping_ratio: float,
                         force_amplitude: float = 0.0, force_frequency: float = 0.0,
                         displacement: float = 0.0, velocity: float = 0.0):

@@ -39,6 +39,7 @@ import math
 import numpy as np
 from scipy.special import ellipe, ellipeinc
 
+from ..units import quantities
 from ._common import as_output, positive, positive_array, solve_phase
 from . import bounds
 from .scattered import eta_scattered
@@ -69,6 +70,7 @@ X_OPT_OVER_H = 7.0 / (10.0 * float(ellipe(ELLIPTIC_PARAMETER)))
 ETA_MAX = 20.0 / (7.0 * math.pi)
 
 
+@quantities(phase="angle", velocity_amplitude="velocity")
 def bed_velocity(phase, velocity_amplitude: float = 1.0):
     """Absolute bed velocity x_p' [m/s] during the rolling phase, eq. (10).
 
@@ -89,6 +91,7 @@ def bed_velocity(phase, velocity_amplitude: float = 1.0):
     return as_output(out, phase)
 
 
+@quantities(phase="angle", velocity_amplitude="velocity")
 def relative_velocity(phase, velocity_amplitude: float = 1.0):
     """Bed velocity relative to the container Δx'_cp = x_p' - x_c' [m/s], eq. (11).
 
@@ -107,6 +110,7 @@ def relative_velocity(phase, velocity_amplitude: float = 1.0):
     return as_output(out, phase)
 
 
+@quantities(phase="angle", stroke="length")
 def bed_position(phase, stroke: float = 1.0):
     """Bed position x_p [m] during the rolling phase, the integral of eq. (10).
 
@@ -124,6 +128,7 @@ def bed_position(phase, stroke: float = 1.0):
     return as_output(out, phase)
 
 
+@quantities(phase="angle")
 def clearance_over_stroke(phase):
     """Clearance over stroke h/X [-] for which the bed hits the far wall at θ_i, eq. (12).
 
@@ -149,6 +154,7 @@ def _gap_slope(th):
     return 5.0 / 7.0 * (0.4 * s2 / (np.sqrt(1.0 + 0.4 * s2) + 1.0) + 2.0 * np.sin(th / 2) ** 2)
 
 
+@quantities(stroke="length", clearance="length")
 def impact_phase_rolling(stroke, clearance):
     """Impact phase θ_i = Ωt_i [rad] of the rolling bed on the far wall, eq. (12) solved for t_i.
 
@@ -178,6 +184,7 @@ def impact_phase_rolling(stroke, clearance):
     return as_output(solve_phase(_gap, _gap_slope, h / x), stroke, clearance)
 
 
+@quantities(clearance="length")
 def optimal_stroke(clearance):
     """Optimal stroke X_opt [m] of the rolling law, eq. (17): ``X_OPT_OVER_H * h``.
 
@@ -193,6 +200,7 @@ def optimal_stroke(clearance):
     return as_output(X_OPT_OVER_H * h, clearance)
 
 
+@quantities(stroke="length", clearance="length")
 def eta_rolling(stroke, clearance):
     """Reduced loss factor η* [-] of the rolling law, from eqs. (14), (4), (5).
 
@@ -211,6 +219,7 @@ def eta_rolling(stroke, clearance):
                      stroke, clearance)
 
 
+@quantities(stroke="length", clearance="length", frequency="frequency", bed_mass="mass")
 def energy_per_cycle_rolling(stroke, clearance, *, frequency: float, bed_mass: float):
     """Energy dissipated per cycle Ẽ_diss [J] of the rolling law, eq. (14).
 
@@ -238,6 +247,7 @@ def energy_per_cycle_rolling(stroke, clearance, *, frequency: float, bed_mass: f
     return as_output(m * np.asarray(v) ** 2 * bracket**2 / 35.0, stroke, clearance)
 
 
+@quantities(stroke="length", clearance="length", kappa="dimensionless")
 def eta_theory(stroke, clearance, kappa: float = 1.0):
     """The paper's analytical η* curve (Fig. 4, "ana. formulas") [-].
 

@@ -18,12 +18,14 @@ from __future__ import annotations
 
 import math
 
+from ..units import quantities
 from ._common import as_output, positive, positive_array
 from .bounds import velocity_amplitude
 
 __all__ = ["eta_scattered", "energy_per_cycle_scattered"]
 
 
+@quantities(stroke="length", clearance="length", kappa="dimensionless")
 def eta_scattered(stroke, clearance, kappa: float = 1.0):
     """Reduced loss factor η* = κ X/h [-] of the scattered state, eq. (8).
 
@@ -52,6 +54,7 @@ def eta_scattered(stroke, clearance, kappa: float = 1.0):
     return as_output(k * x / h, stroke, clearance)
 
 
+@quantities(stroke="length", clearance="length", frequency="frequency", bed_mass="mass", kappa="dimensionless")
 def energy_per_cycle_scattered(stroke, clearance, *, frequency: float, bed_mass: float,
                                kappa: float = 1.0):
     """Energy dissipated per cycle Ẽ_diss = 2π E_diss = π κ (X/h) m_bed V² [J], eqs. (4), (7).
