@@ -43,6 +43,7 @@ def test_api_reference_documents_every_public_name(site):
     assert not missing, f"public names without an API reference entry: {missing}"
     # a docstring really was rendered, not only a heading
     assert "X_opt" in (site / "api" / "theory" / "index.html").read_text(encoding="utf-8")
+    assert ":class:" not in html and ":func:" not in html, "Sphinx roles left in the API reference"
     assert "SPEC" not in html, "the API reference cites an internal document (a docstring says 'SPEC')"
 
 
