@@ -8,7 +8,7 @@ structure vibrating with stroke X at frequency f, the clearance ``h = X / 0.4075
 filling with the largest η* of the paper's laws at X: one sphere fewer puts X below its
 X_opt, in the scattered state (η* = X/h < 0.41), while N_p keeps X at or just above X_opt on
 the rolling law (η* close to 20/(7π) ≈ 0.91). Close above X_opt the rolling orbit is marginal
-in a real bed (SPEC Sect. 10): a warning says so when X < 1.03 X_opt.
+in a real bed (docs/motion.md): a warning says so when X < 1.03 X_opt.
 
 Pure theory (:mod:`pdamper.theory`) and the floor packing of :mod:`pdamper.geometry`; the
 CLI's ``pdamper design --verify`` adds a short DEM sweep.
@@ -30,7 +30,7 @@ __all__ = ["Design", "design_filling", "TILT_MARGIN", "MIN_ROWS", "MARGINAL"]
 
 #: Fewer rows of spheres along the drive than this: the bed is a thin slab, little mass per wall.
 MIN_ROWS = 3
-#: X below this factor times X_opt: the collect-and-collide orbit is marginal (SPEC Sect. 10).
+#: X below this factor times X_opt: the collect-and-collide orbit is marginal (docs/motion.md).
 MARGINAL = 1.03
 
 

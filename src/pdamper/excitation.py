@@ -204,6 +204,8 @@ class CoupledStructure:
     angle : float
         Direction of the motion in the horizontal plane [rad], as for :class:`HarmonicDrive`.
 
+    Examples
+    --------
     >>> s = CoupledStructure(mass=7.0, stiffness=1105.0, damping_ratio=0.005, displacement=0.01)
     >>> round(s.natural_frequency, 3)
     2.0

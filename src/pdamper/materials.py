@@ -50,7 +50,7 @@ class Material:
 
 
 def effective_modulus(a: Material, b: Material) -> float:
-    """Hertz effective modulus E* [Pa]: ``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2`` (SPEC Sect. 2)."""
+    """Hertz effective modulus E* [Pa]: ``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2``."""
     return 1.0 / (1.0 / a.reduced_modulus + 1.0 / b.reduced_modulus)
 
 

@@ -101,6 +101,8 @@ class Simulation:
     case : the :class:`~pdamper.params.Case` to simulate.
     recorders : the recorders (:mod:`pdamper.recorders.base`); default :func:`default_recorders`.
 
+    Notes
+    -----
     The state lives in the kernels' bundles (:mod:`pdamper.kernels.bundles`): ``sim.bodies``
     (positions, velocities, spins of the spheres, container frame), ``sim.pairs``, ``sim.walls``.
     :meth:`run` does everything; :meth:`settle` and :meth:`advance` do it in parts.

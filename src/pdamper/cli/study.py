@@ -1,4 +1,4 @@
-"""``pdamper study NAME``: one of the paper's studies (SPEC Sect. 5) with its dataset and figure."""
+"""``pdamper study NAME``: one of the paper's studies with its dataset and figure."""
 
 from __future__ import annotations
 

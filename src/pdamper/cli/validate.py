@@ -1,4 +1,4 @@
-"""``pdamper validate``: the paper-level checks of SPEC Sect. 9, as a table and docs/validation.md."""
+"""``pdamper validate``: the paper-level checks, as a table and docs/validation.md."""
 
 from __future__ import annotations
 

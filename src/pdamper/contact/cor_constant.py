@@ -1,7 +1,7 @@
 r"""Constant coefficient of restitution: :math:`\varepsilon(v) = \varepsilon_0`.
 
-The usual DEM choice (paper Sect. 3) and pdamper's default (:math:`\varepsilon_0 = 0.9`,
-SPEC Sect. 2). Allowed range (0, 1]; 1 is perfectly elastic.
+The usual DEM choice (paper Sect. 3) and pdamper's default (:math:`\varepsilon_0 = 0.9`).
+Allowed range (0, 1]; 1 is perfectly elastic.
 """
 
 from __future__ import annotations

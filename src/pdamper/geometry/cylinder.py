@@ -2,7 +2,7 @@
 (paper Sect. 6.3: R = 39 mm, inner height 11 mm).
 
 Container frame: axis along y through x = z = 0, floor at y = 0, lid at y = H.
-The curved wall is concave: its Hertz radius enters as 1/R* = 1/r - 1/R (SPEC Sect. 2).
+The curved wall is concave: its Hertz radius enters as 1/R* = 1/r - 1/R.
 """
 
 from __future__ import annotations

@@ -26,7 +26,7 @@ class Signals:
     ----------
     time : [s] interval centres.  time_end : [s] interval ends.
     force : driving force on the container along the drive, interval mean [N]
-        (``m_c x_c'' + sum of wall forces on the particles``, SPEC Sect. 2).
+        (``m_c x_c'' + sum of wall forces on the particles``).
     velocity : container velocity along the drive, interval mean [m/s].
     position : container position along the drive at the interval centre [m].
     """

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import logging
 import os
-import sys
 
 __all__ = ["execute"]
 
@@ -49,16 +48,16 @@ def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None
     on the sweep's grid).
 
     ``progress``: show a bar (cases done / total, rate, time left) on stderr; default: when
-    stderr is a terminal.
+    stderr is a terminal or in Jupyter.
     """
     from dask.distributed import as_completed
-    from tqdm.auto import tqdm
 
-    if progress is None:
-        progress = sys.stderr.isatty()
+    from ._progress import progress_bar, show_progress
+
+    progress = show_progress(progress)
     client, cluster = _client(workers, scheduler)
-    bar = tqdm(total=total or len(items), initial=done, unit="case", desc="sweep", disable=not progress,
-               file=sys.stderr, dynamic_ncols=True)
+    bar = progress_bar(total=total or len(items), initial=done, unit="case", desc="sweep", disable=not progress,
+                       dynamic_ncols=True)
     # the longest cases (large strokes) first, for a balanced finish
     order = sorted(items, key=lambda it: -_weight(it[1]))
     futures = {client.submit(fn, it[3], key=f"pdamper-{it[0]}", pure=False): it for it in order}

@@ -5,7 +5,7 @@ A study file (TOML) says what a study is: its title, the axes every setting is s
 case (``base = "cuboid_36"``) or a config file (``config = "my_case.toml"``, relative to the study
 file) with keys set as in a config file (``set = { "contact.friction" = 0.01 }``) and optionally
 the panel of the figure it is drawn in (two fillings: two panels, (a) and (b), as the paper's
-figures). The paper's nine studies (SPEC Sect. 5) are study files shipped with pdamper
+figures). The paper's nine studies are study files shipped with pdamper
 (``pdamper/studies/data/<name>.toml``; :data:`STUDIES`); a user writes their own the same way::
 
     title = "friction of my damper"

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -218,11 +217,10 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
                 workers=workers, scheduler=scheduler, progress=progress)
         points = [results[f"f{i:03d}"] for i in range(freqs.size)]
     else:
-        from tqdm.auto import tqdm
+        from ._progress import progress_bar, show_progress
 
-        show = sys.stderr.isatty() if progress is None else progress
         points = [response_point(c, measure_cycles)
-                  for c in tqdm(cases, desc="response", unit="freq", disable=not show, file=sys.stderr)]
+                  for c in progress_bar(cases, desc="response", unit="freq", disable=not show_progress(progress))]
     damped = np.array([p.get("amplitude_m", math.nan) for p in points])
     bare_run = []
     for c in cases:

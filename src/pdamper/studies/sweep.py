@@ -1,4 +1,4 @@
-"""A sweep: the base case at every point of a grid of config keys, for every seed (SPEC Sect. 1, 5, 7).
+"""A sweep: the base case at every point of a grid of config keys, for every seed.
 
 The grid's axes are any config keys (``drive.stroke``, ``drive.frequency``, ``contact.friction``,
 ``particles.count``, ...; :class:`Axis`); each point is the base case with those keys set by the one

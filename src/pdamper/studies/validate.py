@@ -1,4 +1,4 @@
-"""Paper-level validation (SPEC Sect. 9): run the studies behind each check and judge them.
+"""Paper-level validation: run the studies behind each check and judge them.
 
 The checks, each against the paper's DEM (Fig. 4, 6, 7 and Sect. 6.1):
 
@@ -53,7 +53,7 @@ def run_validation(out, *, quick=False, seeds=1, fig4_seeds=None, workers=None, 
 
     ``seeds`` initial states per stroke for every study; ``fig4_seeds`` (default: ``seeds``) for
     Fig. 4 alone, whose per-stroke checks judge the seed mean: near and above X_opt one seeded
-    start can take another motion (SPEC Sect. 10), so one seed is no fair test there."""
+    start can take another motion, so one seed is no fair test there."""
     out = Path(out)
     t0 = time.perf_counter()
     kw = dict(seeds=tuple(range(seeds)), workers=workers, scheduler=scheduler, progress=progress)
