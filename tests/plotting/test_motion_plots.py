@@ -136,3 +136,29 @@ def test_results_without_modes_are_refused_with_a_way_out():
     ds = _sweep([["scattered"] * 2] * 4).drop_vars("mode")
     with pytest.raises(InputError, match="re-run the sweep"):
         mode_map_figure([ds])
+
+
+def _shown_ticks(fig, ax, axis="x"):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    a, b = ax.get_xlim() if axis == "x" else ax.get_ylim()
+    labels = ax.get_xticklabels() if axis == "x" else ax.get_yticklabels()
+    k = 0 if axis == "x" else 1
+    return [t.get_text() for t in labels if min(a, b) <= t.get_position()[k] <= max(a, b) and t.get_text()]
+
+
+def test_mode_map_labels_at_least_three_strokes_on_both_panels():
+    ds = _sweep([["scattered"] * 2] * 2 + [["rolling-collect-and-collide"] * 2] * 2)
+    ds = ds.assign_coords(stroke=[0.004, 0.008, 0.013, 0.025])   # under one decade: 1 decade tick before
+    fig = mode_map_figure([ds])
+    top, bottom = fig.axes[:2]
+    assert len(_shown_ticks(fig, bottom)) >= 3 and len(_shown_ticks(fig, top)) >= 3
+    assert len(_shown_ticks(fig, top, "y")) >= 3
+
+
+def test_mode_map_eta_line_is_broken_at_x_opt():
+    ds = _sweep([["scattered"] * 2] * 2 + [["rolling-collect-and-collide"] * 2] * 2)
+    line = mode_map_figure([ds]).axes[0].get_lines()[0]
+    y = np.asarray(line.get_ydata(), float)
+    assert np.isnan(y).sum() == 1 and np.isnan(y[2])   # between 6 mm and 13 mm (X_opt 12.2 mm)
