@@ -328,3 +328,56 @@ def test_the_stroke_axis_labels_at_least_three_ticks(lo, hi):
     a, b = ax.get_xlim()
     shown = [t.get_text() for t in ax.get_xticklabels() if a <= t.get_position()[0] <= b and t.get_text()]
     assert len(shown) >= 3, shown
+
+
+def _study(panels=("N_p = 36", "N_p = 44"), per_panel=4):
+    """A study dataset like 'pdamper study tilt': settings on a 'setting' dim with a 'panel' coordinate."""
+    h = {"N_p = 36": 0.03, "N_p = 44": 0.01}
+    labels, clear, panel = [], [], []
+    for p in panels:
+        for k in range(per_panel):
+            labels.append(f"{p[-2:]}, setting {k}")
+            clear.append(h[p])
+            panel.append(p)
+    ds = make_sweep(seeds=1, clearances=tuple(clear), labels=labels)
+    x_opts = [theory.optimal_stroke(c) for c in clear]
+    mode = np.where(STROKES[None, :] >= np.array(x_opts)[:, None], "rolling-collect-and-collide", "scattered")
+    mode[-1, :3] = "single-sided"
+    ds["mode"] = (("setting", "stroke", "seed"), mode[:, :, None])
+    return ds.assign_coords(panel=("setting", panel)).assign_attrs(title="tilt-like")
+
+
+def test_a_study_with_two_fillings_draws_panels_a_and_b_aligned_and_uncrowded():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from pdamper.plotting.sweep import study_figure
+
+    fig = study_figure(_study())
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    r = canvas.get_renderer()
+    a, b = fig.axes[:2]
+    assert [a.get_title(), b.get_title()] == ["(a) N_p = 36", "(b) N_p = 44"]
+    assert a.get_position().y0 == pytest.approx(b.get_position().y0)       # the panels line up
+    assert a.get_position().height == pytest.approx(b.get_position().height)
+    assert a.get_ylim() == b.get_ylim()                                       # one η* axis
+    # each panel's legend: its 4 settings and its X_opt, under it, over no data
+    for ax, n in ((a, "36"), (b, "44")):
+        texts = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert sum(s.startswith(f"DEM, {n}") for s in texts) == 4 and len(texts) == 5
+        assert any("X_{opt}" in s for s in texts)
+        assert not ax.get_legend().get_window_extent(r).overlaps(ax.get_window_extent(r))
+    # modes, single seeds and the shared laws once, at the bottom of the figure
+    shared = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert len(shared) == len(set(shared))
+    assert {"mode: scattered", "mode: rolling-collect-and-collide", "mode: single-sided"} <= set(shared)
+    assert any(s.startswith("rolling collect-and-collide") for s in shared)
+    assert not any(s.startswith("DEM") or "X_{opt}" in s for s in shared)
+    # one mean line per setting, each broken at its panel's X_opt
+    for ax, h in ((a, 0.03), (b, 0.01)):
+        for line in _means(ax):
+            y = np.asarray(line.get_ydata(), float)
+            x = np.asarray(line.get_xdata(), float)
+            assert np.isnan(y).sum() >= 1
+            gap = x[np.isnan(y)][0]
+            assert x[np.isfinite(y)][x[np.isfinite(y)] < gap].max() < theory.optimal_stroke(h) * 1e3

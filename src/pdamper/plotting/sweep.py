@@ -86,18 +86,58 @@ def sweep_figure(ds, path=None, *, title: str | None = None, theory: bool = True
 def study_figure(ds, path=None, *, title: str | None = None, theory: bool = True, dpi: int = 150):
     """η*(X) of a study: one panel per filling, (a), (b), ..., as the paper's figures, when the
     dataset's ``setting`` dimension has a ``panel`` coordinate with more than one value; else
-    :func:`sweep_figure`. Settings are told apart by colour, marker and line style."""
+    :func:`sweep_figure`.
+
+    The panels sit side by side on one η* axis. Settings are told apart by colour and line style
+    (each panel's legend under it, with its X_opt); the motion modes, the single seeds and the laws
+    every panel shares are listed once, at the bottom of the figure."""
     from matplotlib.figure import Figure
 
     panels = list(dict.fromkeys(ds["panel"].values.tolist())) if "panel" in ds.coords else []
     if len(panels) < 2:
         return sweep_figure(ds, path, title=title, theory=theory, dpi=dpi)
     target = _check_path(path)
-    fig = Figure(figsize=(6.4 * len(panels), 5.6), layout="constrained")
-    subs = fig.subfigures(1, len(panels))
-    for k, (sub, panel) in enumerate(zip(subs, panels)):
+    fig = Figure(figsize=(5.6 * len(panels), 6.4), layout="constrained")
+    axes = fig.subplots(1, len(panels), sharey=True, squeeze=False)[0]
+    drawn, sweeps = [], []
+    for k, (ax, panel) in enumerate(zip(axes, panels)):
         part = ds.isel(setting=[i for i, p in enumerate(ds["panel"].values.tolist()) if p == panel])
-        _sweep_into(sub, part, title=f"({chr(ord('a') + k)}) {panel}", theory=theory)
+        sw = _Sweep(part, "eta_star")
+        data = _draw_panel(ax, sw, theory=theory)
+        laws = [(h, s) for h, s in zip(*ax.get_legend_handles_labels()) if not s.startswith("_")]
+        drawn.append((data, laws))
+        sweeps.append(sw)
+        ax.set_title(f"({chr(ord('a') + k)}) {panel}", fontsize="medium", pad=16)
+        ax.text(0.5, 1.012, _note(sw), transform=ax.transAxes, ha="center", va="bottom", fontsize="small",
+                color="0.35")
+        if k:
+            ax.set_ylabel("")
+    axes[0].set_ylim(*_eta_limits(sweeps))
+    # each panel's own entries (its settings, laws only it has) under it; the rest once, at the bottom
+    per_panel = [{s for _, s in data + laws} for data, laws in drawn]
+    common = set.intersection(*per_panel)
+    shared, seen = [], set()
+    from matplotlib.legend_handler import HandlerTuple
+
+    for ax, (data, laws) in zip(axes, drawn):
+        own = [(h, s) for h, s in data if s.startswith("DEM")] + [(h, s) for h, s in laws if s not in common]
+        for h, s in data + laws:
+            if (s in common or not s.startswith("DEM")) and (h, s) not in own and s not in seen:
+                shared.append((h, s))
+                seen.add(s)
+        if own:
+            ax.legend([h for h, _ in own], [s for _, s in own], loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                      ncols=1 if len(own) <= 3 else 2, fontsize="small", frameon=False,
+                      handler_map={tuple: HandlerTuple(ndivide=1)}, handlelength=2.4)
+    from .modes import _mode_rank
+
+    modes = sorted((e for e in shared if e[1].startswith("mode: ")), key=lambda e: _mode_rank(e[1][6:]))
+    shared = [e for e in shared if e[1] == "single seeds"] + modes + [
+        e for e in shared if e[1] != "single seeds" and not e[1].startswith("mode: ")]
+    if shared:
+        fig.legend([h for h, _ in shared], [s for _, s in shared], loc="outside lower center",
+                   ncols=min(3, len(shared)), fontsize="small", frameon=False,
+                   handler_map={tuple: HandlerTuple(ndivide=1)}, handlelength=2.4, columnspacing=1.5)
     if title or ds.attrs.get("title"):
         fig.suptitle(str(title or ds.attrs.get("title")), fontsize="large")
     if target is not None:
@@ -109,28 +149,39 @@ def _sweep_into(fig, ds, *, title, theory):
     """Draw η*(X) of ``ds`` into ``fig`` (a Figure or SubFigure): data, laws, axes, legend, titles."""
     sw = _Sweep(ds, "eta_star")
     ax = fig.add_subplot()
-    handles = _draw_data(ax, sw, scale=1.0)
+    handles = _draw_panel(ax, sw, theory=theory)
+    ax.set_ylim(*_eta_limits([sw]))
+    _legend(fig, ax, handles)
+    _titles(fig, ax, sw, title)
 
+
+def _draw_panel(ax, sw, *, theory):
+    """η*(X) of one :class:`_Sweep` on ``ax``: data, laws (labelled on ``ax``), axes; returns the
+    data's legend handles."""
+    handles = _draw_data(ax, sw, scale=1.0)
     if theory:
         for h, label, colour in sw.theory_clearances():
             draw_theory_curves(ax, h, sw.strokes_m, bouncing=False, color=colour,
                                label=label, mark_x_opt=True)
         ax.axhline(_th.ETA_MAX, color="0.6", lw=0.9, ls=(0, (6, 3)), zorder=0.5,
                    label=f"$η^*_{{max}}$ = 20/(7π) = {_th.ETA_MAX:.3f}, eq. (16)")
-
     ax.set_xscale("log")
     _stroke_axis(ax, sw.strokes_m)
     ax.set_xlabel("stroke X [mm]")
     ax.set_ylabel("reduced loss factor η* [-]")
-    lo, hi = sw.finite_range()
-    top = max(1.05, 1.08 * hi) if hi is not None else 1.05
-    bottom = min(0.0, lo - 0.05 * (top - lo)) if lo is not None else 0.0
-    ax.set_ylim(bottom, top)
     _grid(ax)
     if not sw.any_data:
         _no_data_note(ax)
-    _legend(fig, ax, handles)
-    _titles(fig, ax, sw, title)
+    return handles
+
+
+def _eta_limits(sweeps):
+    """η* axis limits over the values of ``sweeps``: 0 (or a little below the lowest) to above 1."""
+    vals = [r for sw in sweeps for r in sw.finite_range() if r is not None]
+    lo, hi = (min(vals), max(vals)) if vals else (None, None)
+    top = max(1.05, 1.08 * hi) if hi is not None else 1.05
+    bottom = min(0.0, lo - 0.05 * (top - lo)) if lo is not None else 0.0
+    return bottom, top
 
 
 def energy_figure(ds, path=None, *, title: str | None = None, theory: bool = True,
@@ -436,7 +487,7 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
                 at = np.array([m == mode for m in modes])
                 look = mode_style(mode) if mode else {"color": colour, "marker": marker}
                 ax.plot(xs[at], mean[at], ls="", marker=look["marker"], ms=6.0, mfc=look["color"], mec=colour,
-                        mew=1.1, zorder=4, gid=f"mode {mode or 'none'} {name}")
+                        mew=1.4, zorder=4, gid=f"mode {mode or 'none'} {name}")
                 if mode:
                     modes_seen.add(mode)
         handle = line
@@ -563,6 +614,11 @@ def _titles(fig, ax, sw: _Sweep, title, log_note=False):
         title = sw.ds.attrs.get("title") or _auto_title(sw)
     if title:
         fig.suptitle(str(title), fontsize="medium")
+    ax.set_title(_note(sw, log_note), fontsize="small", color="0.35")
+
+
+def _note(sw: _Sweep, log_note=False) -> str:
+    """What the DEM data are: version, seeds, cases computed (the axes' small title)."""
     total = sw.values.size
     done = int(np.isfinite(sw.values).sum())
     version = sw.ds.attrs.get("pdamper_version")
@@ -574,7 +630,7 @@ def _titles(fig, ax, sw: _Sweep, title, log_note=False):
     text += f"; {done}/{total} cases computed" if done < total else f"; {total} cases"
     if log_note and sw.nonpositive:
         text += f"\n{sw.nonpositive} single value(s) <= 0 not shown as dots (log axis)"
-    ax.set_title(text, fontsize="small", color="0.35")
+    return text
 
 
 def _auto_title(sw: _Sweep) -> str:
