@@ -48,11 +48,42 @@ def test_paths_figure_one_panel_per_run_with_the_mode(tmp_path):
     tilted = Case(particles=(ParticleSet(count=36),), drive=HarmonicDrive(stroke=0.002), cycles=3, drop_cycles=1,
                   container=Container(tilt=(0.0, 0.0, math.radians(3.0))))   # the -x wall is the low one
     fig = paths_figure([("moving", tr, CASE), ("resting", still, tilted)], tmp_path / "paths.png")
-    assert isinstance(fig, Figure) and len(fig.axes) == 2
+    assert isinstance(fig, Figure) and len(fig.axes) == 3   # two panels and their colorbar
     assert "rolling-collect-and-collide" in fig.axes[0].get_title()
     assert "single-sided" in fig.axes[1].get_title()
     assert "[mm]" in fig.axes[0].get_xlabel()
     assert (tmp_path / "paths.png").stat().st_size > 10_000
+
+
+def _colorbars(fig):
+    return [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
+
+
+def test_paths_are_coloured_by_time_with_a_labelled_colorbar():
+    tr = rolling_trajectory()
+    fig = paths_figure([("a", tr, CASE), ("b", tr, CASE)], cycles=2.0)
+    bars = _colorbars(fig)
+    assert len(bars) == 1 and bars[0].get_ylabel() == "time Ωt/2π [drive cycles]"   # one, shared
+    from matplotlib.collections import LineCollection
+
+    paths = next(c for c in fig.axes[0].collections if isinstance(c, LineCollection))
+    t = tr["time"][tr["time"] >= tr["time"][-1] - 1.0 - 1e-12]   # the last 2 cycles at 2 Hz
+    per_sphere = paths.get_array().reshape(36, t.size - 1)
+    np.testing.assert_allclose(per_sphere[0], (t[:-1] + t[1:]) / 2 * 2.0)   # drive cycles, in time order
+    assert paths.norm.vmin == pytest.approx(t[0] * 2.0) and paths.norm.vmax == pytest.approx(t[-1] * 2.0)
+    assert len(paths.get_segments()) == 36 * (t.size - 1)
+
+
+def test_paths_of_different_times_get_a_colorbar_each_and_seconds_without_a_drive_frequency():
+    from pdamper.excitation import Still
+
+    tr = rolling_trajectory()
+    short = {k: (v[: len(v) // 2] if k != "radius" else v) for k, v in tr.items()}
+    fig = paths_figure([("long", tr, CASE), ("short", short, CASE)])
+    assert len(_colorbars(fig)) == 2
+    still = Case(particles=(ParticleSet(count=36),), drive=Still(duration_s=1.5), cycles=1, drop_cycles=0)
+    fig = paths_figure([("still", tr, still)], cycles=None)
+    assert [ax.get_ylabel() for ax in _colorbars(fig)] == ["time t [s]"]
 
 
 def test_walls_figure_draws_both_walls_and_the_bed(tmp_path):
@@ -136,3 +167,29 @@ def test_results_without_modes_are_refused_with_a_way_out():
     ds = _sweep([["scattered"] * 2] * 4).drop_vars("mode")
     with pytest.raises(InputError, match="re-run the sweep"):
         mode_map_figure([ds])
+
+
+def _shown_ticks(fig, ax, axis="x"):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    a, b = ax.get_xlim() if axis == "x" else ax.get_ylim()
+    labels = ax.get_xticklabels() if axis == "x" else ax.get_yticklabels()
+    k = 0 if axis == "x" else 1
+    return [t.get_text() for t in labels if min(a, b) <= t.get_position()[k] <= max(a, b) and t.get_text()]
+
+
+def test_mode_map_labels_at_least_three_strokes_on_both_panels():
+    ds = _sweep([["scattered"] * 2] * 2 + [["rolling-collect-and-collide"] * 2] * 2)
+    ds = ds.assign_coords(stroke=[0.004, 0.008, 0.013, 0.025])   # under one decade: 1 decade tick before
+    fig = mode_map_figure([ds])
+    top, bottom = fig.axes[:2]
+    assert len(_shown_ticks(fig, bottom)) >= 3 and len(_shown_ticks(fig, top)) >= 3
+    assert len(_shown_ticks(fig, top, "y")) >= 3
+
+
+def test_mode_map_eta_line_is_broken_at_x_opt():
+    ds = _sweep([["scattered"] * 2] * 2 + [["rolling-collect-and-collide"] * 2] * 2)
+    line = mode_map_figure([ds]).axes[0].get_lines()[0]
+    y = np.asarray(line.get_ydata(), float)
+    assert np.isnan(y).sum() == 1 and np.isnan(y[2])   # between 6 mm and 13 mm (X_opt 12.2 mm)

@@ -45,3 +45,27 @@ def test_response_figure(tmp_path):
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any("solid mass" in s for s in labels) and any("with damper" in s for s in labels)
     assert (tmp_path / "r.pdf").exists()
+
+
+def test_decay_legends_cover_no_curve_and_not_the_last_peaks():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    res = _decay()
+    res.damped = res.bare * 0.999   # a weak damper: the last peaks stay high, in the upper right
+    res.envelope_damped = extrema(res.time, res.damped)
+    fig = decay_figure(res)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    for ax in fig.axes[:2]:
+        box = ax.get_legend().get_window_extent(renderer)
+        assert not box.overlaps(ax.get_window_extent(renderer))   # outside the axes: over no data
+    ax_t = fig.axes[0]
+    te, ae = res.envelope_damped
+    last = ax_t.transData.transform(np.column_stack([te[-5:], ae[-5:] * 1e3]))
+    assert not any(ax_t.get_legend().get_window_extent(renderer).contains(x, y) for x, y in last)
+    # everything still on the figure
+    fig_box = fig.bbox
+    for ax in fig.axes[:2]:
+        b = ax.get_legend().get_window_extent(renderer)
+        assert b.x0 >= fig_box.x0 - 1 and b.y0 >= fig_box.y0 - 1 and b.x1 <= fig_box.x1 + 1

@@ -53,6 +53,18 @@ def _labels(fig):
     return [t.get_text() for legend in fig.legends for t in legend.get_texts()]
 
 
+def _means(ax):
+    """The mean lines (one per setting), in drawing order."""
+    return [ln for ln in ax.get_lines() if (ln.get_gid() or "").startswith("mean ")]
+
+
+def _points(line):
+    """(x, y) of a line without the NaN gaps that break it."""
+    x, y = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
+    keep = ~(np.isnan(y) & ~np.isin(x, STROKES * 1e3))
+    return x[keep], y[keep]
+
+
 def _lines(ax, prefix):
     return [ln for ln in ax.get_lines() if ln.get_label().startswith(prefix)]
 
@@ -68,10 +80,10 @@ def test_eta_figure_axes_and_theory(seeds):
     lo, hi = ax.get_xlim()
     assert lo < 0.5 and hi > 50.0  # strokes are drawn in mm
     # the mean line over seeds, in mm, at every stroke
-    mean = next(ln for ln in ax.get_lines() if ln.get_marker() == "o")
-    np.testing.assert_allclose(mean.get_xdata(), STROKES * 1e3)
+    x, y = _points(_means(ax)[0])
+    np.testing.assert_allclose(x, STROKES * 1e3)
     eta = make_sweep(seeds=seeds).eta_star.values
-    np.testing.assert_allclose(mean.get_ydata(), eta.mean(axis=1))
+    np.testing.assert_allclose(y, eta.mean(axis=1))
     # the laws for h = 30 mm with X_opt and η*_max
     assert _lines(ax, "rolling") and _lines(ax, "scattered")
     x_opt = next(ln for ln in ax.get_lines() if "X_{opt}" in ln.get_label())
@@ -88,7 +100,7 @@ def test_eta_figure_axes_and_theory(seeds):
 def test_spread_band_and_single_seeds_drawn_for_several_seeds():
     ds = make_sweep(seeds=3)
     ax = sweep_figure(ds).axes[0]
-    assert len(ax.collections) == 2  # band (fill_between) + seed dots (scatter)
+    assert len(ax.collections) == 3  # the band (fill_between) on each side of X_opt + seed dots (scatter)
     dots = next(c for c in ax.collections if c.get_offsets().shape[0] == ds.eta_star.size)
     np.testing.assert_allclose(np.sort(dots.get_offsets()[:, 1]),
                                np.sort(ds.eta_star.values.ravel()))
@@ -102,7 +114,7 @@ def test_settings_get_one_colour_each_and_theory_per_clearance():
     ax = fig.axes[0]
     labels = _labels(fig)
     assert "DEM, N_p = 36" in labels and "DEM, N_p = 44" in labels
-    means = [ln for ln in ax.get_lines() if ln.get_marker() not in ("None", "", None)]
+    means = _means(ax)
     assert len(means) == 2 and means[0].get_color() != means[1].get_color()
     x_opts = sorted(ln.get_xdata()[0] for ln in ax.get_lines() if "X_{opt}" in ln.get_label())
     assert x_opts == pytest.approx([theory.optimal_stroke(0.01) * 1e3,
@@ -135,9 +147,9 @@ def test_partially_computed_sweep_plots_what_is_there():
     ds["eta_star"] = (ds.eta_star.dims, eta)
     fig = sweep_figure(ds)
     ax = fig.axes[0]
-    mean = next(ln for ln in ax.get_lines() if ln.get_marker() == "o")
-    np.testing.assert_allclose(mean.get_xdata(), STROKES[:8] * 1e3)
-    assert np.all(np.isfinite(mean.get_ydata()))
+    x, y = _points(_means(ax)[0])
+    np.testing.assert_allclose(x, STROKES[:8] * 1e3)
+    assert np.all(np.isfinite(y))
     assert "DEM, b (no data yet)" in _labels(fig)
     assert "cases computed" in ax.get_title()
     assert ax.get_xlim()[1] > 50.0  # the axis spans the whole planned sweep
@@ -188,8 +200,7 @@ def test_energy_figure_log_log_in_mJ_with_laws():
     ax = energy_figure(ds).axes[0]
     assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
     assert ax.get_xlabel() == "stroke X [mm]" and "[mJ]" in ax.get_ylabel()
-    mean = next(ln for ln in ax.get_lines() if ln.get_marker() == "o")
-    np.testing.assert_allclose(mean.get_ydata(), ds.energy_per_cycle.values.mean(axis=1) * 1e3)
+    np.testing.assert_allclose(_points(_means(ax)[0])[1], ds.energy_per_cycle.values.mean(axis=1) * 1e3)
     rolling = _lines(ax, "rolling")[0]
     x = rolling.get_xdata() / 1e3
     expected = theory.energy_per_cycle_rolling(x, 0.03, frequency=FREQ, bed_mass=BED_MASS)
@@ -205,8 +216,8 @@ def test_energy_figure_without_bed_mass_marks_x_opt_only_and_survives_values_bel
     ax = energy_figure(ds).axes[0]
     assert not _lines(ax, "rolling")
     assert any("X_{opt}" in ln.get_label() for ln in ax.get_lines())
-    mean = next(ln for ln in ax.get_lines() if ln.get_marker() == "o")
-    assert np.isnan(mean.get_ydata()[0]) and np.all(mean.get_ydata()[1:] > 0)
+    y = _points(_means(ax)[0])[1]
+    assert np.isnan(y[0]) and np.all(y[1:] > 0)
     assert "<= 0" in ax.get_title()
 
 
@@ -232,3 +243,141 @@ def test_energy_figure_needs_energy():
 def test_bad_path_refused_before_drawing(tmp_path, name, match):
     with pytest.raises(InputError, match=match):
         sweep_figure(make_sweep(), tmp_path / name)
+
+
+def _with_modes(ds, rolling_from):
+    """Give ``ds`` a ``mode`` variable: scattered below the stroke ``rolling_from`` [m], rolling from it."""
+    rolling = ds.stroke.values >= rolling_from
+    mode = np.where(rolling, "rolling-collect-and-collide", "scattered")
+    ds["mode"] = (("stroke", "seed"), np.repeat(mode[:, None], ds.sizes["seed"], axis=1))
+    return ds
+
+
+def test_the_mean_line_is_broken_between_the_strokes_either_side_of_x_opt():
+    ds = make_sweep(seeds=3)
+    x_opt = theory.optimal_stroke(0.03) * 1e3
+    ax = sweep_figure(ds).axes[0]
+    x = np.asarray(_means(ax)[0].get_xdata(), float)
+    y = np.asarray(_means(ax)[0].get_ydata(), float)
+    below = np.flatnonzero((x < x_opt) & np.isfinite(y))[-1]
+    assert x[below + 2] > x_opt and np.isnan(y[below + 1])   # no segment joins the two sides
+    assert np.isfinite(y).sum() == STROKES.size and np.isnan(y).sum() == 1   # one break only
+    # the band too: one fill each side, neither reaching across X_opt
+    bands = [c for c in ax.collections if c.get_offsets().shape[0] != ds.eta_star.size]
+    spans = sorted((p.vertices[:, 0].min(), p.vertices[:, 0].max()) for c in bands for p in c.get_paths())
+    assert len(spans) == 2 and spans[0][1] < x_opt < spans[1][0]
+
+
+def test_a_mode_change_breaks_the_line_too():
+    ds = _with_modes(make_sweep(seeds=1), rolling_from=STROKES[3])   # rolling far below X_opt
+    y = np.asarray(_means(sweep_figure(ds).axes[0])[0].get_ydata(), float)
+    assert np.isnan(y).sum() == 2 and np.isnan(y[3])   # after the 3rd stroke (mode) and at X_opt
+
+
+def test_each_point_is_marked_by_its_mode_with_a_legend():
+    from matplotlib.colors import to_rgba
+
+    from pdamper.plotting.modes import mode_style
+
+    ds = _with_modes(make_sweep(seeds=3), rolling_from=theory.optimal_stroke(0.03))
+    ds["mode"][1, 0] = "single-sided"   # seeds disagree: the majority marks the point
+    fig = sweep_figure(ds)
+    ax = fig.axes[0]
+    marks = {ln.get_gid(): ln for ln in ax.get_lines() if (ln.get_gid() or "").startswith("mode ")}
+    assert set(marks) == {"mode scattered DEM", "mode rolling-collect-and-collide DEM"}
+    x_opt = theory.optimal_stroke(0.03) * 1e3
+    for mode, ln in ((m, marks[f"mode {m} DEM"]) for m in ("scattered", "rolling-collect-and-collide")):
+        look = mode_style(mode)
+        assert ln.get_marker() == look["marker"] and to_rgba(ln.get_markerfacecolor()) == to_rgba(look["color"])
+        x = np.asarray(ln.get_xdata())
+        assert np.all(x < x_opt) if mode == "scattered" else np.all(x > x_opt)
+    assert marks["mode scattered DEM"].get_marker() != marks["mode rolling-collect-and-collide DEM"].get_marker()
+    labels = _labels(fig)
+    assert "mode: scattered" in labels and "mode: rolling-collect-and-collide" in labels
+    assert "mode: single-sided" not in labels   # a minority of seeds marks no point
+
+
+def test_a_mode_the_style_table_does_not_list_gets_its_own_look():
+    from pdamper.plotting.modes import MODE_COLOURS, mode_style
+
+    ds = _with_modes(make_sweep(seeds=1), rolling_from=theory.optimal_stroke(0.03))
+    ds["mode"][:4, 0] = "swaying"   # e.g. a mode just added to pdamper.analysis.modes.MODES
+    fig = sweep_figure(ds)
+    look = mode_style("swaying")
+    assert look["color"] not in MODE_COLOURS.values()
+    assert look["marker"] not in {mode_style(m)["marker"] for m in MODE_COLOURS if m != "unknown"}
+    assert "mode: swaying" in _labels(fig)
+    mark = next(ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "mode swaying DEM")
+    assert mark.get_marker() == look["marker"] and len(mark.get_xdata()) == 4
+
+
+def test_results_without_modes_keep_a_marker_per_setting():
+    ds = make_sweep(clearances=(0.03, 0.01), labels=["N_p = 36", "N_p = 44"])
+    ax = sweep_figure(ds).axes[0]
+    assert not any((ln.get_gid() or "").startswith("mode ") for ln in ax.get_lines())
+    assert [ln.get_marker() for ln in _means(ax)] == ["o", "s"]
+
+
+@pytest.mark.parametrize("lo, hi", [(0.5e-3, 50e-3), (4e-3, 25e-3), (10e-3, 15e-3), (2.2e-3, 9e-3)])
+def test_the_stroke_axis_labels_at_least_three_ticks(lo, hi):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = sweep_figure(make_sweep(strokes=np.geomspace(lo, hi, 6)))
+    FigureCanvasAgg(fig).draw()
+    ax = fig.axes[0]
+    a, b = ax.get_xlim()
+    shown = [t.get_text() for t in ax.get_xticklabels() if a <= t.get_position()[0] <= b and t.get_text()]
+    assert len(shown) >= 3, shown
+
+
+def _study(panels=("N_p = 36", "N_p = 44"), per_panel=4):
+    """A study dataset like 'pdamper study tilt': settings on a 'setting' dim with a 'panel' coordinate."""
+    h = {"N_p = 36": 0.03, "N_p = 44": 0.01}
+    labels, clear, panel = [], [], []
+    for p in panels:
+        for k in range(per_panel):
+            labels.append(f"{p[-2:]}, setting {k}")
+            clear.append(h[p])
+            panel.append(p)
+    ds = make_sweep(seeds=1, clearances=tuple(clear), labels=labels)
+    x_opts = [theory.optimal_stroke(c) for c in clear]
+    mode = np.where(STROKES[None, :] >= np.array(x_opts)[:, None], "rolling-collect-and-collide", "scattered")
+    mode[-1, :3] = "single-sided"
+    ds["mode"] = (("setting", "stroke", "seed"), mode[:, :, None])
+    return ds.assign_coords(panel=("setting", panel)).assign_attrs(title="tilt-like")
+
+
+def test_a_study_with_two_fillings_draws_panels_a_and_b_aligned_and_uncrowded():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from pdamper.plotting.sweep import study_figure
+
+    fig = study_figure(_study())
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    r = canvas.get_renderer()
+    a, b = fig.axes[:2]
+    assert [a.get_title(), b.get_title()] == ["(a) N_p = 36", "(b) N_p = 44"]
+    assert a.get_position().y0 == pytest.approx(b.get_position().y0)       # the panels line up
+    assert a.get_position().height == pytest.approx(b.get_position().height)
+    assert a.get_ylim() == b.get_ylim()                                       # one η* axis
+    # each panel's legend: its 4 settings and its X_opt, under it, over no data
+    for ax, n in ((a, "36"), (b, "44")):
+        texts = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert sum(s.startswith(f"DEM, {n}") for s in texts) == 4 and len(texts) == 5
+        assert any("X_{opt}" in s for s in texts)
+        assert not ax.get_legend().get_window_extent(r).overlaps(ax.get_window_extent(r))
+    # modes, single seeds and the shared laws once, at the bottom of the figure
+    shared = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert len(shared) == len(set(shared))
+    assert {"mode: scattered", "mode: rolling-collect-and-collide", "mode: single-sided"} <= set(shared)
+    assert any(s.startswith("rolling collect-and-collide") for s in shared)
+    assert not any(s.startswith("DEM") or "X_{opt}" in s for s in shared)
+    # one mean line per setting, each broken at its panel's X_opt
+    for ax, h in ((a, 0.03), (b, 0.01)):
+        for line in _means(ax):
+            y = np.asarray(line.get_ydata(), float)
+            x = np.asarray(line.get_xdata(), float)
+            assert np.isnan(y).sum() >= 1
+            gap = x[np.isnan(y)][0]
+            assert x[np.isfinite(y)][x[np.isfinite(y)] < gap].max() < theory.optimal_stroke(h) * 1e3

@@ -88,7 +88,7 @@ panel = "second"
     assert ds.eta_star.dims == ("setting", "stroke", "seed") and ds.panel.values.tolist() == ["first", "second"]
     assert ds.stroke.values == pytest.approx([0.002, 0.012]) and np.isfinite(ds.eta_star.values).all()
     fig = study_figure(ds, tmp_path / "mine.png")
-    assert [sf._suptitle.get_text() for sf in fig.subfigs] == ["(a) first", "(b) second"]
+    assert [ax.get_title() for ax in fig.axes[:2]] == ["(a) first", "(b) second"]
     assert (tmp_path / "mine.png").exists()
     for text, words in [('title = "x"\n', "no settings"),
                         ('titel = "x"\n', "did you mean 'title'"),

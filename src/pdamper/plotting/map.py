@@ -18,14 +18,13 @@ import math
 
 import numpy as np
 
-from ..analysis.modes import MODES, majority_mode
+from ..analysis.modes import majority_mode
 from ..errors import InputError
-from .sweep import _check_path, _save
+from .modes import _mode_rank, mode_style
+from .sweep import _check_path, _save, log_ticks
 
 __all__ = ["map_figure", "line_figure", "results_figure"]
 
-_HATCHES = {"lift-off": "oo", "rolling-collect-and-collide": "", "swaying": "--", "single-sided": "//",
-            "scattered": "..", "failed": "xx"}
 _SCALES = {"m": (1e3, "mm"), "s": (1e3, "ms"), "rad": (180 / math.pi, "deg")}
 
 
@@ -100,7 +99,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
         for i in range(len(yv)):
             for j in range(len(xv)):
                 m, _ = majority_mode(modes[i, j])
-                hatch = _HATCHES.get(m, "")
+                hatch = mode_style(m)["hatch"] if m else ""
                 if hatch:
                     ax.add_patch(Rectangle((xe[j], ye[i]), xe[j + 1] - xe[j], ye[i + 1] - ye[i],
                                            fill=False, hatch=hatch, edgecolor="white", linewidth=0, alpha=0.7))
@@ -138,22 +137,18 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
             pts = (np.full(2, g / (2 * math.pi * fr) ** 2 * sscale if math.isfinite(fr) else math.nan), oth_edges[[0, -1]])
         if np.isfinite(pts[0]).any():
             handles += draw(*pts, color="tab:red", lw=1.8, label="lift-off bound A = g")
-    from matplotlib.ticker import ScalarFormatter
-
     ax.set_xscale("log" if xlog else "linear")
     ax.set_yscale("log" if ylog else "linear")
-    for axis, log in ((ax.xaxis, xlog), (ax.yaxis, ylog)):
-        if log:
-            axis.set_major_formatter(ScalarFormatter())
-            axis.set_minor_formatter(ScalarFormatter())
     ax.set_xlim(_edges(xv, xlog)[[0, -1]])
     ax.set_ylim(_edges(yv, ylog)[[0, -1]])
+    for axis, log, v in ((ax.xaxis, xlog, xv), (ax.yaxis, ylog, yv)):
+        if log:  # at least 3 labelled ticks, none on top of another (1-2-5 or 1..9 x 10^n)
+            log_ticks(axis, *_edges(v, True)[[0, -1]])
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    for m in [m for m in (*MODES, "failed") if m in shown and _HATCHES.get(m)]:
-        handles.append(Patch(facecolor="grey", hatch=_HATCHES[m], edgecolor="white", label=m))
-    if "rolling-collect-and-collide" in shown:
-        handles.append(Patch(facecolor="grey", edgecolor="white", label="rolling-collect-and-collide (plain)"))
+    for m in sorted(shown, key=_mode_rank):
+        hatch = mode_style(m)["hatch"]
+        handles.append(Patch(facecolor="grey", hatch=hatch, edgecolor="white", label=m if hatch else f"{m} (plain)"))
     if handles:
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, fontsize=8, frameon=False)
     ax.set_title(title or _title(ds), fontsize=10)

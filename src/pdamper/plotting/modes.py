@@ -16,11 +16,17 @@ import numpy as np
 
 from ..analysis.modes import majority_mode
 from ..errors import InputError
-from .sweep import _check_path, _save
+from .sweep import _check_path, _save, _segments, _with_gaps, log_ticks
 
-__all__ = ["mode_map_figure", "MODE_COLOURS", "mode_rows"]
+__all__ = ["mode_map_figure", "MODE_COLOURS", "MODE_MARKERS", "MODE_HATCHES", "mode_style", "mode_order",
+           "mode_rows"]
 
-#: Colour of each mode in the map (cases without a mode: white, failed: black).
+# The one place where the motion modes get their look (the mode map, the sweep figure's markers, the
+# design map's hatching). A mode of pdamper.analysis.modes.MODES that is not listed here still gets a
+# colour, marker and hatch of its own from the spare ones below (see mode_style), so adding a mode to
+# the classifier needs no change here; list it to choose its look.
+
+#: Colour of each mode (cases without a mode: white, failed: black).
 MODE_COLOURS = {
     "scattered": "#9ecae1",
     "rolling-collect-and-collide": "#31a354",
@@ -30,6 +36,64 @@ MODE_COLOURS = {
     "unknown": "#ffffff",
     "failed": "#000000",
 }
+#: Marker of each mode on η*(X) curves.
+MODE_MARKERS = {
+    "scattered": "o",
+    "rolling-collect-and-collide": "s",
+    "swaying": "v",
+    "single-sided": "^",
+    "lift-off": "D",
+    "unknown": "o",
+    "failed": "X",
+}
+#: Hatching of each mode on the design map (rolling collect-and-collide plain).
+MODE_HATCHES = {
+    "scattered": "..",
+    "rolling-collect-and-collide": "",
+    "swaying": "--",
+    "single-sided": "//",
+    "lift-off": "oo",
+    "unknown": "",
+    "failed": "xx",
+}
+_SPARE_COLOURS = ("#756bb1", "#e7ba52", "#8c6d31", "#e377c2", "#17becf", "#bcbd22")
+_SPARE_MARKERS = ("v", "P", "h", "<", ">", "*")
+_SPARE_HATCHES = ("\\\\", "--", "++", "||", "oo..", "**")
+
+
+def mode_order() -> list[str]:
+    """Every mode with a look, in legend order: those of :data:`MODE_COLOURS`, then any of the
+    classifier's modes (:data:`pdamper.analysis.modes.MODES`) it does not list, ``unknown`` and
+    ``failed`` last."""
+    from ..analysis.modes import MODES
+
+    ends = ("unknown", "failed")
+    order = [m for m in MODE_COLOURS if m not in ends] + [m for m in MODES if m not in MODE_COLOURS]
+    return order + list(ends)
+
+
+def mode_style(mode: str) -> dict:
+    """``{"color", "marker", "hatch"}`` of a motion mode: from :data:`MODE_COLOURS`,
+    :data:`MODE_MARKERS` and :data:`MODE_HATCHES`; a mode they do not list (e.g. one just added to
+    :data:`pdamper.analysis.modes.MODES`) gets a spare colour, marker and hatch of its own, fixed by
+    its place in the classifier's list (or its name).
+
+    >>> mode_style("scattered")["marker"]
+    'o'
+    """
+    mode = str(mode)
+    if mode in MODE_COLOURS:
+        return {"color": MODE_COLOURS[mode], "marker": MODE_MARKERS.get(mode, "o"),
+                "hatch": MODE_HATCHES.get(mode, "")}
+    unlisted = [m for m in mode_order() if m not in MODE_COLOURS]
+    k = unlisted.index(mode) if mode in unlisted else len(unlisted) + sum(map(ord, mode))
+    return {"color": _SPARE_COLOURS[k % len(_SPARE_COLOURS)], "marker": _SPARE_MARKERS[k % len(_SPARE_MARKERS)],
+            "hatch": _SPARE_HATCHES[k % len(_SPARE_HATCHES)]}
+
+
+def _mode_rank(mode: str) -> int:
+    order = mode_order()
+    return order.index(mode) if mode in order else len(order)
 
 
 def _label(ds, default):
@@ -104,8 +168,12 @@ def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str 
     colours = [f"C{k}" for k in range(n)]
     for k, r in enumerate(rows):
         xs = r["stroke"] * 1e3
-        if r["eta"] is not None:
-            top.plot(xs, r["eta"], "o-", ms=3.5, lw=1.3, color=colours[k], label=r["label"])
+        if r["eta"] is not None:  # broken across X_opt and where the mode changes, as the sweep figure
+            have = np.isfinite(r["eta"])
+            cells = [majority_mode(c)[0] for c in r["modes"][have]]
+            x_opt = r["x_opt"] * 1e3 if math.isfinite(r["x_opt"]) else None
+            gx, gy = _with_gaps(xs[have], r["eta"][have], _segments(xs[have], cells, x_opt))
+            top.plot(gx, gy, "o-", ms=3.5, lw=1.3, color=colours[k], label=r["label"])
         if math.isfinite(r["x_opt"]):
             top.axvline(r["x_opt"] * 1e3, color=colours[k], ls=":", lw=1.0)
             bottom.plot([r["x_opt"] * 1e3] * 2, [k - 0.5, k + 0.5], color="k", ls=":", lw=1.2)
@@ -115,7 +183,7 @@ def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str 
             if not mode:
                 continue
             bottom.add_patch(Rectangle((edges[i], k - 0.42), edges[i + 1] - edges[i], 0.84,
-                                       facecolor=MODE_COLOURS.get(mode, "#dddddd"), edgecolor="white", lw=0.5))
+                                       facecolor=mode_style(mode)["color"], edgecolor="white", lw=0.5))
             if mixed:
                 bottom.plot([xs[i]], [k], "o", ms=2.5, color="k")
     top.set_xscale("log")
@@ -129,13 +197,10 @@ def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str 
     bottom.set_yticks(range(n), [r["label"] for r in rows], fontsize=8.5)
     bottom.invert_yaxis()
     bottom.set_xlabel("stroke X [mm]   (dotted: X_opt, eq. 17)")
-    from matplotlib.ticker import FuncFormatter, NullFormatter
-
-    bottom.xaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
-    bottom.xaxis.set_minor_formatter(NullFormatter())
-    present = sorted({majority_mode(c)[0] for r in rows for c in r["modes"]} - {""},
-                     key=lambda m: list(MODE_COLOURS).index(m) if m in MODE_COLOURS else 99)
-    handles = [Patch(facecolor=MODE_COLOURS.get(m, "#dddddd"), edgecolor="0.5", label=m) for m in present]
+    log_ticks(bottom.xaxis, lo, hi)   # shared with the η* panel: at least 3 labelled strokes
+    top.tick_params(labelbottom=True)
+    present = sorted({majority_mode(c)[0] for r in rows for c in r["modes"]} - {""}, key=_mode_rank)
+    handles = [Patch(facecolor=mode_style(m)["color"], edgecolor="0.5", label=m) for m in present]
     if any(majority_mode(c)[1] for r in rows for c in r["modes"]):
         from matplotlib.lines import Line2D
 

@@ -74,6 +74,10 @@ def _window(traj, case, cycles):
 def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, dpi: int = 150):
     """Top view of the sphere paths in the container frame (the paper's Fig. 3).
 
+    Each path is coloured by time (the drive cycle Ωt/2π when every run has a drive frequency,
+    else t [s]) with a labelled colorbar: one for all panels when they cover the same times, else
+    one per panel.
+
     Parameters
     ----------
     runs : list of (label, trajectory, case)
@@ -82,6 +86,9 @@ def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, d
     path : output file (.png, .svg, .pdf), optional.
     cycles : draw the last ``cycles`` drive cycles (None: all frames).
     """
+    from matplotlib import colormaps
+    from matplotlib.collections import LineCollection
+    from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
 
     from ..analysis.modes import classify_trajectory
@@ -93,23 +100,42 @@ def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, d
     geo0 = runs[0][2].container.geometry
     lx, lz, _ = _extent(geo0)
     width = 4.2 * lx / max(lz, 1e-9) * 0.55 + 0.6
-    fig = Figure(figsize=figsize or (min(6.0, width) * len(runs), 3.3), layout="constrained")
-    axes = fig.subplots(1, len(runs), squeeze=False)[0]
-    for ax, (label, traj, case) in zip(axes, runs):
-        geo = case.container.geometry
+    freqs = [float(getattr(case.drive, "frequency", 0.0) or 0.0) for _, _, case in runs]
+    in_cycles = all(f > 0 for f in freqs)
+    windows = []
+    for (_, traj, case), f in zip(runs, freqs):
         idx = _window(traj, case, cycles)
+        t = np.asarray(traj["time"])[idx]
+        windows.append((idx, t * f if in_cycles else t))
+    spans = [(float(c.min()), float(c.max())) if c.size else (0.0, 1.0) for _, c in windows]
+    shared = all(math.isclose(a, spans[0][0], abs_tol=1e-6 * max(1.0, abs(a)))
+                 and math.isclose(b, spans[0][1], abs_tol=1e-6 * max(1.0, abs(b))) for a, b in spans)
+    fig = Figure(figsize=figsize or (min(6.0, width) * len(runs) + (0.9 if shared else 0.9 * len(runs)), 3.3),
+                 layout="constrained")
+    axes = fig.subplots(1, len(runs), squeeze=False)[0]
+    cmap = colormaps["viridis"]
+    label = ("time Ωt/2π [drive cycles]" if in_cycles else "time t [s]")
+    lines = []
+    for ax, (name, traj, case), (idx, clock), span in zip(axes, runs, windows, spans):
+        geo = case.container.geometry
         pos = np.asarray(traj["position"])[idx]
         rad = np.broadcast_to(np.asarray(traj["radius"], dtype=float), pos.shape[1])
         _outline_top(ax, geo)
-        colours = _colours(pos.shape[1])
-        for i in range(pos.shape[1]):
-            ax.plot(pos[:, i, 0] * _MM, pos[:, i, 2] * _MM, "-", lw=0.8, color=colours[i], alpha=0.85)
+        # each sphere's path as segments between frames, coloured by the time at their middle
+        xz = pos[:, :, [0, 2]].transpose(1, 0, 2) * _MM          # (N, F, 2)
+        segs = np.stack([xz[:, :-1], xz[:, 1:]], axis=2).reshape(-1, 2, 2)
+        mid = np.tile((clock[:-1] + clock[1:]) / 2, pos.shape[1])
+        norm = Normalize(*(spans[0] if shared else span))
+        coll = LineCollection(segs, cmap=cmap, norm=norm, linewidths=0.8, alpha=0.9)
+        coll.set_array(mid)
+        ax.add_collection(coll)
+        lines.append(coll)
         _circles(ax, pos[-1, :, 0], pos[-1, :, 2], rad, facecolor="none", edgecolor="0.35", lw=0.6)
         try:
             mode, _ = classify_trajectory(traj, case)
-            title = f"{label}\nmode: {mode}"
+            title = f"{name}\nmode: {mode}"
         except ValueError:
-            title = label
+            title = name
         ax.set_title(title, fontsize=9.5)
         ex, ez, _ = _extent(geo)
         ax.set_xlim(-ex * _MM - 3, ex * _MM + 3)
@@ -117,18 +143,20 @@ def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, d
         ax.set_aspect("equal")
         ax.set_xlabel("x (along the drive) [mm]")
         ax.set_ylabel("z [mm]")
+        if not shared:
+            fig.colorbar(coll, ax=ax, label=label, shrink=0.9, pad=0.02)
+    if shared:
+        cb = fig.colorbar(lines[0], ax=list(axes), label=label, shrink=0.9, pad=0.02)
+        if in_cycles and len(set(freqs)) == 1:  # the same clock in seconds on the other side
+            sec = cb.ax.secondary_yaxis("left", functions=(lambda c, f=freqs[0]: c / f, lambda s, f=freqs[0]: s * f))
+            sec.set_ylabel("t [s]", fontsize=8)
+            sec.tick_params(labelsize=7)
     n_cyc = f"last {cycles:g} cycles" if cycles is not None else "all frames"
-    fig.suptitle(f"Sphere paths in the container frame, top view ({n_cyc}; circles: last frame)", fontsize=10)
+    fig.suptitle(f"Sphere paths in the container frame, top view ({n_cyc}, coloured by time; circles: last frame)",
+                 fontsize=10)
     if target is not None:
         _save(fig, target, dpi)
     return fig
-
-
-def _colours(n):
-    from matplotlib import colormaps
-
-    cmap = colormaps["viridis"]
-    return [cmap(k / max(n - 1, 1)) for k in range(n)]
 
 
 def _circles(ax, x, y, r, **kw):

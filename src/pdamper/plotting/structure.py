@@ -2,7 +2,8 @@
 
 * :func:`decay_figure` -- (a) the structure's displacement over time with the damper and
   without (its envelope of extremes, and the closed form), (b) the equivalent damping ratio
-  against amplitude from the logarithmic decrement, with and without the damper.
+  against amplitude from the logarithmic decrement, with and without the damper; each legend
+  below its axes, over no curve.
 * :func:`response_figure` -- steady amplitude against forcing frequency: with the damper
   (DEM), without it (closed form, and the bare structure run the same way) and with the bed as
   a rigid mass (closed form).
@@ -30,7 +31,7 @@ def decay_figure(result, path=None, *, title: str | None = None, dpi: int = 150)
 
     target = _check_path(path)
     s = result.summary
-    fig = Figure(figsize=(8.5, 7.0), layout="constrained")
+    fig = Figure(figsize=(8.5, 8.0), layout="constrained")
     ax_t, ax_z = fig.subplots(2, 1, height_ratios=[1.1, 1.0])
     t = result.time
     ax_t.plot(t, result.bare * _MM, color=_C_BARE, lw=0.6, alpha=0.45)
@@ -45,7 +46,7 @@ def decay_figure(result, path=None, *, title: str | None = None, dpi: int = 150)
     ax_t.set_xlabel("time t [s]")
     ax_t.set_ylabel("structure displacement $x_s$ [mm]")
     ax_t.grid(True, alpha=0.3)
-    ax_t.legend(fontsize=8, loc="upper right", framealpha=0.9)
+    _legend_below(ax_t)
     ax_t.set_title(f"(a) free decay from {s['initial_displacement_m'] * _MM:.3g} mm: M = {s['mass_kg']:.3g} kg, "
                    f"f$_n$ = {s['natural_frequency_hz']:.3g} Hz, ζ = {100 * s['damping_ratio']:.3g} %", fontsize=10)
 
@@ -62,13 +63,20 @@ def decay_figure(result, path=None, *, title: str | None = None, dpi: int = 150)
     ax_z.set_ylabel("equivalent damping ratio ζ$_{eq}$ [%]")
     ax_z.set_ylim(bottom=0)
     ax_z.grid(True, alpha=0.3)
-    ax_z.legend(fontsize=8, framealpha=0.9)
+    _legend_below(ax_z)
     ax_z.set_title("(b) damping from the logarithmic decrement, against amplitude", fontsize=10)
     if title:
         fig.suptitle(title, fontsize=11)
     if target is not None:
         _save(fig, target, dpi)
     return fig
+
+
+def _legend_below(ax):
+    """The legend under the axes' x label, in two columns: over no curve (the decay's last peaks
+    and the damping curve fill every corner of the axes)."""
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=2, frameon=False,
+              columnspacing=1.8)
 
 
 def _envelope_closed_form(result):

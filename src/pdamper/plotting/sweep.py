@@ -86,18 +86,58 @@ def sweep_figure(ds, path=None, *, title: str | None = None, theory: bool = True
 def study_figure(ds, path=None, *, title: str | None = None, theory: bool = True, dpi: int = 150):
     """η*(X) of a study: one panel per filling, (a), (b), ..., as the paper's figures, when the
     dataset's ``setting`` dimension has a ``panel`` coordinate with more than one value; else
-    :func:`sweep_figure`. Settings are told apart by colour, marker and line style."""
+    :func:`sweep_figure`.
+
+    The panels sit side by side on one η* axis. Settings are told apart by colour and line style
+    (each panel's legend under it, with its X_opt); the motion modes, the single seeds and the laws
+    every panel shares are listed once, at the bottom of the figure."""
     from matplotlib.figure import Figure
 
     panels = list(dict.fromkeys(ds["panel"].values.tolist())) if "panel" in ds.coords else []
     if len(panels) < 2:
         return sweep_figure(ds, path, title=title, theory=theory, dpi=dpi)
     target = _check_path(path)
-    fig = Figure(figsize=(6.4 * len(panels), 5.6), layout="constrained")
-    subs = fig.subfigures(1, len(panels))
-    for k, (sub, panel) in enumerate(zip(subs, panels)):
+    fig = Figure(figsize=(5.6 * len(panels), 6.4), layout="constrained")
+    axes = fig.subplots(1, len(panels), sharey=True, squeeze=False)[0]
+    drawn, sweeps = [], []
+    for k, (ax, panel) in enumerate(zip(axes, panels)):
         part = ds.isel(setting=[i for i, p in enumerate(ds["panel"].values.tolist()) if p == panel])
-        _sweep_into(sub, part, title=f"({chr(ord('a') + k)}) {panel}", theory=theory)
+        sw = _Sweep(part, "eta_star")
+        data = _draw_panel(ax, sw, theory=theory)
+        laws = [(h, s) for h, s in zip(*ax.get_legend_handles_labels()) if not s.startswith("_")]
+        drawn.append((data, laws))
+        sweeps.append(sw)
+        ax.set_title(f"({chr(ord('a') + k)}) {panel}", fontsize="medium", pad=16)
+        ax.text(0.5, 1.012, _note(sw), transform=ax.transAxes, ha="center", va="bottom", fontsize="small",
+                color="0.35")
+        if k:
+            ax.set_ylabel("")
+    axes[0].set_ylim(*_eta_limits(sweeps))
+    # each panel's own entries (its settings, laws only it has) under it; the rest once, at the bottom
+    per_panel = [{s for _, s in data + laws} for data, laws in drawn]
+    common = set.intersection(*per_panel)
+    shared, seen = [], set()
+    from matplotlib.legend_handler import HandlerTuple
+
+    for ax, (data, laws) in zip(axes, drawn):
+        own = [(h, s) for h, s in data if s.startswith("DEM")] + [(h, s) for h, s in laws if s not in common]
+        for h, s in data + laws:
+            if (s in common or not s.startswith("DEM")) and (h, s) not in own and s not in seen:
+                shared.append((h, s))
+                seen.add(s)
+        if own:
+            ax.legend([h for h, _ in own], [s for _, s in own], loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                      ncols=1 if len(own) <= 3 else 2, fontsize="small", frameon=False,
+                      handler_map={tuple: HandlerTuple(ndivide=1)}, handlelength=2.4)
+    from .modes import _mode_rank
+
+    modes = sorted((e for e in shared if e[1].startswith("mode: ")), key=lambda e: _mode_rank(e[1][6:]))
+    shared = [e for e in shared if e[1] == "single seeds"] + modes + [
+        e for e in shared if e[1] != "single seeds" and not e[1].startswith("mode: ")]
+    if shared:
+        fig.legend([h for h, _ in shared], [s for _, s in shared], loc="outside lower center",
+                   ncols=min(3, len(shared)), fontsize="small", frameon=False,
+                   handler_map={tuple: HandlerTuple(ndivide=1)}, handlelength=2.4, columnspacing=1.5)
     if title or ds.attrs.get("title"):
         fig.suptitle(str(title or ds.attrs.get("title")), fontsize="large")
     if target is not None:
@@ -109,28 +149,39 @@ def _sweep_into(fig, ds, *, title, theory):
     """Draw η*(X) of ``ds`` into ``fig`` (a Figure or SubFigure): data, laws, axes, legend, titles."""
     sw = _Sweep(ds, "eta_star")
     ax = fig.add_subplot()
-    handles = _draw_data(ax, sw, scale=1.0)
+    handles = _draw_panel(ax, sw, theory=theory)
+    ax.set_ylim(*_eta_limits([sw]))
+    _legend(fig, ax, handles)
+    _titles(fig, ax, sw, title)
 
+
+def _draw_panel(ax, sw, *, theory):
+    """η*(X) of one :class:`_Sweep` on ``ax``: data, laws (labelled on ``ax``), axes; returns the
+    data's legend handles."""
+    handles = _draw_data(ax, sw, scale=1.0)
     if theory:
         for h, label, colour in sw.theory_clearances():
             draw_theory_curves(ax, h, sw.strokes_m, bouncing=False, color=colour,
                                label=label, mark_x_opt=True)
         ax.axhline(_th.ETA_MAX, color="0.6", lw=0.9, ls=(0, (6, 3)), zorder=0.5,
                    label=f"$η^*_{{max}}$ = 20/(7π) = {_th.ETA_MAX:.3f}, eq. (16)")
-
     ax.set_xscale("log")
     _stroke_axis(ax, sw.strokes_m)
     ax.set_xlabel("stroke X [mm]")
     ax.set_ylabel("reduced loss factor η* [-]")
-    lo, hi = sw.finite_range()
-    top = max(1.05, 1.08 * hi) if hi is not None else 1.05
-    bottom = min(0.0, lo - 0.05 * (top - lo)) if lo is not None else 0.0
-    ax.set_ylim(bottom, top)
     _grid(ax)
     if not sw.any_data:
         _no_data_note(ax)
-    _legend(fig, ax, handles)
-    _titles(fig, ax, sw, title)
+    return handles
+
+
+def _eta_limits(sweeps):
+    """η* axis limits over the values of ``sweeps``: 0 (or a little below the lowest) to above 1."""
+    vals = [r for sw in sweeps for r in sw.finite_range() if r is not None]
+    lo, hi = (min(vals), max(vals)) if vals else (None, None)
+    top = max(1.05, 1.08 * hi) if hi is not None else 1.05
+    bottom = min(0.0, lo - 0.05 * (top - lo)) if lo is not None else 0.0
+    return bottom, top
 
 
 def energy_figure(ds, path=None, *, title: str | None = None, theory: bool = True,
@@ -257,9 +308,33 @@ class _Sweep:
         vals = vals[:, order, :].copy()
         vals[~np.isfinite(vals)] = np.nan
         self.values = vals  # (setting, stroke, seed)
+        self.modes = self._modes(ds, order)
         self.n_seeds = vals.shape[2]
         self.any_data = bool(np.isfinite(vals).any())
         self.labels = self._setting_labels(da)
+
+    def _modes(self, ds, order):
+        """Motion modes as (setting, stroke, seed) text like ``values`` ('' where none), or None
+        when the dataset has no ``mode`` variable of the same shape (results made before modes)."""
+        if "mode" not in ds.data_vars:
+            return None
+        m = ds["mode"]
+        dims = ([self.dim] if self.dim else []) + ["stroke"] + (["seed"] if "seed" in m.dims else [])
+        if set(m.dims) != set(dims):
+            return None
+        m = np.asarray(m.transpose(*dims).values).astype(str)
+        if "seed" not in dims:
+            m = m[..., None]
+        if self.dim is None:
+            m = m[None, ...]
+        m = m[:, order, :]
+        if m.shape != self.values.shape:
+            return None
+        return np.where(np.isfinite(self.values), m, "")
+
+    def x_opts(self) -> list[float | None]:
+        """X_opt [m] of each setting, eq. (17) (None when the clearance is unknown)."""
+        return [_th.optimal_stroke(h) if h is not None else None for h in self.clearances()]
 
     def _setting_labels(self, da) -> list[str]:
         if self.dim is None:
@@ -358,21 +433,29 @@ def _new_figure(figsize):
 def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
     """Mean line, min-max band and single seeds per setting; returns legend handles.
 
-    The mean is over every computed seed. With ``log`` (a log y axis) a mean <= 0 leaves a gap,
-    a band reaching <= 0 runs to the bottom of the axes and dots <= 0 are left out.
+    The mean is over every computed seed. The line and the band are broken where η* jumps: between
+    the strokes on either side of the setting's X_opt (eq. (17)) and between strokes whose motion
+    modes differ. When the dataset has motion modes, each mean is marked by the mode most of its
+    seeds are in (marker and fill from :func:`pdamper.plotting.modes.mode_style`, edge in the
+    setting's colour) and the modes get legend entries. With ``log`` (a log y axis) a mean <= 0
+    leaves a gap, a band reaching <= 0 runs to the bottom of the axes and dots <= 0 are left out.
     """
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
+
+    from ..analysis.modes import majority_mode
+    from .modes import _mode_rank, mode_style
 
     x_mm = sw.strokes_m * _MM
     colours = sw.colours()
     handles = []
     seeds_drawn = False
+    modes_seen: set[str] = set()
     floor = None
     if log:
         pos = sw.positive_range()[0]
         floor = pos * scale / 2.0 if pos is not None else None
-    for k, (vals, label, colour) in enumerate(zip(sw.values, sw.labels, colours)):
+    for k, (vals, label, colour, x_opt) in enumerate(zip(sw.values, sw.labels, colours, sw.x_opts())):
         vals = vals * scale
         have = np.isfinite(vals)
         count = have.sum(axis=1)
@@ -380,8 +463,9 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
         marker = _MARKERS[k % len(_MARKERS)]
         style = _LINESTYLES[k % len(_LINESTYLES)]
         name = "DEM" if not label else f"DEM, {label}"
+        point_marker = marker if sw.modes is None else None  # with modes: the mode's marker
         if not rows.any():
-            handles.append((Line2D([], [], color=colour, marker=marker, ls=style, lw=1.4, ms=4.5),
+            handles.append((Line2D([], [], color=colour, marker=point_marker, ls=style, lw=1.4, ms=4.5),
                             f"{name} (no data yet)"))
             continue
         with np.errstate(all="ignore"):
@@ -392,13 +476,26 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
         if log:
             mean = np.where(mean > 0, mean, np.nan)
             lo = np.maximum(lo, floor) if floor is not None else lo
-        line, = ax.plot(xs, mean, color=colour, lw=1.4, ls=style, marker=marker, ms=4.5, mfc=colour,
-                        mec="white", mew=0.6, zorder=3)
+        modes = ([majority_mode(c)[0] for c in sw.modes[k][rows]] if sw.modes is not None
+                 else [""] * xs.size)
+        segments = _segments(xs, modes, x_opt * _MM if x_opt is not None else None)
+        gx, gy = _with_gaps(xs, mean, segments)
+        line, = ax.plot(gx, gy, color=colour, lw=1.4, ls=style, marker=point_marker, ms=4.5, mfc=colour,
+                        mec="white", mew=0.6, zorder=3, gid=f"mean {name}")
+        if sw.modes is not None:
+            for mode in sorted(set(modes), key=_mode_rank):
+                at = np.array([m == mode for m in modes])
+                look = mode_style(mode) if mode else {"color": colour, "marker": marker}
+                ax.plot(xs[at], mean[at], ls="", marker=look["marker"], ms=6.0, mfc=look["color"], mec=colour,
+                        mew=1.4, zorder=4, gid=f"mode {mode or 'none'} {name}")
+                if mode:
+                    modes_seen.add(mode)
         handle = line
         spread = count[rows] > 1
         if spread.any():
-            ax.fill_between(xs, np.where(spread, lo, mean), np.where(spread, hi, mean),
-                            color=colour, alpha=0.18, lw=0, zorder=1)
+            for a, b in segments:
+                ax.fill_between(xs[a:b], np.where(spread, lo, mean)[a:b], np.where(spread, hi, mean)[a:b],
+                                color=colour, alpha=0.18, lw=0, zorder=1)
             dots = have & (vals > 0) if log else have
             sx = np.repeat(x_mm[:, None], sw.n_seeds, axis=1)[dots]
             ax.scatter(sx, vals[dots], s=7, color=colour, alpha=0.35, lw=0, zorder=2)
@@ -408,7 +505,39 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
     if seeds_drawn:
         handles.append((Line2D([], [], ls="", marker="o", ms=3, color="0.45", alpha=0.6,
                                mew=0), "single seeds"))
+    for mode in sorted(modes_seen, key=_mode_rank):
+        look = mode_style(mode)
+        handles.append((Line2D([], [], ls="", marker=look["marker"], ms=6.0, mfc=look["color"], mec="0.3",
+                               mew=1.0), f"mode: {mode}"))
     return handles
+
+
+def _segments(xs, modes, x_opt) -> list[tuple[int, int]]:
+    """Index ranges [a, b) of ``xs`` (sorted) drawn as one line: a new one starts past ``x_opt``
+    (where η* jumps) and where the motion mode changes (empty modes join either side)."""
+    cuts = [0]
+    last = modes[0] if len(modes) else ""
+    for i in range(1, len(xs)):
+        across = x_opt is not None and xs[i - 1] < x_opt <= xs[i]
+        if modes[i] and last and modes[i] != last:
+            across = True
+        if across:
+            cuts.append(i)
+        last = modes[i] or last
+    cuts.append(len(xs))
+    return [(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+def _with_gaps(xs, ys, segments):
+    """``xs``, ``ys`` with a NaN between consecutive segments, so one line is drawn broken there."""
+    gx, gy = [], []
+    for n, (a, b) in enumerate(segments):
+        if n:
+            gx.append(math.sqrt(xs[a - 1] * xs[a]))
+            gy.append(np.nan)
+        gx.extend(xs[a:b])
+        gy.extend(ys[a:b])
+    return np.asarray(gx, dtype=float), np.asarray(gy, dtype=float)
 
 
 def _draw_energy_laws(ax, h, lo, hi, mass, freq, colour, label):
@@ -427,20 +556,30 @@ def _draw_energy_laws(ax, h, lo, hi, mass, freq, colour, label):
 
 
 def _stroke_axis(ax, strokes_m):
-    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
-
     lo, hi = float(strokes_m.min()) * _MM, float(strokes_m.max()) * _MM
     pad = (hi / lo) ** 0.04 if hi > lo else 1.5
     ax.set_xlim(lo / pad, hi * pad)
-    decades = math.log10(hi * pad) - math.log10(lo / pad)
-    if decades < 0.7:  # a narrow sweep: label every 1..9 x 10^n
-        subs = tuple(np.arange(1.0, 10.0))
+    log_ticks(ax.xaxis, lo / pad, hi * pad)
+
+
+def log_ticks(axis, lo: float, hi: float, least: int = 3) -> None:
+    """Labelled ticks on a log ``axis`` spanning ``lo`` .. ``hi`` (data units, > 0): decades, or
+    1-2-5, or every 1..9 x 10^n, the sparsest that labels at least ``least`` ticks (a narrow
+    range below that: evenly spaced round numbers); labels as plain numbers (0.5, 10, 200)."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullFormatter
+
+    lo, hi = sorted((float(lo), float(hi)))
+    for subs in ((1.0,), (1.0, 2.0, 5.0), tuple(np.arange(1.0, 10.0))):
+        locator = LogLocator(base=10.0, subs=subs, numticks=30)
+        ticks = [v for v in locator.tick_values(lo, hi) if lo <= v <= hi]
+        if len(ticks) >= least and (len(subs) > 1 or math.log10(hi / lo) > 3.5):
+            break
     else:
-        subs = (1.0, 2.0, 5.0) if decades <= 3.5 else (1.0,)
-    ax.xaxis.set_major_locator(LogLocator(base=10.0, subs=subs))
-    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
-    ax.xaxis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(1.0, 10.0)))
-    ax.xaxis.set_minor_formatter(NullFormatter())
+        locator = MaxNLocator(nbins=4, steps=[1, 2, 2.5, 5, 10])
+    axis.set_major_locator(locator)
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:.4g}"))
+    axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(1.0, 10.0), numticks=30))
+    axis.set_minor_formatter(NullFormatter())
 
 
 def _grid(ax):
@@ -475,6 +614,11 @@ def _titles(fig, ax, sw: _Sweep, title, log_note=False):
         title = sw.ds.attrs.get("title") or _auto_title(sw)
     if title:
         fig.suptitle(str(title), fontsize="medium")
+    ax.set_title(_note(sw, log_note), fontsize="small", color="0.35")
+
+
+def _note(sw: _Sweep, log_note=False) -> str:
+    """What the DEM data are: version, seeds, cases computed (the axes' small title)."""
     total = sw.values.size
     done = int(np.isfinite(sw.values).sum())
     version = sw.ds.attrs.get("pdamper_version")
@@ -486,7 +630,7 @@ def _titles(fig, ax, sw: _Sweep, title, log_note=False):
     text += f"; {done}/{total} cases computed" if done < total else f"; {total} cases"
     if log_note and sw.nonpositive:
         text += f"\n{sw.nonpositive} single value(s) <= 0 not shown as dots (log axis)"
-    ax.set_title(text, fontsize="small", color="0.35")
+    return text
 
 
 def _auto_title(sw: _Sweep) -> str:
