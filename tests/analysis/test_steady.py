@@ -16,15 +16,15 @@ def _used(n, drop=2):
 
 def test_independent_cycles_give_the_standard_error_of_the_mean():
     rng = np.random.default_rng(1)
-    e = 1.0 + 0.1 * rng.standard_normal(400)
-    st = cycle_statistics(np.r_[9.0, 9.0, e], _used(400), 0.8)
-    naive = 0.8 * np.std(e, ddof=1) / math.sqrt(400) / np.mean(e)
-    # no correlation to speak of: the AR(1) factor stays near 1
+    e = 1.0 + 0.1 * rng.standard_normal(20000)
+    st = cycle_statistics(np.r_[9.0, 9.0, e], _used(20000), 0.8)
+    naive = 0.8 * np.std(e, ddof=1) / math.sqrt(20000) / np.mean(e)
+    # no correlation: the long-run variance is the variance
     assert st.eta_star_error == pytest.approx(naive, rel=0.1)
-    assert st.steady and st.cycles == 400
+    assert st.steady and st.cycles == 20000
 
 
-def test_correlated_cycles_widen_the_error_by_the_ar1_factor():
+def test_correlated_cycles_widen_the_error_to_the_long_run_variance():
     rng = np.random.default_rng(2)
     n, phi = 4000, 0.6
     x = np.zeros(n)
@@ -34,7 +34,19 @@ def test_correlated_cycles_widen_the_error_by_the_ar1_factor():
     st = cycle_statistics(e, [True] * n, 1.0)
     naive = np.std(e, ddof=1) / math.sqrt(n) / np.mean(e)
     assert st.correlation == pytest.approx(phi, abs=0.05)
+    # an AR(1) record's mean has sqrt((1 + phi)/(1 - phi)) = 2 times the iid error
     assert st.relative_error / naive == pytest.approx(math.sqrt((1 + phi) / (1 - phi)), rel=0.1)
+
+
+def test_energy_stored_at_one_cycle_end_and_given_back_in_the_next_does_not_count_as_error():
+    rng = np.random.default_rng(3)
+    n = 2000
+    stored = rng.standard_normal(n + 1)  # energy in the bed at each cycle boundary
+    e = 5.0 + 0.05 * rng.standard_normal(n) + np.diff(stored)  # dissipated + change of the stored energy
+    st = cycle_statistics(e, [True] * n, 1.0)
+    naive = np.std(e, ddof=1) / math.sqrt(n) / np.mean(e)
+    assert st.correlation == pytest.approx(-0.5, abs=0.05)
+    assert st.relative_error < 0.5 * naive
 
 
 def test_a_drifting_record_is_not_steady_and_a_flat_one_is():

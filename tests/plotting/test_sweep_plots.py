@@ -301,13 +301,13 @@ def test_a_mode_the_style_table_does_not_list_gets_its_own_look():
     from pdamper.plotting.modes import MODE_COLOURS, mode_style
 
     ds = _with_modes(make_sweep(seeds=1), rolling_from=theory.optimal_stroke(0.03))
-    ds["mode"][:4, 0] = "swaying"   # e.g. a mode just added to pdamper.analysis.modes.MODES
+    ds["mode"][:4, 0] = "gliding"   # e.g. a mode just added to pdamper.analysis.modes.MODES
     fig = sweep_figure(ds)
-    look = mode_style("swaying")
+    look = mode_style("gliding")
     assert look["color"] not in MODE_COLOURS.values()
     assert look["marker"] not in {mode_style(m)["marker"] for m in MODE_COLOURS if m != "unknown"}
-    assert "mode: swaying" in _labels(fig)
-    mark = next(ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "mode swaying DEM")
+    assert "mode: gliding" in _labels(fig)
+    mark = next(ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "mode gliding DEM")
     assert mark.get_marker() == look["marker"] and len(mark.get_xdata()) == 4
 
 

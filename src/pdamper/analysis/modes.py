@@ -1,4 +1,4 @@
-"""Motion modes of the particle bed from its trajectory (SPEC Sect. 8, paper Figs. 2, 3, 5, Sect. 6.2).
+"""Motion modes of the particle bed from its trajectory (the paper's Figs. 2, 3, 5 and Sect. 6.2; docs/motion.md).
 
 Pure functions on trajectory arrays in the **container frame** (x along the container's length,
 y up from the floor, z across), as :class:`pdamper.simulation.RunResult` records them; they know

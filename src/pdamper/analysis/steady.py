@@ -5,14 +5,18 @@ The complex power gives one eta* over the analysed window (eq. 5); the energies 
 cycles, ``E_k = int F v dt`` over cycle k, scatter around its energy per cycle because the bed
 does not repeat itself exactly. Their spread says how well eta* is known:
 
-* **Standard error.** ``s / sqrt(n)`` of the n analysed cycle energies, inflated for the
-  correlation of neighbouring cycles (the bed carries its state from one cycle into the next) by
-  the AR(1) factor ``sqrt((1 + r1) / (1 - r1))`` with ``r1`` the lag-1 autocorrelation, clipped to
-  [0, 0.9] (with ~18 cycles a batch-means estimate would have 3-6 batches; the AR(1) factor is
-  the usual large-sample correction, e.g. Bayley & Hammersley 1946, Flyvbjerg & Petersen 1989).
-  eta*'s error is ``|eta*|`` times the relative standard error of the mean cycle energy.
+* **Standard error.** The long-run variance of the cycle energies over n analysed cycles,
+  estimated with Bartlett weights up to lag ``L = round(n^(1/3))`` (Newey & West 1987: the
+  autocovariances ``g_k`` weighted by ``1 - k/(L+1)``; never negative), over n, square-rooted.
+  Neighbouring cycles are correlated both ways: energy the bed stores at one cycle's end is
+  given back in the next (negative lag-1 correlation, -0.2 to -0.55 at 14 mm), and a bed in a
+  slowly changing state repeats itself (positive). eta*'s error is ``|eta*|`` times the relative
+  standard error of the mean cycle energy. Measured against the spread of six seeds
+  (docs/performance.md, "Steady state"): about twice that spread where the bed has one state,
+  and blind to a choice between two states that a run never leaves.
 * **Steady state.** The means of the first and the second half of the analysed cycles agree
-  within two combined standard errors (a Geweke-style drift test), with at least
+  within two combined standard errors (a Geweke-style drift test; the long-run variance taken
+  about each half's own mean), with at least
   :data:`MIN_CYCLES` analysed cycles. A run still settling into its motion mode fails it.
 
 Statistics over a handful of cycles are rough: they tell a steady run from a drifting one and a
@@ -38,7 +42,7 @@ class CycleStatistics:
 
     eta_star_error : standard error of eta* over the analysed cycles [-] (NaN below 2 cycles).
     relative_error : the same relative to the mean cycle energy [-].
-    correlation : lag-1 autocorrelation of the cycle energies used for the inflation (clipped).
+    correlation : lag-1 autocorrelation of the cycle energies [-].
     drift : second half's mean cycle energy minus the first's, relative to the mean [-].
     steady : True when at least MIN_CYCLES cycles were analysed and the drift is within two
         standard errors.
@@ -53,15 +57,20 @@ class CycleStatistics:
     cycles: int
 
 
-def _inflation(e: np.ndarray) -> tuple[float, float]:
-    """AR(1) inflation factor of the standard error and the clipped lag-1 autocorrelation."""
-    if e.size < 3:
-        return 1.0, 0.0
-    d = e - e.mean()
-    den = float(np.dot(d, d))
-    r1 = float(np.dot(d[:-1], d[1:]) / den) if den > 0 else 0.0
-    r1 = min(max(r1, 0.0), 0.9)
-    return math.sqrt((1.0 + r1) / (1.0 - r1)), r1
+def _long_run_variance(d: np.ndarray) -> tuple[float, float]:
+    """Bartlett-weighted long-run variance of the deviations ``d`` from their mean (lags up to
+    round(n^(1/3))) and the lag-1 autocorrelation."""
+    n = d.size
+    g0 = float(np.dot(d, d)) / n
+    lags = max(1, int(round(n ** (1.0 / 3.0))))
+    lr = g0
+    r1 = 0.0
+    for k in range(1, min(lags, n - 1) + 1):
+        gk = float(np.dot(d[:-k], d[k:])) / n
+        if k == 1 and g0 > 0:
+            r1 = gk / g0
+        lr += 2.0 * (1.0 - k / (lags + 1.0)) * gk
+    return max(lr, 0.0) * n / (n - 1), r1
 
 
 def cycle_statistics(cycle_energies, used, eta_star: float) -> CycleStatistics:
@@ -69,9 +78,11 @@ def cycle_statistics(cycle_energies, used, eta_star: float) -> CycleStatistics:
     mask of the analysed ones (as in :class:`~pdamper.analysis.PowerResult`), ``eta_star`` the
     record's eta*.
 
-    >>> s = cycle_statistics([5.0, 1.0, 1.0, 1.1, 0.9, 1.0], [False, True, True, True, True, True], 0.5)
+    >>> s = cycle_statistics([5.0, 1.0, 1.1, 0.9, 1.0, 1.05, 0.95, 1.0], [False] + [True] * 7, 0.5)
     >>> round(s.eta_star_error, 4), s.steady, s.cycles
-    (0.0158, True, 5)
+    (0.0055, True, 7)
+    >>> cycle_statistics([1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 1.6, 1.7], [True] * 8, 0.5).steady  # a drift
+    False
     """
     e = np.asarray(cycle_energies, dtype=float)[np.asarray(used, dtype=bool)]
     n = int(e.size)
@@ -79,15 +90,16 @@ def cycle_statistics(cycle_energies, used, eta_star: float) -> CycleStatistics:
     if n < 2 or not (mean != 0.0 and math.isfinite(mean)):
         return CycleStatistics(eta_star_error=math.nan, relative_error=math.nan, correlation=math.nan,
                                drift=math.nan, steady=False, cycles=n)
-    inflate, r1 = _inflation(e)
-    rel = float(np.std(e, ddof=1)) / math.sqrt(n) * inflate / abs(mean)
+    var, r1 = _long_run_variance(e - mean)
+    rel = math.sqrt(var / n) / abs(mean)
     half = n // 2
     first, second = e[:half], e[n - half:]
     drift = (float(second.mean()) - float(first.mean())) / abs(mean) if half else math.nan
     steady = False
     if n >= MIN_CYCLES:
-        var = (np.var(first, ddof=1) / first.size + np.var(second, ddof=1) / second.size) if half >= 2 else 0.0
-        spread = 2.0 * math.sqrt(var) * inflate / abs(mean)
-        steady = bool(abs(drift) <= spread)
+        # the two halves' means, with the long-run variance about each half's own mean (a drift
+        # would otherwise widen the very error it is judged against)
+        within, _ = _long_run_variance(np.concatenate([first - first.mean(), second - second.mean()]))
+        steady = bool(abs(drift) <= 2.0 * math.sqrt(2.0 * within / half) / abs(mean))
     return CycleStatistics(eta_star_error=abs(float(eta_star)) * rel, relative_error=rel, correlation=r1, drift=drift,
                            steady=steady, cycles=n)

@@ -15,7 +15,7 @@ The optimum puts the impact at θ_i = π: ``X_opt = h/π`` with ``η*_max = 4/π
 the block cannot reach the far wall by θ = π and the functions return NaN.
 
 Reference: the paper's Sect. 1 and its refs. [3] (Bannerman et al.) and [30] (Sack et al.);
-pdamper SPEC Sect. 4.
+docs/theory.md.
 """
 
 from __future__ import annotations
