@@ -45,7 +45,8 @@ def impact_error(numerics):
 SETTINGS = {
     "verlet15": ("verlet, 15 steps/contact", dict(integrator="verlet", steps_per_contact=15)),
     "verlet30": ("verlet, 30 steps/contact", dict(integrator="verlet", steps_per_contact=30)),
-    "gear10": ("gear, tol 1e-10 m (default)", dict(integrator="gear", gear_tolerance=1e-10)),
+    "gear9": ("gear, tol 1e-9 m (default)", dict(integrator="gear", gear_tolerance=1e-9)),
+    "gear10": ("gear, tol 1e-10 m", dict(integrator="gear", gear_tolerance=1e-10)),
     "gear11": ("gear, tol 1e-11 m", dict(integrator="gear", gear_tolerance=1e-11)),
 }
 

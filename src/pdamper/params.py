@@ -156,7 +156,7 @@ class Numerics:
     steps_per_contact : int, steps per shortest Hertz contact (default 15).
     max_impact_speed : expected largest impact speed [m/s]; None: 2.5 X Omega + 0.1 m/s.
     max_time_step : upper bound on any step [s] (default 1e-5).
-    gear_tolerance : Gear's local position error bound [m] per step (default 1e-10).
+    gear_tolerance : Gear's local position error bound [m] per step (default 1e-9; docs/integrators.md).
     gear_max_step : Gear's longest step [s] (default 5e-5).
     neighbour_search : "auto", "direct" (all pairs) or "cells" (link cells) for building the Verlet list.
     skin : Verlet-list skin [m]; None: 0.2 r_max.
@@ -168,7 +168,7 @@ class Numerics:
     steps_per_contact: int = 15
     max_impact_speed: float | None = param(None, dimension="velocity", auto=True)
     max_time_step: float = param(1e-5, dimension="time")
-    gear_tolerance: float = param(1e-10, dimension="length")
+    gear_tolerance: float = param(1e-9, dimension="length")
     gear_max_step: float = param(5e-5, dimension="time")
     neighbour_search: str = param("auto", choices=("auto", "direct", "cells"))
     skin: float | None = param(None, dimension="length", auto=True)
