@@ -16,10 +16,15 @@ def test_not_shown_on_a_pipe_outside_jupyter(monkeypatch):
     assert _progress.show_progress(True) is True
 
 
-def test_shown_in_a_jupyter_kernel(monkeypatch):
-    shell = types.SimpleNamespace(config={"IPKernelApp": {}})
+def _ipython_shell(monkeypatch, app: str):
+    """Pretend to run inside an IPython shell whose application is ``app``."""
+    shell = types.SimpleNamespace(config={app: {}})
     monkeypatch.setitem(sys.modules, "ipykernel", types.ModuleType("ipykernel"))
     monkeypatch.setitem(sys.modules, "IPython", types.SimpleNamespace(get_ipython=lambda: shell))
+
+
+def test_shown_in_a_jupyter_kernel(monkeypatch):
+    _ipython_shell(monkeypatch, "IPKernelApp")
     monkeypatch.setattr(sys, "stderr", io.StringIO())
     assert _progress.in_jupyter()
     assert _progress.show_progress(None) is True
@@ -27,9 +32,7 @@ def test_shown_in_a_jupyter_kernel(monkeypatch):
 
 
 def test_a_plain_ipython_shell_is_not_jupyter(monkeypatch):
-    shell = types.SimpleNamespace(config={"TerminalIPythonApp": {}})
-    monkeypatch.setitem(sys.modules, "ipykernel", types.ModuleType("ipykernel"))
-    monkeypatch.setitem(sys.modules, "IPython", types.SimpleNamespace(get_ipython=lambda: shell))
+    _ipython_shell(monkeypatch, "TerminalIPythonApp")
     assert not _progress.in_jupyter()
 
 
