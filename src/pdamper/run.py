@@ -14,6 +14,7 @@ import math
 import warnings
 from dataclasses import dataclass, field
 
+from .analysis.steady import MIN_STEADY_CYCLES
 from .errors import InputError
 from .params import Case
 from .simulation import Simulation, default_recorders
@@ -24,10 +25,6 @@ __all__ = ["run_case", "RunResult", "analyse_signals", "MODE_FPS", "MIN_STEADY_C
 #: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
 #: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
 MODE_FPS = 50.0
-
-#: Analysed cycles a run with ``until_steady`` always drives (after the dropped ones) before it
-#: may stop: fewer give too rough an error to stop on.
-MIN_STEADY_CYCLES = 6
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -136,7 +133,6 @@ def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=No
     """Drive ``sim`` cycle by cycle from ``case.drop_cycles + MIN_STEADY_CYCLES`` cycles on and stop
     after the first cycle at which the record so far is steady and eta*'s standard error is at
     most ``tolerance``; never beyond the case's cycles. Returns the cycles driven."""
-    from .analysis.steady import cycle_statistics
     from .recorders.signals import Signals
 
     sim.settle()
@@ -148,8 +144,7 @@ def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=No
         if sim.sample >= sim.n_samples:
             return float(case.cycles)
         sig = Signals.from_run(case, sim.interval, sim.samples.wall_force[:sim.sample])
-        a = analyse_signals(case, sig)
-        st = cycle_statistics(a.cycle_energies_J, a.cycle_used, a.eta_star)
+        st = analyse_signals(case, sig).statistics
         if st.steady and st.eta_star_error <= tolerance:
             return float(k)
         k += 1

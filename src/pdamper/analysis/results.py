@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from .._repr import short_repr
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -137,10 +138,10 @@ class PowerResult:
         """``Omega = 2 pi f`` [rad/s]."""
         return 2.0 * math.pi * self.frequency_hz
 
-    @property
+    @functools.cached_property
     def statistics(self):
         """eta*'s standard error over the analysed cycles and the steady-state flag
-        (:class:`~pdamper.analysis.steady.CycleStatistics`)."""
+        (:class:`~pdamper.analysis.steady.CycleStatistics`; computed once)."""
         from .steady import cycle_statistics
 
         return cycle_statistics(self.cycle_energies_J, self.cycle_used, self.eta_star)

@@ -30,10 +30,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CycleStatistics", "cycle_statistics", "MIN_CYCLES"]
+__all__ = ["CycleStatistics", "cycle_statistics", "MIN_CYCLES", "MIN_STEADY_CYCLES"]
 
 #: Analysed cycles needed before a run is called steady.
 MIN_CYCLES = 4
+
+#: Analysed cycles a run with ``until_steady`` always drives (after the dropped ones) before it
+#: may stop: fewer give too rough an error to stop on.
+MIN_STEADY_CYCLES = 6
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -25,7 +25,8 @@ from ..io.files import json_safe
 from ..errors import InputError, SimulationError
 from ..units import parse_quantity
 
-__all__ = ["main", "OneLineCommand", "Quantity", "user_errors", "echo_json", "fail", "renamed"]
+__all__ = ["main", "OneLineCommand", "Quantity", "user_errors", "echo_json", "fail", "renamed",
+           "until_steady_option"]
 
 # Raised when a group is called without arguments (click >= 8.2): it carries the help text,
 # which must be shown as it is, not squeezed into one error line.
@@ -188,6 +189,17 @@ def column_options(func):
                                 ("acceleration", "Use this column as the acceleration."))):
         wrapper = click.option(f"--{role}-column", metavar="NAME", help=text)(wrapper)
     return wrapper
+
+
+def until_steady_option(func):
+    """``--until-steady TOL`` of run, sweep and study (:func:`pdamper.run.run_case`'s ``until_steady``)."""
+    from ..analysis.steady import MIN_STEADY_CYCLES
+
+    return click.option(
+        "--until-steady", "until_steady", type=click.FloatRange(min=0, min_open=True), metavar="TOL",
+        help="Stop a case early once its record is steady and eta*'s standard error over the analysed cycles is "
+             f"at most TOL (e.g. 0.01), after at least {MIN_STEADY_CYCLES} analysed cycles; never beyond the "
+             "configured cycles. Default: the paper's protocol, all cycles.")(func)
 
 
 def renamed(new_value, old_value, *, new: str, old: str):

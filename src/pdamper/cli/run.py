@@ -9,7 +9,7 @@ import tomllib
 import click
 
 from ..errors import InputError
-from .common import Quantity, echo_json, fraction_bar, main, user_errors
+from .common import Quantity, echo_json, fraction_bar, main, until_steady_option, user_errors
 
 __all__ = ["run_command", "parse_set", "DEFAULT_FPS"]
 
@@ -51,10 +51,7 @@ def parse_set(items) -> dict:
               help="Record particle trajectories (positions, velocities, spins) for pdamper animate/export.")
 @click.option("--fps", type=Quantity("frequency"),
               help="Trajectory frames per second with --trajectory (default 100; a bare number is frames/s).")
-@click.option("--until-steady", "until_steady", type=click.FloatRange(min=0, min_open=True), metavar="TOL",
-              help="Stop a case early once its record is steady and eta*'s standard error over the analysed "
-                   "cycles is at most TOL (e.g. 0.01), after at least 6 analysed cycles; never beyond the "
-                   "configured cycles. Default: the paper's protocol, all cycles.")
+@until_steady_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units) instead of the table.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False),
               help="Write the run directory (config.toml, signals.csv, energy.csv, result.json).")

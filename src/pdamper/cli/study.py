@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .common import echo_json, main, user_errors
+from .common import echo_json, main, until_steady_option, user_errors
 
 __all__ = ["study_command"]
 
@@ -33,10 +33,7 @@ def _names():
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
 @click.option("--plot", type=click.Path(dir_okay=False), help="Figure file (default <out>/<NAME>.png).")
-@click.option("--until-steady", "until_steady", type=click.FloatRange(min=0, min_open=True), metavar="TOL",
-              help="Stop a case early once its record is steady and eta*'s standard error over the analysed "
-                   "cycles is at most TOL (e.g. 0.01), after at least 6 analysed cycles; never beyond the "
-                   "configured cycles. Default: the paper's protocol, all cycles.")
+@until_steady_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
 def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, until_steady, as_json):

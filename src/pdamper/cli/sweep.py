@@ -10,7 +10,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .common import echo_json, main, user_errors
+from .common import echo_json, main, until_steady_option, user_errors
 from .run import parse_set
 
 __all__ = ["sweep_command"]
@@ -38,10 +38,7 @@ __all__ = ["sweep_command"]
               show_default=True, help="What the store keeps of each case: its 1 kHz force, motion and dissipated "
               "energy (about 0.25 MB per 20-cycle case; 'pdamper reanalyze' needs them), also every energy-ledger "
               "column ('full', about 0.7 MB), or nothing.")
-@click.option("--until-steady", "until_steady", type=click.FloatRange(min=0, min_open=True), metavar="TOL",
-              help="Stop a case early once its record is steady and eta*'s standard error over the analysed "
-                   "cycles is at most TOL (e.g. 0.01), after at least 6 analysed cycles; never beyond the "
-                   "configured cycles. Default: the paper's protocol, all cycles.")
+@until_steady_option
 @click.option("--repair", is_flag=True, help="Rebuild a store whose store.json was lost from this config and its case files.")
 @click.option("--measured", type=click.Path(exists=True), metavar="CAMPAIGN",
               help="Draw a measured campaign ('pdamper campaign') with error bars on the --plot figure.")

@@ -35,6 +35,16 @@ STROKE = "drive.stroke"
 SPACINGS = ("log", "linear")
 
 
+def _si_values(values, dimension: str, name: str):
+    """A grid's values in SI: "12mm", ["5mm", "12mm"] or a pint quantity become SI floats; numbers
+    and arrays stay as they are (:func:`pdamper.units.to_si`); one value becomes a list of one."""
+    if isinstance(values, str) or is_quantity(values) and np.ndim(values) == 0:
+        values = [values]
+    elif isinstance(values, (list, tuple)):
+        values = list(values)
+    return to_si(values, dimension, name=name)
+
+
 @quantities(lo="length", hi="length")
 def stroke_grid(lo: float, hi: float, n: int) -> np.ndarray:
     """``n`` log-spaced strokes [m] from ``lo`` to ``hi`` (the paper: 0.5 mm, 50 mm, 40)."""
@@ -83,12 +93,7 @@ class Axis:
         spec = key_spec(self.key)  # raises for an unknown key, with a suggestion
         values = self.values
         if spec.kind != "text" and (spec.dimension is not None or spec.kind == "number"):
-            # "12mm", ["5mm", "12mm"] or a pint quantity: SI floats (numbers stay as they are)
-            if isinstance(values, str) or is_quantity(values) and np.ndim(values) == 0:
-                values = [values]
-            elif isinstance(values, (list, tuple)):
-                values = list(values)
-            values = to_si(values, spec.dimension or "dimensionless", name=f"axis {self.key}")
+            values = _si_values(values, spec.dimension or "dimensionless", f"axis {self.key}")
         vals = tuple(np.atleast_1d(np.asarray(values, dtype=object)).tolist())
         if not vals:
             raise InputError(f"--vary {self.key}: give at least one value")
@@ -212,12 +217,7 @@ class SweepSpec:
     def __post_init__(self):
         axes = list(self.axes)
         if self.strokes is not None:
-            given = self.strokes
-            if isinstance(given, str) or is_quantity(given) and np.ndim(given) == 0:
-                given = [given]
-            elif isinstance(given, (list, tuple)):
-                given = list(given)
-            strokes = tuple(float(x) for x in np.atleast_1d(to_si(given, "length", name="strokes")))
+            strokes = tuple(float(x) for x in np.atleast_1d(_si_values(self.strokes, "length", "strokes")))
             if not strokes or any(not (x > 0 and math.isfinite(x)) for x in strokes):
                 raise InputError(f"sweep strokes must be positive lengths, got {self.strokes!r}")
             if any(a.key == STROKE for a in axes):
