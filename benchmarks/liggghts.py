@@ -76,7 +76,7 @@ def write_deck(case, workdir: Path, *, dt: float) -> dict:
     p = case.particles[0]
     wall = case.container.material
     pos = initial_positions(case, np.random.default_rng(case.initial.seed))
-    gvec, dvec = container_vectors(case.container.tilt, case.gravity, case.drive.angle)
+    gvec, dvec = container_vectors(case.container.tilt, case.gravity, case.drive.lab_direction())
     gn = float(np.linalg.norm(gvec))
     eps = case.contact.restitution_for(p.material.name, p.material.name).value
     eps_w = case.contact.restitution_for(p.material.name, wall.name).value

@@ -204,7 +204,7 @@ def test_resting_hertz_overlaps_are_accepted():
 
 @pytest.mark.parametrize("positions,match", [
     (((0.0, R, 0.0), (0.009, R, 0.0)), "spheres 0 and 1 overlap"),
-    (((0.0, R, 0.0), (0.058, R, 0.0)), r"sphere 1 .* \+x wall"),
+    (((0.0, R, 0.0), (0.058, R, 0.0)), r"sphere 1 .* x_max wall"),
     (((0.0, 0.003, 0.0), (0.02, R, 0.0)), "sphere 0 .* floor"),
     (((0.0, R, 0.0), (0.2, R, 0.0)), "outside the container"),
     (((0.0, R, 0.0), (0.0, 0.0385, 0.0)), "lid"),

@@ -386,5 +386,5 @@ def test_results_print_as_one_short_line():
         text = repr(obj)
         assert len(text) < 600 and "\n" not in text, text
     assert repr(r).startswith(f"RunResult(eta_star={r.eta_star:.6g}")
-    assert repr(r.case).startswith("Case(8 x r = 5 mm steel in a cuboid (L 120 x W 40.4 x H 40 mm), harmonic X = 13 mm")
+    assert repr(r.case).startswith("Case(8 x r = 5 mm steel in a cuboid 120 x 40.4 x 40 mm, harmonic X = 13 mm")
     assert "<float64 array 1500>" in repr(r.signals)

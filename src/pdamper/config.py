@@ -74,6 +74,7 @@ import dataclasses
 import difflib
 import math
 import tomllib
+from collections.abc import Mapping
 from pathlib import Path
 
 from .contact.cor_constant import ConstantRestitution
@@ -81,9 +82,8 @@ from .contact.cor_table import TabulatedRestitution
 from .contact.cor_thornton import ThorntonRestitution
 from .errors import InputError
 from .io.files import atomic_write
-from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
-from .geometry.cuboid import Cuboid
-from .geometry.cylinder import Cylinder
+from .excitation import DRIVES
+from .geometry import SHAPES, Baffle
 from .materials import LIBRARY, Material
 from .params import Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording
 from .schema import Spec, config_keys, plain_fields, spec_of
@@ -97,9 +97,17 @@ __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_ca
 # structure no field can say: which class a section builds (a container shape, a drive kind),
 # and keys that are not fields (a samples file, a natural frequency instead of a stiffness,
 # per-material-pair tables).
-_GEOMETRIES = {cls.shape: cls for cls in (Cuboid, Cylinder)}
-_DRIVES = {cls.kind: cls for cls in (HarmonicDrive, SampledDrive, Still)}
-_SHAPE_KEYS = {shape: config_keys(cls) for shape, cls in _GEOMETRIES.items()}
+_GEOMETRIES = SHAPES
+_DRIVES = {kind: cls for kind, cls in DRIVES.items() if cls.section == "drive"}
+#: The drive the [structure] section builds.
+_STRUCTURE = next(cls for cls in DRIVES.values() if cls.section == "structure")
+
+
+def _shape_keys() -> dict:
+    """The config keys of each registered shape (read when asked: a shape may register later)."""
+    return {shape: config_keys(cls) for shape, cls in _GEOMETRIES.items()}
+
+
 #: Keys that only one kind of drive has (a key of another kind is an error).
 _DRIVE_OWN = {kind: tuple(k for k in config_keys(cls)
                           if not any(k in config_keys(o) for o in _DRIVES.values() if o is not cls))
@@ -112,9 +120,29 @@ def _union(*groups) -> tuple:
     return tuple(dict.fromkeys(k for g in groups for k in g))
 
 
+class _Sections(Mapping):
+    """Allowed keys of each section, derived from the dataclasses' fields (the container's from
+    the shapes registered when asked)."""
+
+    def __init__(self, fixed: dict):
+        self._fixed = fixed
+
+    def _container(self) -> tuple:
+        return _union(("shape",), *_shape_keys().values(), config_keys(Container, drop=("geometry",)))
+
+    def __getitem__(self, section):
+        return self._container() if section == "container" else self._fixed[section]
+
+    def __iter__(self):
+        return iter(("container", *self._fixed))
+
+    def __len__(self):
+        return len(self._fixed) + 1
+
+
 #: Allowed keys of each section, derived from the dataclasses' fields.
-SECTIONS = {
-    "container": _union(("shape",), *_SHAPE_KEYS.values(), config_keys(Container, drop=("geometry",))),
+SECTIONS = _Sections({
+    "baffles": config_keys(Baffle),
     "particles": config_keys(ParticleSet),
     "drive": _union(("kind",), *(config_keys(cls) for cls in _DRIVES.values()), ("samples",)),
     "contact": config_keys(ContactModel, drop=("pair_friction", "pair_restitution")) + ("pair",),
@@ -122,8 +150,8 @@ SECTIONS = {
     "recording": config_keys(Recording),
     "initial": config_keys(InitialState),
     "run": tuple(s.key or f.name for f, s in plain_fields(Case)),
-    "structure": _union(config_keys(CoupledStructure), ("natural_frequency",)),
-}
+    "structure": _union(config_keys(_STRUCTURE), ("natural_frequency",)),
+})
 _MATERIAL_KEYS = config_keys(Material)
 _PAIR_KEYS = ("materials", "friction", "restitution")
 _LAW_KEYS = {"constant": ("law", "value"), "table": ("law", "speeds", "values"),
@@ -198,9 +226,9 @@ def _quoted(key, allowed) -> str:
 
 #: The parameter classes whose fields make each section's keys.
 _SECTION_CLASSES = {
-    "container": (Cuboid, Cylinder, Container), "particles": (ParticleSet,), "drive": tuple(_DRIVES.values()),
+    "container": (Container,), "particles": (ParticleSet,), "drive": tuple(_DRIVES.values()),
     "contact": (ContactModel,), "numerics": (Numerics,), "recording": (Recording,), "initial": (InitialState,),
-    "run": (Case,), "structure": (CoupledStructure,),
+    "run": (Case,), "structure": (_STRUCTURE,),
 }
 #: Specs of the structured keys that also take one plain value (a constant COR; one tilt angle for all axes).
 _VALUE_SPECS = {"contact.restitution": Spec(kind="number"), "container.tilt": Spec(kind="number", dimension="angle")}
@@ -216,7 +244,8 @@ def key_spec(dotted: str) -> Spec:
         raise InputError(f"{dotted!r}: unknown key {key!r} in [{section}]; " + _quoted(key, SECTIONS[section]))
     if dotted in _VALUE_SPECS:
         return _VALUE_SPECS[dotted]
-    for cls in _SECTION_CLASSES[section]:
+    classes = (*_GEOMETRIES.values(), *_SECTION_CLASSES[section]) if section == "container" else _SECTION_CLASSES[section]
+    for cls in classes:
         for f, s in plain_fields(cls):
             if (s.key or f.name) == key:
                 return s
@@ -453,14 +482,23 @@ class _Reader:
     def container(self, t) -> Container:
         self._check_keys(t, "container", SECTIONS["container"])
         shape = self.choice(t, "container", "shape", tuple(_GEOMETRIES), "cuboid")
-        for key in ("length", "width", "height", "radius"):
-            if key in t and key not in _SHAPE_KEYS[shape]:
-                other = "cylinder" if shape == "cuboid" else "cuboid"
-                raise InputError(f"[container] {key} applies to shape = {other!r}, but shape = {shape!r} "
-                                 f"(give {', '.join(_SHAPE_KEYS[shape])})")
+        for key in t:
+            owners = [s for s, keys in _shape_keys().items() if key in keys]
+            if owners and shape not in owners:
+                raise InputError(f"[container] {key} applies to shape = {owners[0]!r}, but shape = {shape!r} "
+                                 f"(give {', '.join(_shape_keys()[shape])})")
         kw = {"geometry": _GEOMETRIES[shape](**self.fields(t, "container", _GEOMETRIES[shape]))}
         if "material" in t:
             kw["material"] = self.material(t["material"], "container", "container")
+        if "baffles" in t:
+            kw["baffles"] = self.baffles(t["baffles"])
+        if "wall_materials" in t:
+            walls = t["wall_materials"]
+            if not isinstance(walls, dict):
+                raise InputError(f"[container] wall_materials = {walls!r}: give a table of wall = material, e.g. "
+                                 "wall_materials = {x_min = 'silicone', x_max = 'silicone'}")
+            kw["wall_materials"] = {str(w): self.material(m, f"container.wall_materials.{w}", str(w))
+                                    for w, m in walls.items()}
         if "tilt" in t:
             tilt = t["tilt"]
             if isinstance(tilt, list):
@@ -473,6 +511,23 @@ class _Reader:
                 kw["tilt"] = (a, a, a)
         kw.update(self.fields(t, "container", Container))
         return Container(**kw)
+
+    def baffles(self, value) -> tuple:
+        """[container] baffles: a list of tables (position, thickness, gap_below, gap_above, material)."""
+        if not isinstance(value, list) or not all(isinstance(b, dict) for b in value):
+            raise InputError(f"[container] baffles = {value!r}: give a list of tables, e.g. "
+                             "baffles = [{position = '-20mm'}, {position = '20mm', gap_below = '12mm'}]")
+        out = []
+        for k, b in enumerate(value, 1):
+            label = f"container.baffles #{k}"
+            self._check_keys(b, label, SECTIONS["baffles"])
+            if "position" not in b:
+                raise InputError(f"[{label}] position is missing: give the x of the plate, e.g. position = '20mm'")
+            kw = self.fields(b, label, Baffle)
+            if "material" in b:
+                kw["material"] = self.material(b["material"], label, f"baffle-{k}")
+            out.append(Baffle(**kw))
+        return tuple(out)
 
     def particles(self, value) -> tuple:
         if value is None:
@@ -507,25 +562,29 @@ class _Reader:
                 raise InputError(f"[drive] {', '.join(given)} belongs to a {other!r} drive but this drive is "
                                  f"{kind!r}; give stroke (harmonic), samples or time/position (sampled) "
                                  "or duration (still), not a mix")
-        if kind == "still" and "frequency" in t:
-            raise InputError("[drive] frequency does not apply to a still container (kind = 'still')")
-        kw = self.fields(t, "drive", _DRIVES[kind])
-        if kind == "harmonic":
-            kw.setdefault("stroke", 0.012)
-        elif kind == "samples":
-            if "samples" in t:
-                extra = [k for k in _SAMPLED_KEYS[1:] if k in t]
-                if extra:
-                    raise InputError(f"[drive] give either samples = 'file.csv' or inline {', '.join(extra)}, not both")
-                kw.update(self._samples_file(t["samples"]))
-            else:
-                for req in ("time", "position"):
-                    if req not in t:
-                        raise InputError(f"[drive] a sampled motion needs {req!r}: give time = [...] and "
-                                         "position = [...] (optionally velocity = [...]) or samples = 'motion.csv'")
-        return _DRIVES[kind](**kw)
+        cls = _DRIVES[kind]
+        foreign = [k for k in t if k not in config_keys(cls) and k not in ("kind", "samples")]
+        if foreign:
+            raise InputError(f"[drive] {', '.join(foreign)} does not apply to a {kind!r} drive (give "
+                             f"{', '.join(config_keys(cls))})")
+        if isinstance(t.get("direction"), str):
+            t = {**t}
+            words = t.pop("direction")
+            kw = {**self.fields(t, "drive", cls), "direction": words}
+        else:
+            kw = self.fields(t, "drive", cls)
+        kw = {**getattr(cls, "config_defaults", {}), **kw}
+        if "samples" in t:
+            extra = [k for k in _SAMPLED_KEYS[1:] if k in t]
+            if extra:
+                raise InputError(f"[drive] give either samples = 'file.csv' or inline {', '.join(extra)}, not both")
+            kw.update(self._samples_file(t["samples"]))
+        missing = [k for k in cls.config_required if k not in kw]
+        if missing:
+            raise InputError(f"[drive] a {kind!r} drive needs {', '.join(missing)}: {cls.config_hint}")
+        return cls(**kw)
 
-    def structure(self, t, drive_table) -> CoupledStructure:
+    def structure(self, t, drive_table):
         """[structure]: the container rides on a coupled oscillator (replaces [drive])."""
         if drive_table:
             raise InputError(f"[drive] {', '.join(drive_table)} cannot be combined with [structure]: the "
@@ -538,7 +597,7 @@ class _Reader:
         if ("stiffness" in t) == ("natural_frequency" in t):
             raise InputError("[structure] give exactly one of stiffness (N/m, e.g. 1105) or natural_frequency "
                              "(e.g. '2Hz')")
-        kw = self.fields(t, "structure", CoupledStructure)
+        kw = self.fields(t, "structure", _STRUCTURE)
         if "natural_frequency" in t:
             fn = self.quantity(t, "structure", "natural_frequency", "frequency")
             if not (fn > 0 and math.isfinite(fn)):
@@ -546,7 +605,7 @@ class _Reader:
             if not (kw["mass"] > 0 and math.isfinite(kw["mass"])):
                 raise InputError(f"[structure] mass = {t['mass']!r}; must be > 0, e.g. '7kg'")
             kw["stiffness"] = kw["mass"] * (2.0 * math.pi * fn) ** 2
-        return CoupledStructure(**kw)
+        return _STRUCTURE(**kw)
 
     def _samples_file(self, value) -> dict:
         if not isinstance(value, str) or not value.strip():
@@ -849,14 +908,18 @@ def case_to_dict(case: Case) -> dict:
         contact["pair"] = pairs
 
     out = {"container": container, "particles": parts[0] if len(parts) == 1 else parts}
+    if c.baffles:
+        container["baffles"] = [{**_fields_to(b), **({"material": _material_to(b.material)} if b.material else {})}
+                                for b in c.baffles]
+    if c.wall_materials:
+        container["wall_materials"] = {w: _material_to(m) for w, m in c.wall_materials.items()}
     d = case.drive
-    if isinstance(d, CoupledStructure):
-        drive_key, drive = "structure", _fields_to(d)
-        del drive["kind"]
-    elif isinstance(d, tuple(_DRIVES.values())):
-        drive_key, drive = "drive", _fields_to(d)
-    else:
+    drive_key = d.section
+    if type(d) is not DRIVES.get(d.kind):
         raise InputError(f"cannot write drive {type(d).__name__} to a config file")
+    drive = _fields_to(d)
+    if drive_key == "structure":
+        del drive["kind"]
     out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
     # [drive] after [particles], [structure] last: the order of the text a store's fingerprint was taken of

@@ -71,6 +71,12 @@ class Design:
     def to_dict(self) -> dict:
         return asdict(self)
 
+    def container_geometry(self):
+        """The container shape of this design (default height)."""
+        if self.shape == "cuboid":
+            return Cuboid(length=self.length_m, width=self.width_m)
+        return Cylinder(radius=self.length_m / 2)
+
 
 @quantities(frequency="frequency", stroke="length", sphere_radius="length", length="length", width="length",
             container_radius="length", tilt="angle", density="density", gravity="acceleration")

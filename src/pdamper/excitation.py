@@ -1,12 +1,36 @@
-"""Prescribed container motion: harmonic ``x_c = X sin(Omega t)``, a motion given as samples, or
-the motion of a structure the container rides on (:class:`CoupledStructure`, two-way coupled).
+"""Container motion behind one protocol: harmonic ``x_c = X sin(Omega t)``, a motion given as
+samples, a container at rest, or the motion of a structure the container rides on
+(:class:`CoupledStructure`, two-way coupled).
 
-The drive acts along a direction in the lab's horizontal plane, given as an angle [rad] from
-the lab x axis (the container's length when untilted) towards the lab z axis.
+A drive kind is one class here, registered with :func:`register_drive`; nothing outside this
+module asks which kind a drive is. What a drive answers (:class:`DriveBase` gives the defaults):
+
+=========================  =========================================================================
+``kind``, ``section``      its tag (``[drive] kind``) and the config section it is read from
+config keys                its dataclass fields, declared with :func:`pdamper.schema.param`
+``kernel_drive()``         ``(kind number, par, table, state)`` for the kernels
+                           (:mod:`pdamper.kernels.drive`)
+``speed_bound()``          the container's largest speed [m/s] (the automatic time step)
+``duration(cycles)``       the driven time [s]
+``motion(t)``              ``(x, v, a)`` at times t, as prescribed (without the bed)
+``container_motion(t, s)`` ``(x, v, a)`` now, the kernels' drive state ``s`` included
+``start_state(s)``         releases a coupled structure at t = 0 (None for a prescribed motion)
+``lab_direction()``        the unit direction of the motion in the lab frame
+``describe()``             one line for people
+``stroke``, ``frequency``  X [m] and f [Hz] where the drive has them, else None
+``periodic``, ``coupled``  harmonic with whole cycles to drop; moved by the bed's force
+=========================  =========================================================================
+
+**Direction.** The motion acts along ``direction`` (a 3-vector in the lab frame, whose y axis
+points up against gravity: ``[0, 1, 0]`` or ``"vertical"`` is a vertical drive) or, as a
+shorthand for a horizontal drive, along ``angle`` [rad] from the lab x axis (the container's
+length when untilted) towards the lab z axis. A drive with a vertical part lifts the bed off
+the floor above A = g: that is expected (the bouncing regime), not warned about.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -15,11 +39,110 @@ import numpy as np
 from .errors import InputError
 from .schema import convert_fields, param
 
-__all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure"]
+__all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure", "DriveBase", "DRIVES", "register_drive",
+           "drive_class"]
+
+#: Registered drive kinds by tag (``[drive] kind``, or ``structure`` for the ``[structure]`` section).
+DRIVES: dict[str, type] = {}
+
+#: Words a config may give for ``direction``.
+_DIRECTION_WORDS = {"vertical": (0.0, 1.0, 0.0), "up": (0.0, 1.0, 0.0), "x": (1.0, 0.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
 
+def register_drive(cls):
+    """Class decorator: register a drive class under its ``kind`` tag. Returns the class."""
+    tag = next((f.default for f in dataclasses.fields(cls) if f.name == "kind"), None)
+    if not isinstance(tag, str) or not tag:
+        raise TypeError(f"{cls.__name__}: a drive needs a field 'kind' with its tag as default")
+    DRIVES[tag] = cls
+    return cls
+
+
+def drive_class(tag: str) -> type:
+    """The registered drive class of ``tag``."""
+    try:
+        return DRIVES[tag]
+    except KeyError:
+        raise InputError(f"drive.kind = {tag!r}; choose one of {', '.join(repr(k) for k in DRIVES)}") from None
+
+
+class DriveBase:
+    """The answers of the drive protocol that most drives share (see the module docstring)."""
+
+    #: the config section the drive is read from
+    section = "drive"
+    #: X [m] and f [Hz] where the drive has them
+    stroke = None
+    frequency = None
+    #: a harmonic motion whose first cycles the analysis drops
+    periodic = False
+    #: the container is moved by the bed's force (a structure): its motion is recorded
+    coupled = False
+    #: what a config file must give (``[drive]`` keys) and the values it may leave out
+    config_required: tuple = ()
+    config_defaults: dict = {}
+    config_hint = ""
+
+    def _check_direction(self) -> None:
+        """Validate ``angle`` and ``direction`` (called by each drive's ``__post_init__``)."""
+        sec = self.section
+        if not (isinstance(self.angle, (int, float)) and math.isfinite(self.angle)):
+            raise InputError(f"{sec}.angle = {self.angle!r}; must be a finite angle")
+        d = self.direction
+        if d is None:
+            return
+        if isinstance(d, str):
+            if d.strip().lower() not in _DIRECTION_WORDS:
+                raise InputError(f"{sec}.direction = {d!r}; give three numbers [x, y, z] (lab frame, y up) or one of "
+                                 f"{', '.join(repr(w) for w in _DIRECTION_WORDS)}")
+            d = _DIRECTION_WORDS[d.strip().lower()]
+        try:
+            v = np.asarray(d, dtype=float)
+        except (TypeError, ValueError):
+            v = np.zeros(0)
+        if v.shape != (3,) or not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
+            raise InputError(f"{sec}.direction = {self.direction!r}; give three finite numbers, not all 0, e.g. "
+                             "[0, 1, 0] for a vertical drive (lab frame: y up)")
+        if self.angle != 0.0:
+            raise InputError(f"{sec}: give either direction = {list(v)} or angle = {self.angle!r}, not both")
+        object.__setattr__(self, "direction", tuple(float(x) for x in v / np.linalg.norm(v)))
+
+    def lab_direction(self) -> np.ndarray:
+        """The unit direction of the motion in the lab frame (y up)."""
+        if self.direction is not None:
+            return np.asarray(self.direction, dtype=float)
+        return np.array([np.cos(self.angle), 0.0, np.sin(self.angle)])
+
+    @property
+    def vertical_share(self) -> float:
+        """|d_y|: the vertical part of the direction (0 for a horizontal drive)."""
+        return abs(float(self.lab_direction()[1]))
+
+    def speed_bound(self) -> float:
+        """The container's largest speed [m/s] (for the automatic time step)."""
+        _, v, _ = self.motion(np.linspace(0.0, self.duration(1.0), 2001))
+        return float(np.max(np.abs(v)))
+
+    def container_motion(self, t: float, state):
+        """``(x, v, a)`` [m, m/s, m/s^2] of the container at time ``t`` (held at rest before 0)."""
+        return self.motion(np.array([max(t, 0.0)]))
+
+    def start_state(self, state):
+        """Release at t = 0; a prescribed motion has nothing to release (None)."""
+        return None
+
+    def kernel_drive(self):
+        """``(kind number, par, table, state)`` for :mod:`pdamper.kernels.drive`."""
+        kind, par, tab = self.kernel_args()
+        return kind, par, tab, np.zeros((2, 5))
+
+    def describe(self) -> str:
+        return f"{self.kind} drive"
+
+
+@register_drive
 @dataclass(frozen=True, kw_only=True)
-class HarmonicDrive:
+class HarmonicDrive(DriveBase):
     """``x_c = X sin(Omega t)``, Omega = 2 pi f (paper Sect. 2).
 
     Parameters
@@ -30,12 +153,17 @@ class HarmonicDrive:
         f [Hz], > 0.
     angle : float
         Direction of the drive in the horizontal plane [rad] (0: along the container's length).
+    direction : (x, y, z) or None
+        Direction of the drive in the lab frame (y up; ``(0, 1, 0)``: vertical); instead of ``angle``.
     """
 
     stroke: float = param(dimension="length", paper="3-50 mm")
     frequency: float = param(2.0, dimension="frequency", paper="2 Hz")
     angle: float = param(0.0, dimension="angle")
+    direction: tuple | None = param(None, kind="list")
     kind: str = param("harmonic", kind="tag")
+    periodic = True
+    config_defaults = {"stroke": 0.012}
 
     def __post_init__(self):
         convert_fields(self, "drive")
@@ -43,8 +171,7 @@ class HarmonicDrive:
             raise InputError(f"drive.stroke = {self.stroke!r} m; must be > 0 (e.g. '12mm')")
         if not (self.frequency > 0 and math.isfinite(self.frequency)):
             raise InputError(f"drive.frequency = {self.frequency!r} Hz; must be > 0 (e.g. '2Hz')")
-        if not math.isfinite(self.angle):
-            raise InputError(f"drive.angle = {self.angle!r}; must be a finite angle")
+        self._check_direction()
 
     @property
     def omega(self) -> float:
@@ -76,9 +203,20 @@ class HarmonicDrive:
         """(kind, par, tab) for :func:`pdamper.kernels.drive.drive_motion`."""
         return 1, np.array([self.stroke, self.omega, 0.0]), np.zeros((1, 5))
 
+    def speed_bound(self) -> float:
+        """V = X Omega [m/s]."""
+        return self.velocity_amplitude
 
+    def describe(self) -> str:
+        where = "" if self.direction is None and self.angle == 0.0 else (
+            f" along {list(np.round(self.lab_direction(), 3))}" if self.direction is not None
+            else f" at {math.degrees(self.angle):g} deg")
+        return f"harmonic X = {self.stroke * 1e3:g} mm, f = {self.frequency:g} Hz{where}"
+
+
+@register_drive
 @dataclass(frozen=True, kw_only=True)
-class SampledDrive:
+class SampledDrive(DriveBase):
     """A container motion given as samples (e.g. a measured displacement record).
 
     Position samples are interpolated by a C2 cubic spline (scipy ``CubicSpline``, not-a-knot);
@@ -101,10 +239,14 @@ class SampledDrive:
     position: tuple = param((), kind="list", dimension="length")
     velocity: tuple | None = param(None, kind="list", dimension="velocity")
     acceleration: tuple | None = param(None, kind="list", dimension="acceleration")
+    direction: tuple | None = param(None, kind="list")
     kind: str = param("samples", kind="tag")
+    config_required = ("time", "position")
+    config_hint = "give time = [...] and position = [...] (optionally velocity = [...]) or samples = 'motion.csv'"
 
     def __post_init__(self):
         convert_fields(self, "drive")
+        self._check_direction()
         t = np.asarray(self.time, dtype=float)
         x = np.asarray(self.position, dtype=float)
         if t.ndim != 1 or t.size < 4 or x.shape != t.shape:
@@ -149,17 +291,28 @@ class SampledDrive:
         last = np.array([[sp.x[-1], float(sp(sp.x[-1])), 0.0, 0.0, 0.0]])
         return 2, np.zeros(3), np.ascontiguousarray(np.vstack([tab, last]))
 
+    def speed_bound(self) -> float:
+        """The largest |v| [m/s] at the samples."""
+        _, v, _ = self.motion(np.asarray(self.time))
+        return float(np.max(np.abs(v)))
 
+    def describe(self) -> str:
+        return f"sampled motion, {len(self.time)} samples over {self.duration():g} s"
+
+
+@register_drive
 @dataclass(frozen=True, kw_only=True)
-class Still:
+class Still(DriveBase):
     """A container at rest for ``duration`` [s] (settling, tests, free motion of the bed)."""
 
     duration_s: float = param(1.0, dimension="time", key="duration")
     angle: float = param(0.0, dimension="angle")
+    direction: tuple | None = param(None, kind="list")
     kind: str = param("still", kind="tag")
 
     def __post_init__(self):
         convert_fields(self, "drive")
+        self._check_direction()
         if not (self.duration_s > 0 and math.isfinite(self.duration_s)):
             raise InputError(f"drive.duration = {self.duration_s!r} s; must be > 0")
 
@@ -172,13 +325,21 @@ class Still:
         z = np.zeros(np.shape(t))
         return z, z.copy(), z.copy()
 
+    def speed_bound(self) -> float:
+        """0: the container does not move."""
+        return 0.0
+
+    def describe(self) -> str:
+        return f"container at rest for {self.duration_s:g} s"
+
     def kernel_args(self):
         """(kind, par, tab) for :func:`pdamper.kernels.drive.drive_motion`."""
         return 0, np.zeros(3), np.zeros((1, 5))
 
 
+@register_drive
 @dataclass(frozen=True, kw_only=True)
-class CoupledStructure:
+class CoupledStructure(DriveBase):
     """The container rides rigidly on a single-degree-of-freedom structure, two-way coupled.
 
     ``M x_s'' + c x_s' + K x_s = F0 sin(2 pi f_F t) - F_w`` with ``c = 2 zeta sqrt(K M)`` and F_w
@@ -220,7 +381,10 @@ class CoupledStructure:
     angle: float = param(0.0, dimension="angle")
     # last: the order a config file is written in (a store's fingerprint is taken of that text)
     force_frequency: float | None = param(None, dimension="frequency")
+    direction: tuple | None = param(None, kind="list")
     kind: str = param("structure", kind="tag")
+    section = "structure"
+    coupled = True
 
     def __post_init__(self):
         convert_fields(self, "structure")
@@ -240,10 +404,11 @@ class CoupledStructure:
         if f0 > 0 and ff is None:
             raise InputError("structure.force_frequency is missing: a force_amplitude > 0 needs its "
                              "frequency, e.g. force_frequency = '2Hz'")
-        for name in ("displacement", "velocity", "angle"):
+        for name in ("displacement", "velocity"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v)):
                 raise InputError(f"structure.{name} = {v!r}; must be a finite number")
+        self._check_direction()
         if f0 == 0 and self.displacement == 0 and self.velocity == 0:
             raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm') "
                              "or a force_amplitude with force_frequency (forced response)")
@@ -292,14 +457,27 @@ class CoupledStructure:
                                    force_amplitude=self.force_amplitude, force_frequency=self.force_frequency or 0.0,
                                    displacement=self.displacement, velocity=self.velocity)
 
-    def kernel_args(self):
-        """(kind, par, state) for the kernels (:mod:`pdamper.kernels.structure`); the state
-        starts at rest at the initial displacement (held during settling)."""
+    def kernel_drive(self):
+        """(kind, par, table, state) for the kernels (:mod:`pdamper.kernels.structure`); the
+        state starts at rest at the initial displacement (held during settling)."""
         om = 2.0 * math.pi * (self.force_frequency or 0.0)
         par = np.array([self.mass, self.stiffness, self.damping, self.force_amplitude, om])
         st = np.zeros((2, 5))
         st[0, 0] = self.displacement
-        return 3, par, st
+        return 3, par, np.zeros((1, 5)), st
+
+    def speed_bound(self) -> float:
+        """An upper estimate [m/s] of |v_s| (:attr:`velocity_bound`)."""
+        return self.velocity_bound
+
+    def container_motion(self, t: float, state):
+        """The structure's ``(x, v, a)`` now, from the kernels' state."""
+        return state[0, 0], state[0, 1], state[0, 2]
+
+    def describe(self) -> str:
+        forced = (f"F0 = {self.force_amplitude:g} N at {self.force_frequency:g} Hz" if self.force_amplitude > 0
+                  else f"free decay from {self.displacement * 1e3:g} mm")
+        return f"structure M = {self.mass:g} kg, f_n = {self.natural_frequency:.4g} Hz, {forced}"
 
     def start_state(self, st, wall_force: float = 0.0) -> float:
         """Release the structure at t = 0: set (x0, v0, a0) in the kernel state ``st``, with

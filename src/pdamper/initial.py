@@ -15,7 +15,7 @@ from .geometry.walls import wall_distances
 
 __all__ = ["initial_positions"]
 
-_GAP = 1e-6  # clearance between neighbours and to the floor at the start [m]
+from .geometry.shape import GAP as _GAP  # clearance between neighbours and to the floor at the start [m]
 #: Largest initial overlap accepted, as a fraction of the radius.
 OVERLAP_TOLERANCE = 1e-3
 
@@ -52,42 +52,20 @@ def _capacity_error(case, n_fit, rad):
 
 
 def _layer_sites(case, r, jitter, n_needed=None):
-    """One layer of lattice sites (x, z), ordered from -x, with the jitter they allow.
-
-    The jitter shrinks where ``n_needed`` spheres would otherwise not fit (the paper's 48
-    spheres of r = 5 mm fill 120 mm x 40.4 mm with no room to spare)."""
-    g = case.container.geometry
-    if g.shape == "cuboid":
-        # rows across the width, each with its start clearance: a width of exactly k diameters
-        # holds k - 1 rows (k rows would leave the outer spheres 1 um inside the walls)
-        nz = int(np.floor((g.width - _GAP) / (2 * r + _GAP) + 1e-9))
-        if nz < 1:
-            return np.zeros((0, 2)), 0.0, 0.0
-        # rows across the width: room for jitter only where the width leaves some
-        jz = max(0.0, min(jitter, (g.width - 2 * r * nz - _GAP * (nz + 1)) / (2 * nz)))
-        sz = 2 * r + _GAP + 2 * jz
-        # columns along the length: as many as needed (all that fit without overlap when not
-        # told), with 1 um gaps and jitter room only where the length leaves some
-        nx_full = int(np.floor(g.length / (2 * r) + 1e-9))
-        if nx_full < 1:
-            return np.zeros((0, 2)), 0.0, 0.0
-        nx_need = min(nx_full, int(np.ceil(n_needed / nz))) if n_needed else nx_full
-        spare = g.length - 2 * r * nx_need
-        gx = max(0.0, min(_GAP, spare / (nx_need + 1)))
-        jx = max(0.0, min(jitter, (spare - gx * (nx_need + 1)) / (2 * nx_need)))
-        sx = 2 * r + 2 * jx + gx
-        nx = min(nx_full, int(np.floor((g.length - 2 * r - 2 * jx - 2 * gx) / sx + 1e-9)) + 1)
-        xs = -g.length / 2 + r + jx + gx + sx * np.arange(nx)
-        zs = (np.arange(nz) - (nz - 1) / 2) * sz
-        X, Z = np.meshgrid(xs, zs, indexing="ij")
-        return np.column_stack([X.ravel(), Z.ravel()]), jx, jz
-    j = jitter
-    while True:
-        spacing = 2 * r + 2 * j + _GAP
-        sites = g.floor_sites(r + j + _GAP, spacing)
-        if not n_needed or len(sites) >= n_needed or j == 0.0:
-            return sites, j, j
-        j = 0.0 if j < 1e-6 else j / 2
+    """One layer of lattice sites (x, z), ordered from -x, with the jitter they allow (the shape's
+    :meth:`~pdamper.geometry.shape.Shape.layer_sites`), leaving out the sites an inner baffle
+    takes (then the whole floor's sites are laid out, as the count needed cannot tell where the
+    baffles stand)."""
+    c = case.container
+    if not c.baffles:
+        return c.geometry.layer_sites(r, jitter, n_needed)
+    sites, jx, jz = c.geometry.layer_sites(r, jitter, None)
+    kinds, data, _ = c.walls()
+    first = len(c.geometry.walls()[0])
+    pts = np.column_stack([sites[:, 0], np.full(len(sites), r + _GAP), sites[:, 1]])
+    s, _ = wall_distances(np.ascontiguousarray(kinds[first:]), np.ascontiguousarray(data[first:]),
+                          np.ascontiguousarray(pts))
+    return sites[np.all(s >= r + max(jx, jz) + _GAP, axis=1)], jx, jz
 
 
 def _block(case, rad, rng):
@@ -107,14 +85,16 @@ def _block(case, rad, rng):
         sites, jx, jz = _layer_sites(case, r, 0.0)
         per_layer, n_layers = len(sites), 1
     layer_h = 2 * r + _GAP
-    if r + (n_layers - 1) * layer_h + r > g.height:
+    lo, hi = g.bounding_box()
+    height = hi[1] - lo[1]
+    if r + (n_layers - 1) * layer_h + r > height:
         raise InputError(f"particles: {n} spheres need {n_layers} layers ({(n_layers * layer_h) * 1e3:.1f} mm) but the "
-                         f"container is {g.height * 1e3:g} mm high; use fewer particles or a taller container")
+                         f"container is {height * 1e3:g} mm high; use fewer particles or a taller container")
     pos = np.empty((n, 3))
     k = 0
     for layer in range(n_layers):
         m = min(per_layer, n - k)
-        pos[k:k + m, [0, 2]] = sites[:m] + _jitter(g, rng, m, jx, jz)
+        pos[k:k + m, [0, 2]] = sites[:m] + g.jitter(rng, m, jx, jz)
         pos[k:k + m, 1] = r + _GAP + layer * layer_h
         k += m
     # smaller spheres sit lower: keep each centre one radius above its layer's floor
@@ -122,17 +102,6 @@ def _block(case, rad, rng):
         layer_index = np.arange(n) // per_layer
         pos[:, 1] = rad + _GAP + layer_index * layer_h
     return pos
-
-
-def _jitter(g, rng, m, jx, jz):
-    """(m, 2) random displacements in the floor plane: uniform in the rectangle [-jx, jx] x
-    [-jz, jz] (cuboid) or in the disc of radius jx (cylinder: the ring sites keep jx from the
-    curved wall in every direction)."""
-    if g.shape == "cuboid":
-        return np.column_stack([rng.uniform(-jx, jx, m), rng.uniform(-jz, jz, m)])
-    rr = jx * np.sqrt(rng.uniform(size=m))
-    th = rng.uniform(0.0, 2.0 * np.pi, m)
-    return np.column_stack([rr * np.cos(th), rr * np.sin(th)])
 
 
 def _scatter(case, rad, rng):
@@ -150,7 +119,7 @@ def _scatter(case, rad, rng):
         _capacity_error(case, len(full), rad)
     pick = np.sort(rng.choice(len(sites), size=n, replace=False))
     pos = np.empty((n, 3))
-    pos[:, [0, 2]] = sites[pick] + _jitter(g, rng, n, jx, jz)
+    pos[:, [0, 2]] = sites[pick] + g.jitter(rng, n, jx, jz)
     pos[:, 1] = rad + _GAP
     return pos
 
@@ -161,7 +130,7 @@ def check_positions(case, pos, rad) -> None:
     settled state can be restarted)."""
     if not np.all(np.isfinite(pos)):
         raise InputError("initial positions contain NaN or inf")
-    kinds, data, names = case.container.geometry.walls()
+    kinds, data, names = case.container.walls()
     s, _ = wall_distances(kinds, np.ascontiguousarray(data), np.ascontiguousarray(pos))
     out = s < rad[:, None] * (1 - OVERLAP_TOLERANCE)
     if out.any():

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from .errors import InputError
 from .schema import convert_fields, param
 
-__all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "effective_modulus", "LIBRARY"]
+__all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "SILICONE", "TPU", "POLYURETHANE", "NBR", "effective_modulus",
+           "LIBRARY"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -27,12 +28,17 @@ class Material:
         nu [-], in (-1, 0.5).
     density : float
         rho [kg/m^3], > 0.
+    restitution : float or None
+        The coefficient of restitution of a sphere striking this material, in (0, 1], when it
+        is a wall coating whose own restitution is known (None: the contact model's law). A
+        ``[[contact.pair]]`` restitution for the pair wins over it.
     """
 
     name: str = param(kind="text")
     youngs_modulus: float = param(dimension="pressure", paper="steel 208 GPa")
     poisson_ratio: float = param(kind="number", paper="steel 0.3")
     density: float = param(dimension="density", paper="steel 7900 kg/m^3")
+    restitution: float | None = param(None, kind="number")
 
     def __post_init__(self):
         convert_fields(self, "material")
@@ -40,6 +46,9 @@ class Material:
             raise InputError(f"material {self.name!r}: youngs_modulus = {self.youngs_modulus!r} Pa; must be > 0 (steel: 208e9)")
         if not (-1.0 < self.poisson_ratio < 0.5):
             raise InputError(f"material {self.name!r}: poisson_ratio = {self.poisson_ratio!r}; must be in (-1, 0.5) (steel: 0.3)")
+        r = self.restitution
+        if r is not None and (isinstance(r, bool) or not isinstance(r, (int, float)) or not 0 < r <= 1):
+            raise InputError(f"material {self.name!r}: restitution = {r!r}; must be in (0, 1] (or omit it)")
         if not (self.density > 0):
             raise InputError(f"material {self.name!r}: density = {self.density!r} kg/m^3; must be > 0 (steel: 7900)")
 
@@ -61,5 +70,20 @@ PVC = Material(name="pvc", youngs_modulus=3e9, poisson_ratio=0.38, density=1400.
 #: Paper Sect. 6.1 sensitivity value (tungsten): E = 405 GPa, rho = 19250 kg/m^3.
 TUNGSTEN = Material(name="tungsten", youngs_modulus=405e9, poisson_ratio=0.28, density=19250.0)
 
+# Wall coatings (Meyer & Seifried 2023 line their container walls with soft polymers). Typical
+# values of the material classes, not of one product: measure your coating where it matters.
+#: Silicone elastomer (about Shore 50A): E 5-20 MPa, nu 0.47-0.49, rho 1100-1300 kg/m^3
+#: (Ashby, Materials Selection in Mechanical Design, 4th ed. 2011, data sheet "Silicone elastomers").
+SILICONE = Material(name="silicone", youngs_modulus=10e6, poisson_ratio=0.48, density=1150.0)
+#: Thermoplastic polyurethane for 3D printing (Shore 95A): tensile modulus 26 MPa, density
+#: 1220 kg/m^3 (Ultimaker TPU 95A technical data sheet); nu 0.45 (nearly incompressible elastomer).
+TPU = Material(name="tpu", youngs_modulus=26e6, poisson_ratio=0.45, density=1220.0)
+#: Cast polyurethane elastomer (about Shore 90A): E 25-75 MPa, nu 0.45-0.49, rho 1150-1250 kg/m^3
+#: (Ashby 2011, data sheet "Polyurethane elastomers (elPU)").
+POLYURETHANE = Material(name="polyurethane", youngs_modulus=50e6, poisson_ratio=0.47, density=1200.0)
+#: Nitrile rubber (NBR, about Shore 70A): E 4-10 MPa, nu 0.49, rho 1000-1200 kg/m^3 (Ashby 2011,
+#: data sheet "Butyl/nitrile rubbers").
+NBR = Material(name="nbr", youngs_modulus=7e6, poisson_ratio=0.49, density=1100.0)
+
 #: Named materials a config may refer to by name.
-LIBRARY = {m.name: m for m in (STEEL_S235, PVC, TUNGSTEN)}
+LIBRARY = {m.name: m for m in (STEEL_S235, PVC, TUNGSTEN, SILICONE, TPU, POLYURETHANE, NBR)}

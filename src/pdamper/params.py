@@ -8,6 +8,7 @@ A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case (
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import math
 from dataclasses import dataclass
 
@@ -16,9 +17,11 @@ from .contact.friction_tanh import DEFAULT_TAU
 from .contact import DAMPING_CHOICES
 from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError
-from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
-from .geometry.cuboid import Cuboid
-from .geometry.cylinder import Cylinder
+from .excitation import DriveBase, HarmonicDrive
+from .geometry import Baffle, Cuboid, Shape
+from .geometry.baffles import baffle_outlines, baffle_walls
+import numpy as np
+
 from .materials import PVC, STEEL_S235, Material
 from .units import is_quantity, quantities, to_si
 from .schema import check_choice, convert_fields, param
@@ -65,21 +68,26 @@ class ParticleSet:
 
 @dataclass(frozen=True, kw_only=True)
 class Container:
-    """The container: its inner geometry, wall material, tilt and mass.
+    """The container: its inner shape, wall materials, inner baffles, tilt and mass.
 
     Parameters
     ----------
-    geometry : Cuboid or Cylinder.
+    geometry : a registered container shape (:mod:`pdamper.geometry.shape`: Cuboid, Cylinder, ...).
     material : Material of the walls (paper: PVC).
     tilt : (a_x, a_y, a_z) [rad] about the container's x, y, z axes, applied in that order
         (see :mod:`pdamper.geometry.tilt`). Paper default 0.1 deg each.
     mass : float, m_c [kg] >= 0; enters the driving force as m_c x_c'' (no effect on Re P).
+    baffles : inner plates across the x axis (:class:`pdamper.geometry.baffles.Baffle`).
+    wall_materials : {wall name: Material} for walls of another material than ``material`` (a
+        coating), by the names of :meth:`walls` (a cuboid: x_min, x_max, floor, lid, z_min, z_max).
     """
 
-    geometry: Cuboid | Cylinder = param(default_factory=Cuboid, kind="custom")
+    geometry: Shape = param(default_factory=Cuboid, kind="custom")
     material: Material = param(PVC, kind="custom")
     tilt: tuple = param(PAPER_TILT, kind="custom")
     mass: float = param(0.0, dimension="mass")
+    baffles: tuple = param((), kind="custom")
+    wall_materials: dict = param(default_factory=dict, kind="custom")
 
     def __post_init__(self):
         convert_fields(self, "container")
@@ -94,6 +102,59 @@ class Container:
         object.__setattr__(self, "tilt", t)
         if not (self.mass >= 0 and math.isfinite(self.mass)):
             raise InputError(f"container.mass = {self.mass!r} kg; must be >= 0")
+        if not isinstance(self.geometry, Shape):
+            raise InputError(f"container.geometry = {self.geometry!r}; give a container shape such as Cuboid(...)")
+        baffles = tuple(self.baffles)
+        for k, b in enumerate(baffles, 1):
+            if not isinstance(b, Baffle):
+                raise InputError(f"container.baffles #{k} = {b!r}; give a Baffle(position=...)")
+            b.check_fits(self.geometry, k)
+            if b.material is not None and not isinstance(b.material, Material):
+                raise InputError(f"container.baffles #{k}: material = {b.material!r}; give a Material")
+        object.__setattr__(self, "baffles", baffles)
+        names = self.walls()[2]
+        for name, m in self.wall_materials.items():
+            if name not in names:
+                near = difflib.get_close_matches(str(name), names, n=1)
+                hint = f"did you mean {near[0]!r}? " if near else ""
+                raise InputError(f"container.wall_materials: no wall {name!r} in this container; {hint}its walls are "
+                                 f"{', '.join(names)}")
+            if not isinstance(m, Material):
+                raise InputError(f"container.wall_materials.{name} = {m!r}; give a Material")
+
+    def walls(self):
+        """(kinds, data, names) of all walls: the shape's, then the baffles' (see
+        :mod:`pdamper.geometry.walls`)."""
+        kinds, data, names = self.geometry.walls()
+        if not self.baffles:
+            return kinds, data, names
+        lo, hi = self.geometry.bounding_box()
+        bk, bd, bn = baffle_walls(self.baffles, hi[1] - lo[1])
+        return np.concatenate([kinds, bk]), np.vstack([data, bd]), list(names) + bn
+
+    def wall_material_list(self) -> list:
+        """The material of each wall, in the order of :meth:`walls`."""
+        names = self.walls()[2]
+        own = {f"baffle {k + 1}": b.material for k, b in enumerate(self.baffles) if b.material is not None}
+        return [self.wall_materials.get(n, own.get(n, self.material)) for n in names]
+
+    def outline(self, view: str) -> list:
+        """Closed polygons [(k, 2), ...] [m] of the container seen from ``"top"`` (x, z) or the
+        ``"side"`` (x, y): the shape's, then the baffles'."""
+        polys = list(self.geometry.outline(view))
+        if self.baffles:
+            lo, hi = self.geometry.bounding_box()
+            polys += baffle_outlines(self.baffles, view, hi[1] - lo[1], (lo[2], hi[2]))
+        return polys
+
+    def describe(self) -> str:
+        """One line: the shape, its baffles and coated walls."""
+        out = self.geometry.describe()
+        if self.baffles:
+            out += f", {len(self.baffles)} baffle{'s' if len(self.baffles) > 1 else ''}"
+        if self.wall_materials:
+            out += ", " + ", ".join(f"{n} {m.name}" for n, m in self.wall_materials.items())
+        return out
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -265,7 +326,7 @@ class Case:
 
     particles: tuple = param(kind="custom")
     container: Container = param(default_factory=Container, kind="custom")
-    drive: HarmonicDrive | SampledDrive | Still | CoupledStructure = param(
+    drive: DriveBase = param(
         default_factory=lambda: HarmonicDrive(stroke=0.012), kind="custom")
     contact: ContactModel = param(default_factory=ContactModel, kind="custom")
     numerics: Numerics = param(default_factory=Numerics, kind="custom")
@@ -289,7 +350,7 @@ class Case:
             raise InputError(f"run.cycles = {self.cycles!r}; must be > 0 (paper: 20)")
         if not (isinstance(self.drop_cycles, int) and 0 <= self.drop_cycles):
             raise InputError(f"run.drop_cycles = {self.drop_cycles!r}; must be a whole number >= 0 (paper: 2)")
-        if isinstance(self.drive, HarmonicDrive) and self.drop_cycles >= self.cycles:
+        if self.drive.periodic and self.drop_cycles >= self.cycles:
             raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles} cycles; "
                              "run more cycles or drop fewer")
         if not (self.gravity >= 0 and math.isfinite(self.gravity)):
@@ -297,14 +358,10 @@ class Case:
 
     def __repr__(self) -> str:
         """One line: what is simulated, how long (``dataclasses.asdict`` gives every field)."""
-        g = self.container.geometry
-        keys = ("length", "width", "height") if g.shape == "cuboid" else ("radius", "height")
-        dims = " x ".join(f"{k[0].upper()} {getattr(g, k) * 1e3:g}" for k in keys)
-        d = self.drive
-        drive = (f"harmonic X = {d.stroke * 1e3:g} mm, f = {d.frequency:g} Hz" if d.kind == "harmonic" else d.kind)
         parts = ", ".join(f"{p.count} x r = {p.radius * 1e3:g} mm {p.material.name}" for p in self.particles)
-        return (f"Case({parts} in a {g.shape} ({dims} mm), {drive}, mu = {self.contact.friction:g}, "
-                f"{self.numerics.integrator}, {self.cycles:g} cycles, seed {self.initial.seed})")
+        return (f"Case({parts} in a {self.container.describe()}, {self.drive.describe()}, "
+                f"mu = {self.contact.friction:g}, {self.numerics.integrator}, {self.cycles:g} cycles, "
+                f"seed {self.initial.seed})")
 
     @property
     def n_particles(self) -> int:

@@ -9,10 +9,12 @@ Lift-off (a peak acceleration above g) is allowed, and said (a warning).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
 from .errors import InputError
+from .schema import spec_of
 
 __all__ = ["check_case", "memory_needed", "LiftOffWarning"]
 
@@ -38,7 +40,9 @@ def check_case(case, *, analyse: bool = False) -> None:
     cycle after the dropped ones (a warning when it has exactly one).
     """
     geo = case.container.geometry
-    dims = {k: getattr(geo, k) for k in ("length", "width", "height", "radius") if hasattr(geo, k)}
+    # every length field of the shape, as its config key
+    dims = {f.name: getattr(geo, f.name) for f in dataclasses.fields(geo)
+            if spec_of(f).dimension == "length" and isinstance(getattr(geo, f.name), (int, float))}
     for k, v in dims.items():
         if v > _MAX_SIZE:
             raise InputError(f"container.{k} = {v:g} m is not a damper container (a number without a unit is "
@@ -46,14 +50,15 @@ def check_case(case, *, analyse: bool = False) -> None:
     r = max(p.radius for p in case.particles)
     if r > _MAX_RADIUS:
         raise InputError(f"particles.radius = {r:g} m (a number without a unit is metres){_mm_hint(r, _MAX_RADIUS)}")
-    height = dims.get("height", math.inf)
-    across = dims.get("width", 2 * dims.get("radius", math.inf))
+    lo, hi = geo.bounding_box()
+    height = float(hi[1] - lo[1])
+    across = float(min(hi[0] - lo[0], hi[2] - lo[2]))
     if 2 * r > min(height, across):
         raise InputError(f"particles.radius = {r * 1e3:g} mm: a sphere of diameter {2e3 * r:g} mm does not fit in the "
                          f"container ({'height' if height <= across else 'width'} {min(height, across) * 1e3:g} mm); "
                          "give a smaller radius or a larger container")
     d = case.drive
-    if d.kind == "harmonic":
+    if d.stroke is not None and d.frequency is not None:
         L = geo.drive_length
         if d.stroke > 2 * L:
             raise InputError(f"drive.stroke = {d.stroke:g} m is {d.stroke / L:.3g} times the container's length "
@@ -64,7 +69,7 @@ def check_case(case, *, analyse: bool = False) -> None:
             raise InputError(f"the drive's peak acceleration X (2 pi f)^2 = {accel / g:.3g} g (X = {d.stroke * 1e3:g} mm, "
                              f"f = {d.frequency:g} Hz) is beyond any damper test; check drive.stroke and drive.frequency "
                              "(a number without a unit is SI: m, Hz)")
-        if accel > g:
+        if accel > g and d.vertical_share == 0.0:
             warnings.warn(f"the drive's peak acceleration {accel / g:.2g} g exceeds g: the bed lifts off the floor "
                           "(the paper's laws assume A < g); the run goes on", LiftOffWarning, stacklevel=3)
         if analyse:

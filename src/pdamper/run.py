@@ -101,8 +101,8 @@ class RunResult:
             "mean_power_check_J": float(a.mean_power_check_J) if a is not None else math.nan,
             "ledger_dissipated_per_cycle_J": self.energy.dissipated_per_cycle(self.case),
             "energy_balance_error": self.energy.balance_error(),
-            "stroke_m": getattr(self.case.drive, "stroke", math.nan),
-            "frequency_hz": getattr(self.case.drive, "frequency", None) or (a.frequency_hz if a is not None else math.nan),
+            "stroke_m": self.case.drive.stroke if self.case.drive.stroke is not None else math.nan,
+            "frequency_hz": self.case.drive.frequency or (a.frequency_hz if a is not None else math.nan),
             "particles": self.case.n_particles,
             "bed_mass_kg": self.case.bed_mass,
             "steps": self.steps,
@@ -125,7 +125,7 @@ def analyse_signals(case: Case, signals):
     frequency, the cycles the case drops and its bed mass."""
     from .analysis import complex_power
 
-    return complex_power(signals.time, signals.force, signals.velocity, frequency=getattr(case.drive, "frequency", None),
+    return complex_power(signals.time, signals.force, signals.velocity, frequency=case.drive.frequency,
                          drop_cycles=case.drop_cycles, bed_mass=case.bed_mass)
 
 
@@ -176,7 +176,7 @@ def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True,
         check_case(case, analyse=True)  # whole cycles for the analysis, before anything is simulated
     recorders = list(recorders)
     builtin = default_recorders(case)
-    periodic = float(getattr(case.drive, "frequency", 0.0) or 0.0) > 0
+    periodic = float(case.drive.frequency or 0.0) > 0
     classify = analyse and periodic
     if classify and not case.recording.trajectory_fps:
         builtin.append(TrajectoryRecorder(min(MODE_FPS, case.recording.sample_rate)))

@@ -27,7 +27,6 @@ from .engine.steppers import GEAR_MIN_STEP, stepper_for
 from .errors import InputError
 from .excitation import CoupledStructure
 from .kernels.bundles import ENERGY_COLUMNS, FRAME_COLUMNS, STRUCTURE_COLUMNS, Samples
-from .kernels.drive import DRIVE_STRUCTURE
 from .params import Case
 from .recorders.base import Recorded, RunInfo, State, check_recorders
 from .recorders.energy import EnergyRecorder
@@ -46,7 +45,7 @@ def default_recorders(case: Case) -> list:
     """What a run records unless told otherwise: the signals and the energy ledger, the coupled
     structure's motion when there is one, and the trajectory at ``recording.trajectory_fps``."""
     out = [SignalsRecorder(), EnergyRecorder()]
-    if isinstance(case.drive, CoupledStructure):
+    if case.drive.coupled:
         out.append(StructureRecorder())
     if case.recording.trajectory_fps > 0:
         out.append(TrajectoryRecorder(case.recording.trajectory_fps))
@@ -113,17 +112,18 @@ class Simulation:
 
         self.case = case
         check_case(case)
-        recs = default_recorders(case) if recorders is None else recorders
+        # a list once: a generator of recorders is read here and nowhere else
+        recs = list(default_recorders(case) if recorders is None else recorders)
         check_memory(case, max((getattr(r, "fps", 0.0) or 0.0 for r in recs if "frames" in getattr(r, "channels", ())),
                                default=0.0))
         self.engine = build(case)
         fs = case.recording.sample_rate
         self.interval = 1.0 / fs
-        self.stepper = stepper_for(self.engine, self.interval)
-        self.recorders = check_recorders(default_recorders(case) if recorders is None else recorders)
         #: samples of the driven phase, and of the settling before it
         self.n_samples = int(math.floor(case.duration * fs + 1e-9))
         self.settle_samples = int(math.ceil(case.initial.settle_time / self.interval))
+        self.stepper = stepper_for(self.engine, self.interval, self.settle_samples)
+        self.recorders = check_recorders(recs)
         self.sample = 0  # driven samples done
         self._settled = False
         self._wall = 0.0
@@ -135,7 +135,7 @@ class Simulation:
                             radius=self.bodies.radius, mass=self.bodies.mass, direction=self.engine.drive.direction,
                             gravity=self.engine.drive.gravity, frame_every=frame_every)
         self._channels = set().union(*(r.channels for r in self.recorders)) if self.recorders else set()
-        if self.engine.drive.kind == DRIVE_STRUCTURE:
+        if case.drive.coupled:
             self._channels.add("structure")
         self.samples = self._allocate(self._channels, frame_every)
 
@@ -169,7 +169,7 @@ class Simulation:
         n = self.n_samples if self.n_samples >= 2 else 0
         rows = {c: (n if c in channels else 0) for c in ("wall_force", "energy", "structure")}
         frames = n // frame_every if "frames" in channels and frame_every else 0
-        interval = getattr(self.stepper, "sample_interval", self.interval)
+        interval = self.stepper.sample_interval
         return Samples(interval=float(interval), wall_force=np.zeros(rows["wall_force"]),
                        energy=np.zeros((rows["energy"], len(ENERGY_COLUMNS))),
                        frames=np.zeros((frames, self.n, FRAME_COLUMNS)), frame_every=int(frame_every),
@@ -189,11 +189,7 @@ class Simulation:
             r.start(self.info)
         s = self.settle_samples
         if s:
-            st = self.stepper
-            if st.name == "gear":
-                st.advance(self.samples, -s * self.interval, 0.0, False)
-            else:
-                st.advance(self.samples, s * st.sub, -s * st.sub * st.dt, 0, False, 0)
+            self.stepper.advance(self.samples, -s * self.interval, 0.0, False)
         self._start_drive()
         self._settled = True
         self._wall += _time.perf_counter() - t0
@@ -205,7 +201,7 @@ class Simulation:
         _, v0, _ = self.case.drive.motion(np.array([0.0]))
         jump = float(v0[0]) * e.drive.direction
         e.bodies.velocity[:] -= jump
-        a0 = self.case.drive.start_state(e.drive.state) if isinstance(self.case.drive, CoupledStructure) else None
+        a0 = self.case.drive.start_state(e.drive.state)
         self.stepper.start_drive(jump, a0)
         self.samples.sums[:] = 0.0
 
@@ -222,12 +218,7 @@ class Simulation:
             stop = min(end, self.sample + seg)
             for r in python:
                 stop = min(stop, (self.sample // r.every + 1) * r.every)
-            k = stop - self.sample
-            if st.name == "gear":
-                st.advance(self.samples, self.sample * self.interval, stop * self.interval, True)
-            else:
-                st.advance(self.samples, k * st.sub, self.sample * self.interval,
-                           self.settle_samples * st.sub + self.sample * st.sub, True, self.settle_samples)
+            st.advance(self.samples, self.sample * self.interval, stop * self.interval, True)
             self.sample = stop
             due = [r for r in python if stop % r.every == 0]
             if due:
@@ -242,9 +233,7 @@ class Simulation:
         """The state now, as the Python recorders see it (:class:`~pdamper.recorders.base.State`)."""
         e = self.engine
         t = self.time
-        xc, vc, ac = self.case.drive.motion(np.array([max(t, 0.0)]))
-        if e.drive.kind == DRIVE_STRUCTURE:
-            xc, vc, ac = e.drive.state[0, 0:3]
+        xc, vc, ac = self.case.drive.container_motion(t, e.drive.state)
         b = e.bodies
         sums = self.samples.sums
         views = [a.view() for a in (b.position, b.velocity, b.spin)]
@@ -271,13 +260,9 @@ class Simulation:
         data = Recorded(info=self.info, time_end=(np.arange(k) + 1) * self.interval, channels=channels)
         outputs = {r.name: r.finalize(data) for r in self.recorders}
         st = self.stepper
-        if st.name == "gear":
-            step = (self.settle_samples + k) * self.interval / max(st.steps, 1)
-            rejected = st.rejected
-        else:
-            step, rejected = st.dt, None
-        return RunRecord(case=self.case, outputs=outputs, steps=st.steps, time_step=step, wall_time_s=self._wall,
-                         neighbour_search=self.engine.search_name, rejected_steps=rejected)
+        return RunRecord(case=self.case, outputs=outputs, steps=st.steps,
+                         time_step=st.mean_step((self.settle_samples + k) * self.interval), wall_time_s=self._wall,
+                         neighbour_search=self.engine.search_name, rejected_steps=st.rejected)
 
     def run(self, *, progress=None) -> RunRecord:
         """Settle, drive for the case's duration, and return what the recorders recorded."""

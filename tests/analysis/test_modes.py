@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from pdamper.geometry import Cylinder
+
 from pdamper.analysis.modes import (MODES, THRESHOLDS, bed_centre, case_clearance, classify_features,
                                     classify_trajectory, mode_features)
 
@@ -206,8 +208,8 @@ def test_rolling_in_a_cylinder_touches_the_curved_wall_off_the_axis():
     pos[:, :, 1] = R
     pos[:, :, 2] = sites[:, 1]
     kw = dict(length=2 * big_r, clearance=2 * c, frequency=F)
-    round_ = mode_features(t, pos, R, round_wall=True, **kw)
-    flat = mode_features(t, pos, R, round_wall=False, **kw)
+    round_ = mode_features(t, pos, R, shape=Cylinder(radius=big_r, height=0.011), **kw)
+    flat = mode_features(t, pos, R, shape=None, **kw)
     assert round_.impacts_lo == pytest.approx(1.0, abs=0.3) and flat.touch_lo == 0.0
     assert classify_features(round_) == "rolling-collect-and-collide"
     assert classify_features(flat) == "scattered"

@@ -27,7 +27,7 @@ def _all(kinds, data, p):
 
 def test_cuboid_walls_are_six_planes_named_in_order():
     kinds, data, names = PAPER_BOX.walls()
-    assert names == ["-x", "+x", "floor", "lid", "-z", "+z"]
+    assert names == ["x_min", "x_max", "floor", "lid", "z_min", "z_max"]
     assert np.all(kinds == PLANE)
     assert data.shape == (6, 7)
     # unit normals

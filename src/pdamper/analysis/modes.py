@@ -69,6 +69,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ..geometry.shape import ShapeBase
+
 
 __all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_features", "classify_trajectory",
            "case_clearance", "floor_capacity", "bed_centre", "majority_mode", "container_track"]
@@ -171,7 +173,7 @@ def _unit_horizontal(drive_dir) -> np.ndarray:
 
 
 def mode_features(time, position, radius, *, length: float, clearance: float, frequency: float,
-                  drive_dir=(1.0, 0.0, 0.0), start_time: float = 0.0, round_wall: bool = False,
+                  drive_dir=(1.0, 0.0, 0.0), start_time: float = 0.0, shape=None,
                   gravity_along: float = 0.0, container_position=None,
                   thresholds: dict | None = None) -> ModeFeatures:
     """Measure the bed's motion over the frames at ``time >= start_time``.
@@ -183,8 +185,9 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     clearance : h [m] (eq. 6); frequency : drive frequency f [Hz];
     drive_dir : drive direction in the container frame (its floor-plane part is used);
     start_time : the transient to leave out [s] (e.g. drop_cycles / f);
-    round_wall : a cylinder of radius L/2 about the y axis: a sphere touches the "end wall" ahead of
-        (behind) it when it touches the curved wall within 60 deg of the drive axis;
+    shape : the container shape (:mod:`pdamper.geometry.shape`), which says when a sphere touches
+        the wall ahead of (behind) it (a cylinder: the curved wall within 60 deg of the drive
+        axis); None: planar end walls across the drive;
     gravity_along : the component of gravity along the drive direction in the container frame
         [m/s^2] (g sin(tilt about z) for the paper's tilt; > 0 pulls towards the +L/2 wall);
     container_position : (F,) or (F, 3) the container's displacement at the frames [m], for its
@@ -219,15 +222,7 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     h = clearance if clearance > 0 else 2 * float(rad.max())
     swing = float((np.percentile(centre, 95) - np.percentile(centre, 5)) / h)
     gap = th["touch_gap"] * rad
-    if round_wall:
-        rho = np.hypot(pos[:, :, 0], pos[:, :, 2])
-        at_wall = rho + rad >= length / 2 - gap
-        ahead = np.abs(s) >= 0.5 * rho              # within 60 deg of the drive axis
-        on_lo = np.any(at_wall & ahead & (s < 0), axis=1)
-        on_hi = np.any(at_wall & ahead & (s > 0), axis=1)
-    else:
-        on_lo = np.any(s - rad <= -length / 2 + gap, axis=1)
-        on_hi = np.any(s + rad >= length / 2 - gap, axis=1)
+    on_lo, on_hi = (shape if shape is not None else ShapeBase()).end_contacts(pos, rad, s, length, gap)
     dt = float(np.median(np.diff(t))) if nf > 1 else 0.0
     cycles = max((t[-1] - t[0] + dt) * frequency, 1e-12)
 
@@ -280,14 +275,14 @@ def classify_trajectory(trajectory: dict, case, *, thresholds: dict | None = Non
 
     length, h = case_clearance(case)
     drive = case.drive
-    freq = float(getattr(drive, "frequency", 0.0) or 0.0)
+    freq = float(drive.frequency or 0.0)
     if freq <= 0:
         raise ValueError("motion modes need a periodic drive with a frequency")
-    gvec, dvec = container_vectors(case.container.tilt, case.gravity, getattr(drive, "angle", 0.0))
+    gvec, dvec = container_vectors(case.container.tilt, case.gravity, drive.lab_direction())
     off, _, _ = container_track(trajectory, case)
     feats = mode_features(trajectory["time"], trajectory["position"], trajectory["radius"], length=length,
                           clearance=h, frequency=freq, drive_dir=dvec, start_time=case.drop_cycles / freq,
-                          round_wall=case.container.geometry.shape == "cylinder",
+                          shape=case.container.geometry,
                           gravity_along=float(gvec @ _unit_horizontal(dvec)), container_position=off,
                           thresholds=thresholds)
     return classify_features(feats, thresholds), feats

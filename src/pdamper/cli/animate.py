@@ -63,7 +63,7 @@ def animate_command(run_dir, out, speed, cycles, as_json):
     for target in targets:
         animate(run.trajectory, run.case, target, speed=speed, cycles=cycles)
         written.append(str(target))
-    stroke = getattr(run.case.drive, "stroke", None)
+    stroke = run.case.drive.stroke
     label = f"X = {stroke * 1e3:.3g} mm" if stroke else str(base.name)
     paths_figure([(label, run.trajectory, run.case)], base / "paths.png")
     walls_figure(run.trajectory, run.case, base / "walls.png")

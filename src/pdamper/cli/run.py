@@ -111,18 +111,12 @@ def _fmt(v, digits=4) -> str:
 
 def _describe(case) -> str:
     beds = " + ".join(f"{p.count} {p.material.name} r = {p.radius * 1e3:g} mm" for p in case.particles)
-    g = case.container.geometry
-    if g.shape == "cuboid":
-        box = f"cuboid {g.length * 1e3:g} x {g.width * 1e3:g} x {g.height * 1e3:g} mm"
-    else:
-        box = f"cylinder R = {g.radius * 1e3:g} mm, H = {g.height * 1e3:g} mm"
     d = case.drive
-    if hasattr(d, "stroke"):
-        drive = (f"X = {d.stroke * 1e3:g} mm, f = {d.frequency:g} Hz; {case.cycles:g} cycles, "
-                 f"first {case.drop_cycles} dropped")
+    if d.periodic:
+        drive = f"{d.describe()}; {case.cycles:g} cycles, first {case.drop_cycles} dropped"
     else:
-        drive = f"{d.kind} drive, {case.duration:g} s"
-    return f"{beds} in {box}; {drive}"
+        drive = f"{d.describe()}, {case.duration:g} s"
+    return f"{beds} in {case.container.describe()}; {drive}"
 
 
 def _table(config, case, s, written) -> str:

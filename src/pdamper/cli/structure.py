@@ -145,7 +145,7 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     case = _load(config, settings, cycles, seed)
     _check_path(plot)
     freqs = parse_frequencies(frequencies)
-    f0 = force if force is not None else getattr(case.drive, "force_amplitude", 0.0)
+    f0 = force if force is not None else (case.drive.force_amplitude if case.drive.coupled else 0.0)
     if not f0 > 0:
         raise InputError("--force: give the force amplitude on the structure, e.g. --force 0.4N "
                          "([structure] force_amplitude is 0)")
@@ -220,8 +220,7 @@ def design_command(frequency, stroke, shape, length, width, container_radius, sp
         echo_json(out)
         return
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
-    box = (f"cuboid {mm(d.length_m)} x {mm(d.width_m)}" if d.shape == "cuboid"
-           else f"cylinder R = {mm(d.length_m / 2)} (L = 2R)")
+    box = d.container_geometry().describe()
     rows = [
         ("filling", f"{d.particles} of {d.max_particles}", f"spheres, {d.rows} rows (exact {d.exact_particles:.3f})"),
         ("clearance h", mm(d.clearance_m), "eq. (6)"),
@@ -250,14 +249,11 @@ def _verify(d, cycles, workers, quiet):
 
     from .. import theory as th
     from ..excitation import HarmonicDrive
-    from ..geometry.cuboid import Cuboid
-    from ..geometry.cylinder import Cylinder
     from ..materials import STEEL_S235, Material
     from ..params import Case, Container, ParticleSet
     from ..studies import SweepSpec, run_sweep
 
-    geo = (Cuboid(length=d.length_m, width=d.width_m) if d.shape == "cuboid"
-           else Cylinder(radius=d.length_m / 2))
+    geo = d.container_geometry()
     mat = STEEL_S235 if d.density_kg_m3 == STEEL_S235.density else Material(
         name="spheres", youngs_modulus=STEEL_S235.youngs_modulus, poisson_ratio=STEEL_S235.poisson_ratio,
         density=d.density_kg_m3)

@@ -14,11 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..contact import DAMPING_LAWS
+from ..contact.cor_constant import ConstantRestitution
 from ..contact.cor_table import SPEED_GRID, tabulate_law
 from ..contact.cor_thornton import ThorntonRestitution, thornton_restitution
 from ..contact.hertz_gonthier import contact_time, effective_radius
 from ..errors import InputError
-from ..excitation import CoupledStructure, HarmonicDrive
 from ..geometry.tilt import container_vectors
 from ..geometry.walls import CYLINDER_INSIDE, PLANE
 from ..initial import initial_positions
@@ -60,24 +60,17 @@ def auto_time_step(case: Case) -> float:
     """Time step [s] for the fixed-step integrator: the shortest Hertz contact time among the
     case's contact types at the expected largest impact speed, over ``steps_per_contact``,
     capped by ``max_time_step``. The expected impact speed is ``numerics.max_impact_speed`` or
-    2.5 x the drive's largest velocity (2.5 x the largest initial velocity in a still
-    container) plus 0.1 m/s."""
+    2.5 x the larger of the drive's largest speed (:meth:`~pdamper.excitation.DriveBase.speed_bound`)
+    and the largest initial sphere speed, plus 0.1 m/s."""
     num = case.numerics
     if num.time_step is not None:
         return num.time_step
     if num.max_impact_speed is not None:
         v = num.max_impact_speed
-    elif isinstance(case.drive, HarmonicDrive):
-        v = 2.5 * case.drive.velocity_amplitude + 0.1
-    elif isinstance(case.drive, CoupledStructure):
-        v = 2.5 * case.drive.velocity_bound + 0.1
-    elif case.drive.kind == "still":
-        v0 = np.asarray(case.initial.velocities if case.initial.velocities is not None else [[0.0, 0.0, 0.0]])
-        v = 2.5 * float(np.max(np.linalg.norm(v0, axis=-1))) + 0.1
     else:
-        _, vc, _ = case.drive.motion(np.asarray(case.drive.time))
-        v = 2.5 * float(np.max(np.abs(vc))) + 0.1
-    wall = case.container.material
+        v0 = np.asarray(case.initial.velocities if case.initial.velocities is not None else [[0.0, 0.0, 0.0]])
+        v = 2.5 * max(case.drive.speed_bound(), float(np.max(np.linalg.norm(v0, axis=-1)))) + 0.1
+    walls = list(dict.fromkeys(case.container.wall_material_list()))
     best = math.inf
     for a in case.particles:
         for b in case.particles:
@@ -85,7 +78,8 @@ def auto_time_step(case: Case) -> float:
             rs = effective_radius(a.radius, b.radius)
             ms = a.mass * b.mass / (a.mass + b.mass)
             best = min(best, contact_time(ms, rs, es, v))
-        best = min(best, contact_time(a.mass, a.radius, effective_modulus(a.material, wall), v))
+        for wall in walls:
+            best = min(best, contact_time(a.mass, a.radius, effective_modulus(a.material, wall), v))
     return min(best / num.steps_per_contact, num.max_time_step)
 
 
@@ -96,18 +90,21 @@ def build(case: Case) -> Engine:
     rad = np.concatenate([np.full(p.count, p.radius) for p in case.particles])
     mass = np.concatenate([np.full(p.count, p.mass) for p in case.particles])
     n = rad.size
-    # materials: the spheres' first, the wall material last
+    # materials: the spheres' first, then the walls' (the container's material first)
     names = list(dict.fromkeys(p.material.name for p in case.particles))
     mats = [next(p.material for p in case.particles if p.material.name == nm) for nm in names]
     material = np.concatenate([np.full(p.count, names.index(p.material.name)) for p in case.particles]).astype(np.int64)
-    table = _contact_table(case, mats + [case.container.material])
+    per_wall = case.container.wall_material_list()
+    wall_mats = list(dict.fromkeys([case.container.material] + per_wall))
+    table = _contact_table(case, mats + wall_mats)
+    wall_material = np.array([len(mats) + wall_mats.index(m) for m in per_wall], dtype=np.int64)
     bodies = Bodies(position=initial_positions(case, rng), velocity=_initial_vectors(case.initial.velocities, n, "velocities"),
                     spin=_initial_vectors(case.initial.spins, n, "spins"), force=np.zeros((n, 3)), torque=np.zeros((n, 3)),
                     radius=rad, mass=mass, inv_mass=1.0 / mass, inv_inertia=1.0 / (0.4 * mass * rad * rad),
                     material=material)
-    walls, wall_names = _walls(case, bodies, table)
+    walls, wall_names = _walls(case, bodies, table, wall_material)
     search, search_name = _search(case, rad, n)
-    gvec, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
+    gvec, dvec = container_vectors(case.container.tilt, case.gravity, case.drive.lab_direction())
     drive = drive_bundle(case.drive, gvec, dvec)
     return Engine(case=case, bodies=bodies, pairs=grow_pairs(None, max(16, n * 8), n), walls=walls, search=search,
                   table=table, drive=drive, search_name=search_name, wall_names=wall_names, dt=auto_time_step(case))
@@ -116,12 +113,10 @@ def build(case: Case) -> Engine:
 def drive_bundle(drive, gravity=None, direction=None) -> Drive:
     """The kernels' :class:`~pdamper.kernels.bundles.Drive` of a drive (:mod:`pdamper.excitation`),
     with the gravity vector and drive direction in the container frame (default: none, along x)."""
-    kind, par, tab = drive.kernel_args()
+    kind, par, tab, state = drive.kernel_drive()
     gravity = np.zeros(3) if gravity is None else np.asarray(gravity, dtype=float)
     direction = np.array([1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
-    if isinstance(drive, CoupledStructure):  # its kernel table is the structure's state
-        return Drive(kind=int(kind), par=par, table=np.zeros((1, 5)), state=tab, gravity=gravity, direction=direction)
-    return Drive(kind=int(kind), par=par, table=tab, state=np.zeros((2, 5)), gravity=gravity, direction=direction)
+    return Drive(kind=int(kind), par=par, table=tab, state=state, gravity=gravity, direction=direction)
 
 
 def _initial_vectors(given, n, name):
@@ -147,7 +142,7 @@ def _contact_table(case, mats) -> ContactTable:
             mp = a * nmat + b
             modulus[mp] = effective_modulus(mats[a], mats[b])
             friction[mp] = case.contact.friction_for(mats[a].name, mats[b].name)
-            cor = case.contact.restitution_for(mats[a].name, mats[b].name)
+            cor = _restitution(case.contact, mats[a], mats[b])
             if isinstance(cor, ThorntonRestitution):
                 # the table is over v / v_y; the kernel computes v_y per contact
                 yield_pressure[mp] = cor.yield_pressure
@@ -162,8 +157,17 @@ def _contact_table(case, mats) -> ContactTable:
                         overlap_limit=float(case.numerics.overlap_limit))
 
 
-def _walls(case, bodies, table):
-    kinds, data, names = case.container.geometry.walls()
+def _restitution(contact, a, b):
+    """The COR law of materials a, b: a [[contact.pair]] law, else a coating's own restitution
+    (the lower of the two where both have one), else the contact model's law."""
+    if (a.name, b.name) in contact.pair_restitution or (b.name, a.name) in contact.pair_restitution:
+        return contact.restitution_for(a.name, b.name)
+    own = [m.restitution for m in (a, b) if m.restitution is not None]
+    return ConstantRestitution(value=min(own)) if own else contact.restitution
+
+
+def _walls(case, bodies, table, wall_material):
+    kinds, data, names = case.container.walls()
     data = np.ascontiguousarray(data)
     nw = len(kinds)
     n = bodies.radius.size
@@ -180,7 +184,7 @@ def _walls(case, bodies, table):
         for i in range(n):
             rs = effective_radius(bodies.radius[i], concave_radius=data[w, 6]) if kinds[w] == CYLINDER_INSIDE \
                 else bodies.radius[i]
-            mp = bodies.material[i] * nmat + (nmat - 1)
+            mp = bodies.material[i] * nmat + wall_material[w]
             r_star[i, w] = rs
             material_pair[i, w] = mp
             stiffness[i, w] = 4.0 / 3.0 * table.modulus[mp] * math.sqrt(rs)
@@ -192,12 +196,6 @@ def _walls(case, bodies, table):
     return walls, tuple(names)
 
 
-def _bounding_box(geo):
-    if geo.shape == "cuboid":
-        return np.array([-geo.length / 2, 0.0, -geo.width / 2]), np.array([geo.length / 2, geo.height, geo.width / 2])
-    return np.array([-geo.radius, 0.0, -geo.radius]), np.array([geo.radius, geo.height, geo.radius])
-
-
 def _search(case, rad, n):
     num = case.numerics
     skin = num.skin if num.skin is not None else 0.2 * float(rad.max())
@@ -205,7 +203,7 @@ def _search(case, rad, n):
     if name == "auto":
         name = "cells" if n > CELLS_THRESHOLD else "direct"
     cut = 2 * float(rad.max()) + skin
-    vmin, vmax = _bounding_box(case.container.geometry)
+    vmin, vmax = case.container.geometry.bounding_box()
     span = vmax - vmin + 2 * cut
     cells = np.maximum(1, np.floor(span / cut)).astype(np.int64)
     # keep cells at least `cut` wide in every direction

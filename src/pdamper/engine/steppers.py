@@ -26,10 +26,19 @@ GEAR_MIN_STEP = 1e-9
 class _Stepper:
     """What both steppers share: priming, list growth and failure messages."""
 
-    def __init__(self, engine: Engine):
+    #: Gear's rejected steps (None for a fixed-step integrator)
+    rejected = None
+
+    def __init__(self, engine: Engine, interval: float, settle_samples: int = 0):
         self.engine = engine
+        self.interval = interval
+        self.settle_samples = settle_samples
         self.primed = False  # initial accelerations not computed yet
         self.steps = 0
+
+    def mean_step(self, span: float) -> float:
+        """The mean step [s] over ``span`` [s] of simulated time."""
+        return span / max(self.steps, 1)
 
     def _grow(self, status) -> None:
         e = self.engine
@@ -68,8 +77,8 @@ class VerletStepper(_Stepper):
 
     name = "verlet"
 
-    def __init__(self, engine: Engine, interval: float):
-        super().__init__(engine)
+    def __init__(self, engine: Engine, interval: float, settle_samples: int = 0):
+        super().__init__(engine, interval, settle_samples)
         n = engine.n
         #: steps per sample interval, and the step [s] that divides the interval exactly
         self.sub = max(1, int(np.ceil(interval / engine.dt - 1e-9)))
@@ -81,7 +90,21 @@ class VerletStepper(_Stepper):
         """The interval the kernel's sample means divide by (``sub`` steps)."""
         return self.sub * self.dt
 
-    def advance(self, samples, n_steps, t0, step0, record, skip_samples) -> int:
+    def mean_step(self, span: float) -> float:
+        """The fixed step [s]."""
+        return self.dt
+
+    def advance(self, samples, t0, t_end, record) -> int:
+        """Steps from ``t0`` to ``t_end`` [s], both on sample boundaries (negative times: the
+        settling, before the drive starts); returns the steps taken."""
+        k0 = int(round(t0 / self.interval))
+        k1 = int(round(t_end / self.interval))
+        if k0 < 0:
+            t0 = k0 * self.sub * self.dt  # the settling's clock, counted in steps from its start
+        return self._steps(samples, (k1 - k0) * self.sub, t0, (self.settle_samples + k0) * self.sub, record,
+                           self.settle_samples if record else 0)
+
+    def _steps(self, samples, n_steps, t0, step0, record, skip_samples) -> int:
         """``n_steps`` steps from ``t0`` [s]; ``step0`` the global step count at ``t0`` (samples end
         every ``sub`` steps; the first ``skip_samples`` samples are the settling's)."""
         from ..kernels.verlet import run_verlet
@@ -114,10 +137,9 @@ class GearStepper(_Stepper):
 
     name = "gear"
 
-    def __init__(self, engine: Engine, interval: float):
-        super().__init__(engine)
+    def __init__(self, engine: Engine, interval: float, settle_samples: int = 0):
+        super().__init__(engine, interval, settle_samples)
         n = engine.n
-        self.interval = interval
         sub = max(1, int(np.ceil(interval / engine.dt - 1e-9)))
         h0 = interval / sub
         self.h_next = h0
@@ -144,8 +166,14 @@ class GearStepper(_Stepper):
             s = s._replace(saved_pair_history=np.zeros((2, cap)))
         self.state = s._replace(friction=self._record(s.friction))
 
+    @property
+    def sample_interval(self) -> float:
+        """The interval the kernel's sample means divide by."""
+        return self.interval
+
     def advance(self, samples, t0, t_end, record) -> int:
-        """Accepted steps from ``t0`` to ``t_end`` [s] (both on sample boundaries)."""
+        """Accepted steps from ``t0`` to ``t_end`` [s] (both on sample boundaries; negative times:
+        the settling, before the drive starts); returns the steps taken."""
         from ..kernels.gear import run_gear
 
         e = self.engine
@@ -177,7 +205,11 @@ class GearStepper(_Stepper):
             nord[2, :, 0:3] -= 0.5 * h * h * a0 * self.engine.drive.direction
 
 
-def stepper_for(engine: Engine, interval: float):
-    """The stepper of the case's ``numerics.integrator``, for samples of ``interval`` [s]."""
-    cls = GearStepper if engine.case.numerics.integrator == "gear" else VerletStepper
-    return cls(engine, interval)
+#: The steppers by ``numerics.integrator``.
+STEPPERS = {"verlet": VerletStepper, "gear": GearStepper}
+
+
+def stepper_for(engine: Engine, interval: float, settle_samples: int = 0):
+    """The stepper of the case's ``numerics.integrator``, for samples of ``interval`` [s] after
+    ``settle_samples`` samples of settling."""
+    return STEPPERS[engine.case.numerics.integrator](engine, interval, settle_samples)

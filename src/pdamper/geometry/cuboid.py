@@ -6,19 +6,22 @@ y in [0, H] from the floor up, z in [-W/2, W/2] across.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
 from ..schema import convert_fields, param
+from .shape import GAP, ShapeBase, register_shape
 from .walls import PLANE, plane
 
 __all__ = ["Cuboid"]
 
 
+@register_shape
 @dataclass(frozen=True, kw_only=True)
-class Cuboid:
+class Cuboid(ShapeBase):
     """Inner dimensions of a cuboid container.
 
     Parameters
@@ -49,13 +52,62 @@ class Cuboid:
         return self.length
 
     def walls(self):
-        """(kinds, data, names) of the six walls: -x, +x, floor, lid, -z, +z."""
+        """(kinds, data, names) of the six walls: x_min, x_max, floor, lid, z_min, z_max."""
         L, W, H = self.length, self.width, self.height
         rows = [plane((1, 0, 0), -L / 2), plane((-1, 0, 0), -L / 2),
                 plane((0, 1, 0), 0.0), plane((0, -1, 0), -H),
                 plane((0, 0, 1), -W / 2), plane((0, 0, -1), -W / 2)]
-        names = ["-x", "+x", "floor", "lid", "-z", "+z"]
+        names = ["x_min", "x_max", "floor", "lid", "z_min", "z_max"]
         return np.full(6, PLANE, dtype=np.int64), np.array(rows), names
+
+    def bounding_box(self):
+        """(lo, hi) corners [m] of the inside."""
+        return (np.array([-self.length / 2, 0.0, -self.width / 2]),
+                np.array([self.length / 2, self.height, self.width / 2]))
+
+    def length_along(self, direction) -> float:
+        """The chord [m] through the floor's centre along the horizontal part of ``direction``."""
+        dx, dz = abs(float(direction[0])), abs(float(direction[2]))
+        n = math.hypot(dx, dz)
+        if n == 0:
+            return 0.0
+        return min(self.length * n / dx if dx > 0 else math.inf, self.width * n / dz if dz > 0 else math.inf)
+
+    def describe(self) -> str:
+        return f"cuboid {self.length * 1e3:g} x {self.width * 1e3:g} x {self.height * 1e3:g} mm"
+
+    def layer_sites(self, radius: float, jitter: float, n_needed: int | None = None):
+        """One layer of the initial block: rows across the width, columns from the -x wall, each
+        site with jitter room (jx, jz) where the container leaves some (the paper's 48 spheres of
+        r = 5 mm fill 120 mm x 40.4 mm with no room to spare)."""
+        r = radius
+        # rows across the width, each with its start clearance: a width of exactly k diameters
+        # holds k - 1 rows (k rows would leave the outer spheres 1 um inside the walls)
+        nz = int(np.floor((self.width - GAP) / (2 * r + GAP) + 1e-9))
+        if nz < 1:
+            return np.zeros((0, 2)), 0.0, 0.0
+        # rows across the width: room for jitter only where the width leaves some
+        jz = max(0.0, min(jitter, (self.width - 2 * r * nz - GAP * (nz + 1)) / (2 * nz)))
+        sz = 2 * r + GAP + 2 * jz
+        # columns along the length: as many as needed (all that fit without overlap when not
+        # told), with 1 um gaps and jitter room only where the length leaves some
+        nx_full = int(np.floor(self.length / (2 * r) + 1e-9))
+        if nx_full < 1:
+            return np.zeros((0, 2)), 0.0, 0.0
+        nx_need = min(nx_full, int(np.ceil(n_needed / nz))) if n_needed else nx_full
+        spare = self.length - 2 * r * nx_need
+        gx = max(0.0, min(GAP, spare / (nx_need + 1)))
+        jx = max(0.0, min(jitter, (spare - gx * (nx_need + 1)) / (2 * nx_need)))
+        sx = 2 * r + 2 * jx + gx
+        nx = min(nx_full, int(np.floor((self.length - 2 * r - 2 * jx - 2 * gx) / sx + 1e-9)) + 1)
+        xs = -self.length / 2 + r + jx + gx + sx * np.arange(nx)
+        zs = (np.arange(nz) - (nz - 1) / 2) * sz
+        X, Z = np.meshgrid(xs, zs, indexing="ij")
+        return np.column_stack([X.ravel(), Z.ravel()]), jx, jz
+
+    def jitter(self, rng, m: int, jx: float, jz: float):
+        """(m, 2) offsets uniform in the rectangle [-jx, jx] x [-jz, jz]."""
+        return np.column_stack([rng.uniform(-jx, jx, m), rng.uniform(-jz, jz, m)])
 
     def floor_sites(self, radius: float, spacing: float) -> np.ndarray:
         """Square-lattice sites (x, z) of one layer, ordered from the -x wall outwards.

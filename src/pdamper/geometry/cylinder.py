@@ -13,13 +13,15 @@ import numpy as np
 
 from ..errors import InputError
 from ..schema import convert_fields, param
+from .shape import ShapeBase, polygon_circle, register_shape
 from .walls import CYLINDER_INSIDE, PLANE, cylinder_inside, plane
 
 __all__ = ["Cylinder"]
 
 
+@register_shape
 @dataclass(frozen=True, kw_only=True)
-class Cylinder:
+class Cylinder(ShapeBase):
     """Inner dimensions of a cylindrical container.
 
     Parameters
@@ -45,6 +47,31 @@ class Cylinder:
     def drive_length(self) -> float:
         """L = 2R [m] used in the clearance, eq. (6)."""
         return 2.0 * self.radius
+
+    def bounding_box(self):
+        """(lo, hi) corners [m] of the box around the inside."""
+        return np.array([-self.radius, 0.0, -self.radius]), np.array([self.radius, self.height, self.radius])
+
+    def length_along(self, direction) -> float:
+        """2R [m]: every horizontal chord through the axis."""
+        return 2.0 * self.radius if (direction[0] or direction[2]) else 0.0
+
+    def outline(self, view: str):
+        """Top view: the circle of the curved wall; side view: the rectangle 2R x H."""
+        if view == "top":
+            return [polygon_circle(0.0, 0.0, self.radius)]
+        return super().outline(view)
+
+    def end_contacts(self, position, radius, along, length: float, gap):
+        """The round wall: a sphere touches it ahead (behind) when it is at the curved wall within
+        60 deg of the drive axis on the + (-) side."""
+        rho = np.hypot(position[:, :, 0], position[:, :, 2])
+        at_wall = rho + radius >= length / 2 - gap
+        ahead = np.abs(along) >= 0.5 * rho              # within 60 deg of the drive axis
+        return np.any(at_wall & ahead & (along < 0), axis=1), np.any(at_wall & ahead & (along > 0), axis=1)
+
+    def describe(self) -> str:
+        return f"cylinder R = {self.radius * 1e3:g} mm, H = {self.height * 1e3:g} mm"
 
     def walls(self):
         """(kinds, data, names): floor, lid, curved wall."""

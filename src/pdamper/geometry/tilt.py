@@ -43,13 +43,18 @@ def rotation(tilt) -> np.ndarray:
     return _rx(ax) @ _ry(ay) @ _rz(az)
 
 
-def container_vectors(tilt, gravity: float, drive_angle: float):
+def container_vectors(tilt, gravity: float, drive_direction):
     """Gravity [m/s^2] and the unit drive direction, both in the container frame.
 
-    The drive acts in the lab's horizontal plane at ``drive_angle`` [rad] from the lab x axis
-    towards the lab z axis; gravity is ``-gravity`` along lab y.
+    ``drive_direction`` is the drive's unit direction in the lab frame (y up), or a number: an
+    angle [rad] in the lab's horizontal plane from the lab x axis towards the lab z axis;
+    gravity is ``-gravity`` along lab y.
     """
     q = rotation(tilt)
     g_lab = np.array([0.0, -gravity, 0.0])
-    d_lab = np.array([np.cos(drive_angle), 0.0, np.sin(drive_angle)])
+    if np.ndim(drive_direction) == 0:
+        a = float(drive_direction)
+        d_lab = np.array([np.cos(a), 0.0, np.sin(a)])
+    else:
+        d_lab = np.asarray(drive_direction, dtype=float)
     return q.T @ g_lab, q.T @ d_lab

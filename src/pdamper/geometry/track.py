@@ -18,7 +18,7 @@ def container_track(trajectory: dict, case) -> tuple[np.ndarray, np.ndarray, np.
     the trajectory's frames, in the container's axes: the recorded ``container_position`` and
     ``container_velocity`` when the trajectory has them (a coupled structure's motion included),
     else x_c d and v_c d of the case's prescribed drive."""
-    _, dvec = container_vectors(case.container.tilt, case.gravity, getattr(case.drive, "angle", 0.0))
+    _, dvec = container_vectors(case.container.tilt, case.gravity, case.drive.lab_direction())
     if "container_position" in trajectory and "container_velocity" in trajectory:
         return (np.asarray(trajectory["container_position"], dtype=float),
                 np.asarray(trajectory["container_velocity"], dtype=float), dvec)

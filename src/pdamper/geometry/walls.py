@@ -7,6 +7,10 @@ A container is a list of primitives, each a row of ``wall_kind`` (int) and ``wal
   *into* the container, the signed distance of a point p is ``n.p - offset`` (> 0 inside).
 - ``CYLINDER_INSIDE`` (1): ``data = (cx, cy, cz, ax, ay, az, R)``: a point on the axis, the
   unit axis and the radius; signed distance ``R - |p_perp|`` (> 0 inside), normal towards the axis.
+- ``BOX_OUTSIDE`` (2): ``data = (cx, cy, cz, hx, hy, hz, 0)``: a solid axis-aligned box (an inner
+  plate, :mod:`.baffles`) with centre c and half sizes h (``inf`` for a box that runs through
+  the container); signed distance from its surface (> 0 outside, where the spheres are), normal
+  from the nearest surface point (an edge or corner included) to the point.
 
 Every wall force (and the initial-state checks, and the VTK mesh) uses :func:`wall_distance`.
 """
@@ -19,10 +23,12 @@ import numpy as np
 
 from ..jit import njit
 
-__all__ = ["PLANE", "CYLINDER_INSIDE", "wall_distance", "wall_distances", "plane", "cylinder_inside"]
+__all__ = ["PLANE", "CYLINDER_INSIDE", "BOX_OUTSIDE", "wall_distance", "wall_distances", "plane", "cylinder_inside",
+           "box_outside"]
 
 PLANE = 0
 CYLINDER_INSIDE = 1
+BOX_OUTSIDE = 2
 
 
 def plane(normal, offset: float) -> np.ndarray:
@@ -40,6 +46,36 @@ def cylinder_inside(point, axis, radius: float) -> np.ndarray:
     return np.array([c[0], c[1], c[2], a[0], a[1], a[2], float(radius)])
 
 
+def box_outside(centre, half_size) -> np.ndarray:
+    """Row of wall data for the outside of a solid axis-aligned box (half sizes may be inf)."""
+    c = np.asarray(centre, dtype=float)
+    h = np.asarray(half_size, dtype=float)
+    return np.array([c[0], c[1], c[2], h[0], h[1], h[2], 0.0])
+
+
+@njit
+def _box_distance(data, w, px, py, pz):
+    qx = abs(px - data[w, 0]) - data[w, 3]
+    qy = abs(py - data[w, 1]) - data[w, 4]
+    qz = abs(pz - data[w, 2]) - data[w, 5]
+    sx = 1.0 if px >= data[w, 0] else -1.0
+    sy = 1.0 if py >= data[w, 1] else -1.0
+    sz = 1.0 if pz >= data[w, 2] else -1.0
+    ox = max(qx, 0.0)
+    oy = max(qy, 0.0)
+    oz = max(qz, 0.0)
+    out = math.sqrt(ox * ox + oy * oy + oz * oz)
+    if out > 0.0:
+        inv = 1.0 / out
+        return out, sx * ox * inv, sy * oy * inv, sz * oz * inv
+    # inside the box: the nearest face
+    if qx >= qy and qx >= qz:
+        return qx, sx, 0.0, 0.0
+    if qy >= qz:
+        return qy, 0.0, sy, 0.0
+    return qz, 0.0, 0.0, sz
+
+
 @njit
 def wall_distance(kind, data, w, px, py, pz):
     """Signed distance [m] of point (px, py, pz) from wall ``w`` (row of ``data``; > 0 inside)
@@ -52,6 +88,8 @@ def wall_distance(kind, data, w, px, py, pz):
         ny = data[w, 1]
         nz = data[w, 2]
         return nx * px + ny * py + nz * pz - data[w, 3], nx, ny, nz
+    if kind == 2:
+        return _box_distance(data, w, px, py, pz)
     # inside of a cylinder
     dx = px - data[w, 0]
     dy = py - data[w, 1]

@@ -137,7 +137,7 @@ def write_case_vtk(out_dir, trajectory: dict, case, *, cycles: float | None = No
 
     t = np.asarray(trajectory["time"], dtype=float)
     keep = np.ones(t.size, dtype=bool)
-    f = float(getattr(case.drive, "frequency", 0.0) or 0.0)
+    f = float(case.drive.frequency or 0.0)
     if cycles is not None and f > 0:
         keep = t >= t[-1] - cycles / f - 1e-12
     off, vel, _ = container_track(trajectory, case)

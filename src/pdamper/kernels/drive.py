@@ -18,13 +18,20 @@ import numpy as np
 
 from ..jit import njit
 
-__all__ = ["drive_motion", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED", "DRIVE_STRUCTURE"]
+__all__ = ["drive_motion", "is_coupled", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED", "DRIVE_STRUCTURE"]
 
 DRIVE_STILL = 0
 DRIVE_HARMONIC = 1
 DRIVE_SAMPLED = 2
 #: Drive kind of the coupled structure (:mod:`pdamper.kernels.structure`).
 DRIVE_STRUCTURE = 3
+
+
+@njit
+def is_coupled(drive):
+    """True for a drive the bed's force moves (the coupled structure): the time loops advance its
+    state and record it."""
+    return drive.kind == DRIVE_STRUCTURE
 
 
 @njit

@@ -55,7 +55,7 @@ import math
 
 from ..jit import njit
 from .contact import corrected_friction, floor_slip, pair_point_velocity, wall_point_velocity
-from .drive import DRIVE_STRUCTURE, drive_motion
+from .drive import drive_motion, is_coupled
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
 from .neighbours import max_displacement_sq, rebuild_lists
@@ -337,7 +337,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
     record = gear.friction
     gvec = drive.gravity
     dvec = drive.direction
-    coupled = drive.kind == DRIVE_STRUCTURE
+    coupled = is_coupled(drive)
     sums = samples.sums
     ts = span.interval
     tol = span.tolerance

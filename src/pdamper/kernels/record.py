@@ -5,7 +5,7 @@ A channel with no rows is skipped, so a run computes only what its recorders rea
 from __future__ import annotations
 
 from ..jit import njit
-from .drive import DRIVE_STRUCTURE
+from .drive import is_coupled
 from .forces import elastic_energy
 from .structure import record_structure
 
@@ -62,5 +62,5 @@ def record_sample(k, samples, bodies, pairs, walls, drive, vc):
                     traj[f, i, c] = pos[i, c]
                     traj[f, i, 3 + c] = vel[i, c]
                     traj[f, i, 6 + c] = omg[i, c]
-    if drive.kind == DRIVE_STRUCTURE:
+    if is_coupled(drive):
         record_structure(k, drive.state, samples.structure)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
-from .drive import DRIVE_STRUCTURE, drive_motion
+from .drive import drive_motion, is_coupled
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
 from .neighbours import max_displacement_sq, rebuild_lists
@@ -111,7 +111,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         moved = 3.0 * disp > skin2
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(bodies, pairs, walls, table, dt, no_record)
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
-        if drive.kind == DRIVE_STRUCTURE:
+        if is_coupled(drive):
             structure_step(drive, t, dt, fd)
         xc, vc, ac = drive_motion(drive, t)
         gx = gvec[0] - ac * dvec[0]

@@ -42,29 +42,33 @@ def ffmpeg_available() -> bool:
     return shutil.which("ffmpeg") is not None
 
 
-def _outline_top(ax, geo, shift=0.0, **kw):
-    """The container's floor outline (x-z, top view) [mm], moved by ``shift`` [m] along x."""
-    from matplotlib.patches import Circle, Rectangle
+def _outline(ax, container, view, **kw) -> list:
+    """The container's walls seen from ``view`` ("top": x-z, "side": x-y) as polygon patches [mm]
+    (the shape's, then its inner baffles'); returns the patches with their vertices [mm] (to
+    move them with the container)."""
+    from matplotlib.patches import Polygon
 
-    style = dict(fill=False, edgecolor=_WALL, linewidth=1.6, **kw)
-    if geo.shape == "cuboid":
-        ax.add_patch(Rectangle(((shift - geo.length / 2) * _MM, -geo.width / 2 * _MM), geo.length * _MM,
-                               geo.width * _MM, **style))
-    else:
-        ax.add_patch(Circle((shift * _MM, 0.0), geo.radius * _MM, **style))
+    style = dict(fill=False, edgecolor=_WALL, linewidth=1.6)
+    style.update(kw)
+    out = []
+    for k, poly in enumerate(container.outline(view)):
+        xy = np.asarray(poly) * _MM
+        patch = Polygon(xy, closed=True, **(style if k == 0 else {**style, "fill": True, "facecolor": "0.8"}))
+        ax.add_patch(patch)
+        out.append((patch, xy))
+    return out
 
 
 def _extent(geo):
-    """(half length along x, half width along z, height) [m] of the container."""
-    if geo.shape == "cuboid":
-        return geo.length / 2, geo.width / 2, geo.height
-    return geo.radius, geo.radius, geo.height
+    """(half length along x, half width along z, height) [m] of the box around the container."""
+    lo, hi = geo.bounding_box()
+    return max(-lo[0], hi[0]), max(-lo[2], hi[2]), hi[1] - lo[1]
 
 
 def _window(traj, case, cycles):
     """Frame indices of the last ``cycles`` drive cycles (all frames if None or too few)."""
     t = np.asarray(traj["time"])
-    f = float(getattr(case.drive, "frequency", 0.0) or 0.0)
+    f = float(case.drive.frequency or 0.0)
     if cycles is None or f <= 0:
         return np.arange(t.size)
     keep = t >= t[-1] - cycles / f - 1e-12
@@ -100,7 +104,7 @@ def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, d
     geo0 = runs[0][2].container.geometry
     lx, lz, _ = _extent(geo0)
     width = 4.2 * lx / max(lz, 1e-9) * 0.55 + 0.6
-    freqs = [float(getattr(case.drive, "frequency", 0.0) or 0.0) for _, _, case in runs]
+    freqs = [float(case.drive.frequency or 0.0) for _, _, case in runs]
     in_cycles = all(f > 0 for f in freqs)
     windows = []
     for (_, traj, case), f in zip(runs, freqs):
@@ -120,7 +124,7 @@ def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, d
         geo = case.container.geometry
         pos = np.asarray(traj["position"])[idx]
         rad = np.broadcast_to(np.asarray(traj["radius"], dtype=float), pos.shape[1])
-        _outline_top(ax, geo)
+        _outline(ax, case.container, "top")
         # each sphere's path as segments between frames, coloured by the time at their middle
         xz = pos[:, :, [0, 2]].transpose(1, 0, 2) * _MM          # (N, F, 2)
         segs = np.stack([xz[:, :-1], xz[:, 1:]], axis=2).reshape(-1, 2, 2)
@@ -195,7 +199,7 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
     s = pos @ d
     xc = off[idx] @ d
     length, h = case_clearance(case)
-    f = float(getattr(drive, "frequency", 0.0) or 0.0)
+    f = float(drive.frequency or 0.0)
     phase = t * f if f > 0 else t
     fig = Figure(figsize=figsize, layout="constrained")
     ax, gaps = fig.subplots(2, 1, sharex=True, height_ratios=[2.2, 1.0])
@@ -220,7 +224,7 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
         mode, _ = classify_trajectory(traj, case)
     except ValueError:
         mode = None
-    stroke = getattr(drive, "stroke", None)
+    stroke = drive.stroke
     head = f"X = {stroke * _MM:.3g} mm, f = {f:g} Hz, h = {h * _MM:.3g} mm" if stroke else ""
     ax.set_title(f"Bed against both end walls ({head})" + (f"\nmode: {mode}" if mode else ""), fontsize=10)
     ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8.5, frameon=False)
@@ -241,7 +245,6 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
     """
     import matplotlib.animation as manim
     from matplotlib.figure import Figure
-    from matplotlib.patches import Rectangle
 
     target = Path(path)
     ext = target.suffix.lower()
@@ -287,16 +290,8 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
     top.set_ylabel("z [mm]")
     side.set_ylabel("y [mm]")
     side.set_xlabel("x, lab frame [mm]")
-    top_box = (Rectangle((0, 0), 1, 1, fill=False, edgecolor=_WALL, lw=1.8) if geo.shape == "cuboid" else None)
-    if geo.shape == "cuboid":
-        top.add_patch(top_box)
-    else:
-        from matplotlib.patches import Circle
-
-        top_box = Circle((0, 0), geo.radius * _MM, fill=False, edgecolor=_WALL, lw=1.8)
-        top.add_patch(top_box)
-    side_box = Rectangle((0, 0), 2 * lx * _MM, hy * _MM, fill=False, edgecolor=_WALL, lw=1.8)
-    side.add_patch(side_box)
+    top_walls = _outline(top, case.container, "top", linewidth=1.8)
+    side_walls = _outline(side, case.container, "side", linewidth=1.8)
     from matplotlib import colormaps
     from matplotlib.colors import Normalize
 
@@ -308,21 +303,18 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
     cb = fig.colorbar(tc, ax=[top, side], shrink=0.8, pad=0.01)
     cb.set_label("speed relative to the container [m/s]")
     label = top.text(0.01, 1.02, "", transform=top.transAxes, fontsize=9)
-    stroke = getattr(drive, "stroke", None)
-    freq = getattr(drive, "frequency", None)
+    stroke = drive.stroke
+    freq = drive.frequency
     fig.suptitle(f"{case.n_particles} spheres" + (f", X = {stroke * _MM:.3g} mm, f = {freq:g} Hz" if stroke else "")
                  + " (top: floor plane, bottom: side view)", fontsize=10)
 
     def draw(k):
         off = shift[k]
         p = pos[k] + off
-        if geo.shape == "cuboid":
-            top_box.set_xy(((off[0] - lx) * _MM, (off[2] - lz) * _MM))
-            top_box.set_width(2 * lx * _MM)
-            top_box.set_height(2 * lz * _MM)
-        else:
-            top_box.center = (off[0] * _MM, off[2] * _MM)
-        side_box.set_xy(((off[0] - lx) * _MM, off[1] * _MM))
+        for patch, xy in top_walls:
+            patch.set_xy(xy + off[[0, 2]] * _MM)
+        for patch, xy in side_walls:
+            patch.set_xy(xy + off[[0, 1]] * _MM)
         tc.set_offsets(p[:, [0, 2]] * _MM)
         sc.set_offsets(p[:, [0, 1]] * _MM)
         tc.set_array(speed_rel[k])
@@ -330,7 +322,7 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
         label.set_text(f"t = {t[k]:.2f} s" + (f",  Ωt/2π = {t[k] * freq:.2f}" if freq else ""))
         if progress is not None:
             progress(k + 1, len(t))
-        return tc, sc, top_box, side_box, label
+        return (tc, sc, label, *(p for p, _ in top_walls + side_walls))
 
     dt = float(np.median(np.diff(t))) if t.size > 1 else 0.1
     fps = max(1.0, round(speed / dt, 3))  # rounded: GIF delays are whole centiseconds, int(1000/fps) truncates

@@ -56,7 +56,7 @@ class EnergyLedger:
 
     def dissipated_per_cycle(self, case) -> float:
         """Energy dissipated per drive cycle [J] over the analysed window (after ``drop_cycles``), from the ledger."""
-        f = getattr(case.drive, "frequency", None)
+        f = case.drive.frequency
         if not f:
             return float("nan")
         period = 1.0 / f

@@ -385,7 +385,7 @@ class ResultStore:
             "pdamper_version": self.meta.get("pdamper_version", __version__),
             "shape": geo.shape,
             "particles": base.n_particles,
-            "frequency_hz": float(getattr(base.drive, "frequency", float("nan")) or float("nan")),
+            "frequency_hz": float(base.drive.frequency or float("nan")),
             "bed_mass_kg": float(base.bed_mass),
             "gravity_m_s2": float(base.gravity),
             "cycles": float(base.cycles),

@@ -30,7 +30,7 @@ __all__ = ["DecayResult", "ResponseResult", "run_decay", "run_response", "respon
 
 
 def _structure(case: Case) -> CoupledStructure:
-    if not isinstance(case.drive, CoupledStructure):
+    if not case.drive.coupled:
         raise InputError("this study needs a [structure] section in the config (the container riding on a "
                          "structure); see examples/structure_36.toml")
     return case.drive
