@@ -19,14 +19,15 @@ BOX = Cuboid(length=0.2, width=0.1, height=0.1)
 
 def still_case(positions, velocities, *, duration, eps=0.9, mu=0.0, gravity=0.0, dt=None, sample_rate=None,
                tilt=(0.0, 0.0, 0.0), spins=None, container=BOX, tau=1000.0, steps_per_contact=15, drive=None,
-               integrator="verlet", material=STEEL_S235, wall=PVC):
+               integrator="verlet", material=STEEL_S235, wall=PVC, baffles=(), wall_materials=None):
     pos = np.asarray(positions, dtype=float)
     n = len(pos)
     rec = Recording(sample_rate=sample_rate) if sample_rate else Recording(sample_rate=max(1000.0, 10.0 / duration))
     num = Numerics(time_step=dt, steps_per_contact=steps_per_contact, max_impact_speed=1.0, integrator=integrator)
     return Case(
         particles=(ParticleSet(count=n, radius=R, material=material),),
-        container=Container(geometry=container, material=wall, tilt=tilt),
+        container=Container(geometry=container, material=wall, tilt=tilt, baffles=baffles,
+                            wall_materials=wall_materials or {}),
         drive=drive if drive is not None else Still(duration_s=duration),
         contact=ContactModel(friction=mu, restitution=ConstantRestitution(value=eps), tau=tau),
         numerics=num, recording=rec,

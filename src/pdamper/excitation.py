@@ -209,7 +209,7 @@ class HarmonicDrive(DriveBase):
 
     def describe(self) -> str:
         where = "" if self.direction is None and self.angle == 0.0 else (
-            f" along {list(np.round(self.lab_direction(), 3))}" if self.direction is not None
+            f" along [{', '.join(f'{c:.3g}' for c in self.lab_direction())}]" if self.direction is not None
             else f" at {math.degrees(self.angle):g} deg")
         return f"harmonic X = {self.stroke * 1e3:g} mm, f = {self.frequency:g} Hz{where}"
 

@@ -53,19 +53,38 @@ def _capacity_error(case, n_fit, rad):
 
 def _layer_sites(case, r, jitter, n_needed=None):
     """One layer of lattice sites (x, z), ordered from -x, with the jitter they allow (the shape's
-    :meth:`~pdamper.geometry.shape.Shape.layer_sites`), leaving out the sites an inner baffle
-    takes (then the whole floor's sites are laid out, as the count needed cannot tell where the
-    baffles stand)."""
+    :meth:`~pdamper.geometry.shape.Shape.layer_sites`).
+
+    Inner baffles that reach down into the layer split the floor into compartments: the shape's
+    columns (sites of equal x) are laid from the -x wall on, and a column that would cut a baffle
+    moves, with all after it, to just past the baffle; the sites that then no longer fit in the
+    container are left out. Each compartment is so filled from its -x side."""
     c = case.container
-    if not c.baffles:
+    blocking = [b for b in c.baffles if b.gap_below < 2 * r + _GAP]
+    if not blocking:
         return c.geometry.layer_sites(r, jitter, n_needed)
     sites, jx, jz = c.geometry.layer_sites(r, jitter, None)
+    reach = r + jx + _GAP
+    plates = sorted((b.position - b.thickness / 2, b.position + b.thickness / 2) for b in blocking)
+    xs = sites[:, 0].copy()
+    columns = np.unique(np.round(sites[:, 0], 12))
+    shift = 0.0
+    for x in columns:
+        moved = x + shift
+        for lo, hi in plates:
+            if moved + reach > lo and moved - reach < hi:
+                shift += hi + reach - moved
+                moved = hi + reach
+        xs[np.round(sites[:, 0], 12) == x] = moved
+    placed = np.column_stack([xs, sites[:, 1]])
     kinds, data, _ = c.walls()
-    first = len(c.geometry.walls()[0])
-    pts = np.column_stack([sites[:, 0], np.full(len(sites), r + _GAP), sites[:, 1]])
-    s, _ = wall_distances(np.ascontiguousarray(kinds[first:]), np.ascontiguousarray(data[first:]),
-                          np.ascontiguousarray(pts))
-    return sites[np.all(s >= r + max(jx, jz) + _GAP, axis=1)], jx, jz
+    pts = np.column_stack([placed[:, 0], np.full(len(placed), r + _GAP), placed[:, 1]])
+    s, _ = wall_distances(np.ascontiguousarray(kinds), np.ascontiguousarray(data), np.ascontiguousarray(pts))
+    floor_like = np.abs(data[:, 1]) > 0.99  # the floor and the lid: the layer's height is set apart
+    moved = xs != sites[:, 0]                # the shape's own sites keep the room it gave them
+    room = np.where(moved, r + max(jx, jz), r)[:, None] - 1e-12
+    keep = np.all((s >= room) | floor_like[None, :], axis=1)
+    return placed[keep], jx, jz
 
 
 def _block(case, rad, rng):

@@ -26,6 +26,8 @@ Operating bounds (:mod:`.bounds`)
     :func:`min_stroke_tilt` (A cos α > g sin α), :data:`GRAVITY`.
 Block model (:mod:`.block_model`)
     :func:`integrate_rolling_block` -- the rolling block integrated in time, an oracle for (14).
+Wall coatings (:mod:`.coating`, Meyer & Seifried 2023)
+    :func:`hertz_contact_time`, :func:`wall_modulus_for_contact_time` -- Hertz's impact on a wall.
 Structure without a damper (:mod:`.oscillator`, beyond the paper)
     :func:`natural_frequency`, :func:`free_decay`, :func:`steady_amplitude`,
     :func:`oscillator_response` -- the linear damped oscillator in closed form.
@@ -63,6 +65,8 @@ _WHERE = {
     "impact_phase_rolling": "rolling", "optimal_stroke": "rolling",
     "relative_velocity": "rolling",
     "energy_per_cycle_scattered": "scattered", "eta_scattered": "scattered",
+    "HERTZ_TIME_FACTOR": "coating", "hertz_contact_time": "coating",
+    "wall_modulus_for_contact_time": "coating",
     "natural_frequency": "oscillator", "free_decay": "oscillator", "steady_amplitude": "oscillator",
     "oscillator_response": "oscillator",
 }
