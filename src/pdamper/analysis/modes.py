@@ -125,14 +125,16 @@ def floor_capacity(case) -> int:
 
 def case_clearance(case) -> tuple[float, float]:
     """(L, h) [m] of a case's container: the length along the drive and the clearance of eq. (6)
-    with N_p,max from :func:`floor_capacity` (NaN when the bed does not fit in one layer)."""
+    with N_p,max from :func:`floor_capacity` (NaN when the bed does not fit in one layer, and
+    for a drive with a vertical part, to which the horizontal clearance law does not apply)."""
     from ..theory import clearance
 
     geo = case.container.geometry
     n_max = floor_capacity(case)
     n = case.n_particles
     length = geo.drive_length
-    h = float(clearance(length, n, n_max)) if n <= n_max else float("nan")
+    horizontal = case.drive.vertical_share < 1e-6
+    h = float(clearance(length, n, n_max)) if n <= n_max and horizontal else float("nan")
     return float(length), h
 
 
