@@ -66,8 +66,8 @@ def modes_command(results, out, title, labels, as_json):
               help="Figure file (.png, .svg or .pdf).")
 @click.option("--title", help="Figure title.")
 @click.option("--quantity", type=click.Choice(["eta_star", "effective_mass", "equivalent_damping"]),
-              default="eta_star", show_default=True,
-              help="What colours the cells: eta*, the bed's effective mass or the equivalent damping.")
+              default="eta_star", show_default=True, metavar="NAME",
+              help="What colours the cells: eta_star, effective_mass (the bed's) or equivalent_damping.")
 @user_errors
 def map_command(results, x, y, sel, out, title, quantity):
     """Design chart: eta* of a sweep over two keys as a coloured map, with X_opt and the lift-off bound.
