@@ -96,5 +96,7 @@ def test_a_sweep_store_keeps_them_with_cf_attributes_reanalyses_them_and_maps_th
     assert "equivalent damping" in fig.axes[1].get_ylabel()
     with pytest.raises(InputError, match="choose one of eta_star, effective_mass"):
         map_figure(ds, quantity="mass")
-    with pytest.raises(InputError, match="no effective_mass"):
+    with pytest.raises(InputError, match="no effective_mass values"):
         map_figure(ds.drop_vars("effective_mass"), quantity="effective_mass")
+    with pytest.raises(InputError, match="pdamper reanalyze"):  # a store of an older pdamper: all NaN
+        map_figure(ds.assign(effective_mass=ds.effective_mass * np.nan), quantity="effective_mass")

@@ -93,9 +93,10 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
                          "before drawing a map")
     if quantity not in QUANTITIES:
         raise InputError(f"quantity {quantity!r}: choose one of {', '.join(QUANTITIES)}")
-    if quantity not in ds:
-        raise InputError(f"these results have no {quantity} (made by an older pdamper); re-analyse the store "
-                         "(pdamper reanalyze) or map eta_star")
+    if quantity not in ds or quantity != "eta_star" and not np.isfinite(ds[quantity].values).any():
+        raise InputError(f"these results have no {quantity} values (a store of an older pdamper keeps none); "
+                         "re-analyse the kept signals with 'pdamper reanalyze STORE --out new.nc' and map new.nc, "
+                         "or map eta_star")
     label, qscale = QUANTITIES[quantity]
     eta = ds[quantity].mean("seed", skipna=True).transpose(yd, xd) * qscale
     xv, xlabel, xlog, xscale = _axis_values(ds, xd)

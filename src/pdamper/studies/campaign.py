@@ -20,7 +20,8 @@ per file, the stroke, the frequency and the columns::
 Records whose strokes agree within 0.5 % (and frequencies within 0.5 %) are repeats of one point:
 the dataset has dimensions ``stroke`` and ``seed`` (the repeat) like a sweep, plus ``frequency``
 when the records were taken at more than one. The variables are the sweep's (``eta_star``,
-``energy_per_cycle``, ``velocity_amplitude``, ``effective_mass``, ``equivalent_damping``) plus ``eta_star_error`` (the standard error of eta*
+``energy_per_cycle``, ``velocity_amplitude``, ``effective_mass``, ``equivalent_damping``; the
+container mass removed is the attribute ``container_mass_kg``) plus ``eta_star_error`` (the standard error of eta*
 from the spread of the used cycles' energies, corrected for their correlation (:mod:`pdamper.analysis.steady`): the error bar), ``cycles_used`` and ``file``.
 
 A record that cannot be read or analysed is reported (its file and the reason) and the others go on.
@@ -65,8 +66,8 @@ class MeasuredPoint:
 
 
 def read_manifest(path) -> dict:
-    """The manifest ``path`` (see the module docstring) as ``{"bed_mass", "container_mass", "frequency", "drop_cycles",
-    "records": {file name: {"stroke", "frequency", "columns"}}}`` in SI."""
+    """The manifest ``path`` (see the module docstring) as ``{"bed_mass", "container_mass", "frequency",
+    "drop_cycles", "records": {file name: {"stroke", "frequency", "columns"}}}`` in SI."""
     from ..units import parse_quantity
 
     path = Path(path)
