@@ -71,6 +71,17 @@ class RunResult:
         return float(self.analysis.eta_star) if self.analysis is not None else math.nan
 
     @property
+    def effective_mass_kg(self) -> float:
+        """The bed's effective (apparent) mass ``Im(P) / (1/2 Omega |V*|^2)`` [kg], the container's
+        own mass ``case.container.mass`` removed (:attr:`pdamper.analysis.PowerResult.effective_mass_kg`)."""
+        return float(self.analysis.effective_mass_kg) if self.analysis is not None else math.nan
+
+    @property
+    def equivalent_damping_N_s_per_m(self) -> float:
+        """The equivalent viscous damping ``c_eq = 2 Re(P) / |V*|^2`` [N s/m]."""
+        return float(self.analysis.equivalent_damping_N_s_per_m) if self.analysis is not None else math.nan
+
+    @property
     def mode(self) -> str | None:
         """Motion mode of the bed (:mod:`pdamper.analysis.modes`), None without a periodic drive."""
         return self.extras.get("mode")
@@ -105,6 +116,9 @@ class RunResult:
             "frequency_hz": self.case.drive.frequency or (a.frequency_hz if a is not None else math.nan),
             "particles": self.case.n_particles,
             "bed_mass_kg": self.case.bed_mass,
+            "effective_mass_kg": self.effective_mass_kg,
+            "equivalent_damping_N_s_per_m": self.equivalent_damping_N_s_per_m,
+            "container_mass_kg": self.case.container.mass,
             "steps": self.steps,
             "time_step_s": self.time_step_s,
             "wall_time_s": self.wall_time_s,
@@ -122,11 +136,12 @@ def _renamed(old: str, new: str) -> None:
 
 def analyse_signals(case: Case, signals):
     """Complex-power analysis (eqs. 3-5) of a run's recorded ``signals`` for ``case``: the drive
-    frequency, the cycles the case drops and its bed mass."""
+    frequency, the cycles the case drops, its bed mass and its container's mass (removed from the
+    bed's effective mass)."""
     from .analysis import complex_power
 
     return complex_power(signals.time, signals.force, signals.velocity, frequency=case.drive.frequency,
-                         drop_cycles=case.drop_cycles, bed_mass=case.bed_mass)
+                         drop_cycles=case.drop_cycles, bed_mass=case.bed_mass, container_mass=case.container.mass)
 
 
 def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=None):

@@ -10,6 +10,16 @@ container and of the container velocity at the drive frequency ``f``
 - energy dissipated per cycle (4): ``E~_diss = 2 pi E_diss = (2 pi / Omega) Re(P)``  [J]
 - reduced loss factor (5): ``eta* = E_diss / (1/2 m_bed |V*_Omega|^2)``  [-]
 
+Beyond the paper, the same ``P`` gives the mass and the dashpot that, moved as the container
+is, would take the same power at f (``PowerResult.effective_mass_kg``,
+``PowerResult.equivalent_damping_N_s_per_m``):
+
+- effective mass: ``m_eff = Im(P) / (1/2 Omega |V*|^2) - m_c``                 [kg]
+- equivalent damping: ``c_eq = 2 Re(P) / |V*|^2``                              [N s/m]
+
+with ``m_c`` the container's own mass (``container_mass``, 0 unless given), whose ``m_c x_c''``
+is part of the force. A force ``F = m x'' + c x' + k x`` gives ``m - k/Omega^2`` and ``c``.
+
 ``E~_diss`` is the energy taken out of the drive in one cycle (a viscous damper
 ``F = c v`` driven at ``x = X sin(Omega t)`` gives ``pi c Omega X^2``); ``E_diss =
 E~_diss / (2 pi)`` is the paper's scaled energy used in (5).
@@ -123,7 +133,7 @@ _VELOCITY_HARMONICS = 20
 
 
 @quantities(time="time", force="force", velocity="velocity", frequency="frequency", bed_mass="mass",
-            time_tolerance="dimensionless")
+            time_tolerance="dimensionless", container_mass="mass")
 def complex_power(
     time,
     force,
@@ -134,6 +144,7 @@ def complex_power(
     bed_mass: float | None = None,
     time_tolerance: float = TIME_TOLERANCE,
     keep_signals: bool = True,
+    container_mass: float = 0.0,
 ) -> PowerResult:
     """Complex power, energy per cycle and reduced loss factor of a force/velocity record.
 
@@ -159,6 +170,9 @@ def complex_power(
         Largest deviation of a time stamp from the uniform grid [sample intervals].
     keep_signals : bool, default True
         Keep the signals in ``PowerResult.signals`` (for plots).
+    container_mass : float, default 0
+        The container's own mass m_c [kg], whose ``m_c x_c''`` is part of ``force``; removed
+        from the bed's effective mass ``PowerResult.effective_mass_kg``.
 
     Returns
     -------
@@ -183,13 +197,13 @@ def complex_power(
     >>> bool(np.isclose(r.energy_per_cycle_J, np.pi * c * W * X**2, rtol=1e-12))
     True
     """
-    return _analyze(time, force, velocity, "velocity", frequency=frequency,
-                    drop_cycles=drop_cycles, bed_mass=bed_mass,
-                    time_tolerance=time_tolerance, keep_signals=keep_signals)
+    return _with_container(_analyze(time, force, velocity, "velocity", frequency=frequency,
+                                    drop_cycles=drop_cycles, bed_mass=bed_mass,
+                                    time_tolerance=time_tolerance, keep_signals=keep_signals), container_mass)
 
 
 @quantities(time="time", force="force", position="length", velocity="velocity", acceleration="acceleration",
-            frequency="frequency", bed_mass="mass", time_tolerance="dimensionless")
+            frequency="frequency", bed_mass="mass", time_tolerance="dimensionless", container_mass="mass")
 def analyze_record(
     time,
     force,
@@ -202,6 +216,7 @@ def analyze_record(
     bed_mass: float | None = None,
     time_tolerance: float = TIME_TOLERANCE,
     keep_signals: bool = True,
+    container_mass: float = 0.0,
 ) -> PowerResult:
     """Complex power method on a record with any one motion signal.
 
@@ -228,12 +243,27 @@ def analyze_record(
             "give exactly one motion signal (position, velocity or acceleration); "
             f"got {names}")
     kind, motion = given[0]
-    return _analyze(time, force, motion, kind, frequency=frequency,
-                    drop_cycles=drop_cycles, bed_mass=bed_mass,
-                    time_tolerance=time_tolerance, keep_signals=keep_signals)
+    return _with_container(_analyze(time, force, motion, kind, frequency=frequency,
+                                    drop_cycles=drop_cycles, bed_mass=bed_mass,
+                                    time_tolerance=time_tolerance, keep_signals=keep_signals), container_mass)
 
 
 # --------------------------------------------------------------------------- the method
+
+
+def _with_container(result: PowerResult, container_mass) -> PowerResult:
+    """``result`` with the container's own mass to remove from the bed's effective mass."""
+    import numbers
+
+    if isinstance(container_mass, bool) or not isinstance(container_mass, numbers.Real) \
+            or not (math.isfinite(container_mass) and container_mass >= 0.0):
+        raise InputError(f"container mass must be a number >= 0 in kg (the empty container's own mass); "
+                         f"got {container_mass!r}")
+    if container_mass == 0.0:
+        return result
+    from dataclasses import replace
+
+    return replace(result, container_mass_kg=float(container_mass))
 
 
 def _analyze(time, force, motion, kind, *, frequency, drop_cycles, bed_mass,

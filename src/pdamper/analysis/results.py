@@ -100,6 +100,15 @@ class PowerResult:
     time_base : pdamper.analysis.nonuniform.TimeBase or None
         How the time stamps are spaced: jitter, gaps, effective rate, and whether the uniform
         (FFT) or the least-squares path at the true times was used.
+    container_mass_kg : float
+        The container's own mass m_c [kg] (its ``m_c x_c''`` is part of the measured force),
+        removed from :attr:`effective_mass_kg`; 0 when not given (nothing removed).
+
+    The effective (apparent) mass and the equivalent damping (:attr:`effective_mass_kg`,
+    :attr:`equivalent_damping_N_s_per_m`) are the mass and the dashpot that, moved as the
+    container is, would take the same complex power at f: with ``x(t) = Re(X* e^{i Omega t})``
+    a force ``F = m x'' + c x' + k x`` has ``F* = (c + i (m Omega - k / Omega)) V*`` and so
+    ``P = 1/2 |V*|^2 (c + i Omega (m - k / Omega^2))``.
     """
 
     frequency_hz: float
@@ -127,6 +136,7 @@ class PowerResult:
     cycle_energy_spread: float
     signals: Signals | None = field(default=None, repr=False)
     time_base: object = None
+    container_mass_kg: float = 0.0
 
     @property
     def period_s(self) -> float:
@@ -164,6 +174,34 @@ class PowerResult:
         warnings.warn("PowerResult.angular_frequency is deprecated; use angular_frequency_rad_s (docs/names.md)",
                       DeprecationWarning, stacklevel=2)
         return self.angular_frequency_rad_s
+
+    @property
+    def total_effective_mass_kg(self) -> float:
+        """``Im(P) / (1/2 Omega |V*|^2)`` [kg]: the effective mass of everything the force moves,
+        the container's own mass included; ``m - k / Omega^2`` for ``F = m x'' + c x' + k x``.
+        NaN if the velocity amplitude is zero."""
+        v2 = self.velocity_amplitude_m_s ** 2
+        if v2 == 0.0:
+            return math.nan
+        return self.complex_power_W.imag / (0.5 * self.angular_frequency_rad_s * v2)
+
+    @property
+    def effective_mass_kg(self) -> float:
+        """The bed's effective (apparent) mass ``m_eff = Im(P) / (1/2 Omega |V*|^2) - m_c`` [kg]:
+        :attr:`total_effective_mass_kg` with the container's own mass :attr:`container_mass_kg`
+        removed. The whole bed moving with the container gives m_bed, a bed that takes no
+        horizontal force 0; NaN if the velocity amplitude is zero."""
+        return self.total_effective_mass_kg - self.container_mass_kg
+
+    @property
+    def equivalent_damping_N_s_per_m(self) -> float:
+        """The equivalent viscous damping ``c_eq = 2 Re(P) / |V*|^2`` [N s/m]: the dashpot that
+        dissipates the same energy per cycle at this velocity amplitude (``c`` for
+        ``F = m x'' + c x' + k x``); NaN if the velocity amplitude is zero."""
+        v2 = self.velocity_amplitude_m_s ** 2
+        if v2 == 0.0:
+            return math.nan
+        return 2.0 * self.complex_power_W.real / v2
 
     @property
     def check_relative_difference(self) -> float:
@@ -206,6 +244,9 @@ class PowerResult:
             "dissipated_energy_J": num(self.dissipated_energy_J),
             "eta_star": num(self.eta_star),
             "bed_mass_kg": num(self.bed_mass_kg),
+            "effective_mass_kg": num(self.effective_mass_kg),
+            "equivalent_damping_N_s_per_m": num(self.equivalent_damping_N_s_per_m),
+            "container_mass_kg": num(self.container_mass_kg),
             "mean_power_check_J": num(self.mean_power_check_J),
             "drive_share": num(self.drive_share),
             "cycle_energies_J": [num(e) for e in self.cycle_energies_J],

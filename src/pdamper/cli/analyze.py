@@ -23,6 +23,9 @@ STEADY_SPREAD = 0.10
 @click.argument("record", type=click.Path(dir_okay=True, allow_dash=True))
 @click.option("--bed-mass", type=Quantity("mass"),
               help="Mass of all particles m_bed, e.g. 149g; needed for eta* (eq. 5).")
+@click.option("--container-mass", type=Quantity("mass"), default=0.0,
+              help="The container's own mass m_c (its m_c x'' is in the force), e.g. 80g; removed from "
+                   "the bed's effective mass. Default 0.")
 @click.option("--frequency", type=Quantity("frequency"),
               help="Drive frequency, e.g. 2Hz; detected from the motion if omitted.")
 @click.option("--drop-cycles", type=int, default=DEFAULT_DROP_CYCLES, show_default=True,
@@ -32,7 +35,7 @@ STEADY_SPREAD = 0.10
 @click.option("--plot", type=click.Path(dir_okay=False),
               help="Write a figure of the signals and per-cycle energies (.png, .svg, .pdf).")
 @user_errors
-def analyze_command(record, bed_mass, frequency, drop_cycles, columns, motion, as_json, plot):
+def analyze_command(record, bed_mass, container_mass, frequency, drop_cycles, columns, motion, as_json, plot):
     """Energy dissipated per cycle and eta* of a force/motion RECORD (paper Sect. 4.1).
 
     RECORD is a text file (comma, semicolon or tab separated; a logger's preamble, a
@@ -53,7 +56,8 @@ def analyze_command(record, bed_mass, frequency, drop_cycles, columns, motion, a
 
     rec = read_record(record, columns=columns, motion=motion)
     result = analyze_record(rec.time, rec.force, **{rec.motion_kind: rec.motion},
-                            frequency=frequency, drop_cycles=drop_cycles, bed_mass=bed_mass)
+                            frequency=frequency, drop_cycles=drop_cycles, bed_mass=bed_mass,
+                            container_mass=container_mass)
 
     if plot is not None:
         from ..plotting.analysis import plot_analysis
@@ -113,6 +117,11 @@ def _table(path, rec, r) -> str:
     if math.isfinite(r.eta_star):
         rows.append(("reduced loss factor eta*", f"{r.eta_star:.5g}",
                      f"eq. (5), m_bed = {r.bed_mass_kg * 1e3:.6g} g"))
+    rows.append(("effective mass m_eff", f"{r.effective_mass_kg * 1e3:.6g} g",
+                 "Im(P) / (1/2 Omega |V*|^2)"
+                 + (f" - m_c, container m_c = {r.container_mass_kg * 1e3:.6g} g" if r.container_mass_kg
+                    else ", container mass included (--container-mass)")))
+    rows.append(("equivalent damping c_eq", f"{r.equivalent_damping_N_s_per_m:.6g} N s/m", "2 Re(P) / |V*|^2"))
     w0 = max(len(a) for a, _, _ in rows)
     w1 = max(len(b) for _, b, _ in rows)
     lines = [f"{a:<{w0}}  {b:<{w1}}  {c}".rstrip() for a, b, c in rows]

@@ -65,8 +65,11 @@ def modes_command(results, out, title, labels, as_json):
 @click.option("--out", "out", type=click.Path(dir_okay=False), default="map.png", show_default=True,
               help="Figure file (.png, .svg or .pdf).")
 @click.option("--title", help="Figure title.")
+@click.option("--quantity", type=click.Choice(["eta_star", "effective_mass", "equivalent_damping"]),
+              default="eta_star", show_default=True, metavar="NAME",
+              help="What colours the cells: eta_star, effective_mass (the bed's) or equivalent_damping.")
 @user_errors
-def map_command(results, x, y, sel, out, title):
+def map_command(results, x, y, sel, out, title, quantity):
     """Design chart: eta* of a sweep over two keys as a coloured map, with X_opt and the lift-off bound.
 
     STORE is the --out of a sweep with two or more --vary dimensions (or its results.nc). Cells are
@@ -89,7 +92,7 @@ def map_command(results, x, y, sel, out, title):
         if not value:
             raise InputError(f"--sel {item!r}: write DIM=VALUE, e.g. --sel friction=0.1")
         ds = ds.sel({d: v}, method="nearest" if isinstance(v, float) else None)
-    map_figure(ds, out, x=x, y=y, title=title)
+    map_figure(ds, out, x=x, y=y, title=title, quantity=quantity)
     click.echo(f"pdamper plot map: {out}")
 
 

@@ -128,6 +128,10 @@ def _table(config, case, s, written) -> str:
                      + (f"; stopped after {s['cycles_run']:g} cycles (--until-steady)"
                         if s.get("cycles_run", case.cycles) < case.cycles else "")),
         ("energy per cycle", _fmt(s["energy_per_cycle_J"] * 1e3), "[mJ]", "complex power, eq. (4)"),
+        ("effective mass", _fmt(s.get("effective_mass_kg", math.nan) * 1e3), "[g]",
+         f"of the bed, Im(P) / (1/2 Omega |V*|^2) - m_c; m_bed = {_fmt(s['bed_mass_kg'] * 1e3)} g, "
+         f"container m_c = {_fmt(s.get('container_mass_kg', 0.0) * 1e3)} g"),
+        ("equivalent damping", _fmt(s.get("equivalent_damping_N_s_per_m", math.nan)), "[N s/m]", "2 Re(P) / |V*|^2"),
         ("ledger dissipation", _fmt(s["ledger_dissipated_per_cycle_J"] * 1e3), "[mJ]",
          "per cycle, normal damping + friction"),
         ("energy balance error", _fmt(s["energy_balance_error"], 2), "[-]",

@@ -5,7 +5,9 @@ results dataset (e.g. stroke x frequency), the motion mode of each cell (the see
 hatching, and where the stroke is an axis: the theory's optimal stroke X_opt (eq. (17) of the
 paper; the dataset's ``x_opt`` variable or ``x_opt_m`` attribute) and the lift-off bound
 A = X (2 pi f)^2 = g, above which the bed leaves the floor. A third dimension left in the
-dataset (besides ``seed``) must be fixed by the caller with ``ds.sel(...)``.
+dataset (besides ``seed``) must be fixed by the caller with ``ds.sel(...)``. ``quantity`` colours
+the map by another variable of :data:`QUANTITIES` instead: the bed's effective mass or the
+equivalent damping (docs/analysis.md).
 
 :func:`results_figure` picks the figure a sweep's dataset needs: η*(X) with the laws for a
 stroke sweep (:func:`pdamper.plotting.sweep.sweep_figure`), this map for two dimensions, and η*
@@ -23,9 +25,13 @@ from ..errors import InputError
 from .modes import _mode_rank, mode_style
 from .sweep import _check_path, _save, log_ticks
 
-__all__ = ["map_figure", "line_figure", "results_figure"]
+__all__ = ["map_figure", "line_figure", "results_figure", "QUANTITIES"]
 
 _SCALES = {"m": (1e3, "mm"), "s": (1e3, "ms"), "rad": (180 / math.pi, "deg")}
+
+#: What a map can be coloured by: dataset variable -> (colour-bar label, display scale).
+QUANTITIES = {"eta_star": ("η*", 1.0), "effective_mass": ("effective mass of the bed m_eff [g]", 1e3),
+              "equivalent_damping": ("equivalent damping c_eq [N s/m]", 1.0)}
 
 
 def _dim_of(ds, key_or_dim: str) -> str:
@@ -63,10 +69,12 @@ def _edges(v, log):
     return np.exp(e) if log else e
 
 
-def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0), dpi: int = 150):
+def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0), dpi: int = 150,
+               quantity: str = "eta_star"):
     """η* (mean over seeds) as a coloured map over dimensions ``x`` and ``y`` (names or config
     keys; default: the first two), modes hatched, X_opt and the lift-off bound A = g drawn where
-    the stroke is an axis. Returns the :class:`matplotlib.figure.Figure`; saved to ``path`` if given."""
+    the stroke is an axis; ``quantity`` (a name of :data:`QUANTITIES`) colours it by another
+    variable. Returns the :class:`matplotlib.figure.Figure`; saved to ``path`` if given."""
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch, Rectangle
 
@@ -83,14 +91,25 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
     if rest:
         raise InputError(f"these results also vary {', '.join(rest)}; pick one value with ds.sel({rest[0]}=...) "
                          "before drawing a map")
-    eta = ds["eta_star"].mean("seed", skipna=True).transpose(yd, xd)
+    if quantity not in QUANTITIES:
+        raise InputError(f"quantity {quantity!r}: choose one of {', '.join(QUANTITIES)}")
+    if quantity not in ds or quantity != "eta_star" and not np.isfinite(ds[quantity].values).any():
+        raise InputError(f"these results have no {quantity} values (a store of an older pdamper keeps none); "
+                         "re-analyse the kept signals with 'pdamper reanalyze STORE --out new.nc' and map new.nc, "
+                         "or map eta_star")
+    label, qscale = QUANTITIES[quantity]
+    eta = ds[quantity].mean("seed", skipna=True).transpose(yd, xd) * qscale
     xv, xlabel, xlog, xscale = _axis_values(ds, xd)
     yv, ylabel, ylog, yscale = _axis_values(ds, yd)
     fig = Figure(figsize=figsize, layout="constrained")
     ax = fig.add_subplot()
-    mesh = ax.pcolormesh(_edges(xv, xlog), _edges(yv, ylog), eta.values, cmap="viridis", vmin=0.0,
-                         vmax=max(1.0, float(np.nanmax(eta.values)) if np.isfinite(eta.values).any() else 1.0))
-    fig.colorbar(mesh, ax=ax, label="η* (mean over seeds)")
+    finite = np.isfinite(eta.values).any()
+    if quantity == "eta_star":
+        vmin, vmax = 0.0, max(1.0, float(np.nanmax(eta.values)) if finite else 1.0)
+    else:
+        vmin, vmax = (float(np.nanmin(eta.values)), float(np.nanmax(eta.values))) if finite else (0.0, 1.0)
+    mesh = ax.pcolormesh(_edges(xv, xlog), _edges(yv, ylog), eta.values, cmap="viridis", vmin=vmin, vmax=vmax)
+    fig.colorbar(mesh, ax=ax, label=f"{label} (mean over seeds)")
     # motion modes, hatched cell by cell
     modes = ds["mode"].transpose(yd, xd, "seed").values if "mode" in ds else None
     shown = set()
@@ -151,7 +170,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
         handles.append(Patch(facecolor="grey", hatch=hatch, edgecolor="white", label=m if hatch else f"{m} (plain)"))
     if handles:
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, fontsize=8, frameon=False)
-    ax.set_title(title or _title(ds), fontsize=10)
+    ax.set_title(title or _title(ds, quantity), fontsize=10)
     if target is not None:
         _save(fig, target, dpi)
     return fig
@@ -200,7 +219,8 @@ def results_figure(ds, path=None, **kw):
     return map_figure(ds, path, **kw)
 
 
-def _title(ds) -> str:
+def _title(ds, quantity: str = "eta_star") -> str:
     n, shape = ds.attrs.get("particles"), ds.attrs.get("shape", "container")
     varied = ds.attrs.get("varied_keys", "")
-    return f"η* over {varied}: {n} spheres in a {shape}" if n else f"η* over {varied}"
+    what = QUANTITIES[quantity][0].split(" [")[0]
+    return f"{what} over {varied}: {n} spheres in a {shape}" if n else f"{what} over {varied}"

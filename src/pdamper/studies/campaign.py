@@ -8,6 +8,7 @@ given) drive frequency. A manifest ``campaign.toml`` beside the records may give
 per file, the stroke, the frequency and the columns::
 
     bed_mass = "149g"
+    container_mass = "80g"      # optional: the container's own mass, removed from m_eff
     frequency = "2Hz"           # optional, for every record
     drop_cycles = 2
 
@@ -19,7 +20,8 @@ per file, the stroke, the frequency and the columns::
 Records whose strokes agree within 0.5 % (and frequencies within 0.5 %) are repeats of one point:
 the dataset has dimensions ``stroke`` and ``seed`` (the repeat) like a sweep, plus ``frequency``
 when the records were taken at more than one. The variables are the sweep's (``eta_star``,
-``energy_per_cycle``, ``velocity_amplitude``) plus ``eta_star_error`` (the standard error of eta*
+``energy_per_cycle``, ``velocity_amplitude``, ``effective_mass``, ``equivalent_damping``; the
+container mass removed is the attribute ``container_mass_kg``) plus ``eta_star_error`` (the standard error of eta*
 from the spread of the used cycles' energies, corrected for their correlation (:mod:`pdamper.analysis.steady`): the error bar), ``cycles_used`` and ``file``.
 
 A record that cannot be read or analysed is reported (its file and the reason) and the others go on.
@@ -56,14 +58,16 @@ class MeasuredPoint:
     energy_per_cycle_J: float
     velocity_amplitude_m_s: float
     cycles_used: int
+    effective_mass_kg: float = math.nan
+    equivalent_damping_N_s_per_m: float = math.nan
 
     def to_dict(self) -> dict:
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in self.__dict__.items()}
 
 
 def read_manifest(path) -> dict:
-    """The manifest ``path`` (see the module docstring) as ``{"bed_mass", "frequency", "drop_cycles",
-    "records": {file name: {"stroke", "frequency", "columns"}}}`` in SI."""
+    """The manifest ``path`` (see the module docstring) as ``{"bed_mass", "container_mass", "frequency",
+    "drop_cycles", "records": {file name: {"stroke", "frequency", "columns"}}}`` in SI."""
     from ..units import parse_quantity
 
     path = Path(path)
@@ -71,13 +75,15 @@ def read_manifest(path) -> dict:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except (OSError, tomllib.TOMLDecodeError) as exc:
         raise InputError(f"{path}: cannot read the campaign manifest ({exc}); check its TOML") from None
-    allowed = ("bed_mass", "frequency", "drop_cycles", "record")
+    allowed = ("bed_mass", "container_mass", "frequency", "drop_cycles", "record")
     for key in data:
         if key not in allowed:
             raise InputError(f"{path}: unknown key {key!r}; allowed: {', '.join(allowed)}")
     out = {"records": {}}
     if "bed_mass" in data:
         out["bed_mass"] = parse_quantity(data["bed_mass"], "mass", name=f"{path}: bed_mass")
+    if "container_mass" in data:
+        out["container_mass"] = parse_quantity(data["container_mass"], "mass", name=f"{path}: container_mass")
     if "frequency" in data:
         out["frequency"] = parse_quantity(data["frequency"], "frequency", name=f"{path}: frequency")
     if "drop_cycles" in data:
@@ -117,11 +123,13 @@ def _expand(paths) -> list[Path]:
 
 
 def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, columns=None, motion=None,
-                    manifest=None) -> tuple[list[MeasuredPoint], list[tuple[str, str]]]:
+                    manifest=None, container_mass=None) -> tuple[list[MeasuredPoint], list[tuple[str, str]]]:
     """Analyse every record; returns (the points, the failures as ``(file, reason)``).
 
     ``manifest``: a manifest file; by default a ``campaign.toml`` beside the first record is read
     if there is one. Arguments given here win over the manifest's.
+    ``container_mass``: the container's own mass [kg] (its ``m_c x''`` is in the force), removed
+    from each record's effective mass; default the manifest's, else 0.
     """
     from ..analysis import DEFAULT_DROP_CYCLES, analyze_record
     from ..io.records import read_record
@@ -133,6 +141,9 @@ def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
         near = files[0].parent / MANIFEST
         manifest = near if near.exists() else None
     man = read_manifest(manifest) if manifest is not None else {"records": {}}
+    m_c = container_mass if container_mass is not None else man.get("container_mass", 0.0)
+    if not (isinstance(m_c, (int, float)) and math.isfinite(m_c) and m_c >= 0):
+        raise InputError(f"container mass = {m_c!r} kg; give the empty container's own mass, >= 0 (e.g. 80g), or 0")
     bed = bed_mass if bed_mass is not None else man.get("bed_mass")
     if bed is None:
         raise InputError("the bed mass is needed for eta*: give --bed-mass 149g (or bed_mass in campaign.toml)")
@@ -144,7 +155,7 @@ def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
             rec = read_record(f, columns={**entry.get("columns", {}), **(columns or {})}, motion=motion)
             freq = frequency if frequency is not None else entry.get("frequency", man.get("frequency"))
             r = analyze_record(rec.time, rec.force, **{rec.motion_kind: rec.motion}, frequency=freq,
-                               drop_cycles=drop, bed_mass=bed, keep_signals=False)
+                               drop_cycles=drop, bed_mass=bed, keep_signals=False, container_mass=m_c)
         except InputError as exc:
             failures.append((str(f), str(exc)))
             continue
@@ -154,7 +165,8 @@ def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
                                     eta_star=float(r.eta_star), eta_star_error=float(err),
                                     energy_per_cycle_J=float(r.energy_per_cycle_J),
                                     velocity_amplitude_m_s=float(r.velocity_amplitude_m_s),
-                                    cycles_used=int(r.cycles_used)))
+                                    cycles_used=int(r.cycles_used), effective_mass_kg=float(r.effective_mass_kg),
+                                    equivalent_damping_N_s_per_m=float(r.equivalent_damping_N_s_per_m)))
     return points, failures
 
 
@@ -170,8 +182,9 @@ def _groups(values) -> list[float]:
 
 
 def campaign_dataset(points: list[MeasuredPoint], *, bed_mass: float, title: str = "test campaign",
-                     history: str = ""):
-    """The points as a dataset with the schema of a sweep's results (module docstring)."""
+                     history: str = "", container_mass: float = 0.0):
+    """The points as a dataset with the schema of a sweep's results (module docstring);
+    ``container_mass`` [kg]: the one removed from the effective masses (an attribute)."""
     import xarray as xr
 
     from .._version import __version__
@@ -196,7 +209,10 @@ def campaign_dataset(points: list[MeasuredPoint], *, bed_mass: float, title: str
              "eta_star_error": ("1", "standard error of eta* from the spread of the used cycles"),
              "energy_per_cycle": ("J", "energy dissipated per cycle (complex power)"),
              "velocity_amplitude": ("m s-1", "container velocity amplitude at the drive frequency"),
-             "cycles_used": ("1", "whole cycles analysed")}
+             "cycles_used": ("1", "whole cycles analysed"),
+             "effective_mass": ("kg", "effective mass of the bed, Im(P) / (1/2 Omega |V*|^2), "
+                                      "the container's own mass (attribute container_mass_kg) removed"),
+             "equivalent_damping": ("N s m-1", "equivalent viscous damping, 2 Re(P) / |V*|^2")}
     arrays = {k: np.full(shape, np.nan) for k in names}
     files = np.full(shape, "", dtype=object)
     for key, group in slots.items():
@@ -207,6 +223,8 @@ def campaign_dataset(points: list[MeasuredPoint], *, bed_mass: float, title: str
             arrays["energy_per_cycle"][idx] = p.energy_per_cycle_J
             arrays["velocity_amplitude"][idx] = p.velocity_amplitude_m_s
             arrays["cycles_used"][idx] = p.cycles_used
+            arrays["effective_mass"][idx] = p.effective_mass_kg
+            arrays["equivalent_damping"][idx] = p.equivalent_damping_N_s_per_m
             files[idx] = p.file
     coords = {"stroke": ("stroke", np.array(strokes), {"units": "m", "long_name": "stroke X (measured)",
                                                        "config_key": "drive.stroke"}),
@@ -218,6 +236,6 @@ def campaign_dataset(points: list[MeasuredPoint], *, bed_mass: float, title: str
     ds["file"] = (dims, files.astype(str), {"long_name": "record file"})
     ds.attrs.update({"Conventions": "CF-1.10", "title": title, "source": "measured records",
                      "history": history or f"pdamper {__version__} campaign", "pdamper_version": __version__,
-                     "bed_mass_kg": float(bed_mass), "kind": "campaign",
+                     "bed_mass_kg": float(bed_mass), "container_mass_kg": float(container_mass), "kind": "campaign",
                      "frequency_hz": float(np.mean([p.frequency_hz for p in points]))})
     return ds

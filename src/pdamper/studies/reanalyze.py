@@ -57,6 +57,9 @@ def reanalyze(path, *, drop_cycles: int | None = None):
                               elastic=zeros, work=zeros, damping=sig["ledger_dissipated"].values, friction=zeros)
         rec.update(eta_star=float(a.eta_star), energy_per_cycle_J=float(a.energy_per_cycle_J),
                    velocity_amplitude_m_s=float(a.velocity_amplitude_m_s),
+                   effective_mass_kg=float(a.effective_mass_kg),
+                   equivalent_damping_N_s_per_m=float(a.equivalent_damping_N_s_per_m),
+                   container_mass_kg=float(case.container.mass),
                    ledger_dissipated_per_cycle_J=ledger.dissipated_per_cycle(case),
                    eta_star_error=float(a.eta_star_error), steady=float(a.steady))
         out.append(rec)
