@@ -83,6 +83,17 @@ class DriveBase:
     config_defaults: dict = {}
     config_hint = ""
 
+    def _prepare(self) -> None:
+        """First in ``__post_init__``: a direction given as a word becomes its vector, then the
+        fields given with units are converted to SI."""
+        d = self.direction
+        if isinstance(d, str):
+            if d.strip().lower() not in _DIRECTION_WORDS:
+                raise InputError(f"{self.section}.direction = {d!r}; give three numbers [x, y, z] (lab frame, y up) "
+                                 f"or one of {', '.join(repr(w) for w in _DIRECTION_WORDS)}")
+            object.__setattr__(self, "direction", _DIRECTION_WORDS[d.strip().lower()])
+        convert_fields(self, self.section)
+
     def _check_direction(self) -> None:
         """Validate ``angle`` and ``direction`` (called by each drive's ``__post_init__``)."""
         sec = self.section
@@ -91,11 +102,6 @@ class DriveBase:
         d = self.direction
         if d is None:
             return
-        if isinstance(d, str):
-            if d.strip().lower() not in _DIRECTION_WORDS:
-                raise InputError(f"{sec}.direction = {d!r}; give three numbers [x, y, z] (lab frame, y up) or one of "
-                                 f"{', '.join(repr(w) for w in _DIRECTION_WORDS)}")
-            d = _DIRECTION_WORDS[d.strip().lower()]
         try:
             v = np.asarray(d, dtype=float)
         except (TypeError, ValueError):
@@ -104,7 +110,8 @@ class DriveBase:
             raise InputError(f"{sec}.direction = {self.direction!r}; give three finite numbers, not all 0, e.g. "
                              "[0, 1, 0] for a vertical drive (lab frame: y up)")
         if self.angle != 0.0:
-            raise InputError(f"{sec}: give either direction = {list(v)} or angle = {self.angle!r}, not both")
+            raise InputError(f"{sec}.direction and {sec}.angle are both given; give either direction = "
+                             f"[{', '.join(f'{c:g}' for c in v)}] or angle (the horizontal shorthand), not both")
         object.__setattr__(self, "direction", tuple(float(x) for x in v / np.linalg.norm(v)))
 
     def lab_direction(self) -> np.ndarray:
@@ -166,7 +173,7 @@ class HarmonicDrive(DriveBase):
     config_defaults = {"stroke": 0.012}
 
     def __post_init__(self):
-        convert_fields(self, "drive")
+        self._prepare()
         if not (self.stroke > 0 and math.isfinite(self.stroke)):
             raise InputError(f"drive.stroke = {self.stroke!r} m; must be > 0 (e.g. '12mm')")
         if not (self.frequency > 0 and math.isfinite(self.frequency)):
@@ -245,7 +252,7 @@ class SampledDrive(DriveBase):
     config_hint = "give time = [...] and position = [...] (optionally velocity = [...]) or samples = 'motion.csv'"
 
     def __post_init__(self):
-        convert_fields(self, "drive")
+        self._prepare()
         self._check_direction()
         t = np.asarray(self.time, dtype=float)
         x = np.asarray(self.position, dtype=float)
@@ -311,7 +318,7 @@ class Still(DriveBase):
     kind: str = param("still", kind="tag")
 
     def __post_init__(self):
-        convert_fields(self, "drive")
+        self._prepare()
         self._check_direction()
         if not (self.duration_s > 0 and math.isfinite(self.duration_s)):
             raise InputError(f"drive.duration = {self.duration_s!r} s; must be > 0")
@@ -387,7 +394,7 @@ class CoupledStructure(DriveBase):
     coupled = True
 
     def __post_init__(self):
-        convert_fields(self, "structure")
+        self._prepare()
         for name, unit, ex in (("mass", "kg", "'7kg'"), ("stiffness", "N/m", "1105 (N/m)")):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):

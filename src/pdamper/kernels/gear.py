@@ -501,7 +501,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             h = span.h_min
         if span.record and math.fabs(t - tb) <= 1e-9 * ts:
             _unpack(nord, inv_h, bodies)
-            record_sample(kb - 1, samples, bodies, pairs, walls, drive, vc)
+            record_sample(kb - 1, samples, bodies, pairs, walls, drive, xc, vc)
     # leave the state in the bodies
     _unpack(nord, 1.0 / hs, bodies)
     gear.step[0] = hs

@@ -4,6 +4,8 @@ A channel with no rows is skipped, so a run computes only what its recorders rea
 
 from __future__ import annotations
 
+import math
+
 from ..jit import njit
 from .drive import is_coupled
 from .forces import elastic_energy
@@ -13,8 +15,9 @@ __all__ = ["record_sample"]
 
 
 @njit
-def record_sample(k, samples, bodies, pairs, walls, drive, vc):
-    """Write sample ``k`` (container velocity ``vc`` [m/s] at its end): the mean wall force along
+def record_sample(k, samples, bodies, pairs, walls, drive, xc, vc):
+    """Write sample ``k`` (container position ``xc`` [m] and velocity ``vc`` [m/s] at its end):
+    the mean wall force along
     the drive over the interval (impulse / interval) [N], the energies, every ``frame_every``-th
     sample a frame (positions, velocities, spins) and the coupled structure's state; reset the
     impulse sum."""
@@ -45,6 +48,15 @@ def record_sample(k, samples, bodies, pairs, walls, drive, vc):
             ekin += 0.5 * mass[i] * (ux * ux + uy * uy + uz * uz)
             erot += 0.5 / inv_i[i] * (omg[i, 0] ** 2 + omg[i, 1] ** 2 + omg[i, 2] ** 2)
             epot -= mass[i] * (gvec[0] * pos[i, 0] + gvec[1] * pos[i, 1] + gvec[2] * pos[i, 2])
+        # the potential energy is the lab frame's: the spheres are raised with the container by
+        # xc d.(-g) too. A horizontal drive has g.d = 0 (within rounding, left out so that the
+        # ledger of such a run is exactly what it is without this term)
+        gd = gvec[0] * dvec[0] + gvec[1] * dvec[1] + gvec[2] * dvec[2]
+        if abs(gd) > 1e-12 * math.sqrt(gvec[0] ** 2 + gvec[1] ** 2 + gvec[2] ** 2):
+            m_bed = 0.0
+            for i in range(pos.shape[0]):
+                m_bed += mass[i]
+            epot -= m_bed * gd * xc
         eng[k, 0] = ekin
         eng[k, 1] = erot
         eng[k, 2] = epot

@@ -149,5 +149,5 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
             return status, s + 1, culprit
         g = span.step0 + s + 1
         if span.record and g % sub == 0:
-            record_sample(g // sub - 1 - span.skip_samples, samples, bodies, pairs, walls, drive, vc)
+            record_sample(g // sub - 1 - span.skip_samples, samples, bodies, pairs, walls, drive, xc, vc)
     return STATUS_OK, span.steps, -1
