@@ -221,6 +221,8 @@ class CoupledStructure:
     # last: the order a config file is written in (a store's fingerprint is taken of that text)
     force_frequency: float | None = param(None, dimension="frequency")
     kind: str = param("structure", kind="tag")
+    #: A case's drive field is the config section [drive]; a structure is [structure] (schema.replace).
+    config_section = "structure"
 
     def __post_init__(self):
         convert_fields(self, "structure")

@@ -1,27 +1,27 @@
 """Parameters of a simulated case: frozen, keyword-only dataclasses in SI units.
 
-A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case (see
-:func:`with_stroke`). Validation happens in ``__post_init__`` and raises
+A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case, by config keys
+(:func:`pdamper.schema.replace`: ``replace(case, {"drive.stroke": "13mm"})``). Validation happens in ``__post_init__`` and raises
 :class:`pdamper.errors.InputError` naming the field, the value and what is allowed.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
+import warnings
 from dataclasses import dataclass
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
-from .contact import DAMPING_CHOICES
+from .contact import DAMPING_CHOICES, read_restitution
 from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError
 from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
 from .geometry.cuboid import Cuboid
 from .geometry.cylinder import Cylinder
-from .materials import PVC, STEEL_S235, Material
-from .units import is_quantity, quantities, to_si
-from .schema import check_choice, convert_fields, param
+from .materials import PVC, STEEL_S235, Material, read_material
+from .units import is_quantity, to_si
+from .schema import check_choice, convert_fields, param, read_list, read_quantity, replace
 
 __all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case",
            "PAPER_TILT", "with_stroke"]
@@ -49,7 +49,7 @@ class ParticleSet:
 
     count: int = param(kind="whole")
     radius: float = param(0.005, dimension="length", paper="5 mm")
-    material: Material = param(STEEL_S235, kind="custom")
+    material: Material = param(STEEL_S235, kind="custom", read=read_material)
 
     def __post_init__(self):
         convert_fields(self, "particles")
@@ -76,9 +76,9 @@ class Container:
     mass : float, m_c [kg] >= 0; enters the driving force as m_c x_c'' (no effect on Re P).
     """
 
-    geometry: Cuboid | Cylinder = param(default_factory=Cuboid, kind="custom")
-    material: Material = param(PVC, kind="custom")
-    tilt: tuple = param(PAPER_TILT, kind="custom")
+    geometry: Cuboid | Cylinder = param(default_factory=Cuboid, kind="custom", inline=True)
+    material: Material = param(PVC, kind="custom", read=read_material)
+    tilt: tuple = param(PAPER_TILT, kind="custom", read=lambda value, section: read_tilt(value, section))
     mass: float = param(0.0, dimension="mass")
 
     def __post_init__(self):
@@ -117,7 +117,7 @@ class ContactModel:
     """
 
     friction: float = param(0.1, paper="0.1")
-    restitution: object = param(default_factory=ConstantRestitution, kind="custom")
+    restitution: object = param(default_factory=ConstantRestitution, kind="custom", read=read_restitution)
     tau: float = param(DEFAULT_TAU, unit="s/m")
     v_in_floor: float = param(V_IN_FLOOR, dimension="velocity")
     damping: str = param("calibrated", choices=DAMPING_CHOICES)
@@ -263,18 +263,18 @@ class Case:
     """One simulated case: what is simulated (particles, container, drive, contact laws), how
     (numerics), what is recorded, how it starts, and for how long (``cycles`` of the drive)."""
 
-    particles: tuple = param(kind="custom")
-    container: Container = param(default_factory=Container, kind="custom")
+    particles: tuple = param(kind="custom", section="particles")
+    container: Container = param(default_factory=Container, kind="custom", section="container")
     drive: HarmonicDrive | SampledDrive | Still | CoupledStructure = param(
-        default_factory=lambda: HarmonicDrive(stroke=0.012), kind="custom")
-    contact: ContactModel = param(default_factory=ContactModel, kind="custom")
-    numerics: Numerics = param(default_factory=Numerics, kind="custom")
-    recording: Recording = param(default_factory=Recording, kind="custom")
-    initial: InitialState = param(default_factory=InitialState, kind="custom")
+        default_factory=lambda: HarmonicDrive(stroke=0.012), kind="custom", section="drive")
+    contact: ContactModel = param(default_factory=ContactModel, kind="custom", section="contact")
+    numerics: Numerics = param(default_factory=Numerics, kind="custom", section="numerics")
+    recording: Recording = param(default_factory=Recording, kind="custom", section="recording")
+    initial: InitialState = param(default_factory=InitialState, kind="custom", section="initial")
     # the [run] section of a config file
-    cycles: float = param(20, kind="number", paper="20")
-    drop_cycles: int = param(2, paper="2")
-    gravity: float = param(9.81, dimension="acceleration")
+    cycles: float = param(20, kind="number", paper="20", section="run")
+    drop_cycles: int = param(2, paper="2", section="run")
+    gravity: float = param(9.81, dimension="acceleration", section="run")
 
     def __post_init__(self):
         convert_fields(self, "run")
@@ -322,9 +322,24 @@ class Case:
         return self.drive.duration(self.cycles)
 
 
-@quantities(stroke="length")
-def with_stroke(case: Case, stroke: float) -> Case:
-    """The same case at another stroke X [m] (harmonic drives only; ``"12mm"`` works too)."""
+def read_tilt(value, section: str = "container") -> tuple:
+    """The container's tilt as a config gives it: three angles about x, y, z, or one angle for all
+    three (each a number in rad, a text with a unit or a pint quantity)."""
+    if isinstance(value, (list, tuple)):
+        if len(value) != 3:
+            raise InputError(f"[{section}] tilt = {value!r}: give three angles about x, y, z, "
+                             "e.g. ['0.1deg', '0.1deg', '0.1deg'] (or one angle for all three)")
+        return read_list(list(value), f"[{section}] tilt", "angle")
+    if is_quantity(value) and getattr(value, "ndim", 0) > 0:
+        return read_tilt(list(value), section)
+    a = read_quantity(value, f"[{section}] tilt", "angle")
+    return (a, a, a)
+
+
+def with_stroke(case: Case, stroke) -> Case:
+    """Deprecated: ``pdamper.schema.replace(case, {"drive.stroke": stroke})``."""
+    warnings.warn('with_stroke is deprecated; use pdamper.schema.replace(case, {"drive.stroke": stroke})',
+                  DeprecationWarning, stacklevel=2)
     if not isinstance(case.drive, HarmonicDrive):
         raise InputError("a stroke can only be set on a harmonic drive")
-    return dataclasses.replace(case, drive=dataclasses.replace(case.drive, stroke=stroke))
+    return replace(case, {"drive.stroke": stroke})
