@@ -334,7 +334,8 @@ def _keys(obj) -> dict:
 
 
 def _what(obj, section) -> str:
-    """``" (kind = 'samples')"``: the type tags of ``obj`` and its inline objects, for messages."""
+    """``" (this [drive] has kind = 'samples')"``: the type tags of ``obj`` and its inline objects,
+    for messages."""
     tags = [f"{k} = {getattr(obj if i is None else getattr(obj, i), f.name)!r}"
             for k, (i, f, s) in _keys(obj).items() if s.kind == "tag"]
     return f" (this [{section}] has {', '.join(tags)})" if tags else ""
@@ -378,10 +379,9 @@ def replace(obj, changes: dict):
     """
     if not changes:
         return obj
-    fields = {f.name: f for f in dataclasses.fields(obj)}
-    sections: dict[str, list] = {}
-    declared = {}
-    for f in fields.values():
+    sections: dict[str, list] = {}  # section -> the root's fields in it
+    declared = {}  # section named by a field's spec -> the field
+    for f in dataclasses.fields(obj):
         name = _section_of(f, getattr(obj, f.name))
         if name is not None:
             sections.setdefault(name, []).append(f)
@@ -401,35 +401,38 @@ def replace(obj, changes: dict):
         groups.setdefault(section, {})[key] = (dotted, value)
     kw = {}
     for section, items in groups.items():
-        holders = [f for f in sections[section] if _is_param(getattr(obj, f.name))
-                   or isinstance(getattr(obj, f.name), tuple) and spec_of(f).kind == "custom"]
-        plain = [f for f in sections[section] if f not in holders]
-        if "" in items:  # the whole object of the section
-            if len(items) > 1 or len(holders) != 1:
-                raise InputError(f"{section!r}: give the whole [{section}] object alone, or its keys")
-            kw[holders[0].name] = items[""][1]
-            continue
-        if plain:
-            own = {spec_of(f).key or f.name: f for f in plain}
-            rest = {k: v for k, v in items.items() if k not in own}
-            for k, (dotted, value) in items.items():
-                if k in own:
-                    s = spec_of(own[k])
-                    kw[own[k].name] = read_value(_plain(value, s), s, section, k)
-            if rest and not holders:
-                k, (dotted, _) = next(iter(rest.items()))
-                raise InputError(f"{dotted!r}: unknown key {k!r} in [{section}]; " + _quoted(k, list(own)))
-            items = rest
-        for f in holders:
-            if not items:
-                break
-            value = getattr(obj, f.name)
-            if isinstance(value, tuple):
-                if len(value) != 1:
-                    dotted = next(iter(items.values()))[0]
-                    raise InputError(f"{dotted!r}: the case has {len(value)} [[{section}]] sets; replace "
-                                     f"the {f.name} tuple itself (e.g. with dataclasses.replace on the one set)")
-                kw[f.name] = (_change(value[0], items, section),)
-            else:
-                kw[f.name] = _change(value, items, section)
+        kw.update(_change_section(obj, sections[section], items, section))
     return dataclasses.replace(obj, **kw)
+
+
+def _change_section(obj, fields: list, items: dict, section: str) -> dict:
+    """The new values of the root's ``fields`` that make up ``section``: its plain keys read by
+    their specs, the rest changed in the section's parameter object (or the one object of a tuple)."""
+    def holds(f):
+        v = getattr(obj, f.name)
+        return _is_param(v) or isinstance(v, tuple) and spec_of(f).kind == "custom"
+
+    holder = next((f for f in fields if holds(f)), None)
+    own = {spec_of(f).key or f.name: f for f in fields if not holds(f)}
+    if "" in items:  # the whole object of the section
+        if len(items) > 1 or holder is None:
+            raise InputError(f"{section!r}: give the whole [{section}] object alone, or its keys")
+        return {holder.name: items[""][1]}
+    kw = {own[k].name: read_value(_plain(v, spec_of(own[k])), spec_of(own[k]), section, k)
+          for k, (_, v) in items.items() if k in own}
+    rest = {k: v for k, v in items.items() if k not in own}
+    if not rest:
+        return kw
+    if holder is None:
+        k, (dotted, _) = next(iter(rest.items()))
+        raise InputError(f"{dotted!r}: unknown key {k!r} in [{section}]; " + _quoted(k, list(own)))
+    value = getattr(obj, holder.name)
+    if isinstance(value, tuple):
+        if len(value) != 1:
+            dotted = next(iter(rest.values()))[0]
+            raise InputError(f"{dotted!r}: the case has {len(value)} [[{section}]] sets; replace "
+                             f"the {holder.name} tuple itself (e.g. with dataclasses.replace on the one set)")
+        kw[holder.name] = (_change(value[0], rest, section),)
+    else:
+        kw[holder.name] = _change(value, rest, section)
+    return kw
