@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
 
 from pdamper.config import load_case  # noqa: E402
-from pdamper.params import with_stroke  # noqa: E402
+from pdamper.schema import replace  # noqa: E402
 from pdamper.run import run_case  # noqa: E402
 from pdamper.simulation import Simulation  # noqa: E402
 
@@ -77,7 +77,7 @@ def main():
         for x in strokes:
             walls, steps, bal, etas = [], [], [], []
             for seed in seeds:
-                case = dataclasses.replace(with_stroke(base, x), cycles=cycles, numerics=num,
+                case = dataclasses.replace(replace(base, {"drive.stroke": x}), cycles=cycles, numerics=num,
                                            initial=dataclasses.replace(base.initial, seed=seed))
                 t = time.perf_counter()
                 res = run_case(case)

@@ -56,7 +56,7 @@ from step_cost import measure  # noqa: E402
 
 from pdamper.config import load_case  # noqa: E402
 from pdamper.geometry import Cuboid  # noqa: E402
-from pdamper.params import with_stroke  # noqa: E402
+from pdamper.schema import replace  # noqa: E402
 
 #: The targets: a Verlet step of the 36-sphere cuboid at LIGGGHTS' dt against LIGGGHTS' step,
 #: a whole 20-cycle case (pdamper's default) against LIGGGHTS' whole case at its 1 us step, fig4,
@@ -70,7 +70,7 @@ TARGET_PAPER_MIN = 15.0
 
 
 def example(name, stroke):
-    return with_stroke(load_case(ROOT / "examples" / f"{name}.toml"), stroke)
+    return replace(load_case(ROOT / "examples" / f"{name}.toml"), {"drive.stroke": stroke})
 
 
 def big_bed(n=5000):
@@ -232,7 +232,7 @@ def paper_sample(quick, every):
     for c, (label, case) in enumerate(curves):
         case = dataclasses.replace(case, cycles=cycles)
         for x in strokes:
-            items.append((f"c{c}-X{x:.6g}", float(x), 0, with_stroke(case, float(x))))
+            items.append((f"c{c}-X{x:.6g}", float(x), 0, replace(case, {"drive.stroke": float(x)})))
     results = {}
     t = time.perf_counter()
     execute(items, run_one, lambda key, x, s, r: results.__setitem__(key, r), progress=False)

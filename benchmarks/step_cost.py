@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from pdamper.config import load_case
-from pdamper.params import with_stroke
+from pdamper.schema import replace
 from pdamper.simulation import Simulation
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -52,7 +52,7 @@ def main():
     ap.add_argument("--dt", type=float, default=1e-6, help="time step [s]")
     ap.add_argument("--steps", type=int, default=200000)
     args = ap.parse_args()
-    case = with_stroke(load_case(ROOT / "examples" / "cuboid_36.toml"), 0.014)
+    case = replace(load_case(ROOT / "examples" / "cuboid_36.toml"), {"drive.stroke": 0.014})
     r = measure(case, dt=args.dt, steps=args.steps, warm_cycles=2.2)
     print(f"36-sphere cuboid, verlet, dt = {r['dt'] * 1e6:.3g} us: {r['us_per_step']:.3f} us/step "
           f"(pairs in list {r['pairs_listed']}, touching {r['pairs_touching']}, touching walls {r['walls_touching']})")

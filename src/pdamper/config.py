@@ -56,11 +56,13 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
     damping_ratio = 0.005
     displacement = "12mm"       # initial; and/or force_amplitude = "0.5N", force_frequency = "2Hz"
 
-:func:`load_case` reads a file (with optional overrides such as ``{"drive.stroke": "3mm"}``);
+:func:`load_case` reads a file (with optional overrides such as ``{"drive.stroke": "3mm"}``, the
+command line's ``--set``, applied to the file's tables before they are read);
 :func:`case_to_dict` / :func:`dump_case` write a case back in plain SI numbers, so that
 ``load_case(dump_case(case, p)) == case`` exactly. Every problem raises
 :class:`pdamper.errors.InputError` naming the file, the section and the key.
-:func:`with_overrides` applies the same dotted overrides to a case in hand.
+A case in hand is changed by config keys with :func:`pdamper.schema.replace` (also
+:func:`with_overrides`), which reads each value as this module does.
 
 The keys are the parameter dataclasses' own fields, read and written from the spec each field
 carries (:mod:`pdamper.schema`); this module adds only what no field can say (which class a
@@ -77,17 +79,20 @@ import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 
+from .contact import read_restitution
 from .contact.cor_constant import ConstantRestitution
 from .contact.cor_table import TabulatedRestitution
 from .contact.cor_thornton import ThorntonRestitution
 from .errors import InputError
 from .io.files import atomic_write
 from .excitation import DRIVES
-from .geometry import SHAPES, Baffle
-from .materials import LIBRARY, Material
-from .params import Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording
-from .schema import Spec, config_keys, plain_fields, spec_of
-from .units import parse_quantity, unit_factor
+from .geometry import SHAPES
+from .materials import LIBRARY, Material, read_material
+from .params import (Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording, read_baffles,
+                     read_tilt, read_wall_materials)
+from .schema import (Spec, _choice, _grammar, _quoted, check_keys, config_keys, plain_fields, read_fields,
+                     read_number, read_quantity, replace, spec_of, suggest)
+from .units import unit_factor
 
 __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
            "with_overrides", "key_spec", "SECTIONS"]
@@ -98,9 +103,9 @@ __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_ca
 # and keys that are not fields (a samples file, a natural frequency instead of a stiffness,
 # per-material-pair tables).
 _GEOMETRIES = SHAPES
-_DRIVES = {kind: cls for kind, cls in DRIVES.items() if cls.section == "drive"}
+_DRIVES = {kind: cls for kind, cls in DRIVES.items() if cls.config_section == "drive"}
 #: The drive the [structure] section builds.
-_STRUCTURE = next(cls for cls in DRIVES.values() if cls.section == "structure")
+_STRUCTURE = next(cls for cls in DRIVES.values() if cls.config_section == "structure")
 
 
 def _shape_keys() -> dict:
@@ -142,7 +147,6 @@ class _Sections(Mapping):
 
 #: Allowed keys of each section, derived from the dataclasses' fields.
 SECTIONS = _Sections({
-    "baffles": config_keys(Baffle),
     "particles": config_keys(ParticleSet),
     "drive": _union(("kind",), *(config_keys(cls) for cls in _DRIVES.values()), ("samples",)),
     "contact": config_keys(ContactModel, drop=("pair_friction", "pair_restitution")) + ("pair",),
@@ -152,10 +156,7 @@ SECTIONS = _Sections({
     "run": tuple(s.key or f.name for f, s in plain_fields(Case)),
     "structure": _union(config_keys(_STRUCTURE), ("natural_frequency",)),
 })
-_MATERIAL_KEYS = config_keys(Material)
 _PAIR_KEYS = ("materials", "friction", "restitution")
-_LAW_KEYS = {"constant": ("law", "value"), "table": ("law", "speeds", "values"),
-             "thornton": ("law", "yield_pressure")}
 
 
 # --------------------------------------------------------------------------- reading
@@ -210,20 +211,6 @@ def _copy(obj):
     return obj
 
 
-def _suggest(word: str, allowed, what: str) -> str:
-    near = difflib.get_close_matches(word, list(allowed), n=1, cutoff=0.6)
-    if near:
-        return f"did you mean {what.format(near[0])}?"
-    return "allowed: " + ", ".join(what.format(a) for a in allowed)
-
-
-def _quoted(key, allowed) -> str:
-    near = difflib.get_close_matches(key, list(allowed), n=1, cutoff=0.6)
-    if near:
-        return f"did you mean {near[0]!r}?"
-    return "allowed keys: " + ", ".join(allowed)
-
-
 #: The parameter classes whose fields make each section's keys.
 _SECTION_CLASSES = {
     "container": (Container,), "particles": (ParticleSet,), "drive": tuple(_DRIVES.values()),
@@ -239,7 +226,7 @@ def key_spec(dotted: str) -> Spec:
     over it holds), or an :class:`InputError` naming the allowed keys."""
     section, _, key = str(dotted).partition(".")
     if section not in SECTIONS:
-        raise InputError(f"{dotted!r}: unknown section [{section}]; " + _suggest(section, SECTIONS, "[{}]"))
+        raise InputError(f"{dotted!r}: unknown section [{section}]; " + suggest(section, SECTIONS, "[{}]"))
     if key not in SECTIONS[section]:
         raise InputError(f"{dotted!r}: unknown key {key!r} in [{section}]; " + _quoted(key, SECTIONS[section]))
     if dotted in _VALUE_SPECS:
@@ -254,31 +241,10 @@ def key_spec(dotted: str) -> Spec:
 
 def with_overrides(case: Case, overrides: dict) -> Case:
     """``case`` with the dotted keys of ``overrides`` replaced, e.g. ``{"contact.friction": 1.0,
-    "drive.stroke": "3mm", "particles.material": Material(...)}``.
-
-    The one override mechanism of pdamper: the case is written as its config (:func:`case_to_dict`),
-    the overrides are applied as for :func:`load_case` (values read exactly like a config file's,
-    with the same messages) and the config is read back. Values may also be parameter objects
-    (a :class:`~pdamper.materials.Material`, a restitution law) or tuples; they are written as a
-    config would hold them. Round trips are exact, so keys not overridden keep their values bit
-    for bit.
-    """
-    return case_from_dict(case_to_dict(case), {k: _to_config(v) for k, v in overrides.items()})
-
-
-def _to_config(value):
-    """A parameter value as a config file holds it."""
-    if value is None:  # the value of an optional field: "auto" in a config file
-        return "auto"
-    if isinstance(value, Material):
-        return _material_to(value)
-    if isinstance(value, (ConstantRestitution, TabulatedRestitution, ThorntonRestitution)):
-        return _law_to(value)
-    if isinstance(value, (tuple, list)):
-        return [_to_config(v) for v in value]
-    if hasattr(value, "item") and not isinstance(value, (str, bytes)):  # numpy scalar
-        return value.item()
-    return value
+    "drive.stroke": "3mm", "particles.material": Material(...)}``: :func:`pdamper.schema.replace`
+    (values read exactly like a config file's, with the same messages; parameter objects as they
+    are; keys not given keep their values, the same objects)."""
+    return replace(case, overrides)
 
 
 def _apply_overrides(data: dict, overrides: dict) -> dict:
@@ -289,7 +255,7 @@ def _apply_overrides(data: dict, overrides: dict) -> dict:
         section, key = parts
         if section not in SECTIONS:
             raise InputError(f"override {dotted!r}: unknown section [{section}]; "
-                             + _suggest(section, SECTIONS, "[{}]"))
+                             + suggest(section, SECTIONS, "[{}]"))
         if key not in SECTIONS[section]:
             raise InputError(f"override {dotted!r}: unknown key {key!r} in [{section}]; "
                              + _quoted(key, SECTIONS[section]))
@@ -309,12 +275,15 @@ def _apply_overrides(data: dict, overrides: dict) -> dict:
 
 
 class _Reader:
-    """Turns the parsed TOML tables into parameter objects, one section at a time."""
+    """Turns the parsed TOML tables into parameter objects, one section at a time; every plain key
+    is read by its field's spec (:func:`pdamper.schema.read_fields`), a material, a restitution law
+    and a tilt by their fields' readers."""
+
+    fields = staticmethod(read_fields)
 
     def __init__(self, base_dir: Path):
         self.base_dir = base_dir
 
-    # ---- helpers
     @staticmethod
     def _table(data, section):
         t = data.get(section, {})
@@ -324,104 +293,14 @@ class _Reader:
         return t
 
     @staticmethod
-    def _check_keys(table, section, allowed):
-        for key in table:
-            if key not in allowed:
-                raise InputError(f"unknown key {key!r} in [{section}]; {_quoted(key, allowed)}")
-
-    @staticmethod
-    def quantity(table, section, key, dimension, default=None):
-        if key not in table:
-            return default
-        return _parse(table[key], f"[{section}] {key}", dimension)
-
-    @staticmethod
-    def number(table, section, key, default=None):
-        if key not in table:
-            return default
-        v = table[key]
-        if isinstance(v, (int, float)) and not isinstance(v, bool):
-            return v
-        return _dimless(v, f"[{section}] {key}")
-
-    @staticmethod
-    def integer(table, section, key, default=None):
-        if key not in table:
-            return default
-        v = table[key]
-        if isinstance(v, float) and v.is_integer():
-            return int(v)
-        if isinstance(v, bool) or not isinstance(v, int):
-            raise InputError(f"[{section}] {key} = {v!r} must be a whole number")
-        return v
-
-    @staticmethod
-    def choice(table, section, key, choices, default):
-        if key not in table:
-            return default
-        v = table[key]
-        if not isinstance(v, str):
-            raise InputError(f"[{section}] {key} = {v!r} must be a string: one of "
-                             + ", ".join(repr(c) for c in choices))
-        if v not in choices:
-            near = difflib.get_close_matches(v, choices, n=1, cutoff=0.5)
-            hint = f"did you mean {near[0]!r}? " if near else ""
-            raise InputError(f"[{section}] {key} = {v!r} is not allowed; {hint}choose one of "
-                             + ", ".join(repr(c) for c in choices))
-        return v
-
-    def fields(self, t, section, cls) -> dict:
-        """Keyword arguments for ``cls`` from table ``t``: each plain field present, read by its spec."""
-        kw = {}
-        for f, s in plain_fields(cls):
-            key = s.key or f.name
-            if key in t:
-                try:
-                    kw[f.name] = self.value(t, section, key, s)
-                except InputError as exc:
-                    if s.paper is None or "paper" in str(exc):
-                        raise
-                    raise InputError(f"{exc} (paper: {s.paper})") from None
-        return kw
-
-    def value(self, t, section, key, s):
-        """The value of ``t[key]`` read as the :class:`~pdamper.schema.Spec` ``s`` says."""
-        v = t[key]
-        if s.choices is not None:
-            return self.choice(t, section, key, s.choices, None)
-        if s.kind == "text":
-            if not isinstance(v, str):
-                raise InputError(f"[{section}] {key} = {v!r} must be a string")
-            return v
-        if s.kind == "whole":
-            return self.integer(t, section, key)
-        if s.kind == "list":
-            return self.quantity_list(v, f"[{section}] {key}", s.dimension or "dimensionless")
-        if s.kind == "rows":
-            return self.vectors(v, f"[{section}] {key}", s.dimension, s.example)
-        if s.auto and isinstance(v, str) and v.strip().lower() == "auto":
-            return None
-        if s.dimension is not None:
-            return self.quantity(t, section, key, s.dimension)
-        return self.number(t, section, key)
-
-    def quantity_list(self, value, name, dimension):
-        if not isinstance(value, list):
-            raise InputError(f"{name} = {value!r} must be a list of {dimension}s, e.g. [1, 2, 3]")
-        return tuple(_q(v, name, k, dimension) for k, v in enumerate(value))
-
-    def vectors(self, rows, name, dimension, example):
-        """A list of [x, y, z] rows as a tuple of 3-tuples (SI)."""
-        if not isinstance(rows, list) or not all(isinstance(r, list) and len(r) == 3 for r in rows):
-            raise InputError(f"{name} must be a list of [x, y, z] rows (one per sphere, container frame), "
-                             f"e.g. [[0, {example}, 0], [{example}, 0, 0]]")
-        return tuple(tuple(_q(v, f"{name}[{i}]", k, dimension) for k, v in enumerate(r)) for i, r in enumerate(rows))
+    def _choice(table, section, key, choices, default):
+        return _choice(table[key], f"[{section}] {key}", choices) if key in table else default
 
     # ---- sections
     def case(self, data: dict) -> Case:
         for section in data:
             if section not in SECTIONS:
-                raise InputError(f"unknown section [{section}]; " + _suggest(section, SECTIONS, "[{}]"))
+                raise InputError(f"unknown section [{section}]; " + suggest(section, SECTIONS, "[{}]"))
         with _context("container"):
             container = self.container(self._table(data, "container"))
         with _context("particles"):
@@ -440,94 +319,35 @@ class _Reader:
         names = [m.name for m in mats]
         with _context("contact"):
             contact = self.contact(self._table(data, "contact"), names)
-        with _context("numerics"):
-            numerics = self.numerics(self._table(data, "numerics"))
-        with _context("recording"):
-            recording = self.recording(self._table(data, "recording"))
-        with _context("initial"):
-            initial = self.initial(self._table(data, "initial"))
+        sections = {}
+        for section, cls in (("numerics", Numerics), ("recording", Recording), ("initial", InitialState)):
+            with _context(section):
+                sections[section] = self.flat(self._table(data, section), section, cls)
         with _context("run"):
             run = self._table(data, "run")
-            self._check_keys(run, "run", SECTIONS["run"])
-            kw = self.fields(run, "run", Case)
-            return Case(particles=particles, container=container, drive=drive, contact=contact,
-                        numerics=numerics, recording=recording, initial=initial, **kw)
-
-    def material(self, value, section, default_name):
-        """A material from a library name or an inline table ``{name, youngs_modulus, poisson_ratio, density}``."""
-        name = f"[{section}] material"
-        if isinstance(value, str):
-            key = value.strip().lower()
-            if key in LIBRARY:
-                return LIBRARY[key]
-            near = difflib.get_close_matches(key, list(LIBRARY), n=1, cutoff=0.5)
-            hint = f"did you mean {near[0]!r}? " if near else ""
-            raise InputError(f"{name} = {value!r} is not a known material; {hint}known: "
-                             + ", ".join(map(repr, LIBRARY)) + " (or give an inline table {name = ..., "
-                             "youngs_modulus = ..., poisson_ratio = ..., density = ...})")
-        if not isinstance(value, dict):
-            raise InputError(f"{name} = {value!r}: give a material name such as 'steel' or an inline table "
-                             "{youngs_modulus = '208GPa', poisson_ratio = 0.3, density = '7900kg/m^3'}")
-        sub = f"{section}.material"
-        self._check_keys(value, sub, _MATERIAL_KEYS)
-        for req in _MATERIAL_KEYS[1:]:
-            if req not in value:
-                raise InputError(f"[{sub}] {req} is missing; an inline material needs youngs_modulus, "
-                                 "poisson_ratio and density")
-        mname = value.get("name", default_name)
-        if not isinstance(mname, str) or not mname:
-            raise InputError(f"[{sub}] name = {mname!r} must be a non-empty string")
-        return Material(**{**self.fields(value, sub, Material), "name": mname})
+            check_keys(run, "run", SECTIONS["run"])
+            return Case(particles=particles, container=container, drive=drive, contact=contact, **sections,
+                        **read_fields(run, "run", Case))
 
     def container(self, t) -> Container:
-        self._check_keys(t, "container", SECTIONS["container"])
-        shape = self.choice(t, "container", "shape", tuple(_GEOMETRIES), "cuboid")
+        check_keys(t, "container", SECTIONS["container"])
+        shape = self._choice(t, "container", "shape", tuple(_GEOMETRIES), "cuboid")
         for key in t:
             owners = [s for s, keys in _shape_keys().items() if key in keys]
             if owners and shape not in owners:
                 raise InputError(f"[container] {key} applies to shape = {owners[0]!r}, but shape = {shape!r} "
                                  f"(give {', '.join(_shape_keys()[shape])})")
-        kw = {"geometry": _GEOMETRIES[shape](**self.fields(t, "container", _GEOMETRIES[shape]))}
+        kw = {"geometry": _GEOMETRIES[shape](**read_fields(t, "container", _GEOMETRIES[shape]))}
         if "material" in t:
-            kw["material"] = self.material(t["material"], "container", "container")
+            kw["material"] = read_material(t["material"], "container")
         if "baffles" in t:
-            kw["baffles"] = self.baffles(t["baffles"])
+            kw["baffles"] = read_baffles(t["baffles"], "container")
         if "wall_materials" in t:
-            walls = t["wall_materials"]
-            if not isinstance(walls, dict):
-                raise InputError(f"[container] wall_materials = {walls!r}: give a table of wall = material, e.g. "
-                                 "wall_materials = {x_min = 'silicone', x_max = 'silicone'}")
-            kw["wall_materials"] = {str(w): self.material(m, f"container.wall_materials.{w}", str(w))
-                                    for w, m in walls.items()}
+            kw["wall_materials"] = read_wall_materials(t["wall_materials"], "container")
         if "tilt" in t:
-            tilt = t["tilt"]
-            if isinstance(tilt, list):
-                if len(tilt) != 3:
-                    raise InputError(f"[container] tilt = {tilt!r}: give three angles about x, y, z, "
-                                     "e.g. ['0.1deg', '0.1deg', '0.1deg'] (or one angle for all three)")
-                kw["tilt"] = tuple(_q(a, "[container] tilt", k, "angle") for k, a in enumerate(tilt))
-            else:
-                a = self.quantity(t, "container", "tilt", "angle")
-                kw["tilt"] = (a, a, a)
-        kw.update(self.fields(t, "container", Container))
+            kw["tilt"] = read_tilt(t["tilt"], "container")
+        kw.update(read_fields(t, "container", Container))
         return Container(**kw)
-
-    def baffles(self, value) -> tuple:
-        """[container] baffles: a list of tables (position, thickness, gap_below, gap_above, material)."""
-        if not isinstance(value, list) or not all(isinstance(b, dict) for b in value):
-            raise InputError(f"[container] baffles = {value!r}: give a list of tables, e.g. "
-                             "baffles = [{position = '-20mm'}, {position = '20mm', gap_below = '12mm'}]")
-        out = []
-        for k, b in enumerate(value, 1):
-            label = f"container.baffles #{k}"
-            self._check_keys(b, label, SECTIONS["baffles"])
-            if "position" not in b:
-                raise InputError(f"[{label}] position is missing: give the x of the plate, e.g. position = '20mm'")
-            kw = self.fields(b, label, Baffle)
-            if "material" in b:
-                kw["material"] = self.material(b["material"], label, f"baffle-{k}")
-            out.append(Baffle(**kw))
-        return tuple(out)
 
     def particles(self, value) -> tuple:
         if value is None:
@@ -541,20 +361,19 @@ class _Reader:
             label = "particles" if len(tables) == 1 else f"particles #{k + 1}"
             if not isinstance(t, dict):
                 raise InputError(f"[{label}] must be a table, got {t!r}")
-            self._check_keys(t, label, SECTIONS["particles"])
+            check_keys(t, label, SECTIONS["particles"])
             if "count" not in t:
                 raise InputError(f"[{label}] count is missing; give the number of spheres, e.g. count = 36")
-            kw = self.fields(t, label, ParticleSet)
+            kw = read_fields(t, label, ParticleSet)
             if "material" in t:
-                default = "particles" if len(tables) == 1 else f"particles-{k + 1}"
-                kw["material"] = self.material(t["material"], label, default)
+                kw["material"] = read_material(t["material"], label)
             out.append(ParticleSet(**kw))
         return tuple(out)
 
     def drive(self, t):
-        self._check_keys(t, "drive", SECTIONS["drive"])
+        check_keys(t, "drive", SECTIONS["drive"])
         sampled = [k for k in _SAMPLED_KEYS if k in t]
-        kind = self.choice(t, "drive", "kind", tuple(_DRIVES),
+        kind = self._choice(t, "drive", "kind", tuple(_DRIVES),
                            "samples" if sampled else ("still" if "duration" in t else "harmonic"))
         for other, keys in _DRIVE_OWN.items():
             given = [k for k in keys if k in t]
@@ -570,10 +389,10 @@ class _Reader:
         if isinstance(t.get("direction"), str):
             t = {**t}
             words = t.pop("direction")
-            kw = {**self.fields(t, "drive", cls), "direction": words}
+            kw = {**read_fields(t, "drive", cls), "direction": words}
         else:
-            kw = self.fields(t, "drive", cls)
-        kw = {**getattr(cls, "config_defaults", {}), **kw}
+            kw = read_fields(t, "drive", cls)
+        kw = {**cls.config_defaults, **kw}
         if "samples" in t:
             extra = [k for k in _SAMPLED_KEYS[1:] if k in t]
             if extra:
@@ -589,7 +408,7 @@ class _Reader:
         if drive_table:
             raise InputError(f"[drive] {', '.join(drive_table)} cannot be combined with [structure]: the "
                              "structure moves the container; remove [drive] (the direction is [structure] angle)")
-        self._check_keys(t, "structure", SECTIONS["structure"])
+        check_keys(t, "structure", SECTIONS["structure"])
         for req in ("mass",):
             if req not in t:
                 raise InputError("[structure] mass is missing: give the structure's modal mass including the "
@@ -597,9 +416,9 @@ class _Reader:
         if ("stiffness" in t) == ("natural_frequency" in t):
             raise InputError("[structure] give exactly one of stiffness (N/m, e.g. 1105) or natural_frequency "
                              "(e.g. '2Hz')")
-        kw = self.fields(t, "structure", _STRUCTURE)
+        kw = read_fields(t, "structure", _STRUCTURE)
         if "natural_frequency" in t:
-            fn = self.quantity(t, "structure", "natural_frequency", "frequency")
+            fn = read_quantity(t["natural_frequency"], "[structure] natural_frequency", "frequency")
             if not (fn > 0 and math.isfinite(fn)):
                 raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r}; must be > 0, e.g. '2Hz'")
             if not (kw["mass"] > 0 and math.isfinite(kw["mass"])):
@@ -615,55 +434,11 @@ class _Reader:
             path = self.base_dir / path
         return read_motion_csv(path)
 
-    def restitution(self, value, section, key="restitution"):
-        """A COR law from a number (constant) or a table with ``law = ...``."""
-        name = f"[{section}] {key}"
-        try:
-            return self._law(value, section, key)
-        except InputError as exc:
-            msg = str(exc)
-            if msg.startswith("["):
-                raise
-            if msg.startswith("restitution = ") and ": " in msg:
-                raise InputError(f"{name} = {value!r}: {msg.split(': ', 1)[1]}") from None
-            raise InputError(f"[{section}] {msg}") from None
-
-    def _law(self, value, section, key):
-        name = f"[{section}] {key}"
-        if isinstance(value, (bool, int, float, str)):
-            return ConstantRestitution(value=_dimless(value, name))
-        if not isinstance(value, dict):
-            raise InputError(f"{name} = {value!r}: give a number such as 0.9 or a table "
-                             "{law = 'table', speeds = [...], values = [...]} or {law = 'thornton', "
-                             "yield_pressure = '1.5GPa'}")
-        law = value.get("law")
-        if law is None:
-            raise InputError(f"{name}: the table needs law = 'constant', 'table' or 'thornton'")
-        if law not in _LAW_KEYS:
-            near = difflib.get_close_matches(str(law), list(_LAW_KEYS), n=1, cutoff=0.5)
-            hint = f"did you mean {near[0]!r}? " if near else ""
-            raise InputError(f"{name}: law = {law!r} is unknown; {hint}choose 'constant', 'table' or 'thornton'")
-        sub = f"{section}.{key}"
-        self._check_keys(value, sub, _LAW_KEYS[law])
-        for req in _LAW_KEYS[law][1:]:
-            if req not in value:
-                raise InputError(f"{name}: law = {law!r} needs {req!r}")
-        if law == "constant":
-            return ConstantRestitution(value=_dimless(value["value"], f"[{sub}] value"))
-        if law == "thornton":
-            return ThorntonRestitution(yield_pressure=self.quantity(value, sub, "yield_pressure", "pressure"))
-        speeds = self.quantity_list(value["speeds"], f"[{sub}] speeds", "velocity")
-        vals = value["values"]
-        if not isinstance(vals, list):
-            raise InputError(f"[{sub}] values = {vals!r} must be a list of numbers in (0, 1]")
-        values = tuple(_dimless(v, f"[{sub}] values[{k}]") for k, v in enumerate(vals))
-        return TabulatedRestitution(speeds=speeds, values=values)
-
     def contact(self, t, material_names) -> ContactModel:
-        self._check_keys(t, "contact", SECTIONS["contact"])
-        kw = self.fields(t, "contact", ContactModel)
+        check_keys(t, "contact", SECTIONS["contact"])
+        kw = read_fields(t, "contact", ContactModel)
         if "restitution" in t:
-            kw["restitution"] = self.restitution(t["restitution"], "contact")
+            kw["restitution"] = read_restitution(t["restitution"], "contact")
         pairs = t.get("pair", [])
         if isinstance(pairs, dict):
             pairs = [pairs]
@@ -676,7 +451,7 @@ class _Reader:
             label = f"contact.pair #{k + 1}"
             if not isinstance(p, dict):
                 raise InputError(f"[[contact.pair]] #{k + 1} must be a table, got {p!r}")
-            self._check_keys(p, label, _PAIR_KEYS)
+            check_keys(p, label, _PAIR_KEYS)
             mats = p.get("materials")
             if not (isinstance(mats, list) and len(mats) == 2 and all(isinstance(m, str) for m in mats)):
                 raise InputError(f"[{label}] materials = {mats!r}: give two material names, e.g. ['steel', 'pvc']")
@@ -692,8 +467,8 @@ class _Reader:
                 if field_ in p:
                     if key in store or key[::-1] in store:
                         raise InputError(f"[{label}] {field_} for {key[0]!r}-{key[1]!r} is given twice")
-                    store[key] = (self.number(p, label, "friction") if field_ == "friction"
-                                  else self.restitution(p["restitution"], label))
+                    store[key] = (read_number(p["friction"], f"[{label}] friction") if field_ == "friction"
+                                  else read_restitution(p["restitution"], label))
         if pf:
             kw["pair_friction"] = pf
         if pr:
@@ -702,17 +477,8 @@ class _Reader:
 
     def flat(self, t, section, cls):
         """A section whose every key is a plain field of ``cls``."""
-        self._check_keys(t, section, SECTIONS[section])
-        return cls(**self.fields(t, section, cls))
-
-    def numerics(self, t) -> Numerics:
-        return self.flat(t, "numerics", Numerics)
-
-    def recording(self, t) -> Recording:
-        return self.flat(t, "recording", Recording)
-
-    def initial(self, t) -> InitialState:
-        return self.flat(t, "initial", InitialState)
+        check_keys(t, section, SECTIONS[section])
+        return cls(**read_fields(t, section, cls))
 
 
 class _context:
@@ -731,47 +497,6 @@ class _context:
                 msg = f"[{self.section}] {msg}"
             raise InputError(msg) from None
         return False
-
-
-def _q(value, name, index, dimension) -> float:
-    label = f"{name}[{index}]"
-    if isinstance(value, (dict, list)):
-        raise InputError(f"{label} = {value!r}: expected a {dimension} such as {_example(dimension)}")
-    return _parse(value, label, dimension)
-
-
-def _parse(value, label, dimension) -> float:
-    if isinstance(value, (dict, list)):
-        kind = "table" if isinstance(value, dict) else "list"
-        raise InputError(f"{label} = {value!r}: expected {_a(dimension)} such as {_example(dimension)}, not a {kind}")
-    try:
-        return parse_quantity(value, dimension, name=label)
-    except InputError as exc:
-        msg = _grammar(str(exc))
-        rest = msg[len(label) + 2:] if msg.startswith(label + ": ") else msg
-        raise InputError(f"{label} = {rest}" if rest.startswith(("'", '"')) else f"{label}: {rest}") from None
-
-
-def _a(word: str) -> str:
-    return ("an " if word[:1] in "aeiou" else "a ") + word
-
-
-def _grammar(msg: str) -> str:
-    for word in ("angle", "acceleration"):
-        msg = msg.replace(f" a {word}", f" an {word}")
-    return msg
-
-
-def _dimless(value, label) -> float:
-    if isinstance(value, bool) or isinstance(value, (dict, list)):
-        raise InputError(f"{label} = {value!r} must be a number")
-    return _parse(value, label, "dimensionless")
-
-
-def _example(dimension: str) -> str:
-    from .units import _example as ex
-
-    return ex(dimension)
 
 
 def read_motion_csv(path) -> dict:
@@ -914,7 +639,7 @@ def case_to_dict(case: Case) -> dict:
     if c.wall_materials:
         container["wall_materials"] = {w: _material_to(m) for w, m in c.wall_materials.items()}
     d = case.drive
-    drive_key = d.section
+    drive_key = d.config_section
     if type(d) is not DRIVES.get(d.kind):
         raise InputError(f"cannot write drive {type(d).__name__} to a config file")
     drive = _fields_to(d)

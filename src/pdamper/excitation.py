@@ -6,7 +6,7 @@ A drive kind is one class here, registered with :func:`register_drive`; nothing 
 module asks which kind a drive is. What a drive answers (:class:`DriveBase` gives the defaults):
 
 =========================  =========================================================================
-``kind``, ``section``      its tag (``[drive] kind``) and the config section it is read from
+``kind``, ``config_section``  its tag (``[drive] kind``) and the config section it is read from
 config keys                its dataclass fields, declared with :func:`pdamper.schema.param`
 ``kernel_drive()``         ``(kind number, par, table, state)`` for the kernels
                            (:mod:`pdamper.kernels.drive`)
@@ -69,8 +69,8 @@ def drive_class(tag: str) -> type:
 class DriveBase:
     """The answers of the drive protocol that most drives share (see the module docstring)."""
 
-    #: the config section the drive is read from
-    section = "drive"
+    #: the config section the drive is read from (:func:`pdamper.schema.replace` reads it too)
+    config_section = "drive"
     #: X [m] and f [Hz] where the drive has them
     stroke = None
     frequency = None
@@ -89,14 +89,14 @@ class DriveBase:
         d = self.direction
         if isinstance(d, str):
             if d.strip().lower() not in _DIRECTION_WORDS:
-                raise InputError(f"{self.section}.direction = {d!r}; give three numbers [x, y, z] (lab frame, y up) "
+                raise InputError(f"{self.config_section}.direction = {d!r}; give three numbers [x, y, z] (lab frame, y up) "
                                  f"or one of {', '.join(repr(w) for w in _DIRECTION_WORDS)}")
             object.__setattr__(self, "direction", _DIRECTION_WORDS[d.strip().lower()])
-        convert_fields(self, self.section)
+        convert_fields(self, self.config_section)
 
     def _check_direction(self) -> None:
         """Validate ``angle`` and ``direction`` (called by each drive's ``__post_init__``)."""
-        sec = self.section
+        sec = self.config_section
         if not (isinstance(self.angle, (int, float)) and math.isfinite(self.angle)):
             raise InputError(f"{sec}.angle = {self.angle!r}; must be a finite angle")
         d = self.direction
@@ -390,7 +390,7 @@ class CoupledStructure(DriveBase):
     force_frequency: float | None = param(None, dimension="frequency")
     direction: tuple | None = param(None, kind="list")
     kind: str = param("structure", kind="tag")
-    section = "structure"
+    config_section = "structure"
     coupled = True
 
     def __post_init__(self):

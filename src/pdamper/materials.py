@@ -5,13 +5,14 @@ All values SI: Young's modulus [Pa], Poisson ratio [-], density [kg/m^3].
 
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass
 
 from .errors import InputError
-from .schema import convert_fields, param
+from .schema import check_keys, config_keys, convert_fields, param, read_fields
 
 __all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "SILICONE", "TPU", "POLYURETHANE", "NBR", "effective_modulus",
-           "LIBRARY"]
+           "LIBRARY", "read_material"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -87,3 +88,35 @@ NBR = Material(name="nbr", youngs_modulus=7e6, poisson_ratio=0.49, density=1100.
 
 #: Named materials a config may refer to by name.
 LIBRARY = {m.name: m for m in (STEEL_S235, PVC, TUNGSTEN, SILICONE, TPU, POLYURETHANE, NBR)}
+
+
+def read_material(value, section: str) -> Material:
+    """A material as a config gives it: a name of :data:`LIBRARY` (``"steel"``) or an inline table
+    ``{name, youngs_modulus, poisson_ratio, density}`` (named after ``section`` when it has no
+    name: ``"particles #2"`` -> ``"particles-2"``); a :class:`Material` as it is."""
+    if isinstance(value, Material):
+        return value
+    name = f"[{section}] material"
+    if isinstance(value, str):
+        key = value.strip().lower()
+        if key in LIBRARY:
+            return LIBRARY[key]
+        near = difflib.get_close_matches(key, list(LIBRARY), n=1, cutoff=0.5)
+        hint = f"did you mean {near[0]!r}? " if near else ""
+        raise InputError(f"{name} = {value!r} is not a known material; {hint}known: "
+                         + ", ".join(map(repr, LIBRARY)) + " (or give an inline table {name = ..., "
+                         "youngs_modulus = ..., poisson_ratio = ..., density = ...})")
+    if not isinstance(value, dict):
+        raise InputError(f"{name} = {value!r}: give a material name such as 'steel' or an inline table "
+                         "{youngs_modulus = '208GPa', poisson_ratio = 0.3, density = '7900kg/m^3'}")
+    sub = f"{section}.material"
+    keys = config_keys(Material)
+    check_keys(value, sub, keys)
+    for req in keys[1:]:
+        if req not in value:
+            raise InputError(f"[{sub}] {req} is missing; an inline material needs youngs_modulus, "
+                             "poisson_ratio and density")
+    mname = value.get("name", section.replace(" #", "-"))
+    if not isinstance(mname, str) or not mname:
+        raise InputError(f"[{sub}] name = {mname!r} must be a non-empty string")
+    return Material(**{**read_fields(value, sub, Material), "name": mname})

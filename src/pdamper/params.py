@@ -1,20 +1,20 @@
 """Parameters of a simulated case: frozen, keyword-only dataclasses in SI units.
 
-A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case (see
-:func:`with_stroke`). Validation happens in ``__post_init__`` and raises
+A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case, by config keys
+(:func:`pdamper.schema.replace`: ``replace(case, {"drive.stroke": "13mm"})``). Validation happens in ``__post_init__`` and raises
 :class:`pdamper.errors.InputError` naming the field, the value and what is allowed.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import difflib
 import math
+import warnings
 from dataclasses import dataclass
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
-from .contact import DAMPING_CHOICES
+from .contact import DAMPING_CHOICES, read_restitution
 from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError
 from .excitation import DriveBase, HarmonicDrive
@@ -22,9 +22,9 @@ from .geometry import Baffle, Cuboid, Shape
 from .geometry.baffles import baffle_outlines, baffle_walls
 import numpy as np
 
-from .materials import PVC, STEEL_S235, Material
-from .units import is_quantity, quantities, to_si
-from .schema import check_choice, convert_fields, param
+from .materials import PVC, STEEL_S235, Material, read_material
+from .units import is_quantity, to_si
+from .schema import check_choice, check_keys, config_keys, convert_fields, param, read_fields, read_list, read_quantity, replace
 
 __all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case",
            "PAPER_TILT", "with_stroke"]
@@ -52,7 +52,7 @@ class ParticleSet:
 
     count: int = param(kind="whole")
     radius: float = param(0.005, dimension="length", paper="5 mm")
-    material: Material = param(STEEL_S235, kind="custom")
+    material: Material = param(STEEL_S235, kind="custom", read=read_material)
 
     def __post_init__(self):
         convert_fields(self, "particles")
@@ -82,12 +82,13 @@ class Container:
         coating), by the names of :meth:`walls` (a cuboid: x_min, x_max, floor, lid, z_min, z_max).
     """
 
-    geometry: Shape = param(default_factory=Cuboid, kind="custom")
-    material: Material = param(PVC, kind="custom")
-    tilt: tuple = param(PAPER_TILT, kind="custom")
+    geometry: Shape = param(default_factory=Cuboid, kind="custom", inline=True)
+    material: Material = param(PVC, kind="custom", read=read_material)
+    tilt: tuple = param(PAPER_TILT, kind="custom", read=lambda value, section: read_tilt(value, section))
     mass: float = param(0.0, dimension="mass")
-    baffles: tuple = param((), kind="custom")
-    wall_materials: dict = param(default_factory=dict, kind="custom")
+    baffles: tuple = param((), kind="custom", read=lambda value, section: read_baffles(value, section))
+    wall_materials: dict = param(default_factory=dict, kind="custom",
+                                 read=lambda value, section: read_wall_materials(value, section))
 
     def __post_init__(self):
         convert_fields(self, "container")
@@ -178,7 +179,7 @@ class ContactModel:
     """
 
     friction: float = param(0.1, paper="0.1")
-    restitution: object = param(default_factory=ConstantRestitution, kind="custom")
+    restitution: object = param(default_factory=ConstantRestitution, kind="custom", read=read_restitution)
     tau: float = param(DEFAULT_TAU, unit="s/m")
     v_in_floor: float = param(V_IN_FLOOR, dimension="velocity")
     damping: str = param("calibrated", choices=DAMPING_CHOICES)
@@ -324,18 +325,18 @@ class Case:
     """One simulated case: what is simulated (particles, container, drive, contact laws), how
     (numerics), what is recorded, how it starts, and for how long (``cycles`` of the drive)."""
 
-    particles: tuple = param(kind="custom")
-    container: Container = param(default_factory=Container, kind="custom")
+    particles: tuple = param(kind="custom", section="particles")
+    container: Container = param(default_factory=Container, kind="custom", section="container")
     drive: DriveBase = param(
-        default_factory=lambda: HarmonicDrive(stroke=0.012), kind="custom")
-    contact: ContactModel = param(default_factory=ContactModel, kind="custom")
-    numerics: Numerics = param(default_factory=Numerics, kind="custom")
-    recording: Recording = param(default_factory=Recording, kind="custom")
-    initial: InitialState = param(default_factory=InitialState, kind="custom")
+        default_factory=lambda: HarmonicDrive(stroke=0.012), kind="custom", section="drive")
+    contact: ContactModel = param(default_factory=ContactModel, kind="custom", section="contact")
+    numerics: Numerics = param(default_factory=Numerics, kind="custom", section="numerics")
+    recording: Recording = param(default_factory=Recording, kind="custom", section="recording")
+    initial: InitialState = param(default_factory=InitialState, kind="custom", section="initial")
     # the [run] section of a config file
-    cycles: float = param(20, kind="number", paper="20")
-    drop_cycles: int = param(2, paper="2")
-    gravity: float = param(9.81, dimension="acceleration")
+    cycles: float = param(20, kind="number", paper="20", section="run")
+    drop_cycles: int = param(2, paper="2", section="run")
+    gravity: float = param(9.81, dimension="acceleration", section="run")
 
     def __post_init__(self):
         convert_fields(self, "run")
@@ -379,9 +380,57 @@ class Case:
         return self.drive.duration(self.cycles)
 
 
-@quantities(stroke="length")
-def with_stroke(case: Case, stroke: float) -> Case:
-    """The same case at another stroke X [m] (harmonic drives only; ``"12mm"`` works too)."""
-    if not isinstance(case.drive, HarmonicDrive):
+def read_tilt(value, section: str = "container") -> tuple:
+    """The container's tilt as a config gives it: three angles about x, y, z, or one angle for all
+    three (each a number in rad, a text with a unit or a pint quantity)."""
+    if isinstance(value, (list, tuple)):
+        if len(value) != 3:
+            raise InputError(f"[{section}] tilt = {value!r}: give three angles about x, y, z, "
+                             "e.g. ['0.1deg', '0.1deg', '0.1deg'] (or one angle for all three)")
+        return read_list(list(value), f"[{section}] tilt", "angle")
+    if is_quantity(value) and getattr(value, "ndim", 0) > 0:
+        return read_tilt(list(value), section)
+    a = read_quantity(value, f"[{section}] tilt", "angle")
+    return (a, a, a)
+
+
+def read_baffles(value, section: str = "container") -> tuple:
+    """``[container] baffles`` as a config gives them: a list of tables (position, thickness,
+    gap_below, gap_above, material), or :class:`~pdamper.geometry.Baffle` objects as they are."""
+    if isinstance(value, tuple) and all(isinstance(b, Baffle) for b in value):
+        return value
+    if not isinstance(value, (list, tuple)) or not all(isinstance(b, (dict, Baffle)) for b in value):
+        raise InputError(f"[{section}] baffles = {value!r}: give a list of tables, e.g. "
+                         "baffles = [{position = '-20mm'}, {position = '20mm', gap_below = '12mm'}]")
+    out = []
+    for k, b in enumerate(value, 1):
+        if isinstance(b, Baffle):
+            out.append(b)
+            continue
+        label = f"{section}.baffles #{k}"
+        check_keys(b, label, config_keys(Baffle))
+        if "position" not in b:
+            raise InputError(f"[{label}] position is missing: give the x of the plate, e.g. position = '20mm'")
+        kw = read_fields(b, label, Baffle)
+        if "material" in b:
+            kw["material"] = read_material(b["material"], label)
+        out.append(Baffle(**kw))
+    return tuple(out)
+
+
+def read_wall_materials(value, section: str = "container") -> dict:
+    """``[container] wall_materials`` as a config gives them: a table of wall name = material (a
+    library name or an inline table)."""
+    if not isinstance(value, dict):
+        raise InputError(f"[{section}] wall_materials = {value!r}: give a table of wall = material, e.g. "
+                         "wall_materials = {x_min = 'silicone', x_max = 'silicone'}")
+    return {str(w): read_material(m, f"{section}.wall_materials.{w}") for w, m in value.items()}
+
+
+def with_stroke(case: Case, stroke) -> Case:
+    """Deprecated: ``pdamper.schema.replace(case, {"drive.stroke": stroke})``."""
+    warnings.warn('with_stroke is deprecated; use pdamper.schema.replace(case, {"drive.stroke": stroke})',
+                  DeprecationWarning, stacklevel=2)
+    if case.drive.stroke is None:
         raise InputError("a stroke can only be set on a harmonic drive")
-    return dataclasses.replace(case, drive=dataclasses.replace(case.drive, stroke=stroke))
+    return replace(case, {"drive.stroke": stroke})

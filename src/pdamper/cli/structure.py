@@ -81,11 +81,11 @@ def decay_command(config, cycles, seed, settings, plot, as_json):
     Example: pdamper decay examples/structure_36.toml --plot decay.png
     """
     from ..plotting.structure import decay_figure
-    from ..plotting.sweep import _check_path
+    from ..plotting.figure import check_path
     from ..studies.structure import run_decay
 
     case = _load(config, settings, cycles, seed)
-    _check_path(plot)
+    check_path(plot)
     with fraction_bar("pdamper decay", round(case.duration, 3), "s", not as_json and sys.stderr.isatty()) as progress:
         res = run_decay(case, progress=progress)
     s = _report(res, case, config, plot, decay_figure, as_json)
@@ -139,11 +139,11 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     """
     from ..errors import InputError
     from ..plotting.structure import response_figure
-    from ..plotting.sweep import _check_path
+    from ..plotting.figure import check_path
     from ..studies.structure import parse_frequencies, run_response
 
     case = _load(config, settings, cycles, seed)
-    _check_path(plot)
+    check_path(plot)
     freqs = parse_frequencies(frequencies)
     f0 = force if force is not None else (case.drive.force_amplitude if case.drive.coupled else 0.0)
     if not f0 > 0:

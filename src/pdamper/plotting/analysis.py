@@ -15,16 +15,13 @@ in worker threads.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from .figure import FORMATS, check_path, save
 
 __all__ = ["plot_analysis", "FORMATS"]
-
-#: File formats :func:`plot_analysis` writes, by extension.
-FORMATS = (".png", ".svg", ".pdf")
 
 _PREFIXES = ((1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"))
 
@@ -51,11 +48,7 @@ def plot_analysis(result, path=None, *, title: str | None = None,
     -------
     matplotlib.figure.Figure
     """
-    if path is not None:
-        path = Path(path)
-        if path.suffix.lower() not in FORMATS:
-            raise InputError(f"plot file {str(path)!r}: unknown format {path.suffix or '(none)'!r}; "
-                             f"use one of {', '.join(FORMATS)}")
+    path = check_path(path, create_folder=True)
     sig = result.signals
     if sig is None:
         raise InputError("the result carries no signals to plot; analyse with keep_signals=True")
@@ -138,8 +131,7 @@ def plot_analysis(result, path=None, *, title: str | None = None,
     if title:
         fig.suptitle(title, fontsize=11)
     if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path)
+        save(fig, path, dpi)
     return fig
 
 

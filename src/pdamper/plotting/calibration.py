@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis.surrogate import poly_basis
-from .sweep import _check_path, _save, _stroke_axis
+from .figure import check_path, save, stroke_axis
 
 __all__ = ["calibration_figure"]
 
@@ -16,7 +16,7 @@ __all__ = ["calibration_figure"]
 def calibration_figure(cal, path=None, *, title=None, dpi: int = 150):
     from matplotlib.figure import Figure
 
-    target = _check_path(path)
+    target = check_path(path)
     keys = list(cal.best)
     fig = Figure(figsize=(11.0, 4.6), layout="constrained")
     ax, bx = fig.subplots(1, 2)
@@ -33,7 +33,7 @@ def calibration_figure(cal, path=None, *, title=None, dpi: int = 150):
         pred = poly_basis(z[None, :]) @ np.asarray(sur["coefficients"])
         ax.plot(x, pred[0], "-", color="tab:red", label="DEM surrogate at the best value")
     ax.set_xscale("log")
-    _stroke_axis(ax, np.asarray(cal.strokes_m, dtype=float))
+    stroke_axis(ax, np.asarray(cal.strokes_m, dtype=float))
     ax.set_xlabel("stroke X [mm]")
     ax.set_ylabel("reduced loss factor η* [-]")
     ax.set_ylim(bottom=0)
@@ -78,5 +78,5 @@ def calibration_figure(cal, path=None, *, title=None, dpi: int = 150):
     if title:
         fig.suptitle(title)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig

@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .sweep import _check_path, _save, _stroke_axis, _sweep_into
+from .figure import check_path, save, stroke_axis
+from .sweep import _sweep_into
 
 __all__ = ["compare_figure"]
 
@@ -20,7 +21,7 @@ def compare_figure(campaign, sweeps=(), path=None, *, title=None, figsize=(7.8, 
     stroke dimension), with the laws. Returns the figure; saved to ``path`` if given."""
     from matplotlib.figure import Figure
 
-    target = _check_path(path)
+    target = check_path(path)
     if "eta_star" not in campaign or "stroke" not in campaign.dims:
         raise InputError("the measured results must be a campaign dataset (pdamper campaign), with eta_star over stroke")
     fig = Figure(figsize=figsize, layout="constrained")
@@ -54,11 +55,11 @@ def compare_figure(campaign, sweeps=(), path=None, *, title=None, figsize=(7.8, 
         measured.append(ax.errorbar(x[ok], e[ok], yerr=np.where(np.isfinite(s[ok]), s[ok], 0.0), fmt=("o", "s", "^", "D")[k % 4],
                     ms=5, color="black", mfc="white", capsize=2.5, lw=1.0, zorder=5, label=label))
     if not sweeps:
-        _stroke_axis(ax, np.asarray(campaign["stroke"].values, dtype=float))
+        stroke_axis(ax, np.asarray(campaign["stroke"].values, dtype=float))
         ax.set_ylim(bottom=0)
         ax.legend(fontsize="small")
     else:  # the figure's legend holds the DEM and the laws; the measured points get their own
         ax.legend(handles=measured, loc="upper left", fontsize="small")
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig

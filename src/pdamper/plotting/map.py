@@ -23,7 +23,7 @@ import numpy as np
 from ..analysis.modes import majority_mode
 from ..errors import InputError
 from .modes import _mode_rank, mode_style
-from .sweep import _check_path, _save, log_ticks
+from .figure import check_path, log_ticks, save
 
 __all__ = ["map_figure", "line_figure", "results_figure", "QUANTITIES"]
 
@@ -78,7 +78,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch, Rectangle
 
-    target = _check_path(path)
+    target = check_path(path)
     dims = [d for d in ds["eta_star"].dims if d != "seed"]
     if len(dims) < 2:
         raise InputError(f"a map needs two dimensions; these results have {dims or 'none'} "
@@ -172,7 +172,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, fontsize=8, frameon=False)
     ax.set_title(title or _title(ds, quantity), fontsize=10)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 
@@ -181,7 +181,7 @@ def line_figure(ds, path=None, *, title=None, figsize=(7.0, 4.5), dpi: int = 150
     seeds (line with markers) and the single seeds (dots)."""
     from matplotlib.figure import Figure
 
-    target = _check_path(path)
+    target = check_path(path)
     dims = [d for d in ds["eta_star"].dims if d != "seed"]
     if len(dims) != 1:
         raise InputError(f"a line figure needs one dimension besides seed; these results have {dims}")
@@ -202,7 +202,7 @@ def line_figure(ds, path=None, *, title=None, figsize=(7.0, 4.5), dpi: int = 150
     ax.legend(fontsize=8)
     ax.set_title(title or _title(ds), fontsize=10)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 

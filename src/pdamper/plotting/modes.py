@@ -16,7 +16,8 @@ import numpy as np
 
 from ..analysis.modes import majority_mode
 from ..errors import InputError
-from .sweep import _check_path, _save, _segments, _with_gaps, log_ticks
+from .figure import check_path, log_ticks, save
+from .sweep import _segments, _with_gaps
 
 __all__ = ["mode_map_figure", "MODE_COLOURS", "MODE_MARKERS", "MODE_HATCHES", "mode_style", "mode_order",
            "mode_rows"]
@@ -158,7 +159,7 @@ def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str 
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch, Rectangle
 
-    target = _check_path(path)
+    target = check_path(path)
     rows = mode_rows(datasets, names, labels)
     if not rows:
         raise InputError("mode map: no results given")
@@ -209,5 +210,5 @@ def mode_map_figure(datasets, path=None, *, names=None, labels=None, title: str 
                ncol=min(5, max(1, len(handles))))
     fig.suptitle(title or "Motion modes over the stroke (docs/motion.md)", fontsize=10.5)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .sweep import _check_path, _save
+from .figure import MM as _MM, check_path, save
 
 __all__ = ["paths_figure", "walls_figure", "animate", "ANIMATION_FORMATS", "ffmpeg_available"]
 
@@ -32,7 +32,6 @@ ANIMATION_FORMATS = (".gif", ".mp4")
 #: Highest frame rate written per format [frames/s]; denser trajectories are thinned.
 MAX_FPS = {".gif": 25.0, ".mp4": 30.0}
 
-_MM = 1e3
 _WALL = "0.25"
 _BED = "#1f77b4"
 
@@ -97,7 +96,7 @@ def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, d
 
     from ..analysis.modes import classify_trajectory
 
-    target = _check_path(path)
+    target = check_path(path)
     runs = list(runs)
     if not runs:
         raise InputError("paths_figure: no runs given")
@@ -159,7 +158,7 @@ def paths_figure(runs, path=None, *, cycles: float | None = 2.0, figsize=None, d
     fig.suptitle(f"Sphere paths in the container frame, top view ({n_cyc}, coloured by time; circles: last frame)",
                  fontsize=10)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 
@@ -187,7 +186,7 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
     from ..analysis.modes import case_clearance, classify_trajectory
     from ..geometry.track import container_track
 
-    target = _check_path(path)
+    target = check_path(path)
     drive = case.drive
     off, _, dvec = container_track(traj, case)
     idx = _window(traj, case, cycles)
@@ -229,7 +228,7 @@ def walls_figure(traj, case, path=None, *, cycles: float | None = 3.0, figsize=(
     ax.set_title(f"Bed against both end walls ({head})" + (f"\nmode: {mode}" if mode else ""), fontsize=10)
     ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8.5, frameon=False)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 

@@ -15,11 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .sweep import _check_path, _save
+from .figure import MM as _MM, check_path, save
 
 __all__ = ["decay_figure", "response_figure"]
 
-_MM = 1e3
 _C_DAMPED = "tab:red"
 _C_BARE = "tab:blue"
 _C_SOLID = "tab:gray"
@@ -29,7 +28,7 @@ def decay_figure(result, path=None, *, title: str | None = None, dpi: int = 150)
     """Free decay with and without the damper (a :class:`pdamper.studies.structure.DecayResult`)."""
     from matplotlib.figure import Figure
 
-    target = _check_path(path)
+    target = check_path(path)
     s = result.summary
     fig = Figure(figsize=(8.5, 8.0), layout="constrained")
     ax_t, ax_z = fig.subplots(2, 1, height_ratios=[1.1, 1.0])
@@ -68,7 +67,7 @@ def decay_figure(result, path=None, *, title: str | None = None, dpi: int = 150)
     if title:
         fig.suptitle(title, fontsize=11)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 
@@ -91,7 +90,7 @@ def response_figure(result, path=None, *, title: str | None = None, dpi: int = 1
 
     from ..theory.oscillator import steady_amplitude
 
-    target = _check_path(path)
+    target = check_path(path)
     s = result.summary
     case = result.case
     st = case.drive
@@ -126,5 +125,5 @@ def response_figure(result, path=None, *, title: str | None = None, dpi: int = 1
     if title:
         fig.suptitle(title, fontsize=11)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig

@@ -19,20 +19,16 @@ saved to the format the file name says (``.png``, ``.svg``, ``.pdf``).
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
 from .. import theory as _th
 from ..errors import InputError
+from .figure import MM as _MM, FORMATS, check_path, save, stroke_axis
 from .theory import draw_theory_curves
 
 __all__ = ["sweep_figure", "study_figure", "energy_figure", "FORMATS"]
 
-#: File formats the figures are written in, by extension.
-FORMATS = (".png", ".svg", ".pdf")
-
-_MM = 1e3  # metres -> millimetres on the stroke axis
 _STROKE_UNITS = {"m": 1.0, "mm": 1e-3}  # stroke coordinate units -> metres
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "h")
 _LINESTYLES = ("-", (0, (5, 2)), (0, (1, 1.5)), (0, (6, 2, 1, 2)))  # solid, dashed, dotted, dash-dot
@@ -75,11 +71,11 @@ def sweep_figure(ds, path=None, *, title: str | None = None, theory: bool = True
     """
     from matplotlib.figure import Figure
 
-    target = _check_path(path)
+    target = check_path(path)
     fig = Figure(figsize=figsize, layout="constrained")
     _sweep_into(fig, ds, title=title, theory=theory)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 
@@ -96,7 +92,7 @@ def study_figure(ds, path=None, *, title: str | None = None, theory: bool = True
     panels = list(dict.fromkeys(ds["panel"].values.tolist())) if "panel" in ds.coords else []
     if len(panels) < 2:
         return sweep_figure(ds, path, title=title, theory=theory, dpi=dpi)
-    target = _check_path(path)
+    target = check_path(path)
     fig = Figure(figsize=(5.6 * len(panels), 6.4), layout="constrained")
     axes = fig.subplots(1, len(panels), sharey=True, squeeze=False)[0]
     drawn, sweeps = [], []
@@ -141,7 +137,7 @@ def study_figure(ds, path=None, *, title: str | None = None, theory: bool = True
     if title or ds.attrs.get("title"):
         fig.suptitle(str(title or ds.attrs.get("title")), fontsize="large")
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 
@@ -166,7 +162,7 @@ def _draw_panel(ax, sw, *, theory):
         ax.axhline(_th.ETA_MAX, color="0.6", lw=0.9, ls=(0, (6, 3)), zorder=0.5,
                    label=f"$η^*_{{max}}$ = 20/(7π) = {_th.ETA_MAX:.3f}, eq. (16)")
     ax.set_xscale("log")
-    _stroke_axis(ax, sw.strokes_m)
+    stroke_axis(ax, sw.strokes_m)
     ax.set_xlabel("stroke X [mm]")
     ax.set_ylabel("reduced loss factor η* [-]")
     _grid(ax)
@@ -212,7 +208,7 @@ def energy_figure(ds, path=None, *, title: str | None = None, theory: bool = Tru
     InputError
         As :func:`sweep_figure`, for ``energy_per_cycle``.
     """
-    target = _check_path(path)
+    target = check_path(path)
     sw = _Sweep(ds, "energy_per_cycle")
     fig, ax = _new_figure(figsize)
     handles = _draw_data(ax, sw, scale=1e3, log=True)
@@ -231,7 +227,7 @@ def energy_figure(ds, path=None, *, title: str | None = None, theory: bool = Tru
 
     ax.set_xscale("log")
     ax.set_yscale("log")
-    _stroke_axis(ax, sw.strokes_m)
+    stroke_axis(ax, sw.strokes_m)
     ax.set_xlabel("stroke X [mm]")
     ax.set_ylabel("energy dissipated per cycle [mJ]")
     lo, hi = sw.positive_range()
@@ -243,7 +239,7 @@ def energy_figure(ds, path=None, *, title: str | None = None, theory: bool = Tru
     _legend(fig, ax, handles)
     _titles(fig, ax, sw, title, log_note=True)
     if target is not None:
-        _save(fig, target, dpi)
+        save(fig, target, dpi)
     return fig
 
 
@@ -555,33 +551,6 @@ def _draw_energy_laws(ax, h, lo, hi, mass, freq, colour, label):
                 color=colour, lw=1.8, label=f"rolling collect-and-collide, eq. (14){label}")
 
 
-def _stroke_axis(ax, strokes_m):
-    lo, hi = float(strokes_m.min()) * _MM, float(strokes_m.max()) * _MM
-    pad = (hi / lo) ** 0.04 if hi > lo else 1.5
-    ax.set_xlim(lo / pad, hi * pad)
-    log_ticks(ax.xaxis, lo / pad, hi * pad)
-
-
-def log_ticks(axis, lo: float, hi: float, least: int = 3) -> None:
-    """Labelled ticks on a log ``axis`` spanning ``lo`` .. ``hi`` (data units, > 0): decades, or
-    1-2-5, or every 1..9 x 10^n, the sparsest that labels at least ``least`` ticks (a narrow
-    range below that: evenly spaced round numbers); labels as plain numbers (0.5, 10, 200)."""
-    from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullFormatter
-
-    lo, hi = sorted((float(lo), float(hi)))
-    for subs in ((1.0,), (1.0, 2.0, 5.0), tuple(np.arange(1.0, 10.0))):
-        locator = LogLocator(base=10.0, subs=subs, numticks=30)
-        ticks = [v for v in locator.tick_values(lo, hi) if lo <= v <= hi]
-        if len(ticks) >= least and (len(subs) > 1 or math.log10(hi / lo) > 3.5):
-            break
-    else:
-        locator = MaxNLocator(nbins=4, steps=[1, 2, 2.5, 5, 10])
-    axis.set_major_locator(locator)
-    axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:.4g}"))
-    axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(1.0, 10.0), numticks=30))
-    axis.set_minor_formatter(NullFormatter())
-
-
 def _grid(ax):
     ax.grid(True, which="major", alpha=0.3)
     ax.grid(True, which="minor", axis="x", alpha=0.1)
@@ -670,27 +639,3 @@ def _attr_float(ds, name: str):
 
 def _positive(v: float):
     return v if math.isfinite(v) and v > 0 else None
-
-
-# --------------------------------------------------------------------------- files
-
-def _check_path(path):
-    if path is None:
-        return None
-    target = Path(path)
-    if target.suffix.lower() not in FORMATS:
-        raise InputError(f"plot file {str(target)!r}: unknown format "
-                         f"{target.suffix or '(no extension)'!r}; end the name with one of "
-                         f"{', '.join(FORMATS)}")
-    if not target.parent.is_dir():
-        raise InputError(f"plot file {str(target)!r}: folder {str(target.parent)!r} does not "
-                         "exist; create it or choose another path")
-    return target
-
-
-def _save(fig, target: Path, dpi: int) -> None:
-    try:
-        fig.savefig(target, dpi=dpi)
-    except OSError as exc:
-        raise InputError(f"plot file {str(target)!r} cannot be written: "
-                         f"{exc.strerror or exc}") from None

@@ -16,16 +16,15 @@ intensities", Nonlinear Dynamics, Figs. 4 and 5.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
 from .. import theory
 from ..errors import InputError
+from .figure import MM as _MM, check_path, save
 
 __all__ = ["draw_theory_curves", "theory_figure", "rolling_phase_figure"]
 
-_MM = 1e3  # metres -> millimetres on the stroke axis
 
 
 def draw_theory_curves(ax, clearance: float, strokes=None, *, kappa: float = 1.0,
@@ -124,7 +123,7 @@ def theory_figure(clearance: float, strokes=None, *, kappa: float = 1.0, bouncin
     """
     from matplotlib.figure import Figure
 
-    target = _check_path(path)
+    target = check_path(path)
     x_opt = theory.optimal_stroke(clearance)
     span = [x_opt / 30.0, 10.0 * x_opt] if strokes is None else list(np.ravel(strokes))
     if operating_stroke is not None:
@@ -146,7 +145,7 @@ def theory_figure(clearance: float, strokes=None, *, kappa: float = 1.0, bouncin
                  f"Analytical laws, clearance h = {clearance * _MM:.3g} mm "
                  f"($X_{{opt}}$ = {x_opt * _MM:.3g} mm)", fontsize="medium")
     if target is not None:
-        _save(fig, target)
+        save(fig, target)
     return fig
 
 
@@ -178,7 +177,7 @@ def rolling_phase_figure(stroke_over_clearance: float = 0.5, *, path=None, figsi
         raise InputError(f"stroke_over_clearance = {ratio!r} is not allowed: the rolling bed "
                          "reaches the far wall by Ωt = π only for "
                          f"X/h >= X_opt/h = {theory.X_OPT_OVER_H:.5f}")
-    target = _check_path(path)
+    target = check_path(path)
     theta_i = theory.impact_phase_rolling(ratio, 1.0)
     h_over_x = 1.0 / ratio
     th = np.linspace(0.0, math.pi, 400)
@@ -214,7 +213,7 @@ def rolling_phase_figure(stroke_over_clearance: float = 0.5, *, path=None, figsi
     ax_b.set_xticks([0, math.pi / 4, math.pi / 2, 3 * math.pi / 4, math.pi],
                     ["0", "π/4", "π/2", "3π/4", "π"])
     if target is not None:
-        _save(fig, target)
+        save(fig, target)
     return fig
 
 
@@ -223,28 +222,3 @@ def _format_stroke_axis(ax):
 
     ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
     ax.xaxis.set_minor_formatter(NullFormatter())
-
-
-def _check_path(path):
-    if path is None:
-        return None
-    from matplotlib.backend_bases import FigureCanvasBase
-
-    target = Path(path)
-    formats = FigureCanvasBase.get_supported_filetypes()
-    ext = target.suffix.lstrip(".").lower()
-    if ext not in formats:
-        raise InputError(f"plot file {str(target)!r}: unknown format {ext or '(no extension)'!r}; "
-                         f"end the name with one of .{', .'.join(sorted(formats))}")
-    if not target.parent.is_dir():
-        raise InputError(f"plot file {str(target)!r}: folder {str(target.parent)!r} does not "
-                         "exist; create it or choose another path")
-    return target
-
-
-def _save(fig, target: Path) -> None:
-    try:
-        fig.savefig(target, dpi=200)
-    except OSError as exc:
-        raise InputError(f"plot file {str(target)!r} cannot be written: "
-                         f"{exc.strerror or exc}") from None

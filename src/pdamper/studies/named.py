@@ -74,7 +74,8 @@ def _suggest(word, allowed) -> str:
 
 def load_study(name_or_path) -> Study:
     """The study ``name_or_path``: a name of :data:`STUDIES` or the path of a study file."""
-    from ..config import load_case, with_overrides
+    from ..config import load_case
+    from ..schema import replace
 
     text = str(name_or_path)
     path = Path(text)
@@ -138,7 +139,7 @@ def load_study(name_or_path) -> Study:
             raise InputError(f"{what} ({label}): set = {sets!r} must be a table of config keys, e.g. "
                              "{ \"contact.friction\" = 0.01 }")
         try:
-            case = with_overrides(case, sets) if sets else case
+            case = replace(case, sets)
         except InputError as exc:
             raise InputError(f"{what} ({label}): {exc}") from None
         settings.append((label, case, str(row.get("panel", ""))))

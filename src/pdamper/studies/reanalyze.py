@@ -23,12 +23,11 @@ def reanalyze(path, *, drop_cycles: int | None = None):
     dataset (as :func:`pdamper.open_results`, with ``drop_cycles`` and a ``reanalysed`` count in
     its attributes). Cases without kept signals keep their stored numbers and are counted in the
     attribute ``not_reanalysed``. Writes nothing."""
-    from ..config import with_overrides
-    from ..params import with_stroke
     from ..recorders.energy import EnergyLedger
     from ..recorders.signals import Signals
     from ..run import analyse_signals
-    from .store import STROKE, ResultStore
+    from ..schema import replace
+    from .store import ResultStore
     from .sweep import add_theory, theory_attrs
 
     store = ResultStore.open(path)
@@ -48,8 +47,7 @@ def reanalyze(path, *, drop_cycles: int | None = None):
             missing += "failed" not in rec
             out.append(rec)
             continue
-        point = rec["point"]
-        case = with_stroke(base, point[STROKE]) if list(point) == [STROKE] else with_overrides(base, point)
+        case = replace(base, rec["point"])
         signals = Signals(**{k: sig[k].values for k in ("time", "time_end", "force", "velocity", "position")})
         a = analyse_signals(case, signals)
         zeros = np.zeros_like(sig["ledger_dissipated"].values)

@@ -30,7 +30,6 @@ This module stores and reads; it computes no physics (the sweep passes the theor
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import json
 import os
@@ -110,17 +109,14 @@ _SIGNAL_ATTRS = {
 
 
 def _canonical(spec):
-    """The base case with the fields a sweep sets (its axes' keys, the seed) at fixed values."""
-    from ..config import with_overrides
+    """The base case with the fields a sweep sets (its axes' keys, the seed) at fixed values: a
+    stroke sweep at a stroke of 1 m (as pdamper-sweep-store/1 did, so those stores keep their
+    fingerprint), any other grid at its first values."""
+    from ..schema import replace
 
     keys = [a.key for a in spec.axes]
-    if keys == [STROKE]:  # as pdamper-sweep-store/1 did, so those stores keep their fingerprint
-        from ..params import with_stroke
-
-        c = with_stroke(spec.base, 1.0)
-    else:
-        c = with_overrides(spec.base, {a.key: a.values[0] for a in spec.axes})
-    return dataclasses.replace(c, initial=dataclasses.replace(c.initial, seed=0))
+    point = {STROKE: 1.0} if keys == [STROKE] else {a.key: a.values[0] for a in spec.axes}
+    return replace(spec.base, {**point, "initial.seed": 0})
 
 
 def _fingerprint(text: str, keys) -> str:

@@ -1,9 +1,8 @@
 """A sweep: the base case at every point of a grid of config keys, for every seed.
 
 The grid's axes are any config keys (``drive.stroke``, ``drive.frequency``, ``contact.friction``,
-``particles.count``, ...; :class:`Axis`); each point is the base case with those keys set by the one
-override mechanism of :func:`pdamper.config.with_overrides`, so a value is read and checked exactly
-as in a config file. The paper's sweep is one axis, the stroke (:data:`PAPER_STROKES`).
+``particles.count``, ...; :class:`Axis`); each point is the base case with those keys set by
+:func:`pdamper.schema.replace`, so a value is read and checked exactly as in a config file. The paper's sweep is one axis, the stroke (:data:`PAPER_STROKES`).
 
 Every (point, seed) case is independent: it starts from rest with its own seeded jitter (the
 paper's drive pauses between points), so the cases can run in any order, anywhere.
@@ -11,7 +10,6 @@ paper's drive pauses between points), so the cases can run in any order, anywher
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import re
 from pathlib import Path
@@ -21,6 +19,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..params import Case
+from ..schema import replace
 from ..units import is_quantity, parse_quantity, quantities, to_si
 
 __all__ = ["Axis", "SweepSpec", "stroke_grid", "parse_strokes", "parse_axis", "case_key", "run_one", "run_sweep",
@@ -261,17 +260,9 @@ class SweepSpec:
 
     def case(self, point, seed: int) -> Case:
         """The base case at ``point`` (``{key: value}``; a bare number is a stroke) with seed ``seed``."""
-        from ..config import with_overrides
-
         if not isinstance(point, dict):
             point = {STROKE: float(point)}
-        if list(point) == [STROKE]:  # the paper's sweep: a plain replace, as before (bit-identical cases)
-            from ..params import with_stroke
-
-            c = with_stroke(self.base, point[STROKE])
-        else:
-            c = with_overrides(self.base, point)
-        return dataclasses.replace(c, initial=dataclasses.replace(c.initial, seed=int(seed)))
+        return replace(self.base, {**point, "initial.seed": int(seed)})
 
     def points(self) -> list[dict]:
         """Every point of the grid as ``{key: value}``, the first axis slowest."""
@@ -346,8 +337,6 @@ def add_theory(ds, base: Case):
     sweep has such axes; a stroke sweep keeps the attribute ``x_opt_m`` alone."""
     import xarray as xr
 
-    from ..config import with_overrides
-
     dims = [d for d in ds["eta_star"].dims if d not in ("seed", "stroke")]
     if not dims:
         return ds
@@ -357,7 +346,7 @@ def add_theory(ds, base: Case):
     for idx in np.ndindex(xo.shape):
         point = {k: g[idx].item() for k, g in zip(keys, grids)}
         try:
-            xo[idx] = theory_attrs(with_overrides(base, point))["x_opt_m"]
+            xo[idx] = theory_attrs(replace(base, point))["x_opt_m"]
         except InputError:
             pass  # a point that is no valid case has no X_opt
     ds["x_opt"] = xr.DataArray(xo, dims=dims, attrs={"units": "m", "long_name": "optimal stroke X_opt (theory)"})
