@@ -400,7 +400,7 @@ class _Reader:
             kw.update(self._samples_file(t["samples"]))
         missing = [k for k in cls.config_required if k not in kw]
         if missing:
-            raise InputError(f"[drive] a {kind!r} drive needs {', '.join(missing)}: {cls.config_hint}")
+            raise InputError(f"[drive] a {kind!r} drive needs {', '.join(repr(k) for k in missing)}: {cls.config_hint}")
         return cls(**kw)
 
     def structure(self, t, drive_table):

@@ -39,7 +39,7 @@ class Material:
     youngs_modulus: float = param(dimension="pressure", paper="steel 208 GPa")
     poisson_ratio: float = param(kind="number", paper="steel 0.3")
     density: float = param(dimension="density", paper="steel 7900 kg/m^3")
-    restitution: float | None = param(None, kind="number")
+    restitution: float | None = param(None, dimension="dimensionless")
 
     def __post_init__(self):
         convert_fields(self, "material")
@@ -112,7 +112,7 @@ def read_material(value, section: str) -> Material:
     sub = f"{section}.material"
     keys = config_keys(Material)
     check_keys(value, sub, keys)
-    for req in keys[1:]:
+    for req in ("youngs_modulus", "poisson_ratio", "density"):
         if req not in value:
             raise InputError(f"[{sub}] {req} is missing; an inline material needs youngs_modulus, "
                              "poisson_ratio and density")

@@ -20,7 +20,6 @@ from pdamper.schema import convert_fields, param
 SRC = Path(__file__).resolve().parents[2] / "src" / "pdamper"
 
 
-@register_shape
 @dataclass(frozen=True, kw_only=True)
 class HexPrism(ShapeBase):
     """A regular hexagonal prism, axis up, two flat sides across z: ``side`` a [m], ``height`` [m]."""
@@ -68,6 +67,14 @@ class HexPrism(ShapeBase):
             th = np.radians(np.arange(0, 360, 60))
             return [np.column_stack([self.side * np.cos(th), self.side * np.sin(th)])]
         return super().outline(view)
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _registered():
+    """The registration line (here for this module's tests only: the other tests see the shipped shapes)."""
+    register_shape(HexPrism)
+    yield
+    SHAPES.pop("hexprism")
 
 
 TOY = """

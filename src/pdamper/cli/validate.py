@@ -22,15 +22,23 @@ __all__ = ["validate_command"]
                    "the project's own page: --report docs/validation.md].")
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
+@click.option("--part", type=click.Choice(["paper", "vertical"]), default="paper", show_default=True,
+              help="paper: the checks against the paper; vertical: a vertically driven bed against the bouncing "
+                   "law (its own section of the report, beyond the paper).")
 @click.option("--json", "as_json", is_flag=True, help="Print the checks as JSON.")
 @user_errors
-def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, as_json):
+def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, part, as_json):
     """Run the paper-level validation (Fig. 4, friction, tilt, E, rho, eps) and report pass/fail.
 
-    Takes tens of minutes on two cores (--quick: a few); resumable like every study.
+    Takes tens of minutes on two cores (--quick: a few); resumable like every study. --part vertical
+    compares a vertical drive with the bouncing law instead (about 10 minutes with 2 seeds).
     """
     from ..plotting.sweep import sweep_figure
     from ..studies.validate import run_validation, write_report
+
+    if part == "vertical":
+        _vertical(quick, max(seeds, 2) if not quick else seeds, out, report, workers, scheduler, as_json)
+        return
 
     checks, datasets, seconds = run_validation(out, quick=quick, seeds=seeds, fig4_seeds=None if quick else fig4_seeds, workers=workers, scheduler=scheduler,
                                                progress=False if as_json else None)
@@ -53,3 +61,27 @@ def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, 
     for c in checks:
         click.echo(f"{'PASS' if c.passed else 'FAIL'}  {c.name:<{w}}  expected {c.expected}; measured {c.measured}")
     click.echo(f"{sum(c.passed for c in checks)} of {len(checks)} checks pass ({seconds / 60:.1f} min); report: {report}")
+
+
+def _vertical(quick, seeds, out, report, workers, scheduler, as_json):
+    """``--part vertical``: the study, the table, the figure and the report's section."""
+    from ..plotting.validation import bouncing_figure
+    from ..studies.validate import run_vertical, vertical_section, write_section
+
+    rows, h, case, _, seconds = run_vertical(out, seeds=seeds, quick=quick, workers=workers, scheduler=scheduler,
+                                             progress=False if as_json else None)
+    report = Path(report) if report else Path(out) / "validation.md"
+    img = report.parent / "img" / "validation"
+    img.mkdir(parents=True, exist_ok=True)
+    bouncing_figure(rows, h, img / "vertical.png")
+    cmd = "pdamper validate --part vertical" + (" --quick" if quick else "") + (f" --seeds {seeds}" if seeds != 2 else "")
+    write_section(report, vertical_section(rows, h, case, (img / "vertical.png").relative_to(report.parent).as_posix(),
+                                           cmd, seconds))
+    if as_json:
+        echo_json({"clearance_m": h, "rows": rows, "report": str(report), "seconds": seconds})
+        return
+    for r in rows:
+        law = f"{r['eta_law']:.3f}" if r["eta_law"] == r["eta_law"] else "  -  "
+        click.echo(f"X = {r['stroke_m'] * 1e3:6.3g} mm  Gamma = {r['intensity']:5.3g}  eta* DEM {r['eta_dem']:.3f} "
+                   f"({r['eta_min']:.3f}-{r['eta_max']:.3f})  bouncing law {law}")
+    click.echo(f"clearance h = {h * 1e3:.2f} mm (settled bed to lid); report: {report}")

@@ -390,7 +390,8 @@ class ResultStore:
             "gravity_m_s2": float(base.gravity),
             "cycles": float(base.cycles),
             "drop_cycles": int(base.drop_cycles),
-            **self.meta.get("attrs", {}),
+            # a number the JSON could not hold (NaN: no clearance law for this case) comes back None
+            **{k: (float("nan") if v is None else v) for k, v in self.meta.get("attrs", {}).items()},
         })
         return ds
 
