@@ -155,8 +155,9 @@ def _draw_panel(ax, sw, *, theory):
     """η*(X) of one :class:`_Sweep` on ``ax``: data, laws (labelled on ``ax``), axes; returns the
     data's legend handles."""
     handles = _draw_data(ax, sw, scale=1.0)
-    if theory:
-        for h, label, colour in sw.theory_clearances():
+    laws = sw.theory_clearances() if theory else []
+    if laws:  # none where the horizontal laws do not apply (a vertical drive, a bed beyond one layer)
+        for h, label, colour in laws:
             draw_theory_curves(ax, h, sw.strokes_m, bouncing=False, color=colour,
                                label=label, mark_x_opt=True)
         ax.axhline(_th.ETA_MAX, color="0.6", lw=0.9, ls=(0, (6, 3)), zorder=0.5,

@@ -143,8 +143,9 @@ def write_report(path, checks, figures, command, seconds):
         lines += [f"### {title}", "", f"![{title}]({rel})", ""]
     old = Path(path).read_text() if Path(path).exists() else ""
     Path(path).write_text("\n".join(lines) + "\n")
-    if VERTICAL_BEGIN in old and VERTICAL_END in old:  # the vertical drive's section stays
-        write_section(path, old[old.index(VERTICAL_BEGIN):old.index(VERTICAL_END) + len(VERTICAL_END)] + "\n")
+    if VERTICAL_BEGIN in old:  # the part beyond the paper (the vertical drive's section and its notes) stays
+        with open(path, "a") as f:
+            f.write("\n" + old[old.index(VERTICAL_BEGIN):])
 
 
 # ------------------------------------------------------------------ the vertical drive
