@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from ..contact.hertz import hertz_energy
 from ..geometry.walls import wall_distance
 from ..jit import njit
 from .bundles import FrictionRecord
@@ -272,7 +273,8 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
 
 @njit
 def elastic_energy(bodies, pairs, walls):
-    """Energy [J] stored in the Hertz springs, sum of 2/5 k delta^(5/2)."""
+    """Energy [J] stored in the Hertz springs: the sum of :func:`~pdamper.contact.hertz.hertz_energy`
+    over the touching contacts."""
     pos = bodies.position
     rad = bodies.radius
     first = pairs.first
@@ -293,18 +295,18 @@ def elastic_energy(bodies, pairs, walls):
         dz = pos[j, 2] - pos[i, 2]
         delta = rad[i] + rad[j] - math.sqrt(dx * dx + dy * dy + dz * dz)
         if delta > 0.0:
-            e += 0.4 * pk[a] * delta * delta * math.sqrt(delta)
+            e += hertz_energy(pk[a], delta)
     for c in range(walls.n_candidates[0]):
         i = cand_i[c]
         w = cand_w[c]
         s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
         delta = rad[i] - s
         if delta > 0.0:
-            e += 0.4 * wk[i, w] * delta * delta * math.sqrt(delta)
+            e += hertz_energy(wk[i, w], delta)
     floor = walls.floor
     if floor >= 0:
         for i in range(n):
             delta = rad[i] - pos[i, 1]
             if delta > 0.0:
-                e += 0.4 * wk[i, floor] * delta * delta * math.sqrt(delta)
+                e += hertz_energy(wk[i, floor], delta)
     return e
