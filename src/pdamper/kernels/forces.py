@@ -22,7 +22,8 @@ from ..contact.hertz import hertz_energy
 from ..geometry.walls import wall_distance
 from ..jit import njit
 from .bundles import FrictionRecord
-from .contact import FRICTION_CAP, _note, contact, floor_slip, pair_point_velocity, wall_point_velocity
+from .contact import (FRICTION_CAP, contact, floor_slip, note_friction_row, pair_point_velocity, scatter,
+                      wall_point_velocity)
 
 __all__ = ["compute_forces", "elastic_energy", "no_friction_record", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN",
            "STATUS_LIST_OVERFLOW", "STATUS_WALL_OVERFLOW"]
@@ -143,30 +144,14 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         p_n += pn
         p_f += pf
         if ff > 0.0 and m < room:
-            _note(record, m, i, j, nx, ny, nz, tx, ty, tz, ff, lim)
+            note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
         ftx = -ff * tx
         fty = -ff * ty
         ftz = -ff * tz
-        fx = -fn * nx + ftx
-        fy = -fn * ny + fty
-        fz = -fn * nz + ftz
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[i, 2] += fz
-        force[j, 0] -= fx
-        force[j, 1] -= fy
-        force[j, 2] -= fz
         # torque on i: (r_i n) x Ft ; on j: (-r_j n) x (-Ft) = r_j n x Ft
-        cx = ny * ftz - nz * fty
-        cy = nz * ftx - nx * ftz
-        cz = nx * fty - ny * ftx
-        torque[i, 0] += ri * cx
-        torque[i, 1] += ri * cy
-        torque[i, 2] += ri * cz
-        torque[j, 0] += rj * cx
-        torque[j, 1] += rj * cy
-        torque[j, 2] += rj * cz
+        scatter(force, torque, i, j, -fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz, nx, ny, nz, ftx, fty, ftz,
+                1.0, 1.0, ri, rj)
     if collect:
         record.ends[0] = m
     # ---- the floor: n = +y, so the signed distance is y, the approach speed -v_y, the slip
@@ -201,18 +186,14 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
             p_n += pn
             p_f += pf
             if ff > 0.0 and m < room:
-                _note(record, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
+                note_friction_row(record, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
                 m += 1
             ftx = -ff * tx
             ftz = -ff * tz
-            force[i, 0] += ftx
-            force[i, 1] += fn
-            force[i, 2] += ftz
+            scatter(force, torque, i, -1, ftx, fn, ftz, 0.0, 1.0, 0.0, ftx, 0.0, ftz, 1.0, 0.0, -ri, 0.0)
             fwx += ftx
             fwy += fn
             fwz += ftz
-            torque[i, 0] -= ri * ftz
-            torque[i, 2] += ri * ftx
     if collect:
         record.ends[1] = m
     # ---- the other walls, from the candidate list
@@ -248,7 +229,7 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         p_n += pn
         p_f += pf
         if ff > 0.0 and m < room:
-            _note(record, m, i, -1, nx, ny, nz, tx, ty, tz, ff, lim)
+            note_friction_row(record, m, i, -1, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
         ftx = -ff * tx
         fty = -ff * ty
@@ -256,16 +237,11 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         fx = fn * nx + ftx
         fy = fn * ny + fty
         fz = fn * nz + ftz
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[i, 2] += fz
+        # torque: (-r_i n) x Ft
+        scatter(force, torque, i, -1, fx, fy, fz, nx, ny, nz, ftx, fty, ftz, 1.0, 0.0, -ri, 0.0)
         fwx += fx
         fwy += fy
         fwz += fz
-        # torque: (-r_i n) x Ft
-        torque[i, 0] -= ri * (ny * ftz - nz * fty)
-        torque[i, 1] -= ri * (nz * ftx - nx * ftz)
-        torque[i, 2] -= ri * (nx * fty - ny * ftx)
     if collect:
         record.ends[2] = m
     return fwx, fwy, fwz, p_n, p_f, status, culprit

@@ -54,7 +54,7 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
-from .contact import corrected_friction, floor_slip, pair_point_velocity, wall_point_velocity
+from .contact import corrected_friction, floor_slip, pair_point_velocity, scatter, wall_point_velocity
 from .drive import DRIVE_STRUCTURE, drive_motion
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
@@ -213,23 +213,8 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         # power: the new force on the corrected slip, minus the explicit c s^2
         dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
                  + fz * (tz + dcz - dcn * nz + a * kk * gz)) - c * vt * vt
-        dv[i, 0] += hh * inv_m[i] * gx
-        dv[i, 1] += hh * inv_m[i] * gy
-        dv[i, 2] += hh * inv_m[i] * gz
-        dv[j, 0] -= hh * inv_m[j] * gx
-        dv[j, 1] -= hh * inv_m[j] * gy
-        dv[j, 2] -= hh * inv_m[j] * gz
-        cx = ny * gz - nz * gy
-        cy = nz * gx - nx * gz
-        cz = nx * gy - ny * gx
-        si = hh * inv_i[i] * ri
-        sj = hh * inv_i[j] * rj
-        dw[i, 0] += si * cx
-        dw[i, 1] += si * cy
-        dw[i, 2] += si * cz
-        dw[j, 0] += sj * cx
-        dw[j, 1] += sj * cy
-        dw[j, 2] += sj * cz
+        scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[i], hh * inv_m[j], hh * inv_i[i] * ri,
+                hh * inv_i[j] * rj)
     # ---- the floor: n = +y, slip (v_x + r w_z, 0, v_z - r w_x)
     for q in range(ends[0], ends[1]):
         i = ids[q, 0]
@@ -248,11 +233,7 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         kk = inv_m[i] + ri * ri * inv_i[i]
         gx, gy, gz, fx, fy, fz = corrected_friction(c, fr[q, 7], kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
         dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - c * vt * vt
-        dv[i, 0] += hh * inv_m[i] * gx
-        dv[i, 2] += hh * inv_m[i] * gz
-        si = hh * inv_i[i] * ri
-        dw[i, 0] -= si * gz
-        dw[i, 2] += si * gx
+        scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
         dfz += gz
     # ---- the other walls: n into the container, slip v - r w x n
@@ -269,13 +250,7 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         gx, gy, gz, fx, fy, fz = corrected_friction(c, fr[q, 7], kk, a, tx, ty, tz, dcx, dcy, dcz)
         dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
             - c * vt * vt
-        dv[i, 0] += hh * inv_m[i] * gx
-        dv[i, 1] += hh * inv_m[i] * gy
-        dv[i, 2] += hh * inv_m[i] * gz
-        si = hh * inv_i[i] * ri
-        dw[i, 0] -= si * (ny * gz - nz * gy)
-        dw[i, 1] -= si * (nz * gx - nx * gz)
-        dw[i, 2] -= si * (nx * gy - ny * gx)
+        scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
         dfy += gy
         dfz += gz
