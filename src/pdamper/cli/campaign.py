@@ -37,9 +37,9 @@ def campaign_command(records, bed_mass, frequency, drop_cycles, manifest, column
     """
     from ..errors import InputError
     from ..io.files import atomic_write
-    from ..studies.campaign import analyse_records, campaign_dataset
+    from ..studies.campaign import analyze_records, campaign_dataset
 
-    points, failures = analyse_records(records, bed_mass=bed_mass, frequency=frequency, drop_cycles=drop_cycles,
+    points, failures = analyze_records(records, bed_mass=bed_mass, frequency=frequency, drop_cycles=drop_cycles,
                                        columns=columns, motion=motion, manifest=manifest)
     if not points:
         more = f" (and {len(failures) - 1} more record(s) that could not be analysed)" if len(failures) > 1 else ""

@@ -34,9 +34,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .._deprecated import renamed_function
 from ..errors import InputError
 
-__all__ = ["MeasuredPoint", "analyse_records", "campaign_dataset", "read_manifest", "MANIFEST"]
+__all__ = ["MeasuredPoint", "analyze_records", "analyse_records", "campaign_dataset", "read_manifest", "MANIFEST"]
 
 MANIFEST = "campaign.toml"
 _SAME = 5e-3  # strokes/frequencies closer than this (relative) are repeats of one point
@@ -116,7 +117,7 @@ def _expand(paths) -> list[Path]:
     return out
 
 
-def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, columns=None, motion=None,
+def analyze_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, columns=None, motion=None,
                     manifest=None) -> tuple[list[MeasuredPoint], list[tuple[str, str]]]:
     """Analyse every record; returns (the points, the failures as ``(file, reason)``).
 
@@ -156,6 +157,9 @@ def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
                                     velocity_amplitude_m_s=float(r.velocity_amplitude_m_s),
                                     cycles_used=int(r.cycles_used)))
     return points, failures
+
+
+analyse_records = renamed_function(analyze_records, "analyse_records")
 
 
 def _groups(values) -> list[float]:
