@@ -21,8 +21,8 @@ the first touch, so this is Gonthier's first-touch speed; a resting contact that
 (a bed settled against a wall when the drive starts, a chain of spheres hit by a neighbour) is
 treated as a new impact at the new speed. Without that, a resting contact keeps
 ``d = chi / v_floor`` and its damping ``k delta^1.5 d delta_dot`` becomes too stiff for any
-explicit step when it is loaded fast (found in review: a perfect-lattice start blew up at the
-first wall impact). With it the damping force never exceeds ``chi`` times the elastic force
+explicit step when it is loaded fast (a perfect-lattice start would blow up at the first
+wall impact). With it the damping force never exceeds ``chi`` times the elastic force
 while the contact is compressed.
 
 The contact-point kinematics (:func:`pair_point_velocity`, :func:`wall_point_velocity`,
@@ -54,7 +54,7 @@ __all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "law_touch", "law_forc
 #: without it their slip chatters around zero and the friction work is mis-counted.
 #: Velocity Verlet only: Gear's steps pass a vanishing ``dt`` (no cap) and evaluate the friction at
 #: the corrected slip instead (:mod:`pdamper.kernels.gear`); only Gear's priming evaluation at the
-#: start of a run (initial accelerations) still passes its first step and so keeps the cap.
+#: start of a run (initial accelerations) passes its first step and so keeps the cap.
 FRICTION_CAP = 0.5 * 2.0 / 7.0
 
 #: marker class -> DampingLaw (several names may share a marker: they differ only in their table)

@@ -13,8 +13,8 @@ Liquids, App. E).
 **Friction at the corrected slip.** The tanh friction law (eq. 2) has the slope ``mu F_N tau``
 in the slip; during an impact that is a tangential damping with a relaxation time well below a
 microsecond, and evaluated at the *predicted* slip (plain Gear) the error control has to follow
-it: at large strokes most of Gear's steps went there (5.5x more steps than without friction at
-50 mm), and the energy ledger still did not close at mu = 1. So after the forces at the predicted
+it: at large strokes most of plain Gear's steps go there (5.5x the steps of a run without friction
+at 50 mm), and its energy ledger does not close at mu = 1. So after the forces at the predicted
 state, every touching contact's friction is evaluated again at the slip the corrector will give
 (:func:`_implicit_friction`, with :func:`~pdamper.kernels.contact.corrected_friction`): linearised in
 the slip, ``ds = dc / (1 + a K c)`` with ``dc`` the
@@ -26,10 +26,10 @@ not a converged solve. What this evaluates is one linearisation of the law: the 
 comes from the predicted slip (a contact whose slip grows out of the smooth range gets up to
 1/tanh(1) = 1.31x the law's force at its corrected slip; one whose slip shrinks gets less), and
 for a body with several contacts those visited early are moved off ``-c (s + ds)`` by the later
-ones (a review measured up to 6 % of mu F_N on a three-sphere pile at ``a K c`` ~ 6). The error
+ones (up to 6 % of mu F_N, measured on a three-sphere pile at ``a K c`` ~ 6). The error
 control sees what is left. The friction power for the ledger is taken per contact at its slip
-when it is visited, not after the sweep (docs/integrators.md: taking it after the sweep was
-tried and did not improve the ledger). The explicit step's friction cap
+when it is visited, not after the sweep (taking it after the sweep does not improve the ledger:
+docs/integrators.md). The explicit step's friction cap
 (:data:`~pdamper.kernels.contact.FRICTION_CAP`) is off for Gear's steps.
 
 **Error control.** ``|Delta|`` estimates the local error of a step [m] (spin DOFs are scaled by
@@ -87,8 +87,8 @@ def _rescale(nord, ratio):
 def _predict(nord, pred, ratio, inv_h, bodies):
     """Rescale the Nordsieck vector to the new step (``r_k *= ratio^k``, skipped when ``ratio`` is
     1), predict it into ``pred`` (Pascal triangle) and unpack the predicted positions, velocities
-    and spins into ``bodies``: one pass over the state instead of three (same arithmetic as
-    :func:`_rescale` followed by the prediction and :func:`_unpack`, so bit-identical)."""
+    and spins into ``bodies``, in one pass over the state (the arithmetic of :func:`_rescale`
+    followed by the prediction and :func:`_unpack`, so bit-identical to them)."""
     f1 = ratio
     f2 = f1 * ratio
     f3 = f2 * ratio
