@@ -136,7 +136,7 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None) 
     pdamper's complex-power analysis of the LIGGGHTS force record.
     """
     from pdamper.recorders.signals import Signals
-    from pdamper.run import analyse_signals
+    from pdamper.run import analyze_signals
 
     exe = available()
     if exe is None:
@@ -156,6 +156,6 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None) 
     rows = np.loadtxt(workdir / "force.txt", comments="#", ndmin=2)
     # the spheres push the box with f_mesh; the walls push the spheres with -f_mesh (along the drive)
     wall_force = -(rows[:, 1:4] @ info["dvec"])
-    res = analyse_signals(case, Signals.from_run(case, 1.0 / case.recording.sample_rate, wall_force))
+    res = analyze_signals(case, Signals.from_run(case, 1.0 / case.recording.sample_rate, wall_force))
     return {"us_per_step": 1e6 * drive_time / drive_steps, "steps": drive_steps, "wall_time_s": wall,
             "eta_star": float(res.eta_star), "energy_per_cycle_J": float(res.energy_per_cycle_J)}

@@ -197,9 +197,15 @@ def test_given_positions_are_used_as_they_are():
 
 
 def test_resting_hertz_overlaps_are_accepted():
-    # a settled bed overlaps by ~1e-5 r: restartable
+    # a settled bed overlaps by ~1e-5 r: restartable, the positions kept as given
     p = ((0.0, R * (1 - 1e-5), 0.0), (2 * R * (1 - 1e-5), R, 0.0))
-    _pos(_case(2, positions=p))
+    np.testing.assert_array_equal(_pos(_case(2, positions=p)), np.array(p))
+    # an overlap past OVERLAP_TOLERANCE is not a resting one
+    deep = 2 * OVERLAP_TOLERANCE
+    with pytest.raises(InputError, match="sphere 0 .* floor"):
+        _pos(_case(2, positions=((0.0, R * (1 - deep), 0.0), (2 * R, R, 0.0))))
+    with pytest.raises(InputError, match="spheres 0 and 1 overlap"):
+        _pos(_case(2, positions=((0.0, R, 0.0), (2 * R * (1 - deep), R, 0.0))))
 
 
 @pytest.mark.parametrize("positions,match", [

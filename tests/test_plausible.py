@@ -25,11 +25,11 @@ def test_implausible_inputs_are_refused_with_a_fix(over, words):
 
 
 def test_whole_cycles_for_the_analysis_and_lift_off_is_said():
-    check_case(EXAMPLE, analyse=True)  # the paper's case: nothing to say
+    check_case(EXAMPLE, analyze=True)  # the paper's case: nothing to say
     with pytest.raises(InputError, match=r"run.cycles = 2.5 leaves no whole cycle after the 2 dropped"):
-        check_case(with_overrides(EXAMPLE, {"run.cycles": 2.5}), analyse=True)
+        check_case(with_overrides(EXAMPLE, {"run.cycles": 2.5}), analyze=True)
     with pytest.warns(UserWarning, match="only one cycle is analysed"):
-        check_case(with_overrides(EXAMPLE, {"run.cycles": 3}), analyse=True)
+        check_case(with_overrides(EXAMPLE, {"run.cycles": 3}), analyze=True)
     with pytest.warns(LiftOffWarning, match=r"peak acceleration 1.3 g exceeds g"):
         check_case(with_overrides(EXAMPLE, {"drive.stroke": "80mm"}))
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import importlib
 import inspect
+import re
 import subprocess
 import sys
 import types
@@ -19,11 +21,19 @@ CORE = ["Case", "ParticleSet", "Container", "ContactModel", "Numerics", "Recordi
 
 
 @pytest.mark.parametrize("name", pdamper.__all__)
-def test_every_public_name_resolves(name):
+def test_every_public_name_is_the_object_of_its_module(name):
     obj = getattr(pdamper, name)
-    assert obj is not None
-    if name != "__version__":
-        assert name in dir(pdamper)
+    if name == "__version__":
+        assert re.fullmatch(r"\d+\.\d+\S*", obj), obj
+        return
+    assert name in dir(pdamper)
+    module = pdamper._LAZY.get(name, "")
+    if module is None:  # a submodule
+        assert obj is importlib.import_module(f"pdamper.{name}")
+    else:  # lazy (from _LAZY) or imported with the package
+        owner = importlib.import_module(f"pdamper.{module}") if module else inspect.getmodule(obj)
+        assert owner.__name__.startswith("pdamper.")
+        assert getattr(owner, name) is obj
 
 
 def test_the_core_objects_are_public_and_documented():

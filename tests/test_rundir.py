@@ -16,7 +16,7 @@ from pdamper.rundir import check_run_dir, read_run, write_run
 from pdamper.params import Case, ParticleSet, Recording
 from pdamper.recorders.energy import COLUMNS, EnergyLedger
 from pdamper.recorders.signals import Signals
-from pdamper.run import RunResult, analyse_signals
+from pdamper.run import RunResult, analyze_signals
 
 
 def synthetic_result(trajectory: bool = True) -> RunResult:
@@ -38,7 +38,7 @@ def synthetic_result(trajectory: bool = True) -> RunResult:
         traj = {"time": (np.arange(k) + 1) / case.recording.trajectory_fps,
                 "position": rng.random((k, 4, 3)), "velocity": rng.random((k, 4, 3)), "spin": rng.random((k, 4, 3)),
                 "radius": np.full(4, 0.005)}
-    return RunResult(case=case, signals=signals, energy=energy, analysis=analyse_signals(case, signals), trajectory=traj,
+    return RunResult(case=case, signals=signals, energy=energy, analysis=analyze_signals(case, signals), trajectory=traj,
                      steps=12345, time_step_s=2e-6, wall_time_s=0.25, neighbour_search="direct")
 
 
@@ -81,7 +81,7 @@ def test_read_run_gives_back_exactly_what_was_written(tmp_path):
             assert got == value, key
     assert stored.analysis == json.loads(json.dumps(res.analysis.to_dict()))
     # the re-read signals analyse to the same eta*
-    assert analyse_signals(stored.case, stored.signals).eta_star == res.eta_star
+    assert analyze_signals(stored.case, stored.signals).eta_star == res.eta_star
 
 
 def test_no_temporary_files_are_left(tmp_path):

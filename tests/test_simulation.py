@@ -79,36 +79,55 @@ def _row_against_the_wall(n=4, integrator="verlet"):
                 numerics=Numerics(integrator=integrator), initial=InitialState(positions=pos, settle_time=0.1))
 
 
+def _survives(case):
+    """Run ``case`` and check that it held together: every sphere inside the container (within the
+    overlap limit), the energy ledger closed; returns the result."""
+    sim = Simulation(case)
+    res = sim.run()
+    pos = sim.bodies.position
+    rad = sim.bodies.radius
+    geo = case.container.geometry
+    tol = case.numerics.overlap_limit * rad
+    assert np.all(np.isfinite(pos))
+    assert np.all(np.abs(pos[:, 0]) <= geo.length / 2 - rad + tol)
+    assert np.all(np.abs(pos[:, 2]) <= geo.width / 2 - rad + tol)
+    assert np.all(pos[:, 1] >= rad - tol) and np.all(pos[:, 1] <= geo.height - rad + tol)
+    assert res.energy.balance_error() < 0.01
+    return res
+
+
 def test_a_row_resting_against_the_wall_survives_the_drive_start_in_the_controls():
     # the controls of the lattice-start regression test below: with eps = 1 (no damping) the same
-    # Verlet start is stable
+    # Verlet start is stable, and the normal contacts dissipate nothing
     from pdamper.contact import ConstantRestitution
 
     case = _row_against_the_wall()
     case = dataclasses.replace(case, contact=ContactModel(restitution=ConstantRestitution(value=1.0)))
-    Simulation(case).run()
+    res = _survives(case)
+    assert res.energy.damping[-1] == 0.0
     # and so is the damped one at a smaller step, with a higher v_in floor, or with Gear
-    Simulation(dataclasses.replace(_row_against_the_wall(), numerics=Numerics(integrator="verlet", time_step=1e-6))
-               ).run()
-    Simulation(dataclasses.replace(_row_against_the_wall(), contact=ContactModel(v_in_floor=0.01))).run()
-    Simulation(_row_against_the_wall(integrator="gear")).run()
+    for control in (dataclasses.replace(_row_against_the_wall(), numerics=Numerics(integrator="verlet", time_step=1e-6)),
+                    dataclasses.replace(_row_against_the_wall(), contact=ContactModel(v_in_floor=0.01)),
+                    _row_against_the_wall(integrator="gear")):
+        assert _survives(control).energy.damping[-1] > 0.0
 
 
 def test_gear_runs_the_lattice_start_of_the_paper_case():
-    Simulation(_short(jitter=0, cycles=0.2)).run()
+    _survives(_short(jitter=0, cycles=0.2))
 
 
 # Regression (found in review): contacts made while settling had v_in = v_in_floor, so
 # d = chi / v_floor = 166 s/m, and the first wall impact made their damping too stiff for the
-# step ('unstable at t = 0.000074 s'). v_in now rises to the largest approach speed a contact
-# sees (kernels/forces.py), so a perfect-lattice start runs with the automatic step.
+# step ('unstable at t = 0.000074 s'). v_in rises to the largest approach speed a contact sees
+# (kernels/contact.py), so a perfect-lattice start runs with the automatic step.
 @pytest.mark.parametrize("which", ["row of 4", "cuboid_36 lattice"])
 def test_a_lattice_start_runs_with_the_automatic_step(which):
     if which == "row of 4":
         case = _row_against_the_wall()
     else:
         case = _short(jitter=0, cycles=0.2, **{"numerics.integrator": "verlet"})
-    Simulation(case).run()
+    assert case.numerics.time_step is None  # the automatic step
+    _survives(case)
 
 
 # --------------------------------------------------------------------- energy ledger of a damper run

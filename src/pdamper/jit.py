@@ -5,8 +5,8 @@ Every kernel is compiled with :data:`JIT` options: ``cache=True`` so the machine
 written to disk and later runs start without compiling; ``nogil=True`` so threads can run
 kernels side by side; ``error_model='numpy'`` so a division by zero gives inf instead of
 raising from inside numba; ``fastmath={"contract"}`` lets LLVM fuse multiply-adds into FMA
-instructions (shorter latency chains in the contact loops: one 36-sphere step went from 1.50 to
-1.43 us) and nothing else: no reassociation, no assumptions about NaN or infinities, so results
+instructions (shorter latency chains in the contact loops: a 36-sphere step takes 1.43 us with
+it, 1.50 us without) and nothing else: no reassociation, no assumptions about NaN or infinities, so results
 stay deterministic on a given machine.
 
 **Cache directory.** numba checks only the source file of a cached function, not the files of

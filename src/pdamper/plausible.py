@@ -13,6 +13,7 @@ import dataclasses
 import math
 import warnings
 
+from ._deprecated import renamed_keyword
 from .errors import InputError
 from .schema import spec_of
 
@@ -33,12 +34,14 @@ def _mm_hint(value: float, upper: float) -> str:
     return f"; did you mean '{value:g}mm'?" if 1e-3 * value <= upper else ""
 
 
-def check_case(case, *, analyse: bool = False) -> None:
+def check_case(case, *, analyze: bool = False, analyse: bool | None = None) -> None:
     """Raise :class:`InputError` for a case that cannot be meant as written; warn at lift-off.
 
-    ``analyse``: the run is analysed by the complex power method, so it needs at least one whole
-    cycle after the dropped ones (a warning when it has exactly one).
+    ``analyze``: the run is analyzed by the complex power method, so it needs at least one whole
+    cycle after the dropped ones (a warning when it has exactly one); ``analyse`` is its
+    deprecated spelling.
     """
+    analyze = renamed_keyword("check_case", "analyse", "analyze", analyse, analyze)
     geo = case.container.geometry
     # every length field of the shape, as its config key
     dims = {f.name: getattr(geo, f.name) for f in dataclasses.fields(geo)
@@ -72,7 +75,7 @@ def check_case(case, *, analyse: bool = False) -> None:
         if accel > g and d.vertical_share == 0.0:
             warnings.warn(f"the drive's peak acceleration {accel / g:.2g} g exceeds g: the bed lifts off the floor "
                           "(the paper's laws assume A < g); the run goes on", LiftOffWarning, stacklevel=3)
-        if analyse:
+        if analyze:
             whole = math.floor(case.cycles + 1e-9) - case.drop_cycles
             if whole < 1:
                 raise InputError(f"run.cycles = {case.cycles:g} leaves no whole cycle after the {case.drop_cycles} "

@@ -8,10 +8,10 @@ classifier (:mod:`pdamper.analysis.modes`), and returns a :class:`RunResult`.
 
 from __future__ import annotations
 
+from ._deprecated import renamed, renamed_function, renamed_keyword
 from ._repr import short_repr
 
 import math
-import warnings
 from dataclasses import dataclass, field
 
 from .analysis.steady import MIN_STEADY_CYCLES
@@ -20,7 +20,7 @@ from .params import Case
 from .simulation import Simulation, default_recorders
 from .recorders.trajectory import TrajectoryRecorder
 
-__all__ = ["run_case", "RunResult", "analyse_signals", "MODE_FPS", "MIN_STEADY_CYCLES"]
+__all__ = ["run_case", "RunResult", "analyze_signals", "analyse_signals", "MODE_FPS", "MIN_STEADY_CYCLES"]
 
 #: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
 #: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
@@ -91,17 +91,8 @@ class RunResult:
         """Dissipated energy per cycle [J] (eq. 4)."""
         return float(self.analysis.energy_per_cycle_J) if self.analysis is not None else math.nan
 
-    @property
-    def energy_per_cycle(self) -> float:
-        """Deprecated: the old name of :attr:`energy_per_cycle_J`."""
-        _renamed("energy_per_cycle", "energy_per_cycle_J")
-        return self.energy_per_cycle_J
-
-    @property
-    def time_step(self) -> float:
-        """Deprecated: the old name of :attr:`time_step_s`."""
-        _renamed("time_step", "time_step_s")
-        return self.time_step_s
+    energy_per_cycle = renamed("energy_per_cycle_J")
+    time_step = renamed("time_step_s")
 
     def summary(self) -> dict:
         """Plain dict for JSON output."""
@@ -129,12 +120,7 @@ class RunResult:
         }
 
 
-def _renamed(old: str, new: str) -> None:
-    warnings.warn(f"RunResult.{old} is deprecated; use RunResult.{new} (same value; docs/names.md)",
-                  DeprecationWarning, stacklevel=3)
-
-
-def analyse_signals(case: Case, signals):
+def analyze_signals(case: Case, signals):
     """Complex-power analysis (eqs. 3-5) of a run's recorded ``signals`` for ``case``: the drive
     frequency, the cycles the case drops, its bed mass and its container's mass (removed from the
     bed's effective mass)."""
@@ -142,6 +128,9 @@ def analyse_signals(case: Case, signals):
 
     return complex_power(signals.time, signals.force, signals.velocity, frequency=case.drive.frequency,
                          drop_cycles=case.drop_cycles, bed_mass=case.bed_mass, container_mass=case.container.mass)
+
+
+analyse_signals = renamed_function(analyze_signals, "analyse_signals")
 
 
 def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=None):
@@ -159,40 +148,42 @@ def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=No
         if sim.sample >= sim.n_samples:
             return float(case.cycles)
         sig = Signals.from_run(case, sim.interval, sim.samples.wall_force[:sim.sample])
-        st = analyse_signals(case, sig).statistics
+        st = analyze_signals(case, sig).statistics
         if st.steady and st.eta_star_error <= tolerance:
             return float(k)
         k += 1
 
 
-def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True,
-             until_steady: float | None = None) -> RunResult:
-    """Simulate ``case`` and analyse it: energy per cycle and eta* by the complex power method,
+def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
+             until_steady: float | None = None, analyse: bool | None = None) -> RunResult:
+    """Simulate ``case`` and analyze it: energy per cycle and eta* by the complex power method,
     the motion mode from the trajectory.
 
     ``recorders`` are recorded too (:mod:`pdamper.recorders.base`); their results are in
     ``result.recorded``. ``progress(done_fraction)`` is called as the run goes. With
-    ``analyse=False`` only the recording is done (no complex power, no mode).
+    ``analyze=False`` only the recording is done (no complex power, no mode); ``analyse`` is its
+    deprecated spelling.
 
     ``until_steady``: stop the run early, after at least ``drop_cycles + MIN_STEADY_CYCLES``
     cycles, at the first whole cycle at which the record is steady and eta*'s standard error
     (:mod:`pdamper.analysis.steady`) is at most this value; never beyond ``case.cycles``. The
     cycles driven are ``result.extras["cycles_run"]``. Harmonic drives only.
     """
+    analyze = renamed_keyword("run_case", "analyse", "analyze", analyse, analyze)
     if until_steady is not None:
         if not (until_steady > 0 and math.isfinite(until_steady)):
             raise InputError(f"until_steady = {until_steady!r}: give eta*'s standard error to stop at, > 0 "
                              "(e.g. 0.01)")
-        if case.drive.kind != "harmonic" or not analyse:
+        if case.drive.kind != "harmonic" or not analyze:
             raise InputError("until_steady needs a harmonic drive ([drive] stroke and frequency) and the analysis")
-    if analyse:
+    if analyze:
         from .plausible import check_case
 
-        check_case(case, analyse=True)  # whole cycles for the analysis, before anything is simulated
+        check_case(case, analyze=True)  # whole cycles for the analysis, before anything is simulated
     recorders = list(recorders)
     builtin = default_recorders(case)
     periodic = float(case.drive.frequency or 0.0) > 0
-    classify = analyse and periodic
+    classify = analyze and periodic
     if classify and not case.recording.trajectory_fps:
         builtin.append(TrajectoryRecorder(min(MODE_FPS, case.recording.sample_rate)))
     sim = Simulation(case, builtin + recorders)
@@ -204,8 +195,8 @@ def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True,
     record = sim.finalize()
     out = record.outputs
     analysis = None
-    if analyse and case.drive.kind not in ("still", "structure"):
-        analysis = analyse_signals(case, record.signals)
+    if analyze and case.drive.kind not in ("still", "structure"):
+        analysis = analyze_signals(case, record.signals)
     extras = {"rejected_steps": record.rejected_steps} if record.rejected_steps is not None else {}
     if analysis is not None:
         st = analysis.statistics
@@ -224,7 +215,7 @@ def run_case(case: Case, *, recorders=(), progress=None, analyse: bool = True,
     if not case.recording.trajectory_fps:
         trajectory = None  # recorded only to classify the motion mode
     return RunResult(case=case, signals=record.signals, energy=record.energy, analysis=analysis, trajectory=trajectory,
-                     steps=record.steps, time_step_s=record.time_step, wall_time_s=record.wall_time_s,
+                     steps=record.steps, time_step_s=record.time_step_s, wall_time_s=record.wall_time_s,
                      neighbour_search=record.neighbour_search, extras=extras, structure=record.structure,
                      recorded={r.name: out[r.name] for r in recorders})
 

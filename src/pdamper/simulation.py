@@ -14,6 +14,7 @@ progress and clean interrupts), stopping also wherever a Python recorder is due.
 
 from __future__ import annotations
 
+from ._deprecated import renamed
 from ._repr import short_repr
 
 import math
@@ -57,17 +58,19 @@ class RunRecord:
     """What a simulation recorded: each recorder's result by name, and how the run went.
 
     ``signals``, ``energy``, ``trajectory`` and ``structure`` are the built-in recorders' results
-    (None when not recorded). ``steps`` time steps were taken, ``time_step`` [s] is Verlet's step or
-    Gear's mean accepted step (settling included), ``rejected_steps`` Gear's rejections.
+    (None when not recorded). ``steps`` time steps were taken, ``time_step_s`` [s] is Verlet's step
+    or Gear's mean accepted step (settling included), ``rejected_steps`` Gear's rejections.
     """
 
     case: Case
     outputs: dict = field(default_factory=dict)
     steps: int = 0
-    time_step: float = 0.0
+    time_step_s: float = 0.0
     wall_time_s: float = 0.0
     neighbour_search: str = ""
     rejected_steps: int | None = None
+
+    time_step = renamed("time_step_s")
 
     @property
     def signals(self):
@@ -261,7 +264,7 @@ class Simulation:
         outputs = {r.name: r.finalize(data) for r in self.recorders}
         st = self.stepper
         return RunRecord(case=self.case, outputs=outputs, steps=st.steps,
-                         time_step=st.mean_step((self.settle_samples + k) * self.interval), wall_time_s=self._wall,
+                         time_step_s=st.mean_step((self.settle_samples + k) * self.interval), wall_time_s=self._wall,
                          neighbour_search=self.engine.search_name, rejected_steps=st.rejected)
 
     def run(self, *, progress=None) -> RunRecord:
@@ -295,8 +298,9 @@ def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_r
     out = np.zeros((n, len(STRUCTURE_COLUMNS)))
     run_structure_alone(n * sub, dt, 0.0, sub, drive, out)
     return StructureRecord(time=(np.arange(n) + 1) * ts, displacement=out[:, 0].copy(), velocity=out[:, 1].copy(),
-                           external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(), mass=structure.mass,
-                           stiffness=structure.stiffness, x0=structure.displacement, v0=structure.velocity)
+                           external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(), mass_kg=structure.mass,
+                           stiffness_N_m=structure.stiffness, x0_m=structure.displacement,
+                           v0_m_s=structure.velocity)
 
 
 # short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)

@@ -33,7 +33,7 @@ def _case(**over):
 def test_the_example_recorder_reads_what_the_energy_channel_reads(integrator):
     case = _case(**{"numerics.integrator": integrator})
     ke = _example_recorder()(every=7)  # 7 does not divide the quarter-second segments
-    res = run_case(case, recorders=[ke], analyse=False)
+    res = run_case(case, recorders=[ke], analyze=False)
     ds = res.recorded["bed_kinetic_energy"]
     n = res.signals.force.size  # 300 samples
     assert ds.sizes["time"] == n // 7
@@ -44,8 +44,8 @@ def test_the_example_recorder_reads_what_the_energy_channel_reads(integrator):
 
 def test_a_python_recorder_changes_nothing_about_the_run():
     case = _case()
-    plain = run_case(case, analyse=False)
-    with_rec = run_case(case, recorders=[_example_recorder()(every=3)], analyse=False)
+    plain = run_case(case, analyze=False)
+    with_rec = run_case(case, recorders=[_example_recorder()(every=3)], analyze=False)
     assert np.array_equal(plain.signals.force, with_rec.signals.force)
     assert np.array_equal(plain.energy.friction, with_rec.energy.friction)
     assert plain.steps == with_rec.steps

@@ -19,7 +19,7 @@ from pdamper.config import loads_case, with_overrides
 from pdamper.errors import InputError
 from pdamper.run import run_case
 from pdamper.studies.calibrate import calibrate, parse_fit
-from pdamper.studies.campaign import analyse_records, campaign_dataset
+from pdamper.studies.campaign import analyze_records, campaign_dataset
 
 from dem_fixtures import TINY_CONFIG  # noqa: E402
 
@@ -72,7 +72,7 @@ def test_a_folder_of_logger_files_becomes_a_campaign(rig, tmp_path):
 def test_calibration_recovers_the_friction_of_a_synthetic_campaign(rig, tmp_path):
     d, base = rig
     files = [d / f"x{x}.txt" for x in STROKES]
-    points, failures = analyse_records(files, bed_mass=base.bed_mass)
+    points, failures = analyze_records(files, bed_mass=base.bed_mass)
     assert not failures
     camp = campaign_dataset(points, bed_mass=base.bed_mass)
     cal = calibrate(camp, base, [parse_fit("contact.friction=0.05:1")], out=tmp_path / "cal", seeds=(0, 1), workers=2,

@@ -96,8 +96,9 @@ import numpy as np
 from ..errors import InputError
 from .checks import (_as_1d, _check_bed_mass, _check_drop, _check_finite, _check_frequency, _check_lengths,
                      _check_tolerance, _uniform_grid)
-from .frequency import TIME_TOLERANCE, _detect, detect_frequency
+from .frequency import TIME_TOLERANCE, detect_frequency
 from .results import PowerResult, Signals
+from .sinusoid import MIN_GIVEN_SHARE, detect_uniform
 from ..units import quantities
 
 # The method lives here; the result types (results.py), the input checks (checks.py) and the
@@ -119,8 +120,6 @@ DEFAULT_DROP_CYCLES = 2
 #: Motion signals a record may carry.
 MOTIONS = ("position", "velocity", "acceleration")
 
-# A given drive frequency must carry at least this share of the motion variance in the window.
-_MIN_GIVEN_SHARE = 0.01
 # T/dt closer than this (relative) to an integer counts as integer samples per period.
 _INTEGER_RATIO_TOL = 1e-9
 # Order of the interpolating spline used for resampling, differentiation, integration.
@@ -292,7 +291,7 @@ def _analyze(time, force, motion, kind, *, frequency, drop_cycles, bed_mass,
     fs = 1.0 / dt
 
     if frequency is None:
-        f, _ = _detect(s, dt, kind)
+        f, _ = detect_uniform(s, dt, kind)
         detected = True
     else:
         f = _check_frequency(frequency)
@@ -370,7 +369,7 @@ def _analyze(time, force, motion, kind, *, frequency, drop_cycles, bed_mass,
     s_win = s_g[i0:i1]
     var = float(np.mean((s_win - s_win.mean()) ** 2))
     share = 0.5 * abs(S_star) ** 2 / var if var > 0.0 else 0.0
-    if not detected and share < _MIN_GIVEN_SHARE:
+    if not detected and share < MIN_GIVEN_SHARE:
         raise InputError(
             f"the {kind} signal has almost nothing at the given drive frequency "
             f"{f:.6g} Hz ({100 * share:.2g} % of its variance in the window); check the "

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .sinusoid import MIN_DETECTED_SHARE, MIN_GIVEN_SHARE, detect_uniform, sinusoid_rss
 
 __all__ = ["TimeBase", "time_base", "analyze_nonuniform", "MAX_GAP_PERIODS", "MIN_SAMPLES_PER_PERIOD"]
 
@@ -95,11 +96,9 @@ def detect_nonuniform(t: np.ndarray, s: np.ndarray, name: str) -> tuple[float, f
     interpolated onto the mean grid, refined by the sinusoid fit at the true times."""
     from scipy.optimize import minimize_scalar
 
-    from .frequency import _MIN_DETECTED_SHARE, _detect, sinusoid_rss
-
     n = t.size
     grid = t[0] + np.arange(n) * (t[-1] - t[0]) / (n - 1)
-    f0, _ = _detect(np.interp(grid, t, s), float(grid[1] - grid[0]), name)
+    f0, _ = detect_uniform(np.interp(grid, t, s), float(grid[1] - grid[0]), name)
     u = t - 0.5 * (t[0] + t[-1])
     trend = np.column_stack([np.ones(n), u])
     coef, *_ = np.linalg.lstsq(trend, s, rcond=None)
@@ -112,7 +111,7 @@ def detect_nonuniform(t: np.ndarray, s: np.ndarray, name: str) -> tuple[float, f
                            options={"xatol": 1e-13 * f0, "maxiter": 200})
     f = float(best.x)
     share = 1.0 - rss(f) / tss if tss > 0 else 0.0
-    if share < _MIN_DETECTED_SHARE:
+    if share < MIN_DETECTED_SHARE:
         raise InputError(f"no clear drive peak in the {name} signal at {f:.6g} Hz ({100 * max(share, 0):.0f} % of its "
                          "variance); give the drive frequency (frequency=..., --frequency 2Hz)")
     return f, share
@@ -134,7 +133,6 @@ def analyze_nonuniform(t, F, s, kind, *, frequency, drop, bed, keep_signals, uni
     from scipy.interpolate import CubicSpline
 
     from .checks import _check_frequency
-    from .complex_power import _MIN_GIVEN_SHARE
     from .results import PowerResult, Signals
 
     tb = time_base(t, uniform=False)
@@ -174,7 +172,7 @@ def analyze_nonuniform(t, F, s, kind, *, frequency, drop, bed, keep_signals, uni
     s_win = s[inside]
     var = float(np.mean((s_win - s_win.mean()) ** 2))
     share = 0.5 * abs(S_star) ** 2 / var if var > 0.0 else 0.0
-    if not detected and share < _MIN_GIVEN_SHARE:
+    if not detected and share < MIN_GIVEN_SHARE:
         raise InputError(f"the {kind} signal has almost nothing at the given drive frequency {f:.6g} Hz "
                          f"({100 * share:.2g} % of its variance in the window); check the frequency, or omit it")
     P = 0.5 * F_star * np.conj(V_star)                                  # (3)

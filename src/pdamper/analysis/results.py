@@ -3,6 +3,7 @@ keeps for plots (see :mod:`pdamper.analysis.complex_power` for the method)."""
 
 from __future__ import annotations
 
+from .._deprecated import renamed
 from .._repr import short_repr
 
 import functools
@@ -166,14 +167,7 @@ class PowerResult:
         """True when the analysed cycles show no drift (:mod:`pdamper.analysis.steady`)."""
         return self.statistics.steady
 
-    @property
-    def angular_frequency(self) -> float:
-        """Deprecated: the old name of :attr:`angular_frequency_rad_s`."""
-        import warnings
-
-        warnings.warn("PowerResult.angular_frequency is deprecated; use angular_frequency_rad_s (docs/names.md)",
-                      DeprecationWarning, stacklevel=2)
-        return self.angular_frequency_rad_s
+    angular_frequency = renamed("angular_frequency_rad_s")
 
     @property
     def total_effective_mass_kg(self) -> float:

@@ -40,9 +40,9 @@ def campaign_command(records, bed_mass, container_mass, frequency, drop_cycles, 
     """
     from ..errors import InputError
     from ..io.files import atomic_write
-    from ..studies.campaign import analyse_records, campaign_dataset
+    from ..studies.campaign import analyze_records, campaign_dataset
 
-    points, failures = analyse_records(records, bed_mass=bed_mass, frequency=frequency, drop_cycles=drop_cycles,
+    points, failures = analyze_records(records, bed_mass=bed_mass, frequency=frequency, drop_cycles=drop_cycles,
                                        columns=columns, motion=motion, manifest=manifest, container_mass=container_mass)
     if not points:
         more = f" (and {len(failures) - 1} more record(s) that could not be analysed)" if len(failures) > 1 else ""

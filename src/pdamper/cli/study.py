@@ -16,12 +16,6 @@ __all__ = ["study_command"]
 QUICK = dict(strokes=(0.5e-3, 50e-3, 8), cycles=6, drop_cycles=2)
 
 
-def _names():
-    from ..studies.named import STUDIES
-
-    return list(STUDIES)
-
-
 @main.command("study")
 @click.argument("name", metavar="NAME|FILE.toml")
 @click.option("--quick", is_flag=True, help="8 strokes, 6 cycles, 1 seed: a first look in 10 s to about a minute on 2 cores (docs/sweeps.md).")

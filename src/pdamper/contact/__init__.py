@@ -1,5 +1,7 @@
 """Contact laws, one file per literature model, and the registry of damping laws.
 
+- :mod:`.hertz` -- Hertz elasticity shared by the normal laws: stiffness ``4/3 E* sqrt(R*)`` and
+  elastic energy ``2/5 k delta^(5/2)``.
 - :mod:`.hertz_gonthier` -- normal force, Hertz with Gonthier et al. (2004) damping, eq. (1);
   damping choices ``"calibrated"`` (default) and ``"gonthier"``.
 - :mod:`.hertz_tsuji` -- normal force, Hertz with Tsuji et al. (1992) viscoelastic damping as
@@ -23,7 +25,8 @@ from .cor_table import TabulatedRestitution
 from .cor_thornton import ThorntonRestitution
 from .damping import DampingLaw
 from .friction_tanh import DEFAULT_TAU
-from .hertz_gonthier import contact_time, damping_parameter, hertz_stiffness
+from .hertz import hertz_energy, hertz_stiffness
+from .hertz_gonthier import contact_time, damping_parameter
 from ..errors import InputError
 from ..schema import check_keys, read_list, read_quantity
 
@@ -102,6 +105,7 @@ __all__ = [
     "read_restitution",
     "contact_time",
     "hertz_stiffness",
+    "hertz_energy",
     "damping_parameter",
     "DEFAULT_TAU",
 ]

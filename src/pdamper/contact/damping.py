@@ -25,6 +25,10 @@ __all__ = ["DampingLaw"]
 class DampingLaw:
     """A normal contact law: Hertz elasticity with a damping term.
 
+    The elastic part is the same for every law, :mod:`pdamper.contact.hertz`: the kernels take each
+    contact's stiffness ``k`` (:func:`~pdamper.contact.hertz.hertz_stiffness`) and the energy in its
+    spring (:func:`~pdamper.contact.hertz.hertz_energy`) from there, and ``force`` adds the damping.
+
     Attributes
     ----------
     name : str

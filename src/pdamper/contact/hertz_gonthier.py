@@ -53,6 +53,7 @@ import numpy as np
 
 from ..jit import njit
 from .damping import DampingLaw
+from .hertz import hertz_stiffness
 
 __all__ = ["V_IN_FLOOR", "LAWS", "HertzGonthier", "chi_for_restitution", "restitution_for_chi", "compute_calibration", "hertz_stiffness", "effective_radius", "damping_parameter",
            "contact_time", "peak_overlap", "normal_force", "touch"]
@@ -129,11 +130,6 @@ def effective_radius(r1: float, r2: float | None = None, *, concave_radius: floa
     return 1.0 / (1.0 / r1 + 1.0 / r2)
 
 
-def hertz_stiffness(e_star: float, r_star: float) -> float:
-    """k = 4/3 E* sqrt(R*) [N/m^1.5]."""
-    return 4.0 / 3.0 * e_star * math.sqrt(r_star)
-
-
 def damping_parameter(restitution: float, v_in: float, v_floor: float = V_IN_FLOOR) -> float:
     """Gonthier's d = (1 - eps^2)/(eps * max(v_in, v_floor)) [s/m]."""
     return (1.0 - restitution**2) / (restitution * max(v_in, v_floor))
@@ -185,7 +181,3 @@ LAWS = (
                summary="eq. (1) as written, d = (1 - eps^2)/(eps v_in) (rebounds up to 4 % below eps)"),
 )
 
-
-def stiffness_matrix(e_stars: np.ndarray, r_stars: np.ndarray) -> np.ndarray:
-    """Vectorised :func:`hertz_stiffness`."""
-    return 4.0 / 3.0 * np.asarray(e_stars) * np.sqrt(np.asarray(r_stars))

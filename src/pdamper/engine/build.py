@@ -17,6 +17,7 @@ from ..contact import DAMPING_LAWS
 from ..contact.cor_constant import ConstantRestitution
 from ..contact.cor_table import SPEED_GRID, tabulate_law
 from ..contact.cor_thornton import ThorntonRestitution, thornton_restitution
+from ..contact.hertz import hertz_stiffness
 from ..contact.hertz_gonthier import contact_time, effective_radius
 from ..errors import InputError
 from ..geometry.tilt import container_vectors
@@ -187,7 +188,7 @@ def _walls(case, bodies, table, wall_material):
             mp = bodies.material[i] * nmat + wall_material[w]
             r_star[i, w] = rs
             material_pair[i, w] = mp
-            stiffness[i, w] = 4.0 / 3.0 * table.modulus[mp] * math.sqrt(rs)
+            stiffness[i, w] = hertz_stiffness(table.modulus[mp], rs)
     cap = max(8, n * nw)
     walls = WallList(kind=np.asarray(kinds), data=data, floor=int(floor), candidate_body=np.empty(cap, dtype=np.int64),
                      candidate_wall=np.empty(cap, dtype=np.int64), n_candidates=np.zeros(1, dtype=np.int64),

@@ -2,10 +2,12 @@
 
 :func:`contact` takes what the geometry of a contact gives -- overlap ``delta``, approach rate
 ``delta_dot``, the tangential slip at the contact point -- with the contact's constants and
-history, and returns the normal force, the friction coefficient, the updated history and the
-dissipated powers; it writes the contact into Gear's friction record. The pair loop, the floor
-loop and the wall loop of :mod:`pdamper.kernels.forces` all call it; they differ only in
-geometry (where the normal and the slip come from) and in which bodies receive the force.
+history, and returns the normal force, the friction coefficient and its Coulomb limit, the updated history
+and the dissipated powers. The pair loop, the floor loop and the wall loop of
+:mod:`pdamper.kernels.forces` all call it; they differ only in geometry (where the normal and the
+slip come from) and in which bodies receive the force, which :func:`scatter` adds to them (and to
+Gear's increments in its implicit friction pass); :func:`note_friction_row` writes a contact into
+Gear's friction record.
 
 The normal damping law is the one the contact table's ``law`` marker names
 (:mod:`pdamper.contact.damping`): :func:`law_touch` and :func:`law_force` resolve, when numba
@@ -19,8 +21,8 @@ the first touch, so this is Gonthier's first-touch speed; a resting contact that
 (a bed settled against a wall when the drive starts, a chain of spheres hit by a neighbour) is
 treated as a new impact at the new speed. Without that, a resting contact keeps
 ``d = chi / v_floor`` and its damping ``k delta^1.5 d delta_dot`` becomes too stiff for any
-explicit step when it is loaded fast (found in review: a perfect-lattice start blew up at the
-first wall impact). With it the damping force never exceeds ``chi`` times the elastic force
+explicit step when it is loaded fast (a perfect-lattice start would blow up at the first
+wall impact). With it the damping force never exceeds ``chi`` times the elastic force
 while the contact is compressed.
 
 The contact-point kinematics (:func:`pair_point_velocity`, :func:`wall_point_velocity`,
@@ -42,8 +44,8 @@ from ..contact.cor_thornton import yield_speed
 from ..contact.friction_tanh import friction_factor
 from ..jit import JIT, njit
 
-__all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "law_touch", "law_force", "pair_point_velocity",
-           "wall_point_velocity", "floor_slip", "corrected_friction"]
+__all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "law_touch", "law_force", "note_friction_row", "scatter",
+           "pair_point_velocity", "wall_point_velocity", "floor_slip", "corrected_friction"]
 
 #: Friction stability guard: the friction force on a contact never exceeds the force that
 #: would stop its tangential slip within one step, ``m_t |v_t| / dt`` with the tangential
@@ -52,7 +54,7 @@ __all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "law_touch", "law_forc
 #: without it their slip chatters around zero and the friction work is mis-counted.
 #: Velocity Verlet only: Gear's steps pass a vanishing ``dt`` (no cap) and evaluate the friction at
 #: the corrected slip instead (:mod:`pdamper.kernels.gear`); only Gear's priming evaluation at the
-#: start of a run (initial accelerations) still passes its first step and so keeps the cap.
+#: start of a run (initial accelerations) passes its first step and so keeps the cap.
 FRICTION_CAP = 0.5 * 2.0 / 7.0
 
 #: marker class -> DampingLaw (several names may share a marker: they differ only in their table)
@@ -133,20 +135,20 @@ def damping_at_touch(table, v_approach, mp, k, r_star, m_star):
 def contact(table, mp, mu, k, r_star, m_star, cap, delta, delta_dot, v_in, d, vt, dt):
     """The contact law at one contact.
 
-    Parameters: the contact table and the contact's material pair ``mp``, Hertz stiffness ``k``,
-    effective radius ``r_star`` and mass ``m_star``, friction guard ``cap`` [kg]
-    (:data:`FRICTION_CAP` x m*); its overlap ``delta`` [m] and approach rate ``delta_dot`` [m/s];
-    its history ``(v_in, d)``; the unit normal ``n`` (pairs: from i to j; walls: into the
-    container), the tangential slip ``t`` at the contact point [m/s] and its length ``vt``
-    (the caller's: the floor's slip has no y part); the step ``dt`` [s] (the
-    friction guard; Gear passes a vanishing step: no guard); Gear's friction ``record`` with its
-    next row ``m`` and the bodies ``(i, j)`` (``j = -1`` at a wall).
+    Parameters: the contact table and the contact's material pair ``mp``, its friction
+    coefficient ``mu`` [-], Hertz stiffness ``k`` [N/m^1.5], effective radius ``r_star`` [m] and
+    mass ``m_star`` [kg], friction guard ``cap`` [kg] (:data:`FRICTION_CAP` x m*); its overlap
+    ``delta`` [m] and approach rate ``delta_dot`` [m/s] (> 0 approaching); its history
+    ``(v_in, d)`` (``v_in = 0``: a new contact); the length ``vt`` [m/s] of the tangential slip at
+    the contact point (the caller's: the floor's slip has no y part); the step ``dt`` [s] (the
+    friction guard; Gear passes a vanishing step: no guard).
 
-    Returns ``(F_N, c, v_in, d, P_damp, P_friction, m)``: the normal force [N] (along -n on i), the
-    friction coefficient ``c`` [N s/m] (friction force on i ``-c t``), the updated history, the
-    power dissipated by the normal damping and by friction [W], and the record's next row.
-    Friction follows the pushing part of the normal force (a law that may pull at the end of a
-    contact, Tsuji's, has no friction while it pulls).
+    Returns ``(F_N, c, lim, v_in, d, P_damp, P_friction)``: the normal force [N] (pushing the
+    bodies apart when positive), the friction coefficient ``c`` [N s/m] (the friction force on a
+    body is ``-c`` times its slip), the Coulomb limit ``lim = mu F_N`` [N], the updated history, and
+    the power dissipated by the normal damping and by friction [W]. Friction follows the pushing
+    part of the normal force (a law that may pull at the end of a contact, Tsuji's, has no friction
+    while it pulls).
     """
     if v_in == 0.0 or delta_dot > v_in:
         # first touch, or struck harder than ever before in this contact
@@ -159,19 +161,11 @@ def contact(table, mp, mu, k, r_star, m_star, cap, delta, delta_dot, v_in, d, vt
     return fn, ff, mu * fn, v_in, d, fdamp * delta_dot, ff * vt * vt
 
 
-@njit
-def note_friction(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
-    """Write a touching friction contact into row ``m`` of Gear's friction record
-    (:class:`pdamper.kernels.bundles.FrictionRecord`) when it has one; returns the next row."""
-    if c > 0.0 and m < record.rows.shape[0]:
-        _note(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim)
-        m += 1
-    return m
-
-
 @njit(inline="always")
-def _note(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
-    """Row ``m`` of the friction record."""
+def note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
+    """Write a touching friction contact into row ``m`` of Gear's friction record
+    (:class:`pdamper.kernels.bundles.FrictionRecord`): bodies ``(i, j)`` (``j = -1`` at a wall),
+    unit normal ``n``, slip ``t`` [m/s], friction coefficient ``c`` [N s/m], Coulomb limit ``lim`` [N]."""
     record.bodies[m, 0] = i
     record.bodies[m, 1] = j
     r = record.rows
@@ -183,6 +177,37 @@ def _note(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
     r[m, 5] = tz
     r[m, 6] = c
     r[m, 7] = lim
+
+
+@njit(inline="always")
+def scatter(lin, ang, i, j, fx, fy, fz, nx, ny, nz, tx, ty, tz, li, lj, ai, aj):
+    """Add a contact's force and torque to the accumulators of its bodies.
+
+    ``lin[i] += li f`` and ``ang[i] += ai (n x t)``; for a pair (``j >= 0``) also
+    ``lin[j] -= lj f`` and ``ang[j] += aj (n x t)``; ``j = -1`` is a wall. ``f`` is the force on
+    ``i``, ``t`` its tangential part (the friction, acting at the contact point), ``n`` the unit
+    normal. The force loops pass ``lin``, ``ang`` = force, torque and ``li = lj = 1``, ``ai`` the
+    signed lever of the contact point along ``n`` (pairs: ``r_i``, ``r_j``; walls: ``-r_i``);
+    Gear's implicit friction pass passes its increments and the factors that turn a force into
+    them (``h^2/2 m^-1``, ``h^2/2 r / I``).
+    """
+    lin[i, 0] += li * fx
+    lin[i, 1] += li * fy
+    lin[i, 2] += li * fz
+    if j >= 0:
+        lin[j, 0] -= lj * fx
+        lin[j, 1] -= lj * fy
+        lin[j, 2] -= lj * fz
+    cx = ny * tz - nz * ty
+    cy = nz * tx - nx * tz
+    cz = nx * ty - ny * tx
+    ang[i, 0] += ai * cx
+    ang[i, 1] += ai * cy
+    ang[i, 2] += ai * cz
+    if j >= 0:
+        ang[j, 0] += aj * cx
+        ang[j, 1] += aj * cy
+        ang[j, 2] += aj * cz
 
 
 @njit(inline="always")

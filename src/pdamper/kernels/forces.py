@@ -18,10 +18,12 @@ import math
 
 import numpy as np
 
+from ..contact.hertz import hertz_energy
 from ..geometry.walls import wall_distance
 from ..jit import njit
 from .bundles import FrictionRecord
-from .contact import FRICTION_CAP, _note, contact, floor_slip, pair_point_velocity, wall_point_velocity
+from .contact import (FRICTION_CAP, contact, floor_slip, note_friction_row, pair_point_velocity, scatter,
+                      wall_point_velocity)
 
 __all__ = ["compute_forces", "elastic_energy", "no_friction_record", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN",
            "STATUS_LIST_OVERFLOW", "STATUS_WALL_OVERFLOW"]
@@ -142,30 +144,14 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         p_n += pn
         p_f += pf
         if ff > 0.0 and m < room:
-            _note(record, m, i, j, nx, ny, nz, tx, ty, tz, ff, lim)
+            note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
         ftx = -ff * tx
         fty = -ff * ty
         ftz = -ff * tz
-        fx = -fn * nx + ftx
-        fy = -fn * ny + fty
-        fz = -fn * nz + ftz
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[i, 2] += fz
-        force[j, 0] -= fx
-        force[j, 1] -= fy
-        force[j, 2] -= fz
         # torque on i: (r_i n) x Ft ; on j: (-r_j n) x (-Ft) = r_j n x Ft
-        cx = ny * ftz - nz * fty
-        cy = nz * ftx - nx * ftz
-        cz = nx * fty - ny * ftx
-        torque[i, 0] += ri * cx
-        torque[i, 1] += ri * cy
-        torque[i, 2] += ri * cz
-        torque[j, 0] += rj * cx
-        torque[j, 1] += rj * cy
-        torque[j, 2] += rj * cz
+        scatter(force, torque, i, j, -fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz, nx, ny, nz, ftx, fty, ftz,
+                1.0, 1.0, ri, rj)
     if collect:
         record.ends[0] = m
     # ---- the floor: n = +y, so the signed distance is y, the approach speed -v_y, the slip
@@ -200,18 +186,14 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
             p_n += pn
             p_f += pf
             if ff > 0.0 and m < room:
-                _note(record, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
+                note_friction_row(record, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
                 m += 1
             ftx = -ff * tx
             ftz = -ff * tz
-            force[i, 0] += ftx
-            force[i, 1] += fn
-            force[i, 2] += ftz
+            scatter(force, torque, i, -1, ftx, fn, ftz, 0.0, 1.0, 0.0, ftx, 0.0, ftz, 1.0, 0.0, -ri, 0.0)
             fwx += ftx
             fwy += fn
             fwz += ftz
-            torque[i, 0] -= ri * ftz
-            torque[i, 2] += ri * ftx
     if collect:
         record.ends[1] = m
     # ---- the other walls, from the candidate list
@@ -247,7 +229,7 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         p_n += pn
         p_f += pf
         if ff > 0.0 and m < room:
-            _note(record, m, i, -1, nx, ny, nz, tx, ty, tz, ff, lim)
+            note_friction_row(record, m, i, -1, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
         ftx = -ff * tx
         fty = -ff * ty
@@ -255,16 +237,11 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         fx = fn * nx + ftx
         fy = fn * ny + fty
         fz = fn * nz + ftz
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[i, 2] += fz
+        # torque: (-r_i n) x Ft
+        scatter(force, torque, i, -1, fx, fy, fz, nx, ny, nz, ftx, fty, ftz, 1.0, 0.0, -ri, 0.0)
         fwx += fx
         fwy += fy
         fwz += fz
-        # torque: (-r_i n) x Ft
-        torque[i, 0] -= ri * (ny * ftz - nz * fty)
-        torque[i, 1] -= ri * (nz * ftx - nx * ftz)
-        torque[i, 2] -= ri * (nx * fty - ny * ftx)
     if collect:
         record.ends[2] = m
     return fwx, fwy, fwz, p_n, p_f, status, culprit
@@ -272,7 +249,8 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
 
 @njit
 def elastic_energy(bodies, pairs, walls):
-    """Energy [J] stored in the Hertz springs, sum of 2/5 k delta^(5/2)."""
+    """Energy [J] stored in the Hertz springs: the sum of :func:`~pdamper.contact.hertz.hertz_energy`
+    over the touching contacts."""
     pos = bodies.position
     rad = bodies.radius
     first = pairs.first
@@ -293,18 +271,18 @@ def elastic_energy(bodies, pairs, walls):
         dz = pos[j, 2] - pos[i, 2]
         delta = rad[i] + rad[j] - math.sqrt(dx * dx + dy * dy + dz * dz)
         if delta > 0.0:
-            e += 0.4 * pk[a] * delta * delta * math.sqrt(delta)
+            e += hertz_energy(pk[a], delta)
     for c in range(walls.n_candidates[0]):
         i = cand_i[c]
         w = cand_w[c]
         s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
         delta = rad[i] - s
         if delta > 0.0:
-            e += 0.4 * wk[i, w] * delta * delta * math.sqrt(delta)
+            e += hertz_energy(wk[i, w], delta)
     floor = walls.floor
     if floor >= 0:
         for i in range(n):
             delta = rad[i] - pos[i, 1]
             if delta > 0.0:
-                e += 0.4 * wk[i, floor] * delta * delta * math.sqrt(delta)
+                e += hertz_energy(wk[i, floor], delta)
     return e

@@ -13,8 +13,8 @@ Liquids, App. E).
 **Friction at the corrected slip.** The tanh friction law (eq. 2) has the slope ``mu F_N tau``
 in the slip; during an impact that is a tangential damping with a relaxation time well below a
 microsecond, and evaluated at the *predicted* slip (plain Gear) the error control has to follow
-it: at large strokes most of Gear's steps went there (5.5x more steps than without friction at
-50 mm), and the energy ledger still did not close at mu = 1. So after the forces at the predicted
+it: at large strokes most of plain Gear's steps go there (5.5x the steps of a run without friction
+at 50 mm), and its energy ledger does not close at mu = 1. So after the forces at the predicted
 state, every touching contact's friction is evaluated again at the slip the corrector will give
 (:func:`_implicit_friction`, with :func:`~pdamper.kernels.contact.corrected_friction`): linearised in
 the slip, ``ds = dc / (1 + a K c)`` with ``dc`` the
@@ -26,10 +26,10 @@ not a converged solve. What this evaluates is one linearisation of the law: the 
 comes from the predicted slip (a contact whose slip grows out of the smooth range gets up to
 1/tanh(1) = 1.31x the law's force at its corrected slip; one whose slip shrinks gets less), and
 for a body with several contacts those visited early are moved off ``-c (s + ds)`` by the later
-ones (a review measured up to 6 % of mu F_N on a three-sphere pile at ``a K c`` ~ 6). The error
+ones (up to 6 % of mu F_N, measured on a three-sphere pile at ``a K c`` ~ 6). The error
 control sees what is left. The friction power for the ledger is taken per contact at its slip
-when it is visited, not after the sweep (docs/integrators.md: taking it after the sweep was
-tried and did not improve the ledger). The explicit step's friction cap
+when it is visited, not after the sweep (taking it after the sweep does not improve the ledger:
+docs/integrators.md). The explicit step's friction cap
 (:data:`~pdamper.kernels.contact.FRICTION_CAP`) is off for Gear's steps.
 
 **Error control.** ``|Delta|`` estimates the local error of a step [m] (spin DOFs are scaled by
@@ -54,7 +54,7 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
-from .contact import corrected_friction, floor_slip, pair_point_velocity, wall_point_velocity
+from .contact import corrected_friction, floor_slip, pair_point_velocity, scatter, wall_point_velocity
 from .drive import drive_motion, is_coupled
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
@@ -87,8 +87,8 @@ def _rescale(nord, ratio):
 def _predict(nord, pred, ratio, inv_h, bodies):
     """Rescale the Nordsieck vector to the new step (``r_k *= ratio^k``, skipped when ``ratio`` is
     1), predict it into ``pred`` (Pascal triangle) and unpack the predicted positions, velocities
-    and spins into ``bodies``: one pass over the state instead of three (same arithmetic as
-    :func:`_rescale` followed by the prediction and :func:`_unpack`, so bit-identical)."""
+    and spins into ``bodies``, in one pass over the state (the arithmetic of :func:`_rescale`
+    followed by the prediction and :func:`_unpack`, so bit-identical to them)."""
     f1 = ratio
     f2 = f1 * ratio
     f3 = f2 * ratio
@@ -213,23 +213,8 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         # power: the new force on the corrected slip, minus the explicit c s^2
         dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
                  + fz * (tz + dcz - dcn * nz + a * kk * gz)) - c * vt * vt
-        dv[i, 0] += hh * inv_m[i] * gx
-        dv[i, 1] += hh * inv_m[i] * gy
-        dv[i, 2] += hh * inv_m[i] * gz
-        dv[j, 0] -= hh * inv_m[j] * gx
-        dv[j, 1] -= hh * inv_m[j] * gy
-        dv[j, 2] -= hh * inv_m[j] * gz
-        cx = ny * gz - nz * gy
-        cy = nz * gx - nx * gz
-        cz = nx * gy - ny * gx
-        si = hh * inv_i[i] * ri
-        sj = hh * inv_i[j] * rj
-        dw[i, 0] += si * cx
-        dw[i, 1] += si * cy
-        dw[i, 2] += si * cz
-        dw[j, 0] += sj * cx
-        dw[j, 1] += sj * cy
-        dw[j, 2] += sj * cz
+        scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[i], hh * inv_m[j], hh * inv_i[i] * ri,
+                hh * inv_i[j] * rj)
     # ---- the floor: n = +y, slip (v_x + r w_z, 0, v_z - r w_x)
     for q in range(ends[0], ends[1]):
         i = ids[q, 0]
@@ -248,11 +233,7 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         kk = inv_m[i] + ri * ri * inv_i[i]
         gx, gy, gz, fx, fy, fz = corrected_friction(c, fr[q, 7], kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
         dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - c * vt * vt
-        dv[i, 0] += hh * inv_m[i] * gx
-        dv[i, 2] += hh * inv_m[i] * gz
-        si = hh * inv_i[i] * ri
-        dw[i, 0] -= si * gz
-        dw[i, 2] += si * gx
+        scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
         dfz += gz
     # ---- the other walls: n into the container, slip v - r w x n
@@ -269,13 +250,7 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         gx, gy, gz, fx, fy, fz = corrected_friction(c, fr[q, 7], kk, a, tx, ty, tz, dcx, dcy, dcz)
         dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
             - c * vt * vt
-        dv[i, 0] += hh * inv_m[i] * gx
-        dv[i, 1] += hh * inv_m[i] * gy
-        dv[i, 2] += hh * inv_m[i] * gz
-        si = hh * inv_i[i] * ri
-        dw[i, 0] -= si * (ny * gz - nz * gy)
-        dw[i, 1] -= si * (nz * gx - nx * gz)
-        dw[i, 2] -= si * (nx * gy - ny * gx)
+        scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
         dfy += gy
         dfz += gz

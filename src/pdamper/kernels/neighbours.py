@@ -14,8 +14,7 @@ The building blocks take plain arrays; :func:`rebuild_lists` runs them on the bu
 
 from __future__ import annotations
 
-import math
-
+from ..contact.hertz import hertz_stiffness
 from ..geometry.walls import wall_distance
 from ..jit import njit
 from .contact import FRICTION_CAP
@@ -241,7 +240,7 @@ def rebuild_lists(bodies, pairs, walls, search, table):
             mp = mi * nmat + mat[j]
             pmp[a] = mp
             rs = rad[i] * rad[j] / (rad[i] + rad[j])
-            pk[a] = 4.0 / 3.0 * modulus[mp] * math.sqrt(rs)
+            pk[a] = hertz_stiffness(modulus[mp], rs)
             pcap[a] = FRICTION_CAP * mass[i] * mass[j] / (mass[i] + mass[j])
         ref[i, 0] = pos[i, 0]
         ref[i, 1] = pos[i, 1]

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..analysis.modes import majority_mode
 from ..errors import InputError
-from .modes import _mode_rank, mode_style
+from .mode_looks import mode_rank, mode_style
 from .figure import check_path, log_ticks, save
 
 __all__ = ["map_figure", "line_figure", "results_figure", "QUANTITIES"]
@@ -165,7 +165,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
             log_ticks(axis, *_edges(v, True)[[0, -1]])
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    for m in sorted(shown, key=_mode_rank):
+    for m in sorted(shown, key=mode_rank):
         hatch = mode_style(m)["hatch"]
         handles.append(Patch(facecolor="grey", hatch=hatch, edgecolor="white", label=m if hatch else f"{m} (plain)"))
     if handles:

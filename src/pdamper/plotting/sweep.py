@@ -125,9 +125,9 @@ def study_figure(ds, path=None, *, title: str | None = None, theory: bool = True
             ax.legend([h for h, _ in own], [s for _, s in own], loc="upper center", bbox_to_anchor=(0.5, -0.13),
                       ncols=1 if len(own) <= 3 else 2, fontsize="small", frameon=False,
                       handler_map={tuple: HandlerTuple(ndivide=1)}, handlelength=2.4)
-    from .modes import _mode_rank
+    from .mode_looks import mode_rank
 
-    modes = sorted((e for e in shared if e[1].startswith("mode: ")), key=lambda e: _mode_rank(e[1][6:]))
+    modes = sorted((e for e in shared if e[1].startswith("mode: ")), key=lambda e: mode_rank(e[1][6:]))
     shared = [e for e in shared if e[1] == "single seeds"] + modes + [
         e for e in shared if e[1] != "single seeds" and not e[1].startswith("mode: ")]
     if shared:
@@ -433,7 +433,7 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
     The mean is over every computed seed. The line and the band are broken where η* jumps: between
     the strokes on either side of the setting's X_opt (eq. (17)) and between strokes whose motion
     modes differ. When the dataset has motion modes, each mean is marked by the mode most of its
-    seeds are in (marker and fill from :func:`pdamper.plotting.modes.mode_style`, edge in the
+    seeds are in (marker and fill from :func:`pdamper.plotting.mode_looks.mode_style`, edge in the
     setting's colour) and the modes get legend entries. With ``log`` (a log y axis) a mean <= 0
     leaves a gap, a band reaching <= 0 runs to the bottom of the axes and dots <= 0 are left out.
     """
@@ -441,7 +441,7 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
     from matplotlib.patches import Patch
 
     from ..analysis.modes import majority_mode
-    from .modes import _mode_rank, mode_style
+    from .mode_looks import mode_rank, mode_style
 
     x_mm = sw.strokes_m * _MM
     colours = sw.colours()
@@ -480,7 +480,7 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
         line, = ax.plot(gx, gy, color=colour, lw=1.4, ls=style, marker=point_marker, ms=4.5, mfc=colour,
                         mec="white", mew=0.6, zorder=3, gid=f"mean {name}")
         if sw.modes is not None:
-            for mode in sorted(set(modes), key=_mode_rank):
+            for mode in sorted(set(modes), key=mode_rank):
                 at = np.array([m == mode for m in modes])
                 look = mode_style(mode) if mode else {"color": colour, "marker": marker}
                 ax.plot(xs[at], mean[at], ls="", marker=look["marker"], ms=6.0, mfc=look["color"], mec=colour,
@@ -502,7 +502,7 @@ def _draw_data(ax, sw: _Sweep, scale: float, log: bool = False) -> list:
     if seeds_drawn:
         handles.append((Line2D([], [], ls="", marker="o", ms=3, color="0.45", alpha=0.6,
                                mew=0), "single seeds"))
-    for mode in sorted(modes_seen, key=_mode_rank):
+    for mode in sorted(modes_seen, key=mode_rank):
         look = mode_style(mode)
         handles.append((Line2D([], [], ls="", marker=look["marker"], ms=6.0, mfc=look["color"], mec="0.3",
                                mew=1.0), f"mode: {mode}"))

@@ -14,21 +14,25 @@ walls did on the bed, the same sum the structure lost to the bed) the whole syst
 
 from __future__ import annotations
 
-from .._repr import short_repr
-
 from dataclasses import dataclass
 
 import numpy as np
+
+from .._deprecated import renamed
+from .._repr import short_repr
 
 __all__ = ["StructureRecord", "StructureRecorder"]
 
 
 @dataclass(frozen=True, kw_only=True)
 class StructureRecord:
-    """The structure's motion and energies at the sample ends ``time`` [s] (``x0``, ``v0``: at t = 0).
+    """The structure's motion and energies at the sample ends ``time`` [s] (``x0_m``, ``v0_m_s``:
+    at t = 0).
 
-    Attributes: time [s], displacement [m], velocity [m/s], external_work [J], damping_loss [J],
-    mass [kg], stiffness [N/m].
+    Attributes: time [s], displacement [m], velocity [m/s], external_work [J], damping_loss [J]
+    (arrays, named by quantity), and the structure's ``mass_kg``, ``stiffness_N_m`` [N/m], initial
+    displacement ``x0_m`` and velocity ``v0_m_s`` (numbers, named with their unit). ``mass``,
+    ``stiffness``, ``x0`` and ``v0`` are deprecated names of the last four.
     """
 
     time: np.ndarray
@@ -36,10 +40,15 @@ class StructureRecord:
     velocity: np.ndarray
     external_work: np.ndarray
     damping_loss: np.ndarray
-    mass: float
-    stiffness: float
-    x0: float = 0.0
-    v0: float = 0.0
+    mass_kg: float
+    stiffness_N_m: float
+    x0_m: float = 0.0
+    v0_m_s: float = 0.0
+
+    mass = renamed("mass_kg")
+    stiffness = renamed("stiffness_N_m")
+    x0 = renamed("x0_m")
+    v0 = renamed("v0_m_s")
 
     @classmethod
     def from_channel(cls, case, data) -> "StructureRecord":
@@ -49,20 +58,21 @@ class StructureRecord:
         d = case.drive
         return cls(time=(np.arange(n) + 1) * data.info.interval, displacement=out[:, 0].copy(),
                    velocity=out[:, 1].copy(), external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(),
-                   mass=d.mass, stiffness=d.stiffness, x0=d.displacement, v0=d.velocity)
+                   mass_kg=d.mass, stiffness_N_m=d.stiffness, x0_m=d.displacement, v0_m_s=d.velocity)
 
     def edges(self):
         """(x, v) at the n + 1 interval edges, t = 0 included."""
-        return np.concatenate([[self.x0], self.displacement]), np.concatenate([[self.v0], self.velocity])
+        return np.concatenate([[self.x0_m], self.displacement]), np.concatenate([[self.v0_m_s], self.velocity])
 
     @property
     def energy(self) -> np.ndarray:
         """Mechanical energy of the structure 1/2 M v^2 + 1/2 K x^2 [J]."""
-        return 0.5 * self.mass * self.velocity**2 + 0.5 * self.stiffness * self.displacement**2
+        return 0.5 * self.mass_kg * self.velocity**2 + 0.5 * self.stiffness_N_m * self.displacement**2
 
     @property
     def initial_energy(self) -> float:
-        return 0.5 * self.mass * self.v0**2 + 0.5 * self.stiffness * self.x0**2
+        """Mechanical energy of the structure at t = 0 [J]."""
+        return 0.5 * self.mass_kg * self.v0_m_s**2 + 0.5 * self.stiffness_N_m * self.x0_m**2
 
     def residual(self, ledger=None) -> np.ndarray:
         """Balance of the whole system (structure + bed, see the module docstring) relative to

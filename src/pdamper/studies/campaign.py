@@ -36,9 +36,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .._deprecated import renamed_function
 from ..errors import InputError
 
-__all__ = ["MeasuredPoint", "analyse_records", "campaign_dataset", "read_manifest", "MANIFEST"]
+__all__ = ["MeasuredPoint", "analyze_records", "analyse_records", "campaign_dataset", "read_manifest", "MANIFEST"]
 
 MANIFEST = "campaign.toml"
 _SAME = 5e-3  # strokes/frequencies closer than this (relative) are repeats of one point
@@ -122,7 +123,7 @@ def _expand(paths) -> list[Path]:
     return out
 
 
-def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, columns=None, motion=None,
+def analyze_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, columns=None, motion=None,
                     manifest=None, container_mass=None) -> tuple[list[MeasuredPoint], list[tuple[str, str]]]:
     """Analyse every record; returns (the points, the failures as ``(file, reason)``).
 
@@ -168,6 +169,9 @@ def analyse_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
                                     cycles_used=int(r.cycles_used), effective_mass_kg=float(r.effective_mass_kg),
                                     equivalent_damping_N_s_per_m=float(r.equivalent_damping_N_s_per_m)))
     return points, failures
+
+
+analyse_records = renamed_function(analyze_records, "analyse_records")
 
 
 def _groups(values) -> list[float]:

@@ -2,7 +2,7 @@
 
 Each case a sweep stored with its signals (``cases/<key>.signals.nc``: the 1 kHz driving force,
 the container motion and the ledger's dissipated energy) is analysed again by the complex power
-method (:func:`pdamper.run.analyse_signals`) with other analysis settings, e.g. more cycles
+method (:func:`pdamper.run.analyze_signals`) with other analysis settings, e.g. more cycles
 dropped. With the settings of the run the numbers are the run's, bit for bit: the same function
 on the same arrays. The motion mode, the step count and the energy balance are the run's.
 """
@@ -25,7 +25,7 @@ def reanalyze(path, *, drop_cycles: int | None = None):
     attribute ``not_reanalysed``. Writes nothing."""
     from ..recorders.energy import EnergyLedger
     from ..recorders.signals import Signals
-    from ..run import analyse_signals
+    from ..run import analyze_signals
     from ..schema import replace
     from .store import ResultStore
     from .sweep import add_theory, theory_attrs
@@ -49,7 +49,7 @@ def reanalyze(path, *, drop_cycles: int | None = None):
             continue
         case = replace(base, rec["point"])
         signals = Signals(**{k: sig[k].values for k in ("time", "time_end", "force", "velocity", "position")})
-        a = analyse_signals(case, signals)
+        a = analyze_signals(case, signals)
         zeros = np.zeros_like(sig["ledger_dissipated"].values)
         ledger = EnergyLedger(time=sig["ledger_time"].values, kinetic=zeros, rotational=zeros, potential=zeros,
                               elastic=zeros, work=zeros, damping=sig["ledger_dissipated"].values, friction=zeros)

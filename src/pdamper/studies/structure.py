@@ -100,7 +100,7 @@ def run_decay(case: Case, *, progress=None) -> DecayResult:
         "zeta_bare_mean": float(np.mean(z_b[2])) if z_b[2].size else math.nan,
         "bare_vs_closed_form_max_error": float(np.max(np.abs(bare.displacement - exact)) / scale),
         "energy_balance_error": rec.balance_error(res.energy),
-        "steps": res.steps, "time_step_s": res.time_step, "wall_time_s": res.wall_time_s,
+        "steps": res.steps, "time_step_s": res.time_step_s, "wall_time_s": res.wall_time_s,
     }
     return DecayResult(case=case, time=t, damped=rec.displacement, bare=bare.displacement, closed_form=exact,
                        envelope_damped=env_d, envelope_bare=env_b, zeta_damped=z_d, zeta_bare=z_b, summary=summary)

@@ -248,7 +248,7 @@ class SweepSpec:
             for a in self.axes:
                 for v in a.values:
                     c = self.case({a.key: v}, self.seeds[0])
-                    check_case(c, analyse=True)
+                    check_case(c, analyze=True)
                     check_memory(c)
 
     def axis(self, key: str) -> Axis:

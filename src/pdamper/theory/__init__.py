@@ -45,7 +45,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING
 
-# Imported now: the function ``clearance`` shares its name with its submodule, and binding it
+# Imported with the package: the function ``clearance`` shares its name with its submodule, and binding it
 # here keeps a later ``import pdamper.theory.clearance`` from shadowing it. (numpy only.)
 from .clearance import SHAPES, clearance, container_length  # noqa: E402
 
