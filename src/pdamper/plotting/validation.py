@@ -39,7 +39,7 @@ def bouncing_figure(rows, clearance: float, path=None, *, title: str = "", dpi: 
     ax.set_ylabel("η* [-]")
     ax.set_ylim(0, max(1.4, float(np.nanmax(hi)) * 1.1))
     ax.grid(True, color="0.9", lw=0.6)
-    ax.legend(loc="lower right", fontsize=8.5)
+    ax.legend(loc="upper right", fontsize=8.5)
     if rows and all(math.isfinite(r["intensity"]) for r in rows):
         ratio = rows[0]["intensity"] / rows[0]["stroke_m"]
         top = ax.secondary_xaxis("top", functions=(lambda v: v / MM * ratio, lambda g: g / ratio * MM))
