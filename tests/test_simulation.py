@@ -407,3 +407,16 @@ def test_results_print_as_one_short_line():
     assert repr(r).startswith(f"RunResult(eta_star={r.eta_star:.6g}")
     assert repr(r.case).startswith("Case(8 x r = 5 mm steel in a cuboid 120 x 40.4 x 40 mm, harmonic X = 13 mm")
     assert "<float64 array 1500>" in repr(r.signals)
+
+
+def test_recorders_given_as_a_generator_record_as_a_list_does():
+    """The recorders are read once: a generator of them records what the same list records."""
+    from pdamper.recorders.energy import EnergyRecorder
+    from pdamper.recorders.signals import SignalsRecorder
+
+    case = Case(particles=(ParticleSet(count=4),), cycles=1, drop_cycles=0)
+    as_list = Simulation(case, recorders=[SignalsRecorder(), EnergyRecorder()]).run()
+    as_gen = Simulation(case, recorders=(r for r in (SignalsRecorder(), EnergyRecorder()))).run()
+    assert set(as_gen.outputs) == {"signals", "energy"}
+    np.testing.assert_array_equal(as_gen.signals.force, as_list.signals.force)
+    assert as_gen.signals.force.size == as_list.case.recording.sample_rate * 0.5
