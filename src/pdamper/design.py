@@ -71,6 +71,13 @@ class Design:
     def to_dict(self) -> dict:
         return asdict(self)
 
+    def describe_container(self) -> str:
+        """The container as the design sizes it (its floor; the height is not the design's)."""
+        mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
+        if self.shape == "cuboid":
+            return f"cuboid {mm(self.length_m)} x {mm(self.width_m)}"
+        return f"cylinder R = {mm(self.length_m / 2)} (L = 2R)"
+
     def container_geometry(self):
         """The container shape of this design (default height)."""
         if self.shape == "cuboid":

@@ -140,7 +140,7 @@ class Container:
         return [self.wall_materials.get(n, own.get(n, self.material)) for n in names]
 
     def outline(self, view: str) -> list:
-        """Closed polygons [(k, 2), ...] [m] of the container seen from ``"top"`` (x, z) or the
+        """Closed polygons, (k, 2) arrays in metres, of the container seen from ``"top"`` (x, z) or the
         ``"side"`` (x, y): the shape's, then the baffles'."""
         polys = list(self.geometry.outline(view))
         if self.baffles:

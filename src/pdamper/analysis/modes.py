@@ -69,8 +69,6 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..geometry.shape import ShapeBase
-
 
 __all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_features", "classify_trajectory",
            "case_clearance", "floor_capacity", "bed_centre", "majority_mode", "container_track"]
@@ -224,7 +222,11 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     h = clearance if clearance > 0 else 2 * float(rad.max())
     swing = float((np.percentile(centre, 95) - np.percentile(centre, 5)) / h)
     gap = th["touch_gap"] * rad
-    on_lo, on_hi = (shape if shape is not None else ShapeBase()).end_contacts(pos, rad, s, length, gap)
+    if shape is None:
+        from ..geometry.shape import ShapeBase  # (planar end walls; imported here: geometry compiles)
+
+        shape = ShapeBase()
+    on_lo, on_hi = shape.end_contacts(pos, rad, s, length, gap)
     dt = float(np.median(np.diff(t))) if nf > 1 else 0.0
     cycles = max((t[-1] - t[0] + dt) * frequency, 1e-12)
 

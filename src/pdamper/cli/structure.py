@@ -220,7 +220,7 @@ def design_command(frequency, stroke, shape, length, width, container_radius, sp
         echo_json(out)
         return
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
-    box = d.container_geometry().describe()
+    box = d.describe_container()
     rows = [
         ("filling", f"{d.particles} of {d.max_particles}", f"spheres, {d.rows} rows (exact {d.exact_particles:.3f})"),
         ("clearance h", mm(d.clearance_m), "eq. (6)"),
