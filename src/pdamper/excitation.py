@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .schema import convert_fields, param
+from .schema import convert_fields, param, register_tagged, registered
 
 __all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure", "DriveBase", "DRIVES", "register_drive",
            "drive_class"]
@@ -51,19 +51,12 @@ _DIRECTION_WORDS = {"vertical": (0.0, 1.0, 0.0), "up": (0.0, 1.0, 0.0), "x": (1.
 
 def register_drive(cls):
     """Class decorator: register a drive class under its ``kind`` tag. Returns the class."""
-    tag = next((f.default for f in dataclasses.fields(cls) if f.name == "kind"), None)
-    if not isinstance(tag, str) or not tag:
-        raise TypeError(f"{cls.__name__}: a drive needs a field 'kind' with its tag as default")
-    DRIVES[tag] = cls
-    return cls
+    return register_tagged(DRIVES, cls, "kind", "drive", needs=("kernel_drive", "motion", "duration"))
 
 
 def drive_class(tag: str) -> type:
     """The registered drive class of ``tag``."""
-    try:
-        return DRIVES[tag]
-    except KeyError:
-        raise InputError(f"drive.kind = {tag!r}; choose one of {', '.join(repr(k) for k in DRIVES)}") from None
+    return registered(DRIVES, tag, "drive.kind")
 
 
 class DriveBase:

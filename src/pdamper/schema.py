@@ -436,3 +436,25 @@ def _change_section(obj, fields: list, items: dict, section: str) -> dict:
     else:
         kw[holder.name] = _change(value, rest, section)
     return kw
+
+
+def register_tagged(registry: dict, cls, tag_field: str, what: str, needs: tuple = ()):
+    """Put the dataclass ``cls`` into ``registry`` under the default of its field ``tag_field``
+    (a shape's ``shape``, a drive's ``kind``), once it has the methods ``needs``; returns ``cls``
+    (so it serves as a class decorator)."""
+    tag = next((f.default for f in dataclasses.fields(cls) if f.name == tag_field), None)
+    if not isinstance(tag, str) or not tag:
+        raise TypeError(f"{cls.__name__}: a {what} needs a field {tag_field!r} with its tag as default")
+    missing = [m for m in needs if not callable(getattr(cls, m, None))]
+    if missing:
+        raise TypeError(f"{cls.__name__} does not answer the {what} protocol: missing {', '.join(missing)}")
+    registry[tag] = cls
+    return cls
+
+
+def registered(registry: dict, tag: str, key: str) -> type:
+    """The class registered under ``tag``, or an InputError naming ``key`` and the known tags."""
+    try:
+        return registry[tag]
+    except KeyError:
+        raise InputError(f"{key} = {tag!r}; choose one of {', '.join(repr(k) for k in registry)}") from None

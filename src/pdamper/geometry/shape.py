@@ -42,7 +42,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ..errors import InputError
+from ..schema import register_tagged, registered
 
 __all__ = ["Shape", "ShapeBase", "SHAPES", "register_shape", "shape_class", "GAP"]
 
@@ -85,24 +85,13 @@ class Shape(Protocol):
 def register_shape(cls):
     """Class decorator: register a shape dataclass under its ``shape`` tag (the default of its
     ``shape`` field). Returns the class."""
-    tag = next((f.default for f in dataclasses.fields(cls) if f.name == "shape"), None)
-    if not isinstance(tag, str) or not tag:
-        raise TypeError(f"{cls.__name__}: a shape needs a field 'shape' with its tag as default")
-    missing = [m for m in ("walls", "bounding_box", "layer_sites", "outline", "max_particles", "describe")
-               if not callable(getattr(cls, m, None))]
-    if missing:
-        raise TypeError(f"{cls.__name__} does not answer the shape protocol: missing {', '.join(missing)}")
-    SHAPES[tag] = cls
-    return cls
+    return register_tagged(SHAPES, cls, "shape", "shape",
+                           needs=("walls", "bounding_box", "layer_sites", "outline", "max_particles", "describe"))
 
 
 def shape_class(tag: str) -> type:
     """The registered shape class of ``tag`` (InputError naming the known shapes otherwise)."""
-    try:
-        return SHAPES[tag]
-    except KeyError:
-        known = ", ".join(repr(k) for k in SHAPES)
-        raise InputError(f"container.shape = {tag!r}; choose one of {known}") from None
+    return registered(SHAPES, tag, "container.shape")
 
 
 class ShapeBase:

@@ -37,6 +37,16 @@ def _poisson(name, nu) -> float:
     return float(nu)
 
 
+def _impact(sphere_radius, sphere_density, sphere_modulus, sphere_poisson, wall_poisson, impact_speed):
+    """The checked inputs of an impact: (m, r, (1 - nu_s^2)/E_s, 1 - nu_w^2, v)."""
+    r = positive("sphere_radius", sphere_radius, "m", "0.005 (5 mm)")
+    rho = positive("sphere_density", sphere_density, "kg/m^3", "7900 (steel)")
+    es = positive("sphere_modulus", sphere_modulus, "Pa", "208e9 (steel)")
+    v = positive("impact_speed", impact_speed, "m/s", "0.3")
+    nus, nuw = _poisson("sphere_poisson", sphere_poisson), _poisson("wall_poisson", wall_poisson)
+    return rho * 4.0 / 3.0 * math.pi * r**3, r, (1 - nus**2) / es, 1 - nuw**2, v
+
+
 @quantities(sphere_radius="length", sphere_density="density", sphere_modulus="pressure", wall_modulus="pressure",
             impact_speed="velocity")
 def hertz_contact_time(*, sphere_radius: float, sphere_density: float, sphere_modulus: float, sphere_poisson: float,
@@ -47,14 +57,10 @@ def hertz_contact_time(*, sphere_radius: float, sphere_density: float, sphere_mo
     ...       sphere_poisson=0.3, wall_modulus=10e6, wall_poisson=0.48, impact_speed=0.3) * 1e3, 2)
     1.67
     """
-    r = positive("sphere_radius", sphere_radius, "m", "0.005 (5 mm)")
-    rho = positive("sphere_density", sphere_density, "kg/m^3", "7900 (steel)")
-    es = positive("sphere_modulus", sphere_modulus, "Pa", "208e9 (steel)")
+    m, r, sphere_share, wall_factor, v = _impact(sphere_radius, sphere_density, sphere_modulus, sphere_poisson,
+                                                 wall_poisson, impact_speed)
     ew = positive("wall_modulus", wall_modulus, "Pa", "10e6 (silicone)")
-    v = positive("impact_speed", impact_speed, "m/s", "0.3")
-    nus, nuw = _poisson("sphere_poisson", sphere_poisson), _poisson("wall_poisson", wall_poisson)
-    m = rho * 4.0 / 3.0 * math.pi * r**3
-    e_star = 1.0 / ((1 - nus**2) / es + (1 - nuw**2) / ew)
+    e_star = 1.0 / (sphere_share + wall_factor / ew)
     return HERTZ_TIME_FACTOR * (m * m / (r * e_star**2 * v)) ** 0.2
 
 
@@ -72,16 +78,12 @@ def wall_modulus_for_contact_time(contact_time: float, *, sphere_radius: float, 
     10.0
     """
     tc = positive("contact_time", contact_time, "s", "2e-3 (2 ms)")
-    r = positive("sphere_radius", sphere_radius, "m", "0.005 (5 mm)")
-    rho = positive("sphere_density", sphere_density, "kg/m^3", "7900 (steel)")
-    es = positive("sphere_modulus", sphere_modulus, "Pa", "208e9 (steel)")
-    v = positive("impact_speed", impact_speed, "m/s", "0.3")
-    nus, nuw = _poisson("sphere_poisson", sphere_poisson), _poisson("wall_poisson", wall_poisson)
-    m = rho * 4.0 / 3.0 * math.pi * r**3
+    m, r, sphere_share, wall_factor, v = _impact(sphere_radius, sphere_density, sphere_modulus, sphere_poisson,
+                                                 wall_poisson, impact_speed)
     e_star = math.sqrt(HERTZ_TIME_FACTOR**5 * m * m / (r * v * tc**5))
-    rest = 1.0 / e_star - (1 - nus**2) / es
+    rest = 1.0 / e_star - sphere_share
     if rest <= 0:
-        shortest = HERTZ_TIME_FACTOR * (m * m * (1 - nus**2) ** 2 / (r * es**2 * v)) ** 0.2
+        shortest = HERTZ_TIME_FACTOR * (m * m * sphere_share**2 / (r * v)) ** 0.2
         raise InputError(f"contact_time = {tc:.3g} s is shorter than the impact on a rigid wall ({shortest:.3g} s at "
                          f"{v:g} m/s): no wall modulus gives it; ask for a longer contact time")
-    return (1 - nuw**2) / rest
+    return wall_factor / rest
