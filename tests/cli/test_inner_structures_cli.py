@@ -60,3 +60,29 @@ def test_sweep_and_plot_a_coated_container(inner, tmp_path):
     assert all(0 <= e < 2 for e in data["eta_star_mean"])
     res = invoke(["plot", "modes", str(store), "--out", str(tmp_path / "m.png")])
     assert res.exit_code == 0, res.output
+
+
+def test_sweep_a_vertically_driven_multi_layer_bed(tmp_path):
+    cfg = tmp_path / "v.toml"
+    cfg.write_text("""
+[container]
+length = "40mm"
+width = "20.4mm"
+height = "40mm"
+[particles]
+count = 16
+[drive]
+frequency = "15Hz"
+direction = [0, 1, 0]
+[initial]
+layers = "auto"
+settle_time = "50ms"
+[run]
+cycles = 5
+drop_cycles = 2
+""")
+    res = invoke(["sweep", str(cfg), "--strokes", "6mm,12mm", "--json", "--out", str(tmp_path / "s")])
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.stdout)
+    assert not data["failed_cases"] and all(m == "lift-off" for m in data["modes"])
+    assert all(0.1 < e < 4 / 3.1416 for e in data["eta_star_mean"])   # the bed collides, below the block's bound
