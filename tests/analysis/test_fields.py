@@ -195,3 +195,11 @@ def test_a_bad_branch_amplitude_or_missing_frequency_is_an_input_error():
         f.at(-0.01, 2.0)
     with pytest.raises(InputError, match="give the frequency"):
         f.at(0.01)
+
+
+def test_docstring_examples_run():
+    import doctest
+    import importlib
+
+    failures, tried = doctest.testmod(importlib.import_module("pdamper.analysis.fields"))
+    assert tried >= 2 and failures == 0
