@@ -150,7 +150,7 @@ class _Column:
         held, c_eq held, E ~ X^2."""
         i = self.segments[k][1] if at_end else self.segments[k][0]
         ratio = (X / self.x[i]) ** 2
-        return {name: float(v[i]) * (ratio if name == "energy_per_cycle" else 1.0) for name, v in self.values.items()}
+        return {name: float(v[i] * (ratio if name == "energy_per_cycle" else 1.0)) for name, v in self.values.items()}
 
     def evaluate(self, X: float, branch) -> tuple[dict, str, str, bool]:
         """(values, branch used, family, extrapolated) at X."""
