@@ -133,9 +133,8 @@ class _Column:
             if i == len(fam) or fam[i] != fam[start]:
                 self.segments.append((start, i - 1, fam[start]))
                 start = i
-        self.values = values
-        self.interp = [{name: _pchip(self.lx[a:b + 1], v[a:b + 1]) for name, v in values.items()}
-                       for a, b, _ in self.segments]
+        self.values = np.column_stack([np.asarray(values[n], dtype=float) for n in FIELDS])
+        self.interp = [_pchip(self.lx[a:b + 1], self.values[a:b + 1]) for a, b, _ in self.segments]
 
     @property
     def box(self) -> tuple[float, float]:
@@ -145,45 +144,51 @@ class _Column:
         return [(float(self.x[b0]), float(self.x[a1]), f0, f1)
                 for (_, b0, f0), (a1, _, f1) in zip(self.segments, self.segments[1:])]
 
-    def _end(self, k: int, at_end: bool, X: float) -> dict:
-        """Segment ``k`` continued from its last (``at_end``) or first node to X: eta* and m_eff
-        held, c_eq held, E ~ X^2."""
+    def _end(self, k: int, at_end: bool, X: float) -> np.ndarray:
+        """Segment ``k`` continued from its last (``at_end``) or first node to X: eta*, m_eff and
+        c_eq held, E ~ X^2."""
         i = self.segments[k][1] if at_end else self.segments[k][0]
-        ratio = (X / self.x[i]) ** 2
-        return {name: float(v[i] * (ratio if name == "energy_per_cycle" else 1.0)) for name, v in self.values.items()}
+        out = self.values[i].copy()
+        out[_E] *= (X / self.x[i]) ** 2
+        return out
 
-    def evaluate(self, X: float, branch) -> tuple[dict, str, str, bool]:
-        """(values, branch used, family, extrapolated) at X."""
+    def evaluate(self, X: float, branch) -> tuple[np.ndarray, str, str]:
+        """(the fields in :data:`FIELDS` order, branch used, family) at X."""
         lo, hi = self.box
         if X < lo:
-            return self._end(0, False, X), "", self.segments[0][2], True
+            return self._end(0, False, X), "", self.segments[0][2]
         if X > hi:
-            return self._end(len(self.segments) - 1, True, X), "", self.segments[-1][2], True
+            return self._end(len(self.segments) - 1, True, X), "", self.segments[-1][2]
         lx = math.log(X)
         for k, (a, b, fam) in enumerate(self.segments):
             if self.x[a] <= X <= self.x[b]:
-                return {name: float(f(lx)) for name, f in self.interp[k].items()}, "", fam, False
+                return self.interp[k](lx), "", fam
             if k + 1 < len(self.segments) and self.x[b] < X < self.x[self.segments[k + 1][0]]:
                 below = branch == "below" or (branch is None and X < math.sqrt(self.x[b] * self.x[self.segments[k + 1][0]]))
                 if below:
-                    return self._end(k, True, X), "below", fam, False
-                return self._end(k + 1, False, X), "above", self.segments[k + 1][2], False
+                    return self._end(k, True, X), "below", fam
+                return self._end(k + 1, False, X), "above", self.segments[k + 1][2]
         raise AssertionError("unreachable: X inside the box but in no segment or gap")
 
 
-def _pchip(lx, y):
-    """A callable through the finite (lx, y) nodes: PCHIP for two or more, the value for one,
-    NaN for none."""
+_E = list(FIELDS).index("energy_per_cycle")
+
+
+def _pchip(t, y):
+    """A callable through the nodes (t, y[:, k]) of every field k, returning an array: PCHIP through
+    the finite nodes of a field (two or more), its value (one), NaN (none)."""
     from scipy.interpolate import PchipInterpolator
 
     ok = np.isfinite(y)
-    if ok.sum() >= 2:
-        p = PchipInterpolator(lx[ok], y[ok], extrapolate=True)
-        return lambda t: p(t)
-    if ok.sum() == 1:
-        v = float(y[ok][0])
-        return lambda t: v
-    return lambda t: math.nan
+    if ok.all() and len(t) >= 2:
+        p = PchipInterpolator(t, y, axis=0, extrapolate=True)
+        return lambda v: np.asarray(p(v), dtype=float)
+    if ok.all():
+        row = y[0].astype(float)
+        return lambda v: row.copy()
+    parts = [_pchip(t[ok[:, k]], y[ok[:, k], k:k + 1]) if ok[:, k].any() else (lambda v: np.array([math.nan]))
+             for k in range(y.shape[1])]
+    return lambda v: np.concatenate([p(v) for p in parts])
 
 
 def _spread(values, dim="seed") -> dict:
@@ -390,33 +395,19 @@ class DamperFields:
             cols = [c for c in cols if c in near or c.box[0] <= X <= c.box[1]]
             fs = np.array([c.frequency for c in cols])
         results = [c.evaluate(X, branch) for c in cols]
-        names = list(FIELDS)
         if outside_f:  # the end column at X, continued in f: eta*, m_eff held, c_eq ~ f, E ~ f^2
-            vals, br, fam, _ = results[0 if f < fs[0] else -1]
+            vals, br, fam = results[0 if f < fs[0] else -1]
             r = f / near[0].frequency
-            vals = {**vals, "energy_per_cycle": vals["energy_per_cycle"] * r * r,
-                    "equivalent_damping": vals["equivalent_damping"] * r}
-            out = [vals[n] for n in names]
-        elif len(cols) == 1:
-            vals, br, fam, _ = results[0]
-            out = [vals[n] for n in names]
+            out = vals * np.array([1.0, r * r, 1.0, r])
+        elif len(near) == 1:  # on a frequency node
+            vals, br, fam = results[cols.index(near[0])]
+            out = vals
         else:
-            from scipy.interpolate import PchipInterpolator
-
-            y = np.array([[r[0][n] for n in names] for r in results])
-            out = []
-            for k in range(len(names)):
-                ok = np.isfinite(y[:, k])
-                if ok.sum() >= 2:
-                    out.append(float(PchipInterpolator(fs[ok], y[ok, k], extrapolate=False)(f)))
-                elif ok.sum() == 1 and fs[ok][0] == f:
-                    out.append(float(y[ok, k][0]))
-                else:
-                    out.append(math.nan)
+            out = _pchip(fs, np.array([r[0] for r in results]))(f)
             nearest = min(range(len(cols)), key=lambda i: abs(fs[i] - f))
             fam = results[nearest][2]
             br = next((results[cols.index(c)][1] for c in near if results[cols.index(c)][1]), "")
-        return FieldValues(amplitude_m=X, frequency_hz=f, **{FIELDS[n][0]: v for n, v in zip(names, out)},
+        return FieldValues(amplitude_m=X, frequency_hz=f, **{a: float(v) for (a, _, _), v in zip(FIELDS.values(), out)},
                            branch=br, family=str(fam), extrapolated=outside_f or outside_x)
 
     def branches(self, amplitude: float, frequency: float | None = None, *,
