@@ -157,3 +157,19 @@ def test_fields_of_a_measured_multi_frequency_campaign(tmp_path):
     exact = M - K / (2 * math.pi * fs) ** 2
     # three nodes in f for a curve in 1/f^2: PCHIP is off by at most 7.35 g (4.9 % of m) between them
     assert np.max(np.abs(m - exact)) < 0.05 * M
+
+
+def test_another_swept_key_is_fixed_with_sel(store, tmp_path):
+    ds = open_results(store)
+    two = ds.expand_dims(friction=[0.1, 0.2]).copy(deep=True)
+    two["eta_star"] = two.eta_star * two.friction  # a different eta* per friction
+    two.to_netcdf(tmp_path / "results.nc", engine="h5netcdf")
+    out = CliRunner().invoke(main, ["fields", str(tmp_path / "results.nc"), "--out", str(tmp_path / "F.nc")])
+    assert out.exit_code == 2 and "vary friction besides" in out.output and "--sel friction=VALUE" in out.output
+    out = CliRunner().invoke(main, ["fields", str(tmp_path / "results.nc"), "--sel", "friction=0.19",
+                                    "--out", str(tmp_path / "F.nc")])
+    assert out.exit_code == 0, out.output
+    f = load_fields(tmp_path / "F.nc").dataset
+    np.testing.assert_allclose(f.eta_star.values, 0.2 * ds.eta_star.mean("seed").transpose("stroke", "frequency").values,
+                               rtol=1e-12)
+    assert f.attrs["selected"] == "friction = 0.2"  # the value taken, nearest to the one asked

@@ -53,16 +53,17 @@ def build_fields(source, *, sel: dict | None = None, command: str | None = None)
     from .._version import __version__
 
     ds, kind = open_source(source)
+    chosen = []
     for dim, value in (sel or {}).items():
         if dim not in ds.dims:
             raise InputError(f"--sel {dim}: not a dimension of {source}; it has {', '.join(map(str, ds.dims))}")
         ds = ds.sel({dim: value}, method="nearest" if isinstance(value, float) else None)
-    if sel:
-        ds = ds.drop_vars([d for d in sel if d in ds.coords and d not in ds.dims], errors="ignore")
+        chosen.append(f"{dim} = {ds[dim].values.item()!r}")
+        ds = ds.drop_vars(dim)
     attrs = {"source_kind": kind, "source": str(Path(source).resolve()),
              "command": command or f"pdamper {__version__}: build_fields({str(source)!r})"}
-    if sel:
-        attrs["selected"] = ", ".join(f"{k} = {v}" for k, v in sel.items())
+    if chosen:
+        attrs["selected"] = ", ".join(chosen)  # the values taken (the nearest to those asked)
     fields = DamperFields.from_results(ds, attrs=attrs)
     bed = fields.bed_mass
     if not (math.isfinite(bed) and bed > 0):
