@@ -146,6 +146,25 @@ def test_a_mode_change_is_a_jump_with_two_branches_never_smoothed():
     assert 0.25 < plain.at(0.014, 2.0).eta_star < 0.85
 
 
+def test_a_jump_that_moves_with_the_frequency_is_tracked_between_the_frequency_nodes():
+    # the step lies between 10 and 20 mm at 1.5 and 2 Hz, between 20 and 30 mm at 3 Hz
+    collide = np.array(STROKES)[:, None] > np.array([0.012, 0.012, 0.025])[None, :]
+    eta = np.where(collide, 0.9, 0.2)
+    f = DamperFields.from_results(results(STROKES, FREQS, eta, modes=np.where(collide, COLLIDE, OTHER)))
+    # half-way from 2 to 3 Hz the interval's ends are half-way in log X: 14.14 and 24.49 mm
+    lo, hi = math.sqrt(0.010 * 0.020), math.sqrt(0.020 * 0.030)
+    xs = np.geomspace(STROKES[0], STROKES[-1], 500)
+    ys = np.array([f.at(x, 2.5).eta_star for x in xs])
+    assert np.all(np.isclose(ys, 0.2) | np.isclose(ys, 0.9)), "no value between the branches between the nodes"
+    jump = math.sqrt(lo * hi)
+    assert np.all(np.isclose(ys[xs < jump], 0.2)) and np.all(np.isclose(ys[xs >= jump], 0.9))
+    assert [b.eta_star for b in f.branches(0.016, 2.5)] == pytest.approx([0.2, 0.9])
+    assert [b.branch for b in f.branches(0.016, 2.5)] == ["below", "above"]
+    assert len(f.branches(0.013, 2.5)) == 1 and len(f.branches(0.026, 2.5)) == 1
+    # at a node the column's own interval holds: 15 mm at 3 Hz is below its jump (20-30 mm)
+    assert f.at(0.015, 3.0).eta_star == pytest.approx(0.2) and f.at(0.015, 2.0).eta_star == pytest.approx(0.9)
+
+
 def test_points_without_a_mode_or_with_a_tie_join_a_segment():
     modes = np.array([[OTHER, OTHER], [OTHER, COLLIDE], ["", ""], [COLLIDE, COLLIDE], ["unknown", "unknown"]],
                      dtype=object)[:, None, :]

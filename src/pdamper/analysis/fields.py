@@ -20,7 +20,13 @@ Interpolation (:meth:`DamperFields.at`), per frequency node ("column"):
   and the energy per cycle grows as X^2). Without a branch the value jumps at the interval's
   geometric midpoint. :meth:`DamperFields.branches` returns every branch at a point (one or two):
   what a harmonic-balance solver needs to find every solution;
-- then along the frequency, through the columns' values at X, by PCHIP in f.
+- then along the frequency, through the columns' values at X, by PCHIP in f. When every
+  column has the same families in the same order (e.g. "other" then "collide"), the jump is
+  tracked between the columns too: the ends of each jump interval are interpolated (log X,
+  linear in f) to the asked f, X is placed on a segment (or in an interval, with its branches) by
+  them, and every column is evaluated on that segment (continued beyond its own nodes as in a jump
+  interval) before PCHIP in f: no value between two branches. Columns whose families differ are
+  interpolated at X as they are (each on its own segment there).
 
 Outside the measured box (the amplitudes of the columns on either side of f, the frequency
 range) :meth:`DamperFields.at` raises an :class:`~pdamper.errors.InputError` naming the box and
@@ -151,6 +157,20 @@ class _Column:
         out = self.values[i].copy()
         out[_E] *= (X / self.x[i]) ** 2
         return out
+
+    @property
+    def sequence(self) -> tuple[str, ...]:
+        """The families of its segments, in order of amplitude."""
+        return tuple(fam for _, _, fam in self.segments)
+
+    def on_segment(self, k: int, X: float) -> np.ndarray:
+        """Segment ``k`` at X: interpolated within its nodes, continued (:meth:`_end`) outside."""
+        a, b, _ = self.segments[k]
+        if X < self.x[a]:
+            return self._end(k, False, X)
+        if X > self.x[b]:
+            return self._end(k, True, X)
+        return self.interp[k](math.log(X))
 
     def evaluate(self, X: float, branch) -> tuple[np.ndarray, str, str]:
         """(the fields in :data:`FIELDS` order, branch used, family) at X."""
@@ -391,6 +411,8 @@ class DamperFields:
             raise InputError(f"X = {X * 1e3:.4g} mm, f = {f:g} Hz is outside the measured box of these fields: "
                              f"{self.box()}; widen the sweep or pass extrapolate=True (end values continued: "
                              "eta* and m_eff held)")
+        if len(near) == 2 and len({c.sequence for c in cols}) == 1:
+            return self._tracked(X, f, near, branch, outside_x)
         if not outside_f and len(cols) > 1:  # along f: the columns that hold X (and the two around f)
             cols = [c for c in cols if c in near or c.box[0] <= X <= c.box[1]]
             fs = np.array([c.frequency for c in cols])
@@ -409,6 +431,29 @@ class DamperFields:
             br = next((results[cols.index(c)][1] for c in near if results[cols.index(c)][1]), "")
         return FieldValues(amplitude_m=X, frequency_hz=f, **{a: float(v) for (a, _, _), v in zip(FIELDS.values(), out)},
                            branch=br, family=str(fam), extrapolated=outside_f or outside_x)
+
+    def _tracked(self, X, f, near, branch, extrapolated) -> FieldValues:
+        """Between two frequency nodes when every node has the same families in the same order:
+        the jump intervals' ends interpolated (log X, linear in f) to f, X placed on a segment or in
+        an interval by them, every node evaluated on that segment, PCHIP along f."""
+        c0, c1 = near
+        t = (f - c0.frequency) / (c1.frequency - c0.frequency)
+        k, br = 0, ""
+        for (lo0, hi0, _, _), (lo1, hi1, _, _) in zip(c0.jumps(), c1.jumps()):
+            lo = math.exp((1 - t) * math.log(lo0) + t * math.log(lo1))
+            hi = math.exp((1 - t) * math.log(hi0) + t * math.log(hi1))
+            if X <= lo:
+                break
+            if X < hi:
+                below = branch == "below" or (branch is None and X < math.sqrt(lo * hi))
+                br = "below" if below else "above"
+                k += 0 if below else 1
+                break
+            k += 1
+        cols = self._columns
+        out = _pchip(np.array([c.frequency for c in cols]), np.array([c.on_segment(k, X) for c in cols]))(f)
+        return FieldValues(amplitude_m=X, frequency_hz=f, **{a: float(v) for (a, _, _), v in zip(FIELDS.values(), out)},
+                           branch=br, family=c0.sequence[k], extrapolated=extrapolated)
 
     def branches(self, amplitude: float, frequency: float | None = None, *,
                  extrapolate: bool = False) -> list[FieldValues]:
