@@ -34,7 +34,8 @@ the point; with ``extrapolate=True`` the end values are continued the same way a
 interval (eta* and m_eff held; E per cycle ~ X^2 f^2, c_eq ~ f).
 
 Points without a mode (a campaign, an older store: mode ``""`` or ``"unknown"``), and points
-whose seeds split evenly between two families, join the segment next to them: a campaign has one segment per frequency unless its dataset carries modes.
+whose seeds split evenly between two families, join the segment next to them: a campaign has one
+segment per frequency unless its dataset carries modes.
 """
 
 from __future__ import annotations
@@ -184,7 +185,8 @@ class _Column:
             if self.x[a] <= X <= self.x[b]:
                 return self.interp[k](lx), "", fam
             if k + 1 < len(self.segments) and self.x[b] < X < self.x[self.segments[k + 1][0]]:
-                below = branch == "below" or (branch is None and X < math.sqrt(self.x[b] * self.x[self.segments[k + 1][0]]))
+                mid = math.sqrt(self.x[b] * self.x[self.segments[k + 1][0]])
+                below = branch == "below" or (branch is None and X < mid)
                 if below:
                     return self._end(k, True, X), "below", fam
                 return self._end(k + 1, False, X), "above", self.segments[k + 1][2]

@@ -109,4 +109,5 @@ def _attr(name: str) -> str:
 def _title(ds) -> str:
     kind = "measured" if ds.attrs.get("source_kind") == "campaign" else "DEM"
     seeds = int(np.nanmax(ds["seeds"].values)) if ds["seeds"].size else 0
-    return f"damper fields ({kind}, up to {seeds} seed(s) a point); bed {ds.attrs.get('bed_mass_kg', math.nan) * 1e3:.4g} g"
+    bed = float(ds.attrs.get("bed_mass_kg", math.nan))
+    return f"damper fields ({kind}, up to {seeds} seed(s) a point); bed {bed * 1e3:.4g} g"
