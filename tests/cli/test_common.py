@@ -75,6 +75,13 @@ BAD = {
         (["x", "--drop-cycles", "-1"], "is not in the range"),
         ([], "Missing argument 'STORE'"),
     ],
+    "fields": [
+        (["nostore", "--out", "F.nc"], "no such store, campaign or results file"),
+        (["nostore"], "Missing option '--out'"),
+        (["nostore", "--out", "F.nc", "--sel", "friction"], "write DIM=VALUE"),
+        (["nostore", "--out", "F.nc", "--plot", "f.gif"], "unknown format '.gif'"),
+        ([], "Missing argument 'STORE_OR_CAMPAIGN'"),
+    ],
     "animate": [
         (["run_dir", "--speed", "0"], "0.0 is not in the range"),
         (["run_dir", "--bogus"], "No such option"),
@@ -91,6 +98,8 @@ BAD = {
         (["nosuch"], "No such command 'nosuch'"),
         (["map"], "Missing argument 'STORE'"),
         (["map", "nostore"], "no such results file or store directory"),
+        (["fields"], "Missing argument 'F.nc'"),
+        (["fields", "nofile.nc"], "no such fields file"),
     ],
     "decay": [
         (["case.toml", "--cycles", "0"], "is not in the range"),

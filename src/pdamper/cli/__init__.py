@@ -24,5 +24,6 @@ from . import structure as _structure  # noqa: F401,E402
 from . import reanalyze as _reanalyze  # noqa: F401,E402
 from . import campaign as _campaign  # noqa: F401,E402
 from . import calibrate as _calibrate  # noqa: F401,E402
+from . import fields as _fields  # noqa: F401,E402
 
 __all__ = ["main"]

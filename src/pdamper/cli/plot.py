@@ -8,7 +8,7 @@ import click
 
 from .common import echo_json, main, user_errors
 
-__all__ = ["plot_group", "modes_command", "map_command", "compare_command"]
+__all__ = ["plot_group", "modes_command", "map_command", "compare_command", "fields_command"]
 
 
 @main.group("plot", cls=type(main))
@@ -114,3 +114,24 @@ def compare_command(campaign, sweeps, out, title):
     camp = open_results(Path(campaign) / "campaign.nc" if Path(campaign).is_dir() else campaign)
     compare_figure(camp, [open_results(s) for s in sweeps], out, title=title)
     click.echo(f"pdamper plot compare: {out}")
+
+
+@plot_group.command("fields")
+@click.argument("fields_file", metavar="F.nc")
+@click.option("--out", "out", type=click.Path(dir_okay=False), default="fields.png", show_default=True,
+              help="Figure file (.png, .svg or .pdf).")
+@click.option("--title", help="Figure title.")
+@user_errors
+def fields_command(fields_file, out, title):
+    """The damper's fields: eta*(X) and m_eff/m_bed(X) per frequency, seed spread, mode changes.
+
+    F.nc is the --out of 'pdamper fields'. Lines are the fields' interpolation, drawn within a
+    motion-mode family only; bands the min-max over seeds; dotted lines where the fields jump.
+
+    Example: pdamper plot fields fields_36.nc --out fields_36.png
+    """
+    from ..plotting.fields import fields_figure
+    from ..studies.fields import load_fields
+
+    fields_figure(load_fields(fields_file), out, title=title)
+    click.echo(f"pdamper plot fields: {out}")
