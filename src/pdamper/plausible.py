@@ -3,7 +3,9 @@ acceleration, whole cycles for the analysis, and the memory a run will need.
 
 A bare number in a config is SI (metres, hertz): ``stroke = 13`` is a 13 m stroke. Such a value
 fails deep inside a run ("the run became unstable"); here it is caught first, with the fix:
-"drive.stroke = 13 m is 108 times the container's length 0.12 m; did you mean '13mm'?".
+"drive.stroke = 13 m is 108 times the container's length 0.12 m; did you mean '13mm'?". The same
+for the container's sizes, the radii, the jitter, the settling time ('100' s: "did you mean '100ms'?") and
+the drive's direction (an angle beyond a turn).
 Lift-off (a peak acceleration above g) is allowed, and said (a warning).
 """
 
@@ -26,9 +28,50 @@ class LiftOffWarning(UserWarning):
     """The drive's peak acceleration exceeds g: the bed leaves the floor (the paper's laws assume A < g)."""
 
 
-def _mm_hint(value: float, upper: float) -> str:
-    """' did you mean '13mm'?' when the number read as millimetres would be plausible."""
-    return f"; did you mean '{value:g}mm'?" if 1e-3 * value <= upper else ""
+#: Longest plausible settling time [s]: a bed settles under gravity in well under a second.
+_MAX_SETTLE = 10.0
+#: Standard gravity [m/s^2]: the unit of "g" in the acceleration limits (whatever the case's gravity).
+_G0 = 9.81
+
+
+def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
+    """' did you mean '13mm'?' when the number read as millimetres (or ``unit``, a thousandth of the SI unit)
+    would be plausible."""
+    return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
+
+
+def _check_lengths(case, dims: dict) -> None:
+    """Lengths that a bare number (metres) makes absurd: container sizes, radii, jitter, settling time."""
+    for k, v in dims.items():
+        if v > _MAX_SIZE:
+            raise InputError(f"container.{k} = {v:g} m is not a damper container (a number without a unit is "
+                             f"metres){_mm_hint(v, _MAX_SIZE)}")
+    for p in case.particles:
+        if p.radius > _MAX_RADIUS:
+            raise InputError(f"particles.radius = {p.radius:g} m (a number without a unit is metres)"
+                             f"{_mm_hint(p.radius, _MAX_RADIUS)}")
+    floor = min(dims.get("length", math.inf), dims.get("width", math.inf), 2 * dims.get("radius", math.inf))
+    jitter = case.initial.jitter
+    if jitter > floor:
+        raise InputError(f"initial.jitter = {jitter:g} m is larger than the container's floor ({floor * 1e3:g} mm "
+                         f"across); it shifts each sphere by a small random amount (a number without a unit is "
+                         f"metres){_mm_hint(jitter, floor)}")
+    settle = case.initial.settle_time
+    if settle > _MAX_SETTLE:
+        raise InputError(f"initial.settle_time = {settle:g} s: a bed settles under gravity in well under a second "
+                         f"(default 0.1 s; at most {_MAX_SETTLE:g} s; a number without a unit is seconds)"
+                         f"{_mm_hint(settle, _MAX_SETTLE, 'ms')}")
+
+
+def _check_angles(case) -> None:
+    """Drive directions within one turn (a larger angle is a typo or a number meant in degrees as radians)."""
+    angle = getattr(case.drive, "angle", 0.0)
+    if abs(angle) > 2 * math.pi:
+        section = "structure" if case.drive.kind == "structure" else "drive"
+        hint = f"; did you mean '{angle:g}deg'?" if abs(angle) <= 360 else ""
+        raise InputError(f"{section}.angle = {angle:g} rad is beyond a full turn (|angle| <= 2 pi rad = 360 deg); "
+                         f"it is the drive's direction in the horizontal plane (a number without a unit is "
+                         f"radians){hint}")
 
 
 def check_case(case, *, analyse: bool = False) -> None:
@@ -39,13 +82,9 @@ def check_case(case, *, analyse: bool = False) -> None:
     """
     geo = case.container.geometry
     dims = {k: getattr(geo, k) for k in ("length", "width", "height", "radius") if hasattr(geo, k)}
-    for k, v in dims.items():
-        if v > _MAX_SIZE:
-            raise InputError(f"container.{k} = {v:g} m is not a damper container (a number without a unit is "
-                             f"metres){_mm_hint(v, _MAX_SIZE)}")
+    _check_lengths(case, dims)
+    _check_angles(case)
     r = max(p.radius for p in case.particles)
-    if r > _MAX_RADIUS:
-        raise InputError(f"particles.radius = {r:g} m (a number without a unit is metres){_mm_hint(r, _MAX_RADIUS)}")
     height = dims.get("height", math.inf)
     across = dims.get("width", 2 * dims.get("radius", math.inf))
     if 2 * r > min(height, across):
@@ -59,14 +98,16 @@ def check_case(case, *, analyse: bool = False) -> None:
             raise InputError(f"drive.stroke = {d.stroke:g} m is {d.stroke / L:.3g} times the container's length "
                              f"{L:g} m (a number without a unit is metres){_mm_hint(d.stroke, 2 * L)}")
         accel = d.stroke * (2 * math.pi * d.frequency) ** 2
-        g = case.gravity if case.gravity > 0 else 9.81
-        if accel > _MAX_ACCEL_G * g:
-            raise InputError(f"the drive's peak acceleration X (2 pi f)^2 = {accel / g:.3g} g (X = {d.stroke * 1e3:g} mm, "
-                             f"f = {d.frequency:g} Hz) is beyond any damper test; check drive.stroke and drive.frequency "
-                             "(a number without a unit is SI: m, Hz)")
+        if accel > _MAX_ACCEL_G * _G0:
+            raise InputError(f"the drive's peak acceleration X (2 pi f)^2 = {accel / _G0:.3g} g (X = {d.stroke * 1e3:g} "
+                             f"mm, f = {d.frequency:g} Hz) is beyond any damper test; check drive.stroke and "
+                             "drive.frequency (a number without a unit is SI: m, Hz)")
+        g = case.gravity if case.gravity > 0 else _G0
         if accel > g:
-            warnings.warn(f"the drive's peak acceleration {accel / g:.2g} g exceeds g: the bed lifts off the floor "
-                          "(the paper's laws assume A < g); the run goes on", LiftOffWarning, stacklevel=3)
+            warnings.warn(f"the drive's peak acceleration {accel:.3g} m/s^2 ({accel / _G0:.2g} g) exceeds gravity "
+                          f"({g:g} m/s^2): the bed "
+                          "lifts off the floor (the paper's laws assume A < g); the run goes on", LiftOffWarning,
+                          stacklevel=3)
         if analyse:
             whole = math.floor(case.cycles + 1e-9) - case.drop_cycles
             if whole < 1:
