@@ -16,7 +16,7 @@ EXAMPLE = load_case(Path(__file__).parents[1] / "examples" / "cuboid_36.toml")
     ({"drive.stroke": 13}, r"drive.stroke = 13 m is 108 times the container's length 0.12 m.*did you mean '13mm'"),
     ({"container.length": 120}, r"container.length = 120 m .*did you mean '120mm'"),
     ({"particles.radius": 5}, r"particles.radius = 5 m .*did you mean '5mm'"),
-    ({"particles.radius": "25mm"}, r"diameter 50 mm does not fit in the container \(height 40 mm\)"),
+    ({"particles.radius": "25mm"}, r"diameter 50 mm does not fit in the container \(container.height = 40 mm\)"),
     ({"drive.frequency": "2000Hz"}, r"peak acceleration .* beyond any damper test"),
     # issue 24: every length a bare number makes absurd, angles beyond a turn
     ({"initial.jitter": "13"}, r"initial.jitter = 13 m is larger than the container's floor .*did you mean '13mm'"),

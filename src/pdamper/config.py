@@ -545,7 +545,12 @@ class _Reader:
                 raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r}; must be > 0, e.g. '2Hz'")
             if not (kw["mass"] > 0 and math.isfinite(kw["mass"])):
                 raise InputError(f"[structure] mass = {t['mass']!r}; must be > 0, e.g. '7kg'")
-            kw["stiffness"] = kw["mass"] * (2.0 * math.pi * fn) ** 2
+            w = 2.0 * math.pi * fn
+            kw["stiffness"] = kw["mass"] * w * w
+            if not (0 < kw["stiffness"] < math.inf):
+                raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r} gives a stiffness of "
+                                 f"{kw['stiffness']:g} N/m with mass = {kw['mass']:g} kg; give a natural frequency "
+                                 "a damper test can have, e.g. '2Hz'")
         return CoupledStructure(**kw)
 
     def _samples_file(self, value) -> dict:

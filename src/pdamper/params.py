@@ -299,7 +299,8 @@ class Case:
         if not (isinstance(self.drop_cycles, int) and 0 <= self.drop_cycles):
             raise InputError(f"run.drop_cycles = {self.drop_cycles!r}; must be a whole number >= 0 (paper: 2)")
         if isinstance(self.drive, HarmonicDrive) and self.drop_cycles >= self.cycles:
-            raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles} cycles; "
+            raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles:g} cycles "
+                             "(run.drop_cycles); "
                              "run more cycles or drop fewer")
         if not (0 <= self.gravity <= MAX_GRAVITY):
             raise InputError(f"run.gravity = {self.gravity!r} m/s^2; must be in [0, {MAX_GRAVITY:g}] m/s^2: 0 for "

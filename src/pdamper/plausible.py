@@ -18,8 +18,10 @@ from .errors import InputError
 
 __all__ = ["check_case", "memory_needed", "LiftOffWarning"]
 
-#: Largest plausible container dimension and sphere radius [m].
-_MAX_SIZE, _MAX_RADIUS = 5.0, 0.5
+#: Largest plausible container dimension and sphere radius, smallest sphere radius [m].
+_MAX_SIZE, _MAX_RADIUS, _MIN_RADIUS = 5.0, 0.5, 1e-6
+#: Densest packing of equal spheres (Kepler): no bed fills more of its container.
+_DENSEST = math.pi / (3 * math.sqrt(2))
 #: Largest plausible peak drive acceleration [g].
 _MAX_ACCEL_G = 50.0
 
@@ -50,6 +52,10 @@ def _check_lengths(case, dims: dict) -> None:
         if p.radius > _MAX_RADIUS:
             raise InputError(f"particles.radius = {p.radius:g} m (a number without a unit is metres)"
                              f"{_mm_hint(p.radius, _MAX_RADIUS)}")
+        if p.radius < _MIN_RADIUS:
+            raise InputError(f"particles.radius = {p.radius:g} m is below {_MIN_RADIUS * 1e6:g} um: not a damper "
+                             "particle (a number without a unit is metres; the paper's spheres have 5 mm)")
+    _check_fit(case, dims)
     floor = min(dims.get("length", math.inf), dims.get("width", math.inf), 2 * dims.get("radius", math.inf))
     jitter = case.initial.jitter
     if jitter > floor:
@@ -61,6 +67,23 @@ def _check_lengths(case, dims: dict) -> None:
         raise InputError(f"initial.settle_time = {settle:g} s: a bed settles under gravity in well under a second "
                          f"(default 0.1 s; at most {_MAX_SETTLE:g} s; a number without a unit is seconds)"
                          f"{_mm_hint(settle, _MAX_SETTLE, 'ms')}")
+
+
+def _check_fit(case, dims: dict) -> None:
+    """Each sphere fits in the container, and all of them together (by volume, at the densest packing)."""
+    r = max(p.radius for p in case.particles)
+    spans = {k: (2 * v if k == "radius" else v) for k, v in dims.items()}
+    key = min(spans, key=spans.get)
+    if 2 * r > spans[key]:
+        raise InputError(f"particles.radius = {r * 1e3:g} mm: a sphere of diameter {2e3 * r:g} mm does not fit in the "
+                         f"container (container.{key} = {dims[key] * 1e3:g} mm); give a smaller radius or a larger "
+                         "container")
+    volume = dims["height"] * (dims["length"] * dims["width"] if "length" in dims else math.pi * dims["radius"] ** 2)
+    beds = sum(p.count * 4.0 / 3.0 * math.pi * p.radius ** 3 for p in case.particles)
+    if beds > _DENSEST * volume:
+        n = sum(p.count for p in case.particles)
+        raise InputError(f"particles.count = {n:g}: the spheres' volume is {beds / volume:.3g} times the container's "
+                         f"({volume * 1e6:.3g} cm^3); no packing fits them; give fewer spheres or a larger container")
 
 
 def _check_angles(case) -> None:
@@ -84,20 +107,29 @@ def check_case(case, *, analyse: bool = False) -> None:
     dims = {k: getattr(geo, k) for k in ("length", "width", "height", "radius") if hasattr(geo, k)}
     _check_lengths(case, dims)
     _check_angles(case)
-    r = max(p.radius for p in case.particles)
-    height = dims.get("height", math.inf)
-    across = dims.get("width", 2 * dims.get("radius", math.inf))
-    if 2 * r > min(height, across):
-        raise InputError(f"particles.radius = {r * 1e3:g} mm: a sphere of diameter {2e3 * r:g} mm does not fit in the "
-                         f"container ({'height' if height <= across else 'width'} {min(height, across) * 1e3:g} mm); "
-                         "give a smaller radius or a larger container")
     d = case.drive
+    if d.kind == "structure":
+        L = geo.drive_length
+        for key in ("displacement", "velocity"):
+            v = abs(getattr(d, key))
+            limit = 2 * L if key == "displacement" else 2 * L * 2 * math.pi * d.natural_frequency
+            if v > limit:
+                unit = "m" if key == "displacement" else "m/s"
+                raise InputError(f"structure.{key} = {getattr(d, key):g} {unit} moves the container {v / limit:.3g} "
+                                 f"times further than twice its length {L:g} m (a number without a unit is SI)"
+                                 f"{_mm_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
+        resonant = d.force_amplitude / d.stiffness / max(2.0 * d.damping_ratio, 0.02)
+        if resonant > 2 * L:
+            raise InputError(f"structure.force_amplitude = {d.force_amplitude:g} N would swing the structure by about "
+                             f"{resonant:.3g} m at resonance (F0 / K / 2 zeta), beyond twice the container's length "
+                             f"{L:g} m; give a smaller force (a number without a unit is N)")
     if d.kind == "harmonic":
         L = geo.drive_length
         if d.stroke > 2 * L:
             raise InputError(f"drive.stroke = {d.stroke:g} m is {d.stroke / L:.3g} times the container's length "
                              f"{L:g} m (a number without a unit is metres){_mm_hint(d.stroke, 2 * L)}")
-        accel = d.stroke * (2 * math.pi * d.frequency) ** 2
+        w = 2 * math.pi * d.frequency
+        accel = d.stroke * w * w  # inf, not OverflowError, for an absurd frequency
         if accel > _MAX_ACCEL_G * _G0:
             raise InputError(f"the drive's peak acceleration X (2 pi f)^2 = {accel / _G0:.3g} g (X = {d.stroke * 1e3:g} "
                              f"mm, f = {d.frequency:g} Hz) is beyond any damper test; check drive.stroke and "

@@ -391,8 +391,8 @@ def _hdf5_channels(path: Path) -> dict:
                     unit = unit.decode() if isinstance(unit, bytes) else str(unit)
                     out[name] = (obj[()], unit)
             f.visititems(visit)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read as HDF5 ({exc})") from None
+    except Exception as exc:  # h5py raises OSError, KeyError, RuntimeError ... for a damaged file
+        raise InputError(f"{path}: cannot read as HDF5 ({type(exc).__name__}: {exc})") from None
     return out
 
 
@@ -401,7 +401,7 @@ def _mat_channels(path: Path) -> dict:
 
     try:
         data = scipy.io.loadmat(path, squeeze_me=True)
-    except (ValueError, NotImplementedError, OSError) as exc:
+    except Exception as exc:  # scipy raises MatReadError, TypeError, ValueError ... for a damaged file
         raise InputError(f"{path}: cannot read as a MATLAB file ({exc}); save it with -v7 or read it as HDF5 "
                          "(a -v7.3 file is HDF5: rename it to .h5)") from None
     return {k: (v, "") for k, v in data.items() if not k.startswith("__") and isinstance(v, np.ndarray)
