@@ -109,7 +109,7 @@ def test_a_full_disk_while_results_nc_is_written_keeps_the_store_resumable(tiny_
     store = tmp_path / "store"
     _fail_writes_of(monkeypatch, "results.nc")
     with pytest.raises(InputError, match=r"cannot write .*results.nc: no space left on the device \(ENOSPC\).*"
-                                         r"keeps its 2 finished case\(s\).*re-run the same command to resume"):
+                                         r"keeps its 2 finished case\(s\).*re-run the same command on it to resume"):
         run_sweep(_spec(tiny_config), store, workers=1, progress=False, keep="none")
     monkeypatch.undo()
     assert not (store / "results.nc").exists() and not list(store.glob(".*.tmp"))

@@ -431,8 +431,9 @@ class ResultStore:
             except OSError:
                 n = 0
             raise InputError(f"{exc}. Writing {what} failed; the result store {self.path} keeps its {n} finished "
-                             "case(s), each written whole: once there is room, re-run the same command to resume "
-                             "(nothing finished is computed again)") from None
+                             "case(s), each written whole: once it can be written (space freed, or the store copied to a "
+                             "writable place), re-run the same command on it to resume (nothing finished is computed "
+                             "again)") from None
 
 
 def _valid_record(f: Path):
