@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import errno
 import os
 
 import numpy as np
@@ -94,13 +95,13 @@ def test_a_failed_write_leaves_no_result_json_and_no_temp_file(tmp_path, monkeyp
 
     def boom(src, dst):
         if str(dst).endswith("energy.csv"):
-            raise OSError("disk full")
+            raise OSError(errno.ENOSPC, "No space left on device")
         return real(src, dst)
 
     from pdamper.io import files
 
     monkeypatch.setattr(files.os, "replace", boom)
-    with pytest.raises(OSError):
+    with pytest.raises(InputError, match=r"cannot write .*energy.csv: no space left on the device \(ENOSPC\)"):
         write_run(synthetic_result(), tmp_path / "r")
     names = sorted(p.name for p in (tmp_path / "r").iterdir())
     assert names == ["config.toml", "signals.csv"]  # result.json (the completion mark) was never written

@@ -33,7 +33,7 @@ def test_natural_frequency_or_stiffness_and_round_trip():
 @pytest.mark.parametrize("extra, words", [
     ('natural_frequency = "2Hz"\n', ["nothing moves it", "displacement"]),
     ('stiffness = 1105\nnatural_frequency = "2Hz"\ndisplacement = "1cm"\n', ["exactly one of", "stiffness"]),
-    ('stiffness = -3\ndisplacement = "1cm"\n', ["structure.stiffness = -3", "> 0"]),
+    ('stiffness = -3\ndisplacement = "1cm"\n', ["[structure] stiffness = -3", "> 0"]),
     ('stiffness = 1105\ndamping_ratio = 1.5\ndisplacement = "1cm"\n', ["damping_ratio = 1.5", "[0, 1)"]),
     ('stiffness = 1105\nforce_amplitude = "1N"\n', ["force_frequency is missing"]),
     ('stiffness = 1105\ndisplacement = "1kg"\n', ["[structure] displacement"]),

@@ -423,7 +423,12 @@ class _Reader:
                 raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r}; must be > 0, e.g. '2Hz'")
             if not (kw["mass"] > 0 and math.isfinite(kw["mass"])):
                 raise InputError(f"[structure] mass = {t['mass']!r}; must be > 0, e.g. '7kg'")
-            kw["stiffness"] = kw["mass"] * (2.0 * math.pi * fn) ** 2
+            w = 2.0 * math.pi * fn
+            kw["stiffness"] = kw["mass"] * w * w
+            if not (0 < kw["stiffness"] < math.inf):
+                raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r} gives a stiffness of "
+                                 f"{kw['stiffness']:g} N/m with mass = {kw['mass']:g} kg; give a natural frequency "
+                                 "a damper test can have, e.g. '2Hz'")
         return _STRUCTURE(**kw)
 
     def _samples_file(self, value) -> dict:
@@ -492,11 +497,22 @@ class _context:
 
     def __exit__(self, kind, exc, tb):
         if isinstance(exc, InputError):
-            msg = _grammar(str(exc))
+            msg = _as_key(_grammar(str(exc)))
             if self.section not in msg.lower():
                 msg = f"[{self.section}] {msg}"
             raise InputError(msg) from None
         return False
+
+
+def _as_key(msg: str) -> str:
+    """A message of a parameter class that starts ``section.key`` (``contact.v_in_floor = 0.0; ...``) with the
+    key as the config file has it (``[contact] v_in_floor = 0.0; ...``)."""
+    head, dot, rest = msg.partition(".")
+    if dot and head in SECTIONS:
+        key = rest.split(" ", 1)[0].rstrip(":;,")
+        if key in SECTIONS[head]:
+            return f"[{head}] {rest}"
+    return msg
 
 
 def read_motion_csv(path) -> dict:
@@ -510,13 +526,25 @@ def read_motion_csv(path) -> dict:
         raise InputError(f"[drive] samples: file not found: {path}")
     if path.is_dir():
         raise InputError(f"[drive] samples: {path} is a directory; give a CSV file")
-    lines = [(no, ln) for no, ln in enumerate(path.read_text(encoding="utf-8-sig").splitlines(), start=1)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"[drive] samples: {path} is not a text (CSV) file: byte {exc.start} is not UTF-8") from None
+    except OSError as exc:
+        raise InputError(f"[drive] samples: cannot read {path}: {exc.strerror or exc}") from None
+    lines = [(no, ln) for no, ln in enumerate(text.splitlines(), start=1)
              if ln.strip() and not ln.lstrip().startswith("#")]
     if len(lines) < 2:
         raise InputError(f"{path}: expected a header row (time, position[, velocity]) and data rows")
     header = lines[0][1]
     delim = max((",", ";", "\t"), key=header.count)
-    rows = list(csv.reader([ln for _, ln in lines], delimiter=delim))
+    rows = []
+    for no, ln in lines:
+        try:
+            rows.append(next(csv.reader([ln], delimiter=delim)))
+        except csv.Error as exc:  # a field over 128 kB, a stray quote
+            raise InputError(f"{path}, line {no}: not a CSV row ({exc}); the samples are numbers in columns "
+                             "time, position[, velocity]") from None
     names, units = [], []
     for h in rows[0]:
         h = h.strip()
@@ -542,8 +570,9 @@ def read_motion_csv(path) -> dict:
             try:
                 v = float(row[i].strip().replace(",", ".") if delim != "," else row[i])
             except (ValueError, IndexError):
-                raise InputError(f"{path}, line {no}, column {role!r}: cannot read "
-                                 f"{row[i] if i < len(row) else ''!r} as a number") from None
+                cell = row[i] if i < len(row) else ""
+                shown = repr(cell) if len(cell) <= 60 else f"{cell[:60]!r}... ({len(cell)} characters)"
+                raise InputError(f"{path}, line {no}, column {role!r}: cannot read {shown} as a number") from None
             if not math.isfinite(v):
                 raise InputError(f"{path}, line {no}, column {role!r}: {v!r} is not a finite number")
             col.append(v * factor)

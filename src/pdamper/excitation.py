@@ -139,6 +139,15 @@ class DriveBase:
     def describe(self) -> str:
         return f"{self.kind} drive"
 
+    def check_scale(self, length: float) -> None:
+        """InputError when the drive moves the container absurdly far for its inner ``length`` [m]
+        (a bare number read as metres); nothing to check by default."""
+
+
+def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
+    """'; did you mean '13mm'?' when the number read in thousandths would be plausible."""
+    return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
+
 
 @register_drive
 @dataclass(frozen=True, kw_only=True)
@@ -206,6 +215,12 @@ class HarmonicDrive(DriveBase):
     def speed_bound(self) -> float:
         """V = X Omega [m/s]."""
         return self.velocity_amplitude
+
+    def check_scale(self, length: float) -> None:
+        """A stroke beyond twice the container's length is a bare number meant in mm."""
+        if self.stroke > 2 * length:
+            raise InputError(f"drive.stroke = {self.stroke:g} m is {self.stroke / length:.3g} times the container's "
+                             f"length {length:g} m (a number without a unit is metres){_mm_hint(self.stroke, 2 * length)}")
 
     def describe(self) -> str:
         where = "" if self.direction is None and self.angle == 0.0 else (
@@ -473,6 +488,23 @@ class CoupledStructure(DriveBase):
     def container_motion(self, t: float, state):
         """The structure's ``(x, v, a)`` now, from the kernels' state."""
         return state[0, 0], state[0, 1], state[0, 2]
+
+    def check_scale(self, length: float) -> None:
+        """A start or a resonant swing beyond twice the container's length is a bare number meant
+        in thousandths (or a force far too large)."""
+        for key in ("displacement", "velocity"):
+            v = abs(getattr(self, key))
+            limit = 2 * length if key == "displacement" else 2 * length * 2 * math.pi * self.natural_frequency
+            if v > limit:
+                unit = "m" if key == "displacement" else "m/s"
+                raise InputError(f"structure.{key} = {getattr(self, key):g} {unit} moves the container {v / limit:.3g} "
+                                 f"times further than twice its length {length:g} m (a number without a unit is SI)"
+                                 f"{_mm_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
+        resonant = self.force_amplitude / self.stiffness / max(2.0 * self.damping_ratio, 0.02)
+        if resonant > 2 * length:
+            raise InputError(f"structure.force_amplitude = {self.force_amplitude:g} N would swing the structure by "
+                             f"about {resonant:.3g} m at resonance (F0 / K / 2 zeta), beyond twice the container's "
+                             f"length {length:g} m; give a smaller force (a number without a unit is N)")
 
     def describe(self) -> str:
         forced = (f"F0 = {self.force_amplitude:g} N at {self.force_frequency:g} Hz" if self.force_amplitude > 0

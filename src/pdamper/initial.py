@@ -47,7 +47,7 @@ def _capacity_error(case, n_fit, rad):
     else:
         more = "or set initial.layers = 'auto' to stack layers"
     raise InputError(
-        f"particles: {rad.size} spheres of r = {rad.max() * 1e3:g} mm do not fit on the floor of the {g.shape} "
+        f"particles.count = {rad.size}: {rad.size} spheres of r = {rad.max() * 1e3:g} mm do not fit on the floor of the {g.shape} "
         f"in one layer (at most {n_fit}); use fewer particles, a larger container, {more}")
 
 

@@ -29,14 +29,23 @@ from .schema import check_choice, check_keys, config_keys, convert_fields, param
 __all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case",
            "PAPER_TILT", "with_stroke"]
 
+#: Largest gravity a case may have [m/s^2]: ten times Earth's.
+MAX_GRAVITY = 100.0
+
 #: The paper's default tilt: 0.1 deg about the container's x, y and z axes [rad].
 PAPER_TILT = (math.radians(0.1),) * 3
+
+
+#: The config section of each parameter class, for messages that name a key as a config file has it.
+_SECTION = {"ParticleSet": "particles", "Container": "container", "ContactModel": "contact", "Numerics": "numerics",
+            "Recording": "recording", "InitialState": "initial", "Case": "run"}
 
 
 def _positive(obj, name, allowed="> 0"):
     v = getattr(obj, name)
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0) or not math.isfinite(v):
-        raise InputError(f"{type(obj).__name__.lower()}.{name} = {v!r}; must be {allowed}")
+        section = _SECTION.get(type(obj).__name__, type(obj).__name__.lower())
+        raise InputError(f"{section}.{name} = {v!r}; must be {allowed}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -352,10 +361,13 @@ class Case:
         if not (isinstance(self.drop_cycles, int) and 0 <= self.drop_cycles):
             raise InputError(f"run.drop_cycles = {self.drop_cycles!r}; must be a whole number >= 0 (paper: 2)")
         if self.drive.periodic and self.drop_cycles >= self.cycles:
-            raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles} cycles; "
+            raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles:g} cycles "
+                             "(run.drop_cycles); "
                              "run more cycles or drop fewer")
-        if not (self.gravity >= 0 and math.isfinite(self.gravity)):
-            raise InputError(f"gravity = {self.gravity!r} m/s^2; must be >= 0")
+        if not (0 <= self.gravity <= MAX_GRAVITY):
+            raise InputError(f"run.gravity = {self.gravity!r} m/s^2; must be in [0, {MAX_GRAVITY:g}] m/s^2: 0 for "
+                             f"no gravity, 9.81 on Earth; above {MAX_GRAVITY:g} (ten g) no damper is tested and the "
+                             "contacts would need a far shorter time step (a number without a unit is m/s^2)")
 
     def __repr__(self) -> str:
         """One line: what is simulated, how long (``dataclasses.asdict`` gives every field)."""

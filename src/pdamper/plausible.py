@@ -3,7 +3,9 @@ acceleration, whole cycles for the analysis, and the memory a run will need.
 
 A bare number in a config is SI (metres, hertz): ``stroke = 13`` is a 13 m stroke. Such a value
 fails deep inside a run ("the run became unstable"); here it is caught first, with the fix:
-"drive.stroke = 13 m is 108 times the container's length 0.12 m; did you mean '13mm'?".
+"drive.stroke = 13 m is 108 times the container's length 0.12 m; did you mean '13mm'?". The same
+for the container's sizes, the radii, the jitter, the settling time ('100' s: "did you mean '100ms'?") and
+the drive's direction (an angle beyond a turn).
 Lift-off (a peak acceleration above g) is allowed, and said (a warning).
 """
 
@@ -19,8 +21,10 @@ from .schema import spec_of
 
 __all__ = ["check_case", "memory_needed", "LiftOffWarning"]
 
-#: Largest plausible container dimension and sphere radius [m].
-_MAX_SIZE, _MAX_RADIUS = 5.0, 0.5
+#: Largest plausible container dimension and sphere radius, smallest sphere radius [m].
+_MAX_SIZE, _MAX_RADIUS, _MIN_RADIUS = 5.0, 0.5, 1e-6
+#: Densest packing of equal spheres (Kepler): no bed fills more of its container.
+_DENSEST = math.pi / (3 * math.sqrt(2))
 #: Largest plausible peak drive acceleration [g].
 _MAX_ACCEL_G = 50.0
 
@@ -29,15 +33,80 @@ class LiftOffWarning(UserWarning):
     """The drive's peak acceleration exceeds g: the bed leaves the floor (the paper's laws assume A < g)."""
 
 
-def _mm_hint(value: float, upper: float) -> str:
-    """' did you mean '13mm'?' when the number read as millimetres would be plausible."""
-    return f"; did you mean '{value:g}mm'?" if 1e-3 * value <= upper else ""
+#: Longest plausible settling time [s]: a bed settles under gravity in well under a second.
+_MAX_SETTLE = 10.0
+#: Standard gravity [m/s^2]: the unit of "g" in the acceleration limits (whatever the case's gravity).
+_G0 = 9.81
+
+
+def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
+    """' did you mean '13mm'?' when the number read as millimetres (or ``unit``, a thousandth of the SI unit)
+    would be plausible."""
+    return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
+
+
+def _check_lengths(case, dims: dict) -> None:
+    """Lengths that a bare number (metres) makes absurd: container sizes, radii, jitter, settling time."""
+    for k, v in dims.items():
+        if v > _MAX_SIZE:
+            raise InputError(f"container.{k} = {v:g} m is not a damper container (a number without a unit is "
+                             f"metres){_mm_hint(v, _MAX_SIZE)}")
+    for p in case.particles:
+        if p.radius > _MAX_RADIUS:
+            raise InputError(f"particles.radius = {p.radius:g} m (a number without a unit is metres)"
+                             f"{_mm_hint(p.radius, _MAX_RADIUS)}")
+        if p.radius < _MIN_RADIUS:
+            raise InputError(f"particles.radius = {p.radius:g} m is below {_MIN_RADIUS * 1e6:g} um: not a damper "
+                             "particle (a number without a unit is metres; the paper's spheres have 5 mm)")
+    _check_fit(case)
+    lo, hi = case.container.geometry.bounding_box()
+    floor = float(min(hi[0] - lo[0], hi[2] - lo[2]))
+    jitter = case.initial.jitter
+    if jitter > floor:
+        raise InputError(f"initial.jitter = {jitter:g} m is larger than the container's floor ({floor * 1e3:g} mm "
+                         f"across); it shifts each sphere by a small random amount (a number without a unit is "
+                         f"metres){_mm_hint(jitter, floor)}")
+    settle = case.initial.settle_time
+    if settle > _MAX_SETTLE:
+        raise InputError(f"initial.settle_time = {settle:g} s: a bed settles under gravity in well under a second "
+                         f"(default 0.1 s; at most {_MAX_SETTLE:g} s; a number without a unit is seconds)"
+                         f"{_mm_hint(settle, _MAX_SETTLE, 'ms')}")
+
+
+def _check_fit(case) -> None:
+    """Each sphere fits in the container, and all of them together (by volume, at the densest packing)."""
+    geo = case.container.geometry
+    r = max(p.radius for p in case.particles)
+    lo, hi = geo.bounding_box()
+    spans = {"length": hi[0] - lo[0], "height": hi[1] - lo[1], "width": hi[2] - lo[2]}
+    key = min(spans, key=spans.get)
+    if 2 * r > spans[key]:
+        raise InputError(f"particles.radius = {r * 1e3:g} mm: a sphere of diameter {2e3 * r:g} mm does not fit in the "
+                         f"container (its inside is {spans[key] * 1e3:g} mm across in {key}); give a smaller radius or "
+                         "a larger container")
+    volume = geo.volume()
+    beds = sum(p.count * 4.0 / 3.0 * math.pi * p.radius ** 3 for p in case.particles)
+    if beds > _DENSEST * volume:
+        n = sum(p.count for p in case.particles)
+        raise InputError(f"particles.count = {n:g}: the spheres' volume is {beds / volume:.3g} times the container's "
+                         f"({volume * 1e6:.3g} cm^3); no packing fits them; give fewer spheres or a larger container")
+
+
+def _check_angles(case) -> None:
+    """Drive directions within one turn (a larger angle is a typo or a number meant in degrees as radians)."""
+    angle = case.drive.angle
+    if abs(angle) > 2 * math.pi:
+        section = case.drive.config_section
+        hint = f"; did you mean '{angle:g}deg'?" if abs(angle) <= 360 else ""
+        raise InputError(f"{section}.angle = {angle:g} rad is beyond a full turn (|angle| <= 2 pi rad = 360 deg); "
+                         f"it is the drive's direction in the horizontal plane (a number without a unit is "
+                         f"radians){hint}")
 
 
 def check_case(case, *, analyze: bool = False, analyse: bool | None = None) -> None:
     """Raise :class:`InputError` for a case that cannot be meant as written; warn at lift-off.
 
-    ``analyze``: the run is analyzed by the complex power method, so it needs at least one whole
+    ``analyze``: the run is analysed by the complex power method, so it needs at least one whole
     cycle after the dropped ones (a warning when it has exactly one); ``analyse`` is its
     deprecated spelling.
     """
@@ -46,35 +115,23 @@ def check_case(case, *, analyze: bool = False, analyse: bool | None = None) -> N
     # every length field of the shape, as its config key
     dims = {f.name: getattr(geo, f.name) for f in dataclasses.fields(geo)
             if spec_of(f).dimension == "length" and isinstance(getattr(geo, f.name), (int, float))}
-    for k, v in dims.items():
-        if v > _MAX_SIZE:
-            raise InputError(f"container.{k} = {v:g} m is not a damper container (a number without a unit is "
-                             f"metres){_mm_hint(v, _MAX_SIZE)}")
-    r = max(p.radius for p in case.particles)
-    if r > _MAX_RADIUS:
-        raise InputError(f"particles.radius = {r:g} m (a number without a unit is metres){_mm_hint(r, _MAX_RADIUS)}")
-    lo, hi = geo.bounding_box()
-    height = float(hi[1] - lo[1])
-    across = float(min(hi[0] - lo[0], hi[2] - lo[2]))
-    if 2 * r > min(height, across):
-        raise InputError(f"particles.radius = {r * 1e3:g} mm: a sphere of diameter {2e3 * r:g} mm does not fit in the "
-                         f"container ({'height' if height <= across else 'width'} {min(height, across) * 1e3:g} mm); "
-                         "give a smaller radius or a larger container")
+    _check_lengths(case, dims)
+    _check_angles(case)
     d = case.drive
+    d.check_scale(geo.drive_length)  # the drive's own sizes against the container's (a stroke, a swing)
     if d.stroke is not None and d.frequency is not None:
-        L = geo.drive_length
-        if d.stroke > 2 * L:
-            raise InputError(f"drive.stroke = {d.stroke:g} m is {d.stroke / L:.3g} times the container's length "
-                             f"{L:g} m (a number without a unit is metres){_mm_hint(d.stroke, 2 * L)}")
-        accel = d.stroke * (2 * math.pi * d.frequency) ** 2
-        g = case.gravity if case.gravity > 0 else 9.81
-        if accel > _MAX_ACCEL_G * g:
-            raise InputError(f"the drive's peak acceleration X (2 pi f)^2 = {accel / g:.3g} g (X = {d.stroke * 1e3:g} mm, "
-                             f"f = {d.frequency:g} Hz) is beyond any damper test; check drive.stroke and drive.frequency "
-                             "(a number without a unit is SI: m, Hz)")
-        if accel > g and d.vertical_share == 0.0:
-            warnings.warn(f"the drive's peak acceleration {accel / g:.2g} g exceeds g: the bed lifts off the floor "
-                          "(the paper's laws assume A < g); the run goes on", LiftOffWarning, stacklevel=3)
+        w = 2 * math.pi * d.frequency
+        accel = d.stroke * w * w  # inf, not OverflowError, for an absurd frequency
+        if accel > _MAX_ACCEL_G * _G0:
+            raise InputError(f"the drive's peak acceleration X (2 pi f)^2 = {accel / _G0:.3g} g (X = {d.stroke * 1e3:g} "
+                             f"mm, f = {d.frequency:g} Hz) is beyond any damper test; check drive.stroke and "
+                             "drive.frequency (a number without a unit is SI: m, Hz)")
+        g = case.gravity if case.gravity > 0 else _G0
+        if accel > g and d.vertical_share == 0.0:  # a drive with a vertical part lifts the bed by design
+            warnings.warn(f"the drive's peak acceleration {accel:.3g} m/s^2 ({accel / _G0:.2g} g) exceeds gravity "
+                          f"({g:g} m/s^2): the bed "
+                          "lifts off the floor (the paper's laws assume A < g); the run goes on", LiftOffWarning,
+                          stacklevel=3)
         if analyze:
             whole = math.floor(case.cycles + 1e-9) - case.drop_cycles
             if whole < 1:

@@ -78,13 +78,14 @@ def test_single_sided_bed_resting_on_the_low_wall():
     assert classify_features(features(t, pos, **tilted(t, 0.002, G_TAN_3))) == "single-sided"
 
 
-def test_a_bed_at_one_wall_without_a_tilt_holding_it_there_is_scattered():
+def test_a_bed_at_one_wall_without_a_tilt_holding_it_there_is_not_single_sided():
     t, pos = frames(lambda t: np.full_like(t, -H_CLEAR / 2))
-    assert classify_features(features(t, pos)) == "scattered"                                   # no tilt
+    assert classify_features(features(t, pos)) == "scattered"           # no tilt, no container track
     untilted = features(t, pos, **tilted(t, 0.001, -9.81 * math.sin(math.radians(0.1))))      # 0.1 deg
     assert untilted.tilt_pull == pytest.approx(0.108, abs=0.005)
-    assert classify_features(untilted) == "scattered"
-    assert classify_features(features(t, pos, **tilted(t, 0.002, +G_TAN_3))) == "scattered"    # the high wall
+    # it does not move in the container while the container moves: it moves with it (issue 24)
+    assert classify_features(untilted) == "locked"
+    assert classify_features(features(t, pos, **tilted(t, 0.002, +G_TAN_3))) == "locked"       # the high wall
 
 
 def test_single_sided_bed_leaving_and_returning_to_one_wall():
@@ -223,7 +224,7 @@ def test_bad_shapes_and_too_few_frames_are_refused():
 
 
 def test_modes_listed():
-    assert set(MODES) == {"scattered", "rolling-collect-and-collide", "swaying", "single-sided", "lift-off"}
+    assert set(MODES) == {"scattered", "rolling-collect-and-collide", "swaying", "single-sided", "lift-off", "locked"}
 
 
 def test_case_clearance_of_the_paper_cases():
@@ -293,3 +294,31 @@ def test_dem_36_spheres_thrown_up_are_lift_off():
                                                    "initial.velocities": [[0.0, 0.6, 0.0]] * 36})
     assert got == "lift-off", feats
     assert feats["airborne"] > 0.3
+
+
+def test_dem_48_spheres_filling_the_floor_are_locked():
+    # issue 24: 48 spheres fill the paper's 120 x 40.4 mm floor wall to wall (clearance 0): the bed
+    # moves with the container and was labelled "scattered"
+    got, feats = _dem_mode("cuboid_36", "13mm", **{"particles.count": 48})
+    assert got == "locked", feats
+    assert feats["relative"] <= THRESHOLDS["locked_max"] and feats["airborne"] == 0.0
+
+
+def test_dem_a_moving_bed_is_not_locked():
+    # the same container with 36 spheres at 4 mm (scattered) moves about the container: its centre
+    # travels in the container frame by a good part of the container's own travel
+    got, feats = _dem_mode("cuboid_36", "4mm")
+    assert got != "locked" and feats["relative"] > 10 * THRESHOLDS["locked_max"], feats
+
+
+def test_locked_needs_the_container_track():
+    # without the container's positions the relative motion is unknown (NaN) and nothing is "locked"
+    t, pos = frames(lambda t: np.zeros_like(t))  # a bed at rest in the container
+    f = features(t, pos)
+    assert math.isnan(f.relative) and classify_features(f) == "scattered"
+    locked = features(t, pos, container_position=0.013 * np.sin(2 * np.pi * F * t))
+    assert locked.relative == 0.0 and classify_features(locked) == "locked"
+    # the rolling bed with the container's track: it moves, so the track changes nothing
+    t, pos = frames(rolling_centre)
+    rolling = features(t, pos, container_position=0.013 * np.sin(2 * np.pi * F * t))
+    assert rolling.relative > 1.0 and classify_features(rolling) == "rolling-collect-and-collide"

@@ -70,6 +70,10 @@ def test_table_output_with_overrides(tiny):
                   "steps", "[us/step]", "wall time", "X = 3 mm", "2 cycles"):
         assert words in text, words
     assert "Traceback" not in result.output
+    # issue 24: the steadiness line belongs to eta* and stands right under it, before the motion mode
+    lines = text.splitlines()
+    k = next(i for i, line in enumerate(lines) if line.strip().startswith("eta*"))
+    assert "standard error over the cycles" in lines[k + 1] and lines[k + 2].strip().startswith("motion mode")
 
 
 def test_set_overrides_any_key(tiny, tmp_path):

@@ -214,3 +214,30 @@ def test_pdamper_run_output_is_a_record(tmp_path):
         assert rec.motion_kind == "velocity"
         np.testing.assert_array_equal(rec.velocity, res.signals.velocity)
         np.testing.assert_array_equal(rec.force, res.signals.force)
+
+
+def test_a_field_over_128_kB_is_named_with_its_line_not_a_csv_traceback(tmp_path, signals):
+    # issue 24: a binary dump pasted into a logger file ended in "_csv.Error: field larger than field limit"
+    t, x, _, F = signals
+    rows = [f"{a:.6g},{b:.6g},{c:.6g}" for a, b, c in zip(t, F, x)]
+    rows[7] = f"{t[7]:.6g},{F[7]:.6g}," + "A" * 140_000
+    p = write(tmp_path / "dump.csv", "time,force,position\n" + "\n".join(rows) + "\n")
+    with pytest.raises(InputError, match=r"dump.csv, line 9, column 'position': cannot read 'AAAA.*'\.\.\. "
+                                         r"\(140000 characters\) as a number") as info:
+        read_record(p)
+    assert len(str(info.value)) < 400  # the message quotes the start of the cell, not 140 kB of it
+    # a huge quoted header cell: the header is still found, the motion column named
+    q = write(tmp_path / "header.csv", 'time,force,"' + "B" * 140_000 + '"\n0,1,2\n0.001,1,2\n')
+    with pytest.raises(InputError, match=r"no motion column.*characters\)"):
+        read_record(q)
+
+
+def test_a_record_too_large_to_analyse_is_not_called_constant(tmp_path, signals):
+    # issue 24: values of 1e200 overflowed the spectrum, and the signal was said to be "constant"
+    from pdamper.analysis import analyze_record
+
+    t = np.arange(4000) * 1e-3
+    x = 1e200 * np.sin(2 * np.pi * 2.0 * t)
+    with pytest.raises(InputError, match=r"position has values up to 1e\+200: too large to analyse") as info:
+        analyze_record(t, np.cos(2 * np.pi * 2.0 * t), position=x)
+    assert "constant" not in str(info.value)

@@ -83,3 +83,26 @@ def test_fig5_at_the_optimum_hits_at_pi():
 def test_bad_plot_inputs(tmp_path, call):
     with pytest.raises(InputError):
         call(tmp_path)
+
+
+def test_the_laws_figure_marks_lift_off_and_the_tilt_bound():
+    # issue 24: the laws were drawn beyond the lift-off stroke unmarked, and no tilt bound with --tilt
+    from pdamper import theory
+    from pdamper.plotting.theory import theory_figure
+
+    h, f = 0.030, 2.0
+    x_lift = theory.max_stroke_no_liftoff(f)
+    x_tilt = theory.min_stroke_tilt(math.radians(3.0), f)
+    fig = theory_figure(h, liftoff_stroke=x_lift, tilt_stroke=x_tilt)
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(lab.startswith("lift-off: A") and f"above {x_lift * 1e3:.3g} mm" in lab for lab in labels), labels
+    assert any(f"below the tilt bound {x_tilt * 1e3:.3g} mm" in lab for lab in labels), labels
+    spans = {p.get_label(): p.get_window_extent() for p in ax.patches if p.get_label().startswith(("lift", "below"))}
+    assert len(spans) == 2
+    x_lines = sorted(line.get_xdata()[0] for line in ax.get_lines() if line.get_linestyle() in ("-", "--")
+                     and len(set(line.get_xdata())) == 1)
+    assert any(abs(x - x_lift * 1e3) < 1e-9 for x in x_lines) and any(abs(x - x_tilt * 1e3) < 1e-9 for x in x_lines)
+    # without them: nothing shaded (the figure of before)
+    plain = theory_figure(h).axes[0]
+    assert not [p for p in plain.patches if p.get_label().startswith(("lift", "below"))]

@@ -98,5 +98,9 @@ def test_studies_need_a_structure_and_good_frequencies():
     for bad in ("2Hz:1Hz:3", "1Hz:2Hz", "1Hz:2Hz:x", "-1Hz"):
         with pytest.raises(InputError, match="frequencies"):
             parse_frequencies(bad)
-    with pytest.raises(InputError, match="measured cycles"):
+    with pytest.raises(InputError, match=r"2 measured cycles need at least 4 cycles \(2 of transient first\); "
+                                         r"run --cycles 4 or more, or measure at most 1 \(--measure-cycles 1\)"):
         run_response(_small(cycles=3), [2.0], force_amplitude=0.1, measure_cycles=2)
+    # issue 24: --cycles 2 --measure-cycles 1 said "no transient to discard" without saying how many are needed
+    with pytest.raises(InputError, match=r"1 measured cycle need at least 3 cycles .*run --cycles 3 or more$"):
+        run_response(_small(cycles=2), [2.0], force_amplitude=0.1, measure_cycles=1)

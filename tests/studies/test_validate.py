@@ -37,7 +37,12 @@ def _datasets(**bad):
         for mu, pk, sh in ((0.01, 1.0, 1.05), (0.1, 0.85, 1.15), (1.0, 0.7, 1.6)):
             fr[f"{n}, mu = {mu:g}"] = (_curve(h, peak=pk, shift=sh), h)
     tilt = {"44, baseline 0.1 deg": (_curve(h44), h44),
-            "44, 3 deg about z": (np.where(X <= 3e-3, 0.01, _curve(h44)), h44)}
+            "44, 3 deg about z": (np.where(X <= 3e-3, 0.01, _curve(h44)), h44),
+            # 36 spheres as the paper's Sect. 6.2 says: z held to 4 mm then rising, x 0.1-0.5 below 4 mm
+            "36, baseline 0.1 deg": (_curve(h36), h36),
+            "36, 3 deg about x": (np.where(X <= 4.5e-3, 0.25 * X / 4e-3, _curve(h36)), h36),
+            "36, 3 deg about y": (_curve(h36, peak=0.82), h36),
+            "36, 3 deg about z": (np.where(X <= 4e-3, 0.0, np.minimum(0.5, _curve(h36) + 0.45)), h36)}
     sens = {study: {lbl: (_curve(h36, peak=pk), h36) for lbl, pk in items}
             for study, items in {"modulus": [("E = 3 GPa", 0.83), ("E = 208 GPa", 0.85), ("E = 405 GPa", 0.86)],
                                  "density": [("rho = 1400 kg/m3", 0.84), ("rho = 7900 kg/m3", 0.85),
@@ -53,7 +58,7 @@ def _datasets(**bad):
 
 def test_a_paper_like_result_passes_every_check():
     checks = evaluate_checks(_datasets())
-    assert len(checks) == 12
+    assert len(checks) == 16
     assert all(c.passed for c in checks), [c for c in checks if not c.passed]
 
 
@@ -68,9 +73,15 @@ def test_each_kind_of_miss_is_caught():
     # the tilted bed does not stay on the low wall
     d["tilt"] = d["tilt"].copy(deep=True)
     d["tilt"].eta_star.loc[dict(setting="44, 3 deg about z", stroke=X[X <= 3e-3])] = 0.3
+    # 36 spheres about z not held below 4 mm, about x ~0 as about z, about y far below the baseline
+    d["tilt"].eta_star.loc[dict(setting="36, 3 deg about z", stroke=X[X <= 4e-3])] = 0.2
+    d["tilt"].eta_star.loc[dict(setting="36, 3 deg about x", stroke=X[X <= 4e-3])] = 0.01
+    d["tilt"].eta_star.loc[dict(setting="36, 3 deg about y")] *= 0.5
     failed = {c.name for c in evaluate_checks(d) if not c.passed}
-    assert {"Fig. 4, 36 spheres: peak", "Friction, 36 spheres", "Tilt 3 deg about z, 44 spheres"} <= failed
-    assert "Friction, 44 spheres" not in failed
+    assert {"Fig. 4, 36 spheres: peak", "Friction, 36 spheres", "Tilt 3 deg about z, 44 spheres",
+            "Tilt 3 deg about z, 36 spheres: held", "Tilt 3 deg about x, 36 spheres",
+            "Tilt 3 deg about y, 36 spheres"} <= failed
+    assert "Friction, 44 spheres" not in failed and "Tilt 3 deg about z, 36 spheres: rise" not in failed
 
 
 def test_the_report_is_a_markdown_table_with_the_command(tmp_path):
@@ -78,7 +89,7 @@ def test_the_report_is_a_markdown_table_with_the_command(tmp_path):
     path = tmp_path / "validation.md"
     write_report(path, checks, [("Fig. 4", "img/validation/fig4.png")], "pdamper validate", 61.0)
     text = path.read_text()
-    assert "`pdamper validate`" in text and "12 of 12 checks pass" in text
+    assert "`pdamper validate`" in text and "16 of 16 checks pass" in text
     rows = [ln for ln in text.splitlines() if ln.startswith("| ") and "expected" not in ln]
-    assert len(rows) == 12 and all(ln.count("|") == 5 for ln in rows)
+    assert len(rows) == 16 and all(ln.count("|") == 5 for ln in rows)
     assert "![Fig. 4](img/validation/fig4.png)" in text

@@ -37,6 +37,10 @@ def _check_lengths(arrays: dict) -> None:
             "(and enough for one whole drive cycle after the dropped ones)")
 
 
+#: Largest magnitude a signal may have: its squares summed over millions of samples stay finite.
+_MAX_MAGNITUDE = 1e100
+
+
 def _check_finite(name: str, x: np.ndarray, t: np.ndarray | None) -> None:
     bad = np.flatnonzero(~np.isfinite(x))
     if bad.size:
@@ -45,6 +49,12 @@ def _check_finite(name: str, x: np.ndarray, t: np.ndarray | None) -> None:
         raise InputError(
             f"{name} has {bad.size} non-finite value{'s' if bad.size > 1 else ''} "
             f"({x[i]}), the first at index {i}{at}; remove or fill the bad samples")
+    big = float(np.max(np.abs(x), initial=0.0))
+    if big > _MAX_MAGNITUDE:
+        raise InputError(
+            f"{name} has values up to {big:.3g}: too large to analyse (sums of their squares overflow double "
+            f"precision beyond {_MAX_MAGNITUDE:.0e}); no force, motion or time in SI units comes near that: check "
+            "the column's unit or scale the record")
 
 
 def _uniform_grid(t: np.ndarray, tol: float) -> tuple[float, float]:

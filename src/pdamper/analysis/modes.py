@@ -25,6 +25,9 @@ end walls sit at ``s = -L/2`` and ``+L/2``, h is the clearance of eq. (6)):
   container position x_c = X sin(Omega t) [deg].
 - ``airborne``: the fraction of sphere-frames whose centre is more than ``lift_gap`` x r above
   the floor contact height (y > r (1 + lift_gap)); ``max_height``: the largest (y - r)/r.
+- ``relative``: the range (5th to 95th percentile) of the bed centre in the container frame over
+  that of the container's own position in the lab (NaN without the container's track): ~0 when
+  the bed moves with the container, ~1 and more when the container moves about it.
 - ``tilt_pull``: |g_s| / A, the pull of gravity along the drive (from the tilt) over the
   container's measured acceleration amplitude; ``downhill``: +1 if it pulls towards +L/2, -1
   towards -L/2, 0 without a pull.
@@ -56,6 +59,14 @@ Modes (:func:`classify_features`, checked in this order):
     bed at (or returning to) the low wall (Sect. 6.2); includes a bed resting on the low wall. An
     untilted bed that merely stays at the wall it started from is ``scattered`` (the paper's
     "almost no particle movement").
+``locked``
+    ``relative`` <= ``locked_max``: the bed moves with the container, its centre shifting in the
+    container by under 5 % of the container's travel; a bed with no room to move (the paper's 48
+    spheres filling the floor wall to wall, clearance 0) or held by friction at a small stroke
+    (a tilted bed resting on its low wall is ``single-sided``, checked first).
+    The container then carries the bed as a rigid mass: the force is the bed mass times the
+    container's acceleration, in phase with it, and eta* is near 0 (0.001 measured for 48 spheres
+    at X = 13 mm, docs/motion.md).
 ``scattered``
     anything else with the bed on the floor: the spheres move each their own way, with few wall
     collisions (Fig. 3a), including a bed moving in step in the middle of the container without
@@ -74,13 +85,14 @@ __all__ = ["MODES", "THRESHOLDS", "ModeFeatures", "mode_features", "classify_fea
            "case_clearance", "floor_capacity", "bed_centre", "majority_mode", "container_track"]
 
 #: The motion modes, in the order the classifier checks them (plus "unknown" when no trajectory).
-MODES = ("lift-off", "rolling-collect-and-collide", "swaying", "single-sided", "scattered")
+MODES = ("lift-off", "rolling-collect-and-collide", "swaying", "single-sided", "locked", "scattered")
 
 #: Thresholds of :func:`classify_features` (see the module docstring; measured in docs/motion.md).
 THRESHOLDS = {
     "touch_gap": 0.1,       # a sphere touches an end wall when its gap is below 0.1 r
     "lift_gap": 0.2,        # a sphere is airborne when its centre is more than 0.2 r above y = r
     "lift_fraction": 0.05,  # lift-off: at least 5 % of sphere-frames airborne
+    "locked_max": 0.05,     # locked: the bed centre moves in the container by at most 5 % of the container's travel
     "impacts_min": 0.5,     # rolling collect-and-collide: at least 0.5 arrivals per cycle at each end wall
     "swing_min": 0.5,       # ... the bed centre travels at least half the clearance
     "sync_min": 0.7,        # ... at least 70 % of its motion is at the drive frequency
@@ -109,6 +121,7 @@ class ModeFeatures:
     downhill: int
     frames: int
     cycles: float
+    relative: float = math.nan
 
     def to_dict(self) -> dict:
         """Plain dict of floats for JSON."""
@@ -204,13 +217,15 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
         keep = np.ones_like(t, dtype=bool)  # too short a run to drop a transient: use it all
     t, pos = t[keep], pos[keep]
     nf = t.shape[0]
-    pull, downhill = 0.0, 0
-    if container_position is not None and gravity_along != 0.0:
+    pull, downhill, travel = 0.0, 0, math.nan
+    if container_position is not None:
         xc = np.asarray(container_position, dtype=float)
         xc = (xc @ _unit_horizontal(drive_dir) if xc.ndim == 2 else xc)[keep]
-        accel = (2 * math.pi * frequency) ** 2 * 0.5 * float(np.ptp(xc)) if xc.size else 0.0
-        pull = abs(gravity_along) / accel if accel > 0 else math.inf
-        downhill = 1 if gravity_along > 0 else -1
+        travel = float(np.percentile(xc, 95) - np.percentile(xc, 5)) if xc.size else math.nan
+        if gravity_along != 0.0:
+            accel = (2 * math.pi * frequency) ** 2 * 0.5 * float(np.ptp(xc)) if xc.size else 0.0
+            pull = abs(gravity_along) / accel if accel > 0 else math.inf
+            downhill = 1 if gravity_along > 0 else -1
     if nf < 2:
         raise ValueError(f"a motion mode needs at least 2 trajectory frames, got {nf}; record more frames "
                          "(a higher trajectory_fps or a longer run)")
@@ -220,7 +235,9 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     compact = max(length - clearance, 2 * float(rad.max())) / math.sqrt(12.0)
     spread = float(np.median(s.std(axis=1)) / compact)
     h = clearance if clearance > 0 else 2 * float(rad.max())
-    swing = float((np.percentile(centre, 95) - np.percentile(centre, 5)) / h)
+    centre_range = float(np.percentile(centre, 95) - np.percentile(centre, 5))
+    swing = centre_range / h
+    relative = centre_range / travel if travel > 0 else math.nan
     gap = th["touch_gap"] * rad
     if shape is None:
         from ..geometry.shape import ShapeBase  # (planar end walls; imported here: geometry compiles)
@@ -251,7 +268,7 @@ def mode_features(time, position, radius, *, length: float, clearance: float, fr
     return ModeFeatures(spread=spread, swing=swing, touch_lo=float(on_lo.mean()), touch_hi=float(on_hi.mean()),
                         impacts_lo=arrivals(on_lo), impacts_hi=arrivals(on_hi), sync=sync, phase_deg=phase,
                         airborne=airborne, max_height=float(height.max()), tilt_pull=float(pull),
-                        downhill=int(downhill), frames=int(nf), cycles=float(cycles))
+                        downhill=int(downhill), frames=int(nf), cycles=float(cycles), relative=float(relative))
 
 
 def classify_features(f: ModeFeatures, thresholds: dict | None = None) -> str:
@@ -269,6 +286,8 @@ def classify_features(f: ModeFeatures, thresholds: dict | None = None) -> str:
     if (hi >= th["touch_one"] and lo <= th["touch_other"] and f.downhill != 0 and low_wall == hi
             and f.tilt_pull >= th["tilt_pull"]):
         return "single-sided"
+    if f.relative <= th["locked_max"]:  # False for NaN (no container track)
+        return "locked"
     return "scattered"
 
 

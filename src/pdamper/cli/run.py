@@ -144,11 +144,14 @@ def _table(config, case, s, written) -> str:
     ]
     if s.get("mode"):
         f = s.get("mode_features") or {}
-        rows.insert(2, ("motion mode", s["mode"], "", ""))
-        rows.insert(3, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
+        # after eta* and its steadiness line (which is about eta*, not about the mode)
+        rows.insert(3, ("motion mode", s["mode"], "", ""))
+        rows.insert(4, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
                                     f"phase {f.get('phase_deg', math.nan):.0f} deg, "
                                     f"wall arrivals/cycle -x {f.get('impacts_lo', math.nan):.2f} "
-                                    f"+x {f.get('impacts_hi', math.nan):.2f}; docs/motion.md"))
+                                    f"+x {f.get('impacts_hi', math.nan):.2f}, "
+                                    f"in-container motion {f.get('relative', math.nan):.2g} of the travel; "
+                                    "docs/motion.md"))
     if written is not None:
         rows.append(("run directory", str(written), "", ""))
     lines = [f"pdamper run {config}"]

@@ -39,7 +39,8 @@ __all__ = ["theory_command"]
               help="Scaling factor of the scattered law (8).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @click.option("--plot", type=click.Path(dir_okay=False),
-              help="Write the eta*(X) figure of the laws (.png, .svg, .pdf).")
+              help="Write the eta*(X) figure of the laws (.png, .svg, .pdf), the strokes beyond lift-off "
+                   "(A >= g) shaded and, with --tilt, those below the tilt bound.")
 @click.option("--fig5", type=click.Path(dir_okay=False),
               help="Write the paper's Fig. 5 (rolling bed over the phase) at --stroke, "
                    "else at X_opt.")
@@ -58,7 +59,9 @@ def theory_command(shape, length, container_radius, radius, particles, max_parti
     if plot:
         from ..plotting.theory import theory_figure
 
-        theory_figure(result["clearance_m"], kappa=kappa, operating_stroke=stroke, path=plot)
+        theory_figure(result["clearance_m"], kappa=kappa, operating_stroke=stroke, path=plot,
+                      liftoff_stroke=result["max_stroke_no_liftoff_m"],
+                      tilt_stroke=result.get("min_stroke_tilt_m") if tilt else None)
         written.append(plot)
     if fig5:
         from ..plotting.theory import rolling_phase_figure

@@ -70,6 +70,10 @@ class Cylinder(ShapeBase):
         ahead = np.abs(along) >= 0.5 * rho              # within 60 deg of the drive axis
         return np.any(at_wall & ahead & (along < 0), axis=1), np.any(at_wall & ahead & (along > 0), axis=1)
 
+    def volume(self) -> float:
+        """pi R^2 H [m^3]."""
+        return float(np.pi * self.radius**2 * self.height)
+
     def describe(self) -> str:
         return f"cylinder R = {self.radius * 1e3:g} mm, H = {self.height * 1e3:g} mm"
 

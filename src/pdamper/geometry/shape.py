@@ -146,6 +146,13 @@ class ShapeBase:
         on_hi = np.any(along + radius >= length / 2 - gap, axis=1)
         return on_lo, on_hi
 
+    def volume(self) -> float:
+        """The inside's volume [m^3]: the top outline's area times the height."""
+        ring = self.outline("top")[0]
+        x, z = ring[:, 0], ring[:, 1]
+        lo, hi = self.bounding_box()
+        return 0.5 * abs(float(np.dot(x, np.roll(z, 1)) - np.dot(z, np.roll(x, 1)))) * float(hi[1] - lo[1])
+
     def max_particles(self, radius: float) -> int:
         """Spheres of ``radius`` on the floor in one layer (the layer sites without jitter)."""
         return int(len(self.layer_sites(radius, 0.0)[0]))

@@ -2,18 +2,38 @@
 
 from __future__ import annotations
 
+import errno
 import math
 import os
 import uuid
 from pathlib import Path
 
-__all__ = ["atomic_write", "json_safe"]
+from ..errors import InputError
+
+__all__ = ["atomic_write", "json_safe", "remove_stale_temporaries"]
+
+
+#: What a failed write means to the user, by errno: (the cause, what to do); the rest: the system's words.
+_WRITE_FAILURES = {
+    errno.ENOSPC: ("no space left on the device", "free some space or write elsewhere"),
+    errno.EDQUOT: ("the disk quota is exceeded", "free some space or write elsewhere"),
+    errno.EROFS: ("the file system is read-only", "write elsewhere"),
+    errno.EACCES: ("the directory is not writable", "write elsewhere or change its permissions"),
+    errno.EPERM: ("the directory is not writable", "write elsewhere or change its permissions"),
+    errno.ENOENT: ("its directory does not exist (any more)", "write elsewhere"),
+    errno.EFBIG: ("the file is too large for this file system", "write elsewhere"),
+}
 
 
 def atomic_write(path, data) -> Path:
     """Write ``data`` (bytes or str, UTF-8) to ``path`` atomically: a temporary file next to it
-    (honouring the umask), flushed and fsynced, then renamed over ``path``. A crash leaves either
-    the old file or the new one, never half of it. Returns the path."""
+    (honouring the umask), flushed and fsynced, then renamed over ``path`` and the directory
+    fsynced (the rename survives a power cut). A crash leaves either the old file or the new one,
+    never half of it. Returns the path.
+
+    A write the system refuses (a full disk, a read-only directory) raises
+    :class:`~pdamper.errors.InputError` naming the file and the cause; the temporary file is
+    removed and ``path`` keeps what it had."""
     path = Path(path)
     if isinstance(data, str):
         data = data.encode("utf-8")
@@ -24,13 +44,58 @@ def atomic_write(path, data) -> Path:
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(exc, OSError):
+            why, fix = _WRITE_FAILURES.get(exc.errno, (exc.strerror or str(exc), "write elsewhere"))
+            kept = "its previous content is unchanged" if path.exists() else "nothing was written"
+            raise InputError(f"cannot write {path}: {why} ({errno.errorcode.get(exc.errno, 'OSError')}); {kept}; "
+                             f"{fix}") from None
         raise
+    _sync_directory(path.parent)
     return path
+
+
+def remove_stale_temporaries(directory) -> list[Path]:
+    """Remove the temporary files :func:`atomic_write` left in ``directory`` when its process was
+    killed (``kill -9``, a power cut) between writing and renaming; a file of a process still
+    running is kept. Returns the files removed."""
+    removed = []
+    for f in Path(directory).glob(".*.tmp"):
+        parts = f.name.rsplit(".", 3)  # ".<name>", "<pid>", "<hex>", "tmp"
+        if len(parts) != 4 or not parts[1].isdigit():
+            continue
+        try:
+            os.kill(int(parts[1]), 0)
+        except ProcessLookupError:
+            pass  # its writer is gone
+        except OSError:
+            continue  # alive (or not ours to ask): keep it
+        else:
+            continue
+        try:
+            f.unlink()
+            removed.append(f)
+        except OSError:
+            pass
+    return removed
+
+
+def _sync_directory(directory: Path) -> None:
+    """fsync a directory so that a rename in it is on disk (best effort: not every system can)."""
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
 
 
 def json_safe(obj):

@@ -185,13 +185,13 @@ def _choose(source, header, names, columns, motion) -> dict:
                 if n.casefold() == key or h.casefold() == key]
         if len(hits) > 1:
             raise InputError(f"{source}: {len(hits)} columns match {role} ({target!r}): "
-                             f"{', '.join(repr(header[i]) for i in hits)}; rename one or "
+                             f"{', '.join(_short(header[i]) for i in hits)}; rename one or "
                              f"map {role} to the full header text")
         if not hits:
             if required:
                 hint = (f"map it with --{role}-column NAME (columns={{'{role}': NAME}})")
                 raise InputError(f"{source}: no {role} column ({target!r}); the header has "
-                                 f"{', '.join(repr(h) for h in header)}; rename the column or {hint}")
+                                 f"{', '.join(_short(h) for h in header)}; rename the column or {hint}")
             return None
         return hits[0]
 
@@ -206,7 +206,7 @@ def _choose(source, header, names, columns, motion) -> dict:
     if not present:
         raise InputError(
             f"{source}: no motion column; need one of position, velocity, acceleration "
-            f"(the header has {', '.join(repr(h) for h in header)}); rename it or map it "
+            f"(the header has {', '.join(_short(h) for h in header)}); rename it or map it "
             "with --position-column/--velocity-column/--acceleration-column NAME")
     if len(present) > 1:
         listing = " and ".join(repr(header[i]) for i in present.values())
@@ -224,7 +224,17 @@ def _lines_of(text: str) -> list[tuple[int, str]]:
 
 
 def _fields(line: str, delimiter: str) -> list[str]:
-    return next(csv.reader([line], delimiter=delimiter))
+    try:
+        return next(csv.reader([line], delimiter=delimiter), [])
+    except csv.Error:  # a field over the csv module's limit (128 kB): a binary dump pasted into the file
+        return line.split(delimiter)
+
+
+def _short(text: str, limit: int = 60) -> str:
+    """``repr(text)``, cut to ``limit`` characters with its length said (a message never quotes a 100 kB cell)."""
+    if len(text) <= limit:
+        return repr(text)
+    return f"{text[:limit]!r}... ({len(text)} characters)"
 
 
 def _is_number(cell: str, decimal: str = ".") -> bool:
@@ -258,7 +268,7 @@ def _find_header(source, content, columns):
             return pos, d
     no, header = content[0]
     raise InputError(
-        f"{source}, line {no}: cannot find the column delimiter in the header {header.strip()!r}; "
+        f"{source}, line {no}: cannot find the column delimiter in the header {_short(header.strip())}; "
         "separate the columns with commas, semicolons or tabs")
 
 
@@ -381,8 +391,8 @@ def _hdf5_channels(path: Path) -> dict:
                     unit = unit.decode() if isinstance(unit, bytes) else str(unit)
                     out[name] = (obj[()], unit)
             f.visititems(visit)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read as HDF5 ({exc})") from None
+    except Exception as exc:  # h5py raises OSError, KeyError, RuntimeError ... for a damaged file
+        raise InputError(f"{path}: cannot read as HDF5 ({type(exc).__name__}: {exc})") from None
     return out
 
 
@@ -391,7 +401,7 @@ def _mat_channels(path: Path) -> dict:
 
     try:
         data = scipy.io.loadmat(path, squeeze_me=True)
-    except (ValueError, NotImplementedError, OSError) as exc:
+    except Exception as exc:  # scipy raises MatReadError, TypeError, ValueError ... for a damaged file
         raise InputError(f"{path}: cannot read as a MATLAB file ({exc}); save it with -v7 or read it as HDF5 "
                          "(a -v7.3 file is HDF5: rename it to .h5)") from None
     return {k: (v, "") for k, v in data.items() if not k.startswith("__") and isinstance(v, np.ndarray)
@@ -482,13 +492,13 @@ def _column(path, header: str, cells: list[str], line_nos, decimal: str) -> np.n
                     continue
                 except ValueError:
                     pass
-            what = "empty cell" if not cell else f"cannot read {cell!r} as a number"
+            what = "empty cell" if not cell else f"cannot read {_short(cell)} as a number"
             raise InputError(f"{path}, line {line_nos[k]}, column {header!r}: {what}; "
                              "fix the cell or remove the row") from None
     bad = np.flatnonzero(~np.isfinite(col))
     if bad.size:
         k = int(bad[0])
-        raise InputError(f"{path}, line {line_nos[k]}, column {header!r}: {cells[k]!r} is not "
+        raise InputError(f"{path}, line {line_nos[k]}, column {header!r}: {_short(cells[k])} is not "
                          f"a finite number ({bad.size} such cell{'s' if bad.size > 1 else ''}); "
                          "fill the gap or remove the row")
     return col

@@ -130,13 +130,36 @@ def write_run_files(out_dir, *, config_text: str, signals: list, energy: list, t
 # --------------------------------------------------------------------------- reading
 
 def _read_csv(path: Path, columns) -> np.ndarray:
+    """A CSV file of a run directory; a damaged one (truncated, binary, ragged, not finite) is an
+    InputError naming the file and the line."""
     if not path.is_file():
         raise InputError(f"run directory {path.parent}: missing {path.name}")
-    with path.open(encoding="utf-8") as fh:
-        header = fh.readline().strip()
+    try:
+        lines = path.read_bytes().decode("utf-8").splitlines()
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: damaged (byte {exc.start} is not text); re-run the case") from None
+    except OSError as exc:
+        raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
+    header = lines[0].strip() if lines else ""
     if tuple(h.strip() for h in header.split(",")) != tuple(columns):
-        raise InputError(f"{path}: unexpected header {header!r}; expected {','.join(columns)}")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        raise InputError(f"{path}: unexpected header {header[:200]!r}; expected {','.join(columns)}")
+    try:
+        data = np.loadtxt(lines[1:], delimiter=",", ndmin=2, dtype=float)
+    except ValueError:
+        data = None
+    if data is None or data.size and (data.shape[1] != len(columns) or not np.isfinite(data).all()):
+        for no, line in enumerate(lines[1:], start=2):
+            cells = line.split(",")
+            try:
+                ok = len(cells) == len(columns) and all(np.isfinite(float(c)) for c in cells)
+            except ValueError:
+                ok = False
+            if not ok:
+                shown = line if len(line) <= 80 else line[:80] + f"... ({len(line)} characters)"
+                raise InputError(f"{path}, line {no}: damaged row {shown!r} (expected {len(columns)} finite "
+                                 "numbers); the run directory was damaged after it was written, re-run the case")
+        if data is None:
+            raise InputError(f"{path}: damaged (not a table of {len(columns)} numbers); re-run the case")
     return data.reshape(-1, len(columns))
 
 
@@ -165,7 +188,11 @@ def read_run_files(out_dir) -> dict:
     trajectory = None
     tpath = path / FILES["trajectory"]
     if tpath.is_file():
-        with np.load(tpath) as z:
-            trajectory = {k: z[k] for k in z.files}
+        try:
+            with np.load(tpath, allow_pickle=False) as z:
+                trajectory = {k: z[k] for k in z.files}
+        except Exception as exc:  # numpy/zipfile raise BadZipFile, EOFError, ValueError ... for a damaged file
+            raise InputError(f"{tpath}: damaged trajectory file ({type(exc).__name__}: {exc}); delete it to read "
+                             "the run without its trajectory, or re-run the case") from None
     return {"config_path": path / FILES["config"], "signals": sig, "energy": eng, "trajectory": trajectory,
             "meta": meta}

@@ -14,6 +14,7 @@ __all__ = ["MODE_COLOURS", "MODE_MARKERS", "MODE_HATCHES", "mode_style", "mode_o
 
 #: Colour of each mode (cases without a mode: white, failed: black).
 MODE_COLOURS = {
+    "locked": "#636363",
     "scattered": "#9ecae1",
     "rolling-collect-and-collide": "#31a354",
     "swaying": "#c7e9c0",
@@ -24,6 +25,7 @@ MODE_COLOURS = {
 }
 #: Marker of each mode on η*(X) curves.
 MODE_MARKERS = {
+    "locked": "p",
     "scattered": "o",
     "rolling-collect-and-collide": "s",
     "swaying": "v",
@@ -34,6 +36,7 @@ MODE_MARKERS = {
 }
 #: Hatching of each mode on the design map (rolling collect-and-collide plain).
 MODE_HATCHES = {
+    "locked": "++",
     "scattered": "..",
     "rolling-collect-and-collide": "",
     "swaying": "--",

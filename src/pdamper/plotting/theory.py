@@ -98,8 +98,8 @@ def draw_theory_curves(ax, clearance: float, strokes=None, *, kappa: float = 1.0
 
 
 def theory_figure(clearance: float, strokes=None, *, kappa: float = 1.0, bouncing: bool = True,
-                  operating_stroke: float | None = None, title: str | None = None,
-                  path=None, figsize=(6.4, 4.2)):
+                  operating_stroke: float | None = None, liftoff_stroke: float | None = None,
+                  tilt_stroke: float | None = None, title: str | None = None, path=None, figsize=(6.4, 4.2)):
     """The η*(X) figure of the laws for one clearance, like the paper's Fig. 4.
 
     Parameters
@@ -110,6 +110,12 @@ def theory_figure(clearance: float, strokes=None, *, kappa: float = 1.0, bouncin
         As in :func:`draw_theory_curves`.
     operating_stroke : float, optional
         A stroke [m] to mark (e.g. the damper's operating point).
+    liftoff_stroke : float, optional
+        The stroke [m] above which A = X Omega^2 >= g: the strokes beyond it are shaded (the bed lifts
+        off; the laws assume it stays on the floor).
+    tilt_stroke : float, optional
+        The tilt bound [m] (A = g tan(tilt)): the strokes below it are shaded (the tilt keeps the bed
+        at the low wall, Sect. 6.2).
     title : str, optional
         Figure title; default names h and X_opt.
     path : str or path-like, optional
@@ -126,10 +132,11 @@ def theory_figure(clearance: float, strokes=None, *, kappa: float = 1.0, bouncin
     target = check_path(path)
     x_opt = theory.optimal_stroke(clearance)
     span = [x_opt / 30.0, 10.0 * x_opt] if strokes is None else list(np.ravel(strokes))
+    for name, value in (("operating_stroke", operating_stroke), ("liftoff_stroke", liftoff_stroke),
+                        ("tilt_stroke", tilt_stroke)):
+        if value is not None and (not isinstance(value, (int, float)) or not 0 < value < math.inf):
+            raise InputError(f"{name} = {value!r} is not allowed: give a finite stroke > 0 in m, e.g. 0.015 (15 mm)")
     if operating_stroke is not None:
-        if not isinstance(operating_stroke, (int, float)) or not 0 < operating_stroke < math.inf:
-            raise InputError(f"operating_stroke = {operating_stroke!r} is not allowed: give a "
-                             "finite stroke > 0 in m, e.g. 0.015 (15 mm)")
         span.append(operating_stroke)
     fig = Figure(figsize=figsize, layout="constrained")
     ax = fig.add_subplot()
@@ -138,6 +145,16 @@ def theory_figure(clearance: float, strokes=None, *, kappa: float = 1.0, bouncin
         ax.axvline(operating_stroke * _MM, color="tab:red", lw=1.2,
                    label=f"operating stroke {operating_stroke * _MM:.3g} mm")
     ax.set_ylim(0.0, 1.1 * theory.ETA_MAX_BOUNCING if bouncing else 1.1)
+    lo, hi = ax.get_xlim()
+    if liftoff_stroke is not None and liftoff_stroke * _MM < hi:
+        ax.axvspan(max(liftoff_stroke * _MM, lo), hi, color="0.6", alpha=0.25, hatch="//", lw=0,
+                   label=f"lift-off: A $\\geq$ g above {liftoff_stroke * _MM:.3g} mm (laws do not hold)")
+        ax.axvline(liftoff_stroke * _MM, color="0.35", lw=1.0, ls="-")
+    if tilt_stroke is not None and tilt_stroke * _MM > lo:
+        ax.axvspan(lo, min(tilt_stroke * _MM, hi), color="tab:orange", alpha=0.15, lw=0,
+                   label=f"below the tilt bound {tilt_stroke * _MM:.3g} mm (A $\\leq$ g tan tilt)")
+        ax.axvline(tilt_stroke * _MM, color="tab:orange", lw=1.0, ls="--")
+    ax.set_xlim(lo, hi)
     ax.grid(True, which="major", alpha=0.3)
     ax.grid(True, which="minor", alpha=0.1)
     ax.legend(loc="upper left", fontsize="small", framealpha=0.9)

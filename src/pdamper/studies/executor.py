@@ -5,14 +5,26 @@ Both paths submit the same function on the same cases, so the same seeds give th
 numbers either way. Results are handed back one by one as cases finish (``as_completed``),
 so the caller can store each at once; on Ctrl-C the pending cases are cancelled and the
 cluster shut down, and nothing already stored is lost.
+
+Faults (tests/studies/test_cluster_faults.py): a worker that dies (killed, out of memory) takes its
+running case with it; Dask runs that case again on another worker (up to
+``distributed.scheduler.allowed-failures`` times), the same seed giving the same numbers, and
+:func:`execute` reports the cases that ran again (a :class:`RetryWarning`). A scheduler that goes
+away cancels the pending cases: an :class:`~pdamper.errors.InputError` says how many finished
+(stored by the caller) and how to resume.
 """
 
 from __future__ import annotations
 
 import logging
 import os
+import warnings
 
-__all__ = ["execute"]
+__all__ = ["execute", "RetryWarning"]
+
+
+class RetryWarning(UserWarning):
+    """Cases ran again after their Dask worker died; their results are those of the run that finished."""
 
 
 def _client(workers, scheduler):
@@ -49,9 +61,15 @@ def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None
 
     ``progress``: show a bar (cases done / total, rate, time left) on stderr; default: when
     stderr is a terminal or in Jupyter.
+
+    Returns ``{"retried": {key: times}}``: the cases that ran again after their worker died (also
+    warned, :class:`RetryWarning`).
     """
+    from concurrent.futures import CancelledError
+
     from dask.distributed import as_completed
 
+    from ..errors import InputError
     from ._progress import progress_bar, show_progress
 
     progress = show_progress(progress)
@@ -61,16 +79,51 @@ def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None
     # the longest cases (large strokes) first, for a balanced finish
     order = sorted(items, key=lambda it: -_weight(it[1]))
     futures = {client.submit(fn, it[3], key=f"pdamper-{it[0]}", pure=False): it for it in order}
+    finished = 0
     try:
-        for fut in as_completed(futures):
-            key, point, seed, _ = futures[fut]
-            on_result(key, point, seed, fut.result())
-            bar.update(1)
+        try:
+            for fut in as_completed(futures):
+                key, point, seed, _ = futures[fut]
+                on_result(key, point, seed, fut.result())
+                finished += 1
+                bar.update(1)
+        except CancelledError as exc:
+            if client.status == "running":
+                raise  # cancelled by someone, not by a lost scheduler
+            raise InputError(
+                f"the Dask scheduler {scheduler or '(local)'} went away after {finished} of {len(futures)} cases "
+                f"({' '.join(str(exc).split())[:160]}); the {finished} finished are stored: re-run the same "
+                "command to resume (without --scheduler to use this machine's cores)") from None
+        retried = _retries(client, [f.key for f in futures])
     finally:
         for fut in futures:
             if not fut.done():
                 fut.cancel()
         bar.close()
-        client.close()
+        client.close(timeout=10 if client.status == "running" else 2)
         if cluster is not None:
             cluster.close()
+    if retried:
+        listed = ", ".join(f"{k.removeprefix('pdamper-')} ({n}x)" for k, n in sorted(retried.items()))
+        warnings.warn(f"{len(retried)} case(s) ran again after their Dask worker died: {listed}; each result is that "
+                      "of the run that finished (same seed, same numbers)", RetryWarning, stacklevel=2)
+    return {"retried": {k.removeprefix("pdamper-"): n for k, n in retried.items()}}
+
+
+def _retries(client, keys) -> dict:
+    """``{task key: times its worker died under it}`` for the tasks that were retried (the scheduler's
+    "suspicious" count); empty if the scheduler cannot say."""
+    wanted = set(keys)
+
+    def count(dask_scheduler=None):  # runs on the scheduler (a closure: pickled by value)
+        out = {}
+        for k in wanted:
+            ts = dask_scheduler.tasks.get(k)
+            if ts is not None and getattr(ts, "suspicious", 0):
+                out[k] = int(ts.suspicious)
+        return out
+
+    try:
+        return client.run_on_scheduler(count)
+    except Exception:  # an older or foreign scheduler: no report, the results stand
+        return {}

@@ -30,6 +30,8 @@ This module stores and reads; it computes no physics (the sweep passes the theor
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import hashlib
 import json
 import os
@@ -39,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..io.files import atomic_write, json_safe
+from ..io.files import atomic_write, json_safe, remove_stale_temporaries
 
 __all__ = ["ResultStore", "VARIABLES", "NO_MODE", "UNKNOWN_MODE", "KEEP", "signal_arrays", "FORMAT"]
 
@@ -210,11 +212,22 @@ class ResultStore:
             seeds = sorted(set(seeds) | {int(r["seed"]) for r in found})
             old_history = [f"store.json rebuilt from {len(found)} case files ({_command_line()})"]
         else:
+            if path.is_dir():  # what a store whose store.json could not be written (disk full, kill -9) left
+                remove_stale_temporaries(path)
+                empty = path / "cases"
+                if empty.is_dir() and not any(empty.iterdir()):
+                    empty.rmdir()
             if path.exists() and (not path.is_dir() or any(path.iterdir())):
                 hint = (" It has case files but no store.json: re-run the same command with --repair to rebuild it"
                         if (path / "cases").is_dir() and any((path / "cases").glob("*.json")) else "")
                 raise InputError(f"{path}: exists and is not a pdamper result store; choose another --out.{hint}")
-        (path / "cases").mkdir(parents=True, exist_ok=True)
+        try:
+            (path / "cases").mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"cannot create the result store {path}: {exc.strerror or exc}; give an --out where "
+                             "you can write") from None
+        for d in (path, path / "cases"):  # left by a writer killed between writing and renaming
+            remove_stale_temporaries(d)
         meta = {"format": FORMAT, "fingerprint": fp, "config": text, "axes": axes, "seeds": seeds,
                 "pdamper_version": __version__, "base": json_safe(case_to_dict(base)),
                 "attrs": json_safe(attrs or {}),
@@ -223,8 +236,10 @@ class ResultStore:
             meta["until_steady"] = float(until_steady)
         if keys == [STROKE]:  # readable by an earlier pdamper too
             meta["strokes"] = axes[0]["values"]
-        atomic_write(meta_file, json.dumps(meta, indent=2))
-        return cls(path, meta)
+        store = cls(path, meta)
+        with store._resumable("the store's description"):
+            atomic_write(meta_file, json.dumps(meta, indent=2))
+        return store
 
     @classmethod
     def open(cls, path) -> "ResultStore":
@@ -265,12 +280,13 @@ class ResultStore:
         signals = summary.pop("signals", None)
         if not isinstance(point, dict):
             point = {STROKE: float(point)}
-        if signals:
-            atomic_write(self._signals_file(key), _signals_bytes(signals))
         rec = {"key": key, "point": point, "seed": int(seed), **summary}
         if STROKE in point:
             rec["stroke"] = float(point[STROKE])
-        atomic_write(self._case_file(key), json.dumps(json_safe(rec)))
+        with self._resumable(f"case {key}"):
+            if signals:
+                atomic_write(self._signals_file(key), _signals_bytes(signals))
+            atomic_write(self._case_file(key), json.dumps(json_safe(rec)))
 
     def records(self) -> list:
         """All stored cases (dicts), in no particular order; a file that is not a case record is
@@ -397,12 +413,29 @@ class ResultStore:
 
     def write_outputs(self, ds) -> None:
         """Write ``results.nc`` (CF-style netCDF) and ``results.csv`` (one row per case) atomically."""
-        atomic_write(self.path / "results.nc", bytes(ds.to_netcdf(engine="h5netcdf")))
         table = ds[list(VARIABLES) + ["failed", "mode"]].to_dataframe()
         table.columns = [f"{c} [{ds[c].attrs['units']}]" if c in VARIABLES else c for c in table.columns]
         table.index.names = [f"{n} [{ds[n].attrs['units']}]" if "units" in ds[n].attrs else n
                              for n in table.index.names]
-        atomic_write(self.path / "results.csv", table.to_csv(float_format=repr))
+        with self._resumable("the results"):
+            atomic_write(self.path / "results.nc", bytes(ds.to_netcdf(engine="h5netcdf")))
+            atomic_write(self.path / "results.csv", table.to_csv(float_format=repr))
+
+    @contextlib.contextmanager
+    def _resumable(self, what: str):
+        """A write that fails (a full disk, a read-only directory: InputError from atomic_write) says
+        what the store still holds and how to go on."""
+        try:
+            yield
+        except InputError as exc:
+            try:
+                n = sum(1 for _ in (self.path / "cases").glob("*.json"))
+            except OSError:
+                n = 0
+            raise InputError(f"{exc}. Writing {what} failed; the result store {self.path} keeps its {n} finished "
+                             "case(s), each written whole: once it can be written (space freed, or the store copied to a "
+                             "writable place), re-run the same command on it to resume (nothing finished is computed "
+                             "again)") from None
 
 
 def _valid_record(f: Path):

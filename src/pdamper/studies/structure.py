@@ -205,8 +205,12 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
         raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
     if case.cycles < measure_cycles + 2:
-        raise InputError(f"run.cycles = {case.cycles:g} leaves no transient to discard before the {measure_cycles} "
-                         "measured cycles; run more cycles or measure fewer")
+        fewer = int(math.floor(case.cycles + 1e-9)) - 2
+        alt = (f", or measure at most {fewer} (--measure-cycles {fewer})" if fewer >= 1 else "")
+        measured = f"{measure_cycles} measured cycle{'s' if measure_cycles != 1 else ''}"
+        raise InputError(f"run.cycles = {case.cycles:g} leaves no transient to discard before the {measured}: "
+                         f"{measured} need at least {measure_cycles + 2} cycles (2 of transient first); run "
+                         f"--cycles {measure_cycles + 2} or more{alt}")
     cases = [response_case(case, float(f), force_amplitude) for f in freqs]
     results: dict = {}
     if (workers is not None and workers > 1) or scheduler or workers is None:
