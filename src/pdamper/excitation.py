@@ -522,6 +522,10 @@ class CoupledStructure(DriveBase):
         return {"mass_kg": self.mass, "stiffness_N_m": self.stiffness, "x0_m": self.displacement,
                 "v0_m_s": self.velocity}
 
+    def structure_summary(self) -> dict:
+        """Plain numbers about the structure for a run's summary."""
+        return {"modes_kept": 1, "mode_frequencies_hz": [self.natural_frequency]}
+
     def start_state(self, st, wall_force: float = 0.0) -> float:
         """Release the structure at t = 0: set (x0, v0, a0) in the kernel state ``st``, with
         ``wall_force`` [N] the bed's wall force along the drive at that moment; returns a0."""
@@ -991,6 +995,14 @@ class ModalStructure(DriveBase):
         """What :class:`pdamper.recorders.structure.StructureRecord` keeps of the structure."""
         return {"mass_kg": self.mass, "stiffness_N_m": self.stiffness, "x0_m": self.displacement,
                 "v0_m_s": self.velocity, "initial_energy_J": self.initial_energy}
+
+    def structure_summary(self) -> dict:
+        """Plain numbers about the structure for a run's summary: the modes, and with matrices the
+        truncation error (:attr:`truncation_error`) and the number of dofs."""
+        out = {"modes_kept": self.n_modes, "mode_frequencies_hz": self.mode_frequencies.tolist()}
+        if self.matrices:
+            out.update(truncation_error=self.truncation_error, dofs=int(self._modal["dofs"]))
+        return out
 
     def config_extra(self) -> dict:
         """The keys a config file needs beyond the plain fields: ``modes`` or ``matrices``."""
