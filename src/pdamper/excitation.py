@@ -348,6 +348,28 @@ class Still(DriveBase):
         return 0, np.zeros(3), np.zeros((1, 5))
 
 
+def _check_structure_motion(s) -> None:
+    """Validate what moves a structure (``force_amplitude``, ``force_frequency``, ``displacement``,
+    ``velocity``) and its direction; something must move it."""
+    f0 = s.force_amplitude
+    if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 >= 0 and math.isfinite(f0)):
+        raise InputError(f"structure.force_amplitude = {f0!r} N; must be >= 0 (0: free motion)")
+    ff = s.force_frequency
+    if ff is not None and not (isinstance(ff, (int, float)) and ff > 0 and math.isfinite(ff)):
+        raise InputError(f"structure.force_frequency = {ff!r} Hz; must be > 0, e.g. '2Hz'")
+    if f0 > 0 and ff is None:
+        raise InputError("structure.force_frequency is missing: a force_amplitude > 0 needs its "
+                         "frequency, e.g. force_frequency = '2Hz'")
+    for name in ("displacement", "velocity"):
+        v = getattr(s, name)
+        if not (isinstance(v, (int, float)) and math.isfinite(v)):
+            raise InputError(f"structure.{name} = {v!r}; must be a finite number")
+    s._check_direction()
+    if f0 == 0 and s.displacement == 0 and s.velocity == 0:
+        raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm') "
+                         "or a force_amplitude with force_frequency (forced response)")
+
+
 @register_drive
 @dataclass(frozen=True, kw_only=True)
 class CoupledStructure(DriveBase):
@@ -406,23 +428,7 @@ class CoupledStructure(DriveBase):
         z = self.damping_ratio
         if isinstance(z, bool) or not isinstance(z, (int, float)) or not (0.0 <= z < 1.0):
             raise InputError(f"structure.damping_ratio = {z!r}; must be in [0, 1), e.g. 0.005 (0.5 %)")
-        f0 = self.force_amplitude
-        if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 >= 0 and math.isfinite(f0)):
-            raise InputError(f"structure.force_amplitude = {f0!r} N; must be >= 0 (0: free motion)")
-        ff = self.force_frequency
-        if ff is not None and not (isinstance(ff, (int, float)) and ff > 0 and math.isfinite(ff)):
-            raise InputError(f"structure.force_frequency = {ff!r} Hz; must be > 0, e.g. '2Hz'")
-        if f0 > 0 and ff is None:
-            raise InputError("structure.force_frequency is missing: a force_amplitude > 0 needs its "
-                             "frequency, e.g. force_frequency = '2Hz'")
-        for name in ("displacement", "velocity"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise InputError(f"structure.{name} = {v!r}; must be a finite number")
-        self._check_direction()
-        if f0 == 0 and self.displacement == 0 and self.velocity == 0:
-            raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm') "
-                             "or a force_amplitude with force_frequency (forced response)")
+        _check_structure_motion(self)
 
     @property
     def damping(self) -> float:
@@ -751,23 +757,7 @@ class ModalStructure(DriveBase):
             raise InputError(f"structure.{key}: a mode at {top:.4g} Hz; keep modes below {_MODE_LIMIT_HZ:g} Hz (the "
                              "structure's step is explicit in the stiffness: stable for omega h < 2, and Gear's steps "
                              f"reach {_GEAR_STEP_BOUND * 1e6:g} us)" + (", e.g. modes_kept = 4" if self.matrices else ""))
-        f0 = self.force_amplitude
-        if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 >= 0 and math.isfinite(f0)):
-            raise InputError(f"structure.force_amplitude = {f0!r} N; must be >= 0 (0: free motion)")
-        ff = self.force_frequency
-        if ff is not None and not (isinstance(ff, (int, float)) and ff > 0 and math.isfinite(ff)):
-            raise InputError(f"structure.force_frequency = {ff!r} Hz; must be > 0, e.g. '2Hz'")
-        if f0 > 0 and ff is None:
-            raise InputError("structure.force_frequency is missing: a force_amplitude > 0 needs its "
-                             "frequency, e.g. force_frequency = '2Hz'")
-        for name in ("displacement", "velocity"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise InputError(f"structure.{name} = {v!r}; must be a finite number")
-        self._check_direction()
-        if f0 == 0 and self.displacement == 0 and self.velocity == 0:
-            raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm') "
-                             "or a force_amplitude with force_frequency (forced response)")
+        _check_structure_motion(self)
 
     def _from_matrices(self) -> dict:
         from scipy.linalg import eigh
