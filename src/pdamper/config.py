@@ -456,8 +456,10 @@ class _Reader:
         return _MODAL(**kw)
 
     def _path(self, value: str) -> str:
+        """A file named in the config, absolute (a case written elsewhere, e.g. into a run
+        directory, still finds it)."""
         path = Path(value)
-        return str(path if path.is_absolute() else self.base_dir / path)
+        return str((path if path.is_absolute() else self.base_dir / path).resolve())
 
     def _samples_file(self, value) -> dict:
         if not isinstance(value, str) or not value.strip():
