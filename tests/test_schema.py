@@ -47,9 +47,10 @@ def test_every_section_key_comes_from_a_field_or_is_named_structure():
     structural = {"shape", "kind", "samples", "pair", "natural_frequency"}
     fields = {s.key or f.name for _, cls, _ in HOLDERS for f in dataclasses.fields(cls) for s in (spec_of(f),)}
     fields |= {s.key or f.name for cls in (Material,) for f in dataclasses.fields(cls) for s in (spec_of(f),)}
-    from pdamper.excitation import SampledDrive, Still
+    from pdamper.excitation import ModalStructure, SampledDrive, Still
     from pdamper.geometry.cylinder import Cylinder
-    fields |= set(config_keys(SampledDrive)) | set(config_keys(Still)) | set(config_keys(Cylinder))
+    fields |= (set(config_keys(SampledDrive)) | set(config_keys(Still)) | set(config_keys(Cylinder))
+               | set(config_keys(ModalStructure)))
     for section, keys in SECTIONS.items():
         for key in keys:
             assert key in fields or key in structural, f"[{section}] {key} is neither a field nor structure"

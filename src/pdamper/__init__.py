@@ -16,7 +16,7 @@ Describe a case (frozen, keyword-only dataclasses; SI units):
 - Geometry: :class:`Cuboid`, :class:`Cylinder`.
 - Drive: :class:`HarmonicDrive` (``x_c = X sin(Omega t)``), :class:`SampledDrive` (a motion
   given as samples), :class:`Still`, :class:`CoupledStructure` (the container rides on a
-  structure, two-way coupled).
+  structure, two-way coupled), :class:`ModalStructure` (a structure of several modes).
 - Materials: :class:`Material`, :data:`STEEL_S235`, :data:`PVC`.
 - Restitution laws: :class:`ConstantRestitution`, :class:`TabulatedRestitution`,
   :class:`ThorntonRestitution`.
@@ -82,6 +82,7 @@ _LAZY = {
     "SampledDrive": "excitation",
     "Still": "excitation",
     "CoupledStructure": "excitation",
+    "ModalStructure": "excitation",
     "run_decay": "studies.structure",
     "run_response": "studies.structure",
     "design_filling": "design",
@@ -108,7 +109,7 @@ __all__ = [
     # describe a case
     "Case", "ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState",
     "Cuboid", "Cylinder",
-    "HarmonicDrive", "SampledDrive", "Still", "CoupledStructure",
+    "HarmonicDrive", "SampledDrive", "Still", "CoupledStructure", "ModalStructure",
     "Material", "STEEL_S235", "PVC",
     "ConstantRestitution", "TabulatedRestitution", "ThorntonRestitution",
     # run it
@@ -146,7 +147,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .config import load_case
     from .contact import ConstantRestitution, TabulatedRestitution, ThorntonRestitution
     from .design import design_filling
-    from .excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
+    from .excitation import CoupledStructure, HarmonicDrive, ModalStructure, SampledDrive, Still
     from .studies.structure import run_decay, run_response
     from .geometry import Cuboid, Cylinder
     from .materials import PVC, STEEL_S235, Material

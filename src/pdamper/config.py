@@ -104,8 +104,11 @@ __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_ca
 # per-material-pair tables).
 _GEOMETRIES = SHAPES
 _DRIVES = {kind: cls for kind, cls in DRIVES.items() if cls.config_section == "drive"}
-#: The drive the [structure] section builds.
-_STRUCTURE = next(cls for cls in DRIVES.values() if cls.config_section == "structure")
+#: The drives the [structure] section builds: the single mode (mass, stiffness) first, then the
+#: modal structure (modes or matrices); the reader decides from the keys.
+_STRUCTURES = tuple(cls for cls in DRIVES.values() if cls.config_section == "structure")
+_STRUCTURE = _STRUCTURES[0]
+_MODAL = next(cls for cls in _STRUCTURES if "modes" in config_keys(cls))
 
 
 def _shape_keys() -> dict:
@@ -154,7 +157,7 @@ SECTIONS = _Sections({
     "recording": config_keys(Recording),
     "initial": config_keys(InitialState),
     "run": tuple(s.key or f.name for f, s in plain_fields(Case)),
-    "structure": _union(config_keys(_STRUCTURE), ("natural_frequency",)),
+    "structure": _union(config_keys(_STRUCTURE), ("natural_frequency",), config_keys(_MODAL)),
 })
 _PAIR_KEYS = ("materials", "friction", "restitution")
 
@@ -215,7 +218,7 @@ def _copy(obj):
 _SECTION_CLASSES = {
     "container": (Container,), "particles": (ParticleSet,), "drive": tuple(_DRIVES.values()),
     "contact": (ContactModel,), "numerics": (Numerics,), "recording": (Recording,), "initial": (InitialState,),
-    "run": (Case,), "structure": (_STRUCTURE,),
+    "run": (Case,), "structure": _STRUCTURES,
 }
 #: Specs of the structured keys that also take one plain value (a constant COR; one tilt angle for all axes).
 _VALUE_SPECS = {"contact.restitution": Spec(kind="number"), "container.tilt": Spec(kind="number", dimension="angle")}
@@ -409,6 +412,13 @@ class _Reader:
             raise InputError(f"[drive] {', '.join(drive_table)} cannot be combined with [structure]: the "
                              "structure moves the container; remove [drive] (the direction is [structure] angle)")
         check_keys(t, "structure", SECTIONS["structure"])
+        if "modes" in t or "matrices" in t:
+            return self._modal_structure(t)
+        modal = [k for k in t if k not in config_keys(_STRUCTURE) and k != "natural_frequency"]
+        if modal:
+            raise InputError(f"[structure] {modal[0]} is a key of a structure of several modes; give modes = "
+                             "[{frequency, damping_ratio, modal_mass, damper, force, response}, ...] or matrices = "
+                             "'frame.npz' with it, or leave it out")
         for req in ("mass",):
             if req not in t:
                 raise InputError("[structure] mass is missing: give the structure's modal mass including the "
@@ -430,6 +440,31 @@ class _Reader:
                                  f"{kw['stiffness']:g} N/m with mass = {kw['mass']:g} kg; give a natural frequency "
                                  "a damper test can have, e.g. '2Hz'")
         return _STRUCTURE(**kw)
+
+    def _modal_structure(self, t):
+        """[structure] with modes = [...] or matrices = ...: a structure of N modes."""
+        single = [k for k in ("mass", "stiffness", "natural_frequency") if k in t]
+        if single:
+            raise InputError(f"[structure] {single[0]} is a key of the single-mode structure; with "
+                             f"{'modes' if 'modes' in t else 'matrices'} the modes carry their own masses and "
+                             "frequencies: remove it")
+        kw = read_fields(t, "structure", _MODAL)
+        if "modes" in t:
+            kw["modes"] = t["modes"]
+        if "matrices" in t:
+            m = t["matrices"]
+            if isinstance(m, str):
+                m = self._path(m)
+            elif isinstance(m, dict):
+                m = {k: (self._path(v) if isinstance(v, str) else v) for k, v in m.items()}
+            kw["matrices"] = m
+        return _MODAL(**kw)
+
+    def _path(self, value: str) -> str:
+        """A file named in the config, absolute (a case written elsewhere, e.g. into a run
+        directory, still finds it)."""
+        path = Path(value)
+        return str((path if path.is_absolute() else self.base_dir / path).resolve())
 
     def _samples_file(self, value) -> dict:
         if not isinstance(value, str) or not value.strip():
@@ -671,7 +706,7 @@ def case_to_dict(case: Case) -> dict:
     drive_key = d.config_section
     if type(d) is not DRIVES.get(d.kind):
         raise InputError(f"cannot write drive {type(d).__name__} to a config file")
-    drive = _fields_to(d)
+    drive = {**_fields_to(d), **d.config_extra()}
     if drive_key == "structure":
         del drive["kind"]
     out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),

@@ -14,6 +14,8 @@ from ._repr import short_repr
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from .analysis.steady import MIN_STEADY_CYCLES
 from .errors import InputError
 from .params import Case
@@ -120,6 +122,21 @@ class RunResult:
         }
 
 
+def structure_amplitudes(case: Case, rec, energy=None) -> dict:
+    """A coupled structure's amplitudes from its record ``rec``: half the peak-to-peak of the
+    damper's stroke (the container) and of the structure's response point over the last period of
+    the run's frequency [m], the damper's largest |x| over the run [m], and the error of the coupled
+    ledger of structure + bed (``energy``: the bed's :class:`~pdamper.recorders.energy.EnergyLedger`)."""
+    n = max(2, int(round(case.recording.sample_rate / case.drive.frequency)))
+    last = slice(-min(n, rec.time.size), None)
+    resp = rec.response_displacement if rec.response_displacement is not None else rec.displacement
+    return {"damper_stroke_m": float(np.ptp(rec.displacement[last]) / 2),
+            "structure_amplitude_m": float(np.ptp(resp[last]) / 2),
+            "damper_stroke_max_m": float(np.max(np.abs(rec.displacement))),
+            "coupled_energy_balance_error": rec.balance_error(energy) if energy is not None else math.nan,
+            **case.drive.structure_summary()}
+
+
 def analyze_signals(case: Case, signals):
     """Complex-power analysis (eqs. 3-5) of a run's recorded ``signals`` for ``case``: the drive
     frequency, the cycles the case drops, its bed mass and its container's mass (removed from the
@@ -195,7 +212,7 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
     record = sim.finalize()
     out = record.outputs
     analysis = None
-    if analyze and case.drive.kind not in ("still", "structure"):
+    if analyze and case.drive.kind != "still" and not case.drive.coupled:
         analysis = analyze_signals(case, record.signals)
     extras = {"rejected_steps": record.rejected_steps} if record.rejected_steps is not None else {}
     if analysis is not None:
@@ -203,6 +220,8 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
         extras.update(eta_star_error=st.eta_star_error, steady=st.steady)
     if periodic:
         extras["cycles_run"] = cycles_run
+    if record.structure is not None:
+        extras.update(structure_amplitudes(case, record.structure, record.energy))
     trajectory = record.trajectory
     if classify and trajectory is not None:
         from .analysis.modes import classify_trajectory

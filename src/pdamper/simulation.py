@@ -26,7 +26,6 @@ import numpy as np
 from .engine.build import CELLS_THRESHOLD, auto_time_step, build
 from .engine.steppers import GEAR_MIN_STEP, stepper_for
 from .errors import InputError
-from .excitation import CoupledStructure
 from .kernels.bundles import ENERGY_COLUMNS, FRAME_COLUMNS, STRUCTURE_COLUMNS, Samples
 from .params import Case
 from .recorders.base import Recorded, RunInfo, State, check_recorders
@@ -274,10 +273,12 @@ class Simulation:
         return self.finalize()
 
 
-def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_rate: float = 1000.0,
+def run_bare_structure(structure, duration: float, *, sample_rate: float = 1000.0,
                        time_step: float | None = None) -> StructureRecord:
-    """The structure of ``structure`` without a bed, for ``duration`` [s]: the same compiled step
-    as the coupled runs (:func:`pdamper.kernels.structure.structure_step`) with no wall force.
+    """The structure of ``structure`` (a :class:`~pdamper.excitation.CoupledStructure` or
+    :class:`~pdamper.excitation.ModalStructure`) without a bed, for ``duration`` [s]: the same
+    compiled step as the coupled runs (:func:`pdamper.kernels.structure.structure_step`) with no
+    wall force.
 
     ``time_step`` [s] defaults to a tenth of the sample interval (and at most 1/2000 of the
     shortest period). Returns a :class:`~pdamper.recorders.structure.StructureRecord`.
@@ -288,7 +289,7 @@ def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_r
     if not (duration > 0 and math.isfinite(duration)):
         raise InputError(f"duration = {duration!r} s; must be > 0")
     ts = 1.0 / sample_rate
-    fmax = max(structure.natural_frequency, structure.force_frequency or 0.0)
+    fmax = structure.highest_frequency
     dt = time_step if time_step is not None else min(ts / 10, 1.0 / (2000.0 * fmax))
     sub = max(1, int(math.ceil(ts / dt - 1e-9)))
     dt = ts / sub
@@ -297,10 +298,7 @@ def run_bare_structure(structure: CoupledStructure, duration: float, *, sample_r
     structure.start_state(drive.state)
     out = np.zeros((n, len(STRUCTURE_COLUMNS)))
     run_structure_alone(n * sub, dt, 0.0, sub, drive, out)
-    return StructureRecord(time=(np.arange(n) + 1) * ts, displacement=out[:, 0].copy(), velocity=out[:, 1].copy(),
-                           external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(), mass_kg=structure.mass,
-                           stiffness_N_m=structure.stiffness, x0_m=structure.displacement,
-                           v0_m_s=structure.velocity)
+    return StructureRecord.from_array(structure, (np.arange(n) + 1) * ts, out)
 
 
 # short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)

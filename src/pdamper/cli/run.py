@@ -142,11 +142,26 @@ def _table(config, case, s, written) -> str:
         ("speed", _fmt(s["us_per_step"], 3), "[us/step]", f"{s['particles']} spheres"),
         ("wall time", _fmt(s["wall_time_s"], 3), "[s]", ""),
     ]
+    at = 3  # where the motion mode goes: after eta* and its steadiness line
+    if "damper_stroke_m" in s:
+        # a coupled structure: no eta* (the complex power is for a prescribed harmonic drive)
+        rows[1:6] = [
+            ("structure amplitude", _fmt(s["structure_amplitude_m"] * 1e3), "[mm]",
+             "response point, half peak-to-peak over the last period"),
+            ("damper stroke", _fmt(s["damper_stroke_m"] * 1e3), "[mm]",
+             f"the container, last period; largest {_fmt(s['damper_stroke_max_m'] * 1e3)} mm"),
+            ("coupled ledger error", _fmt(s["coupled_energy_balance_error"], 2), "[-]",
+             "structure + bed ledger, max |residual| / energy put in"),
+        ]
+        if s.get("truncation_error") is not None and math.isfinite(s["truncation_error"]):
+            rows.insert(4, ("truncation error", _fmt(s["truncation_error"], 2), "[-]",
+                            f"static compliance at the damper from the {s['modes_kept']} kept modes vs K^-1"))
+        at = 4 + ("truncation_error" in s)
     if s.get("mode"):
         f = s.get("mode_features") or {}
         # after eta* and its steadiness line (which is about eta*, not about the mode)
-        rows.insert(3, ("motion mode", s["mode"], "", ""))
-        rows.insert(4, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
+        rows.insert(at, ("motion mode", s["mode"], "", ""))
+        rows.insert(at + 1, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
                                     f"phase {f.get('phase_deg', math.nan):.0f} deg, "
                                     f"wall arrivals/cycle -x {f.get('impacts_lo', math.nan):.2f} "
                                     f"+x {f.get('impacts_hi', math.nan):.2f}, "

@@ -97,6 +97,10 @@ def decay_command(config, cycles, seed, settings, plot, as_json):
         f"pdamper decay {config}",
         f"  structure             M = {s['mass_kg']:.4g} kg, f_n = {s['natural_frequency_hz']:.4g} Hz, "
         f"zeta = {pct(s['damping_ratio'])}, from {mm(s['initial_displacement_m'])}",
+        *([f"  modes                 {s['modes_kept']}: " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"])
+           + " Hz (M, f_n, zeta: the first mode's, M at the damper)"
+           + (f"; truncation error {s['truncation_error']:.2g}" if "truncation_error" in s else "")]
+          if s.get("modes_kept", 1) > 1 else []),
         f"  damper                {s['particles']} spheres, {1e3 * s['bed_mass_kg']:.4g} g "
         f"({100 * s['mass_ratio']:.3g} % of M), X_opt = {mm(s['x_opt_m'])}",
         f"  zeta without damper   {pct(s['zeta_bare_mean'])}        (bare run vs closed form: "

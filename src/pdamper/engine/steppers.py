@@ -147,7 +147,7 @@ class GearStepper(_Stepper):
         self.state = GearState(nordsieck=np.zeros((6, n, 6)), predicted=np.zeros((6, n, 6)), step=np.array([h0]),
                                integrands=np.zeros(4), saved_pair_history=np.zeros((2, engine.pairs.second.shape[0])),
                                saved_wall_history=np.zeros((2,) + engine.walls.approach_speed.shape),
-                               saved_structure=np.zeros((2, 5)), friction=self._record(None))
+                               saved_structure=np.zeros_like(engine.drive.state), friction=self._record(None))
 
     def _record(self, old):
         """The friction record, sized for every listed pair, every sphere on the floor and every

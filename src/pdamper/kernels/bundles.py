@@ -41,8 +41,9 @@ __all__ = ["Bodies", "PairList", "WallList", "Search", "ContactTable", "Drive", 
 #: Columns of :attr:`Samples.energy`: kinetic (lab frame), rotational, potential, elastic, work done
 #: by the container, dissipated by normal damping, dissipated by friction [J].
 ENERGY_COLUMNS = ("kinetic", "rotational", "potential", "elastic", "work", "damping", "friction")
-#: Columns of :attr:`Samples.structure`: x_s [m], v_s [m/s], external work [J], damping loss [J].
-STRUCTURE_COLUMNS = ("displacement", "velocity", "external_work", "damping_loss")
+#: Columns of :attr:`Samples.structure`: x_s [m], v_s [m/s], external work [J], damping loss [J],
+#: the structure's mechanical energy [J], the response point's displacement [m].
+STRUCTURE_COLUMNS = ("displacement", "velocity", "external_work", "damping_loss", "energy", "response_displacement")
 #: Columns of a frame in :attr:`Samples.frames`: position [m], velocity [m/s], spin [rad/s].
 FRAME_COLUMNS = 9
 
@@ -136,10 +137,10 @@ class Drive(NamedTuple):
     """Gravity, the drive direction and the container's motion along it
     (:mod:`pdamper.kernels.drive`)."""
 
-    kind: int                    #: 0 still, 1 harmonic, 2 sampled, 3 coupled structure
+    kind: int                    #: 0 still, 1 harmonic, 2 sampled, 3 coupled structure, 4 modal structure
     par: np.ndarray              #: parameters of the kind (harmonic: X, Omega, phase; structure: M, K, c, F0, Omega)
     table: np.ndarray            #: (K, 5) sampled motion: rows (t_k, c0, c1, c2, c3)
-    state: np.ndarray            #: (2, 5) the coupled structure's state (kernels/structure.py)
+    state: np.ndarray            #: (2, 5) the coupled structure's state, (2 + N, 5) with N modes (kernels/structure.py)
     gravity: np.ndarray          #: (3,) gravity vector in the container frame [m/s^2]
     direction: np.ndarray        #: (3,) unit drive direction in the container frame
 
@@ -153,7 +154,7 @@ class Samples(NamedTuple):
     energy: np.ndarray           #: (n, 7) energies [J], columns ENERGY_COLUMNS
     frames: np.ndarray           #: (F, N, 9) position, velocity, spin every ``frame_every`` samples
     frame_every: int             #: samples per frame (0: no frames)
-    structure: np.ndarray        #: (n, 4) the coupled structure, columns STRUCTURE_COLUMNS
+    structure: np.ndarray        #: (n, 6) the coupled structure, columns STRUCTURE_COLUMNS
     sums: np.ndarray             #: (4,) running: work by the container, damping loss, friction loss [J],
                                  #: impulse along the drive since the last sample [N s]
 
@@ -185,7 +186,7 @@ class GearState(NamedTuple):
     integrands: np.ndarray       #: (4,) the ledger's integrands at the last accepted step (trapezoid)
     saved_pair_history: np.ndarray   #: (2, capacity) pair history before the step
     saved_wall_history: np.ndarray   #: (2, N, W) wall history before the step
-    saved_structure: np.ndarray  #: (2, 5) the coupled structure's state before the step
+    saved_structure: np.ndarray  #: the coupled structure's state before the step (the shape of Drive.state)
     friction: FrictionRecord
 
 

@@ -6,7 +6,8 @@ integrators call :func:`drive_motion` and, on a coupled structure, advance it wi
 phase)``. 2: piecewise cubic through samples, ``table`` rows ``(t_k, c0, c1, c2, c3)`` so that
 ``x = c0 + c1 s + c2 s^2 + c3 s^3`` with ``s = t - t_k`` on ``[t_k, t_{k+1})``.
 3: the coupled structure (:mod:`pdamper.kernels.structure`): ``(x, v, a)`` is read from
-``state[0, 0:3]``, which the time loop advances. Before ``t = 0`` (the settling phase) the
+``state[0, 0:3]``, which the time loop advances. 4: the coupled modal structure of N modes (the
+same module; ``(x, v, a)`` of the damper point in ``state[0, 0:3]`` as for 3). Before ``t = 0`` (the settling phase) the
 container is at rest at ``x(0)`` with zero speed.
 """
 
@@ -18,20 +19,29 @@ import numpy as np
 
 from ..jit import njit
 
-__all__ = ["drive_motion", "is_coupled", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED", "DRIVE_STRUCTURE"]
+__all__ = ["drive_motion", "is_coupled", "is_modal", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED",
+           "DRIVE_STRUCTURE", "DRIVE_MODAL"]
 
 DRIVE_STILL = 0
 DRIVE_HARMONIC = 1
 DRIVE_SAMPLED = 2
 #: Drive kind of the coupled structure (:mod:`pdamper.kernels.structure`).
 DRIVE_STRUCTURE = 3
+#: Drive kind of the coupled modal structure of N modes (:mod:`pdamper.kernels.structure`).
+DRIVE_MODAL = 4
 
 
 @njit
 def is_coupled(drive):
     """True for a drive the bed's force moves (the coupled structure): the time loops advance its
     state and record it."""
-    return drive.kind == DRIVE_STRUCTURE
+    return drive.kind == DRIVE_STRUCTURE or drive.kind == DRIVE_MODAL
+
+
+@njit
+def is_modal(drive):
+    """True for the coupled structure of N modes (:func:`pdamper.kernels.structure.modal_step`)."""
+    return drive.kind == DRIVE_MODAL
 
 
 @njit
@@ -63,7 +73,7 @@ def drive_motion(drive, t):
         v = tab[k, 2] + s * (2.0 * tab[k, 3] + 3.0 * s * tab[k, 4])
         a = 2.0 * tab[k, 3] + 6.0 * s * tab[k, 4]
         return x, v, a
-    if kind == DRIVE_STRUCTURE:
+    if kind == DRIVE_STRUCTURE or kind == DRIVE_MODAL:
         st = drive.state
         return st[0, 0], st[0, 1], st[0, 2]
     return 0.0, 0.0, 0.0

@@ -75,4 +75,4 @@ def record_sample(k, samples, bodies, pairs, walls, drive, xc, vc):
                     traj[f, i, 3 + c] = vel[i, c]
                     traj[f, i, 6 + c] = omg[i, c]
     if is_coupled(drive):
-        record_structure(k, drive.state, samples.structure)
+        record_structure(k, drive, samples.structure)

@@ -24,6 +24,22 @@ implicitly (trapezoidal), ``x' = x + dt (v + dt/2 a)``,
 particles' positions and predicted velocities at ``t'``, which do not depend on the structure's
 state (they live in the container frame), so the bed force enters without lag. During the
 settling phase (``t <= dt/2``) the structure is held at its initial state.
+
+**N modes** (drive kind :data:`~pdamper.kernels.drive.DRIVE_MODAL`, 4;
+:class:`pdamper.excitation.ModalStructure`): modal coordinates q_k, k = 1..N, with
+
+    m_k q_k'' + c_k q_k' + k_k q_k = phi_k(force) F0 sin(Omega t) - phi_k(damper) F_w,
+
+the container (damper point) at ``x_c = sum_k phi_k(damper) q_k`` (velocity and acceleration from
+the same sums). Each mode takes the step above (:func:`modal_step`); for one mode with
+``phi = 1`` the arithmetic is the single-mode step's.
+
+``drive.par`` = (F0 [N], Omega [rad/s]); ``drive.table`` (N x 6), one row per mode:
+(m_k [kg], k_k [N/m], c_k [N s/m], phi_k(damper), phi_k(force), phi_k(response)).
+
+``drive.state`` (2 + N x 5): row 0 = (x_c, v_c, a_c, F_ext at the last step, velocity of the force
+point at the last step); row 1 = (external work [J], modal damping loss [J], displacement of the
+response point [m], -, -); row 2 + k = (q_k, q_k', q_k'', -, -).
 """
 
 from __future__ import annotations
@@ -31,8 +47,9 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
+from .drive import is_modal
 
-__all__ = ["structure_step", "record_structure", "run_structure_alone"]
+__all__ = ["structure_step", "modal_step", "record_structure", "run_structure_alone"]
 
 
 @njit
@@ -41,6 +58,9 @@ def structure_step(drive, t, dt, fw):
     ``fw`` [N] on the spheres along the drive at ``t``; held (no change) during settling,
     ``t <= dt/2``."""
     if t <= 0.5 * dt:
+        return
+    if is_modal(drive):
+        modal_step(drive, t, dt, fw)
         return
     par = drive.par
     st = drive.state
@@ -60,15 +80,85 @@ def structure_step(drive, t, dt, fw):
 
 
 @njit
-def record_structure(k, state, out):
-    """Write sample ``k``: (x_s, v_s, external work, damping loss) at the interval end into
-    ``out[k]`` (``Samples.structure``), when it has that row."""
+def modal_step(drive, t, dt, fw):
+    """Advance the N modes of a modal structure (kind 4) from ``t - dt`` to ``t`` [s], each by
+    the step of :func:`structure_step` with its generalised force ``phi_f F(t) - phi_d fw``;
+    then the damper point's (x, v, a), the force point's velocity, the response point's
+    displacement, the external work (trapezoidal, ``F v_force``) and the modal damping loss."""
+    par = drive.par
+    tab = drive.table
+    st = drive.state
+    h = 0.5 * dt
+    fe = par[0] * math.sin(par[1] * t)
+    x = 0.0
+    v = 0.0
+    a = 0.0
+    vf = 0.0
+    xr = 0.0
+    loss = 0.0
+    for j in range(tab.shape[0]):
+        m, k, c = tab[j, 0], tab[j, 1], tab[j, 2]
+        pd, pf, pr = tab[j, 3], tab[j, 4], tab[j, 5]
+        q, qd, qdd = st[2 + j, 0], st[2 + j, 1], st[2 + j, 2]
+        g = pf * fe - pd * fw
+        qn = q + dt * (qd + h * qdd)
+        qdn = (qd + h * qdd + h * (g - k * qn) / m) / (1.0 + h * c / m)
+        qddn = (g - c * qdn - k * qn) / m
+        loss += h * c * (qd * qd + qdn * qdn)
+        st[2 + j, 0] = qn
+        st[2 + j, 1] = qdn
+        st[2 + j, 2] = qddn
+        x += pd * qn
+        v += pd * qdn
+        a += pd * qddn
+        vf += pf * qdn
+        xr += pr * qn
+    st[1, 0] += h * (st[0, 3] * st[0, 4] + fe * vf)
+    st[1, 1] += loss
+    st[1, 2] = xr
+    st[0, 0] = x
+    st[0, 1] = v
+    st[0, 2] = a
+    st[0, 3] = fe
+    st[0, 4] = vf
+
+
+@njit
+def structure_energy(drive):
+    """Mechanical energy of the structure now [J]: 1/2 M v^2 + 1/2 K x^2 (one mode) or
+    sum_k 1/2 m_k q_k'^2 + 1/2 k_k q_k^2 (N modes)."""
+    st = drive.state
+    if is_modal(drive):
+        tab = drive.table
+        e = 0.0
+        for j in range(tab.shape[0]):
+            e += 0.5 * tab[j, 0] * st[2 + j, 1] * st[2 + j, 1] + 0.5 * tab[j, 1] * st[2 + j, 0] * st[2 + j, 0]
+        return e
+    return 0.5 * drive.par[0] * st[0, 1] * st[0, 1] + 0.5 * drive.par[1] * st[0, 0] * st[0, 0]
+
+
+@njit
+def response_displacement(drive):
+    """Displacement of the response point now [m] (one mode: the structure's own, x_s)."""
+    if is_modal(drive):
+        return drive.state[1, 2]
+    return drive.state[0, 0]
+
+
+@njit
+def record_structure(k, drive, out):
+    """Write sample ``k``: (x_s, v_s, external work, damping loss, the structure's mechanical
+    energy, the response point's displacement) at the interval end into ``out[k]``
+    (``Samples.structure``, columns ``STRUCTURE_COLUMNS``), when it has that row."""
     if k < 0 or k >= out.shape[0]:
         return
+    state = drive.state
     out[k, 0] = state[0, 0]
     out[k, 1] = state[0, 1]
     out[k, 2] = state[1, 0]
     out[k, 3] = state[1, 1]
+    out[k, 4] = structure_energy(drive)
+    out[k, 5] = response_displacement(drive)
 
 
 @njit
@@ -80,4 +170,4 @@ def run_structure_alone(n_steps, dt, t0, sub, drive, out):
         t = t0 + (s + 1) * dt
         structure_step(drive, t, dt, 0.0)
         if (s + 1) % sub == 0:
-            record_structure((s + 1) // sub - 1, drive.state, out)
+            record_structure((s + 1) // sub - 1, drive, out)

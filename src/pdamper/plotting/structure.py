@@ -88,8 +88,6 @@ def response_figure(result, path=None, *, title: str | None = None, dpi: int = 1
     """Frequency response (a :class:`pdamper.studies.structure.ResponseResult`)."""
     from matplotlib.figure import Figure
 
-    from ..theory.oscillator import steady_amplitude
-
     target = check_path(path)
     s = result.summary
     case = result.case
@@ -101,11 +99,8 @@ def response_figure(result, path=None, *, title: str | None = None, dpi: int = 1
     fig = Figure(figsize=(8.0, 5.2), layout="constrained")
     ax = fig.subplots()
     F0 = result.force_amplitude
-    bare = steady_amplitude(fine, mass=st.mass, stiffness=st.stiffness, damping_ratio=st.damping_ratio,
-                            force_amplitude=F0)
-    m2 = st.mass + case.bed_mass
-    z2 = st.damping / (2 * np.sqrt(st.stiffness * m2))
-    solid = steady_amplitude(fine, mass=m2, stiffness=st.stiffness, damping_ratio=z2, force_amplitude=F0)
+    bare = st.steady_amplitude(fine, F0)
+    solid = st.steady_amplitude(fine, F0, added_mass=case.bed_mass)
     ax.plot(fine, bare * _MM, color=_C_BARE, lw=1.3, label="without damper (closed form, steady state)")
     ax.plot(f, result.bare_run * _MM, "s", mfc="none", color=_C_BARE, ms=5,
             label=f"without damper, run as the DEM ({s['measure_cycles']} of {s['cycles']:g} cycles)")
@@ -121,7 +116,7 @@ def response_figure(result, path=None, *, title: str | None = None, dpi: int = 1
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, framealpha=0.9)
     ax.set_title(f"frequency response, F$_0$ = {F0:.3g} N: M = {st.mass:.3g} kg, f$_n$ = {st.natural_frequency:.3g} Hz, "
-                 f"ζ = {100 * st.damping_ratio:.3g} %", fontsize=10)
+                 f"ζ = {100 * st.modal_damping_ratio:.3g} %", fontsize=10)
     if title:
         fig.suptitle(title, fontsize=11)
     if target is not None:

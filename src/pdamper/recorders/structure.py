@@ -8,8 +8,10 @@ walls did on the bed, the same sum the structure lost to the bed) the whole syst
 
     E_struct + E_bed + D_struct + D_bed - W_ext = const,
 
-``E_struct = 1/2 M v_s^2 + 1/2 K x_s^2``, ``E_bed`` the bed's mechanical energy (lab frame),
-``D_bed`` its damping and friction losses.
+``E_struct = 1/2 M v_s^2 + 1/2 K x_s^2`` (N modes: ``sum_k 1/2 m_k q_k'^2 + 1/2 k_k q_k^2``, written by
+the kernels), ``E_bed`` the bed's mechanical energy (lab frame), ``D_bed`` its damping and friction
+losses. The response point's displacement (N modes: ``sum_k phi_k(response) q_k``; one mode: x_s)
+is recorded too.
 """
 
 from __future__ import annotations
@@ -44,6 +46,12 @@ class StructureRecord:
     stiffness_N_m: float
     x0_m: float = 0.0
     v0_m_s: float = 0.0
+    #: the response point's displacement [m] (None: not recorded)
+    response_displacement: np.ndarray | None = None
+    #: the structure's mechanical energy [J] as the kernels wrote it, and at t = 0 (N modes; None:
+    #: one mode, whose energy is 1/2 M v^2 + 1/2 K x^2 of the recorded motion)
+    mechanical_energy: np.ndarray | None = None
+    initial_energy_J: float | None = None
 
     mass = renamed("mass_kg")
     stiffness = renamed("stiffness_N_m")
@@ -54,11 +62,17 @@ class StructureRecord:
     def from_channel(cls, case, data) -> "StructureRecord":
         """From the kernel channel ``"structure"`` of a run (:class:`~pdamper.recorders.base.Recorded`)."""
         out = data.channels["structure"]
-        n = out.shape[0]
-        d = case.drive
-        return cls(time=(np.arange(n) + 1) * data.info.interval, displacement=out[:, 0].copy(),
-                   velocity=out[:, 1].copy(), external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(),
-                   mass_kg=d.mass, stiffness_N_m=d.stiffness, x0_m=d.displacement, v0_m_s=d.velocity)
+        return cls.from_array(case.drive, (np.arange(out.shape[0]) + 1) * data.info.interval, out)
+
+    @classmethod
+    def from_array(cls, structure, time, out) -> "StructureRecord":
+        """From the kernels' rows ``out`` (columns ``STRUCTURE_COLUMNS``) at ``time`` [s] of ``structure``
+        (a coupled drive of :mod:`pdamper.excitation`)."""
+        info = structure.record_info()
+        energy = out[:, 4].copy() if info.get("initial_energy_J") is not None else None
+        return cls(time=time, displacement=out[:, 0].copy(), velocity=out[:, 1].copy(),
+                   external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(),
+                   response_displacement=out[:, 5].copy(), mechanical_energy=energy, **info)
 
     def edges(self):
         """(x, v) at the n + 1 interval edges, t = 0 included."""
@@ -66,12 +80,16 @@ class StructureRecord:
 
     @property
     def energy(self) -> np.ndarray:
-        """Mechanical energy of the structure 1/2 M v^2 + 1/2 K x^2 [J]."""
+        """Mechanical energy of the structure 1/2 M v^2 + 1/2 K x^2 [J] (N modes: the recorded sum)."""
+        if self.mechanical_energy is not None:
+            return self.mechanical_energy
         return 0.5 * self.mass_kg * self.velocity**2 + 0.5 * self.stiffness_N_m * self.displacement**2
 
     @property
     def initial_energy(self) -> float:
         """Mechanical energy of the structure at t = 0 [J]."""
+        if self.initial_energy_J is not None:
+            return self.initial_energy_J
         return 0.5 * self.mass_kg * self.v0_m_s**2 + 0.5 * self.stiffness_N_m * self.x0_m**2
 
     def residual(self, ledger=None) -> np.ndarray:

@@ -22,14 +22,14 @@ import numpy as np
 
 from ..analysis.decay import decay_damping, extrema, harmonic_amplitude
 from ..errors import InputError
-from ..excitation import CoupledStructure
+from ..excitation import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
 
 __all__ = ["DecayResult", "ResponseResult", "run_decay", "run_response", "response_case", "parse_frequencies"]
 
 
-def _structure(case: Case) -> CoupledStructure:
+def _structure(case: Case) -> CoupledStructure | ModalStructure:
     if not case.drive.coupled:
         raise InputError("this study needs a [structure] section in the config (the container riding on a "
                          "structure); see examples/structure_36.toml")
@@ -41,7 +41,8 @@ class DecayResult:
     """A free decay with and without the damper.
 
     Attributes: ``time`` [s]; ``damped`` / ``bare`` displacement [m] with / without the bed
-    (the bare one from the compiled step, ``closed_form`` from :func:`pdamper.theory.free_decay`);
+    (the bare one from the compiled step, ``closed_form`` the structure's own closed form, its
+    ``motion``: :func:`pdamper.theory.oscillator_response`, summed over the modes of N modes);
     ``envelope_*`` = (times [s], amplitudes [m]) of the extremes; ``zeta_*`` = (times [s],
     amplitudes [m], damping ratios [-]); ``summary`` plain numbers for JSON.
     """
@@ -69,7 +70,6 @@ def run_decay(case: Case, *, progress=None) -> DecayResult:
     """Free decay of the structure of ``case`` with its bed and without (``case.cycles`` periods
     of the natural frequency). ``progress(fraction)`` is passed to the coupled run."""
     from ..simulation import Simulation, run_bare_structure
-    from ..theory.oscillator import free_decay
 
     s = _structure(case)
     if s.force_amplitude > 0:
@@ -80,15 +80,14 @@ def run_decay(case: Case, *, progress=None) -> DecayResult:
     fs = case.recording.sample_rate
     bare = run_bare_structure(s, case.duration, sample_rate=fs)
     t = rec.time
-    exact = free_decay(t, mass=s.mass, stiffness=s.stiffness, damping_ratio=s.damping_ratio,
-                       displacement=s.displacement)
+    exact = np.asarray(s.motion(t)[0], dtype=float)  # closed form (N modes: their superposition)
     env_d, env_b = extrema(t, rec.displacement), extrema(t, bare.displacement)
     z_d, z_b = decay_damping(t, rec.displacement), decay_damping(t, bare.displacement)
     x0 = abs(s.displacement) if s.displacement else float(np.max(np.abs(rec.displacement)))
     scale = max(abs(s.displacement), float(np.max(np.abs(exact))), 1e-300)
     summary = {
         "mass_kg": s.mass, "stiffness_N_m": s.stiffness, "natural_frequency_hz": s.natural_frequency,
-        "damping_ratio": s.damping_ratio, "bed_mass_kg": case.bed_mass, "particles": case.n_particles,
+        "damping_ratio": s.modal_damping_ratio, "bed_mass_kg": case.bed_mass, "particles": case.n_particles,
         "mass_ratio": case.bed_mass / s.mass, "initial_displacement_m": s.displacement,
         "duration_s": case.duration,
         "final_amplitude_damped_m": float(env_d[1][-1]) if env_d[1].size else math.nan,
@@ -101,6 +100,7 @@ def run_decay(case: Case, *, progress=None) -> DecayResult:
         "bare_vs_closed_form_max_error": float(np.max(np.abs(bare.displacement - exact)) / scale),
         "energy_balance_error": rec.balance_error(res.energy),
         "steps": res.steps, "time_step_s": res.time_step_s, "wall_time_s": res.wall_time_s,
+        **s.structure_summary(),
     }
     return DecayResult(case=case, time=t, damped=rec.displacement, bare=bare.displacement, closed_form=exact,
                        envelope_damped=env_d, envelope_bare=env_b, zeta_damped=z_d, zeta_bare=z_b, summary=summary)
@@ -196,7 +196,6 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     the last ``measure_cycles``. ``workers`` > 1 or a ``scheduler`` run the points with the
     sweep executor (Dask); ``workers = 1`` runs them one after another."""
     from ..simulation import run_bare_structure
-    from ..theory.oscillator import steady_amplitude
 
     s = _structure(case)
     freqs = np.asarray(frequencies, dtype=float)
@@ -230,13 +229,9 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     for c in cases:
         rec = run_bare_structure(c.drive, c.duration, sample_rate=c.recording.sample_rate)
         bare_run.append(harmonic_amplitude(rec.time, rec.displacement, c.drive.force_frequency, cycles=measure_cycles))
-    kw = dict(stiffness=s.stiffness, damping_ratio=s.damping_ratio, force_amplitude=force_amplitude)
-    bare = np.asarray(steady_amplitude(freqs, mass=s.mass, **kw))
-    # the bed as a rigid mass: same K and c, mass M + m_bed (the damping ratio scales accordingly)
-    m2 = s.mass + case.bed_mass
-    zeta2 = s.damping / (2.0 * math.sqrt(s.stiffness * m2))
-    solid = np.asarray(steady_amplitude(freqs, mass=m2, stiffness=s.stiffness, damping_ratio=zeta2,
-                                        force_amplitude=force_amplitude))
+    bare = s.steady_amplitude(freqs, force_amplitude)
+    # the bed as a rigid mass at the damper: same stiffness and damping, the mass added
+    solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
     k = int(np.nanargmax(damped)) if np.any(np.isfinite(damped)) else 0
     summary = {
         "force_amplitude_N": force_amplitude, "particles": case.n_particles, "bed_mass_kg": case.bed_mass,
@@ -245,12 +240,14 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         "amplitude_bare_run_m": list(map(float, bare_run)), "amplitude_bare_m": bare.tolist(),
         "amplitude_solid_mass_m": solid.tolist(),
         "peak_damped_m": float(damped[k]), "peak_damped_frequency_hz": float(freqs[k]),
-        "peak_bare_m": float(np.max(bare)), "resonance_bare_m": force_amplitude / s.stiffness / (2 * s.damping_ratio)
-        if s.damping_ratio > 0 else math.inf,
+        "peak_bare_m": float(np.max(bare)),
+        "resonance_bare_m": float(s.steady_amplitude([s.natural_frequency], force_amplitude)[0])
+        if s.modal_damping_ratio > 0 else math.inf,
         "energy_balance_error_max": float(max((p.get("energy_balance_error", math.nan) for p in points),
                                               default=math.nan)),
         "failed": {f"{f:g}": p["failed"] for f, p in zip(freqs, points) if "failed" in p},
         "wall_time_s": float(sum(p.get("wall_time_s", 0.0) for p in points)),
+        **s.structure_summary(),
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return ResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, damped=damped,
