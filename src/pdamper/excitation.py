@@ -548,6 +548,13 @@ class CoupledStructure(DriveBase):
         return np.asarray(steady_amplitude(frequencies, mass=m2, stiffness=self.stiffness, damping_ratio=zeta2,
                                            force_amplitude=force_amplitude))
 
+    def modal_arrays(self):
+        """(modal masses [kg], stiffnesses [N/m], dampings [N s/m], mode shape at the damper, at the
+        force, at the response point): the structure as its one mode, every shape 1."""
+        one = np.ones(1)
+        return (np.array([self.mass]), np.array([self.stiffness]), np.array([self.damping]), one, one.copy(),
+                one.copy())
+
     def record_info(self) -> dict:
         """What :class:`pdamper.recorders.structure.StructureRecord` keeps of the structure."""
         return {"mass_kg": self.mass, "stiffness_N_m": self.stiffness, "x0_m": self.displacement,
@@ -865,6 +872,11 @@ class ModalStructure(DriveBase):
         k = mass * w * w
         c = 2.0 * m["damping_ratio"] * np.sqrt(k * mass)
         return mass, k, c, m["damper"], m["force"], m["response"]
+
+    def modal_arrays(self):
+        """(modal masses m_k [kg], stiffnesses k_k [N/m], dampings c_k [N s/m], mode shapes at the
+        damper, at the force, at the response point), arrays over the modes."""
+        return tuple(np.array(a, dtype=float) for a in self._modal_arrays())
 
     @property
     def mass(self) -> float:

@@ -376,6 +376,21 @@ class DamperFields:
         per = "; ".join(f"at {c.frequency:g} Hz: X {c.box[0] * 1e3:.4g}-{c.box[1] * 1e3:.4g} mm" for c in cols)
         return f"f {cols[0].frequency:g}-{cols[-1].frequency:g} Hz ({per})"
 
+    def amplitude_box(self, frequency: float) -> tuple[float, float]:
+        """(lowest, highest) amplitude [m] at which :meth:`at` answers at ``frequency`` [Hz] without
+        extrapolating: the overlap of the boxes of the frequency nodes on either side of it
+        (NaN, NaN outside the frequency range)."""
+        cols = self._columns
+        fs = np.array([c.frequency for c in cols])
+        f = float(frequency)
+        if len(cols) == 1 and abs(f - fs[0]) <= _SAME_F * fs[0]:
+            return cols[0].box
+        if f < fs[0] or f > fs[-1]:
+            return math.nan, math.nan
+        j = int(np.searchsorted(fs, f))
+        near = [cols[j]] if fs[j] == f else [cols[j - 1], cols[j]]
+        return max(c.box[0] for c in near), min(c.box[1] for c in near)
+
     def at(self, amplitude: float, frequency: float | None = None, *, branch: str | None = None,
            extrapolate: bool = False) -> FieldValues:
         """The fields at amplitude X [m] and frequency f [Hz] (module docstring).

@@ -1,0 +1,314 @@
+"""The forced response and the free decay of a modal structure with the damper's fields at its node.
+
+The structure (modal data, :meth:`pdamper.excitation.ModalStructure.modal_arrays`; one mode for
+the single-degree-of-freedom :class:`~pdamper.excitation.CoupledStructure`) obeys, per mode k,
+
+    m_k q_k'' + c_k q_k' + k_k q_k = phi_k(f) F0 sin(Omega t) - phi_k(d) F_w,
+
+with F_w the force of the container on the bed along the drive. In one harmonic (complex
+amplitudes, ``x(t) = Im(x^ e^{i Omega t})``) the damper acts on its node as a mass m_eff and a
+dashpot c_eq, read from the fields at the damper's amplitude X = |x^_d| and the frequency f
+(docs/fields.md): ``F^_w = Z x^_d``, ``Z(X, f) = -Omega^2 m_eff + i Omega c_eq``. With the
+receptances of the bare structure
+
+    H_ab(Omega) = sum_k phi_k(a) phi_k(b) / (m_k (omega_k^2 - Omega^2) + i Omega c_k)
+
+the damper node is ``x^_d = H_df F0 - H_dd Z x^_d``, hence
+
+    x^_d = H_df F0 / (1 + H_dd Z(X, f)),      x^_r = H_rf F0 - H_rd Z x^_d,
+
+and the damper amplitude is a fixed point ``X = G(X) = F0 |H_df| / |1 + H_dd Z(X, f)|``
+(one mode, a rigid mass m_a: ``Z = -Omega^2 m_a`` and ``x^_d = F0 / (k - Omega^2 (m + m_a) + i
+Omega c)``, the closed form). :func:`solve_frequency` finds every fixed point: it scans the
+residual ``R(X) = ln X - ln G(X)`` on a log grid over the fields' amplitude range (and their
+nodes), on each branch of the fields (:meth:`~pdamper.analysis.fields.DamperFields.branches`: in
+a jump interval the segment below and the one above both exist), refines each sign change with
+Brent's method and drops those that are the fields' jump rather than a root (``|R| > 1e-6``
+after refinement).
+
+**Stability** is the slope criterion of the amplitude equation: a fixed point is stable when
+``dR/d ln X > 0`` (equivalently ``dG/dX < 1``: G crosses the identity from above). Its sign
+changes where the frequency-response curve has a vertical tangent (the saddle-node fold where a
+branch ends and the response jumps); it says nothing of instabilities of the phase (a Hopf
+bifurcation of the slow flow), which a single-harmonic amplitude balance cannot see.
+
+Below the smallest amplitude of the box R goes to -inf (G stays finite); above the largest to
++inf. So ``R > 0`` at the box's lower end means a solution below it, ``R < 0`` at the upper end
+one above it: then :func:`solve_frequency` raises an :class:`~pdamper.errors.InputError` naming
+the amplitude and the frequency, unless ``extrapolate=True`` (the box widened tenfold at a time,
+the fields' end values continued).
+
+:func:`decay_envelope` is the free decay from the same fields, by averaging (slow-flow energy
+balance over a cycle of the first mode, docs/structure.md).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["receptances", "Solution", "FrequencyResponse", "solve_frequency", "solve_response",
+           "decay_envelope", "RESIDUAL_TOLERANCE"]
+
+#: |ln X - ln G(X)| above which a sign change refined by Brent's method is the fields' jump, not a root.
+RESIDUAL_TOLERANCE = 1e-6
+_WIDEN = 10.0  # extrapolate: the box widened by this factor at a time
+_MAX_WIDEN = 6
+
+
+def receptances(modal, frequency: float) -> tuple[complex, complex, complex, complex]:
+    """(H_dd, H_df, H_rd, H_rf) [m/N] of the bare structure at ``frequency`` [Hz]; ``modal`` =
+    (mass, stiffness, damping, phi_damper, phi_force, phi_response), arrays over the modes.
+
+    >>> h = receptances(([1.0], [4.0], [0.0], [1.0], [1.0], [1.0]), 0.0)
+    >>> h[0]
+    (0.25+0j)
+    """
+    m, k, c, pd, pf, pr = (np.asarray(a, dtype=float) for a in modal)
+    w = 2.0 * math.pi * float(frequency)
+    den = m * (k / m - w * w) + 1j * w * c
+    return (complex(np.sum(pd * pd / den)), complex(np.sum(pd * pf / den)), complex(np.sum(pr * pd / den)),
+            complex(np.sum(pr * pf / den)))
+
+
+@dataclass(frozen=True)
+class Solution:
+    """One fixed point at one frequency: amplitudes [m] of the damper node and the response point,
+    their complex amplitudes (``x(t) = Im(x^ e^{i Omega t})``), the fields there, the branch of the
+    fields (``"below"``/``"above"`` in a jump interval, else ``""``), ``stable`` (slope criterion)
+    and ``slope`` = dR/d ln X."""
+
+    damper_amplitude_m: float
+    response_amplitude_m: float
+    damper_phasor: complex
+    response_phasor: complex
+    effective_mass_kg: float
+    equivalent_damping_N_s_per_m: float
+    branch: str
+    family: str
+    stable: bool
+    slope: float
+    extrapolated: bool
+
+    def to_dict(self) -> dict:
+        out = dict(self.__dict__)
+        for key in ("damper_phasor", "response_phasor"):
+            z = out.pop(key)
+            out[key.replace("phasor", "phase_rad")] = float(np.angle(z)) if z != 0 else 0.0
+        return out
+
+
+@dataclass(frozen=True)
+class FrequencyResponse:
+    """The solutions at each of ``frequencies`` [Hz] (``solutions[i]``: every fixed point, stable
+    or not, by increasing amplitude), ``jumps``: the frequencies [Hz] where the number of stable
+    solutions changes (a fold: the response jumps there on a slow sweep), ``time_s``: the wall
+    time [s] of each frequency's solve."""
+
+    frequencies: np.ndarray
+    force_amplitude: float
+    solutions: list
+    jumps: list = field(default_factory=list)
+    time_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def stable(self, what: str = "damper_amplitude_m") -> list:
+        """Per frequency the stable solutions' ``what`` (a list, by increasing damper amplitude)."""
+        return [[getattr(s, what) for s in sols if s.stable] for sols in self.solutions]
+
+
+def _impedance(fields, X, f, branch, extrapolate):
+    v = fields.at(X, f, branch=branch, extrapolate=extrapolate)
+    m, c = v.effective_mass_kg, v.equivalent_damping_N_s_per_m
+    if not (math.isfinite(m) and math.isfinite(c)):
+        raise InputError(f"the fields have no effective mass or equivalent damping at X = {X * 1e3:.4g} mm, "
+                         f"f = {f:g} Hz (NaN); rebuild them with 'pdamper fields' from a store that has them")
+    w = 2.0 * math.pi * f
+    return complex(-w * w * m, w * c), v
+
+
+def solve_frequency(modal, fields, frequency: float, force_amplitude: float, *, extrapolate: bool = False,
+                    points: int = 48) -> list[Solution]:
+    """Every fixed point of the harmonic balance at ``frequency`` [Hz] under ``force_amplitude``
+    [N] (module docstring), by increasing damper amplitude."""
+    f = float(frequency)
+    F0 = float(force_amplitude)
+    if not (F0 > 0 and math.isfinite(F0)):
+        raise InputError(f"force amplitude = {force_amplitude!r} N; must be > 0")
+    Hdd, Hdf, Hrd, Hrf = receptances(modal, f)
+    if Hdf == 0:
+        return [Solution(damper_amplitude_m=0.0, response_amplitude_m=abs(Hrf) * F0, damper_phasor=0j,
+                         response_phasor=Hrf * F0, effective_mass_kg=math.nan, equivalent_damping_N_s_per_m=math.nan,
+                         branch="", family="", stable=True, slope=math.inf, extrapolated=False)]
+    fs = fields.frequencies
+    lo, hi = fields.amplitude_box(f)
+    if not math.isfinite(lo):
+        if not extrapolate:
+            raise InputError(f"f = {f:g} Hz is outside the frequencies of the fields ({fs[0]:g}-{fs[-1]:g} Hz); "
+                             "choose --frequencies inside them, widen the sweep over drive.frequency, or allow "
+                             "--extrapolate (the end frequency's fields continued)")
+        lo, hi = fields.amplitude_box(fs[0] if f < fs[0] else fs[-1])
+    logG0 = math.log(F0 * abs(Hdf))
+
+    def residual(X, branch):
+        Z, v = _impedance(fields, X, f, branch, extrapolate)
+        return math.log(X) - logG0 + math.log(abs(1.0 + Hdd * Z)), v
+
+    # the box must hold every solution: R(lo) < 0 < R(hi) on every branch (the ends have one)
+    for _ in range(_MAX_WIDEN + 1):
+        r_lo, r_hi = residual(lo, None)[0], residual(hi, None)[0]
+        if r_lo <= 0 and r_hi >= 0:
+            break
+        if not extrapolate:
+            if r_lo > 0:
+                raise InputError(f"at f = {f:g} Hz and F0 = {F0:g} N the damper amplitude lies below X = "
+                                 f"{lo * 1e3:.4g} mm, the smallest amplitude of the fields there ({fields.box()}); "
+                                 "extend the sweep to smaller strokes or allow --extrapolate")
+            raise InputError(f"at f = {f:g} Hz and F0 = {F0:g} N the damper amplitude lies above X = "
+                             f"{hi * 1e3:.4g} mm, the largest amplitude of the fields there ({fields.box()}); "
+                             "extend the sweep to larger strokes, lower the force, or allow --extrapolate")
+        lo, hi = (lo / _WIDEN if r_lo > 0 else lo), (hi * _WIDEN if r_hi < 0 else hi)
+    else:
+        raise InputError(f"at f = {f:g} Hz no solution within X = {lo * 1e3:.4g}-{hi * 1e3:.4g} mm even with the "
+                         "fields extrapolated; check the force")
+    nodes = fields.amplitudes
+    grid = np.unique(np.concatenate([np.geomspace(lo, hi, int(points)), nodes[(nodes > lo) & (nodes < hi)]]))
+    jumpy = any(residual(X, "below")[1].branch for X in grid) if fields.jumps() else False
+    roots: list[Solution] = []
+    for branch in (("below", "above") if jumpy else (None,)):
+        r = np.array([residual(X, branch)[0] for X in grid])
+        for i in np.flatnonzero(np.sign(r[:-1]) * np.sign(r[1:]) <= 0):
+            if r[i] == 0 and i > 0 and r[i - 1] == 0:
+                continue
+            sol = _refine(residual, grid[i], grid[i + 1], branch, r[i], r[i + 1])
+            if sol is None:
+                continue
+            X, v = sol
+            if any(abs(X - s.damper_amplitude_m) <= 1e-7 * X for s in roots):
+                continue
+            roots.append(_solution(X, v, branch, residual, f, F0, Hdd, Hdf, Hrd, Hrf, fields, extrapolate))
+    return sorted(roots, key=lambda s: s.damper_amplitude_m)
+
+
+def _refine(residual, a, b, branch, ra, rb):
+    from scipy.optimize import brentq
+
+    if ra == 0:
+        X = a
+    elif rb == 0:
+        X = b
+    else:
+        lx = brentq(lambda u: residual(math.exp(u), branch)[0], math.log(a), math.log(b), xtol=1e-13, rtol=1e-15)
+        X = math.exp(lx)
+    rx, v = residual(X, branch)
+    if abs(rx) > RESIDUAL_TOLERANCE:
+        return None  # Brent's method closed on the fields' jump, not a root
+    return X, v
+
+
+def _solution(X, v, branch, residual, f, F0, Hdd, Hdf, Hrd, Hrf, fields, extrapolate) -> Solution:
+    h = 1e-4
+    slope = (residual(X * math.exp(h), branch)[0] - residual(X * math.exp(-h), branch)[0]) / (2 * h)
+    w = 2.0 * math.pi * f
+    Z = complex(-w * w * v.effective_mass_kg, w * v.equivalent_damping_N_s_per_m)
+    xd = Hdf * F0 / (1.0 + Hdd * Z)
+    xr = Hrf * F0 - Hrd * Z * xd
+    return Solution(damper_amplitude_m=float(abs(xd)), response_amplitude_m=float(abs(xr)), damper_phasor=complex(xd),
+                    response_phasor=complex(xr), effective_mass_kg=v.effective_mass_kg,
+                    equivalent_damping_N_s_per_m=v.equivalent_damping_N_s_per_m, branch=v.branch, family=v.family,
+                    stable=bool(slope > 0), slope=float(slope), extrapolated=v.extrapolated)
+
+
+def _n_stable(modal, fields, f, F0, extrapolate, points) -> int:
+    return sum(s.stable for s in solve_frequency(modal, fields, f, F0, extrapolate=extrapolate, points=points))
+
+
+def solve_response(modal, fields, frequencies, force_amplitude: float, *, extrapolate: bool = False,
+                   points: int = 48, jump_tolerance: float = 1e-4) -> FrequencyResponse:
+    """:func:`solve_frequency` at each of ``frequencies`` [Hz]; between two neighbours whose numbers
+    of stable solutions differ, the jump frequency found by bisection to ``jump_tolerance``
+    (relative)."""
+    freqs = np.asarray(frequencies, dtype=float)
+    sols, times = [], []
+    for f in freqs:
+        t0 = time.perf_counter()
+        sols.append(solve_frequency(modal, fields, f, force_amplitude, extrapolate=extrapolate, points=points))
+        times.append(time.perf_counter() - t0)
+    order = np.argsort(freqs)
+    jumps = []
+    for a, b in zip(order[:-1], order[1:]):
+        na, nb = (sum(s.stable for s in sols[i]) for i in (a, b))
+        if na == nb:
+            continue
+        lo, hi = float(freqs[a]), float(freqs[b])
+        while hi - lo > jump_tolerance * hi:
+            mid = 0.5 * (lo + hi)
+            if _n_stable(modal, fields, mid, force_amplitude, extrapolate, points) == na:
+                lo = mid
+            else:
+                hi = mid
+        jumps.append({"frequency_hz": 0.5 * (lo + hi), "stable_below": na, "stable_above": nb})
+    return FrequencyResponse(frequencies=freqs, force_amplitude=float(force_amplitude), solutions=sols, jumps=jumps,
+                             time_s=np.asarray(times))
+
+
+def decay_envelope(fields, *, mass: float, stiffness: float, damping: float, amplitude: float, duration: float,
+                   extrapolate: bool = False, points: int = 400):
+    """The free decay's envelope A(t) [m] of a mode with the damper at its node, by averaging.
+
+    Over a cycle of the mode at amplitude A, the structure's energy ``E = K A^2 / 2`` (at an
+    extreme every velocity, the bed's effective share included, is zero) loses the bed's energy
+    per cycle ``E_d(A, f)`` (the fields) and the structure's own ``pi c Omega A^2``, so
+
+        dA/dt = -f (E_d(A, f) + pi c Omega A^2) / (K A),     Omega = 2 pi f,
+
+    with f the mode's frequency with the bed's effective mass, ``2 pi f = sqrt(K / (M + m_eff(A,
+    f)))`` (three fixed-point steps). The bed's energy per cycle is taken as ``E_d = pi c_eq Omega
+    A^2`` (the same quantity; c_eq is the smoother field to interpolate in amplitude), so ``d ln A /
+    dt = -f pi Omega (c_eq + c) / K``. Without a bed it is ``A0 e^{-zeta omega t}``. In a jump
+    interval the decay stays on the segment it comes from (the upper one) down to its end.
+
+    ``mass``, ``stiffness``, ``damping``: M [kg], K [N/m], c [N s/m] of the mode at the damper;
+    ``amplitude``: A(0) [m]; ``duration`` [s]. Returns (t [s], A [m], f [Hz]); it stops at the
+    fields' smallest amplitude unless ``extrapolate``.
+    """
+    from scipy.integrate import solve_ivp
+
+    M, K, c = float(mass), float(stiffness), float(damping)
+    f_n = math.sqrt(K / M) / (2.0 * math.pi)
+
+    def frequency(A):
+        f = f_n
+        for _ in range(3):
+            f = math.sqrt(K / (M + fields.at(A, f, branch="above", extrapolate=extrapolate).effective_mass_kg)) / (
+                2.0 * math.pi)
+        return f
+
+    def rate(t, y):
+        A = math.exp(y[0])
+        f = frequency(A)
+        c_eq = fields.at(A, f, branch="above", extrapolate=extrapolate).equivalent_damping_N_s_per_m
+        W = 2.0 * math.pi * f
+        return [-f * math.pi * W * (c_eq + c) / K]  # d ln A / dt
+
+    lo = min(fields.amplitude_box(_frequency_nearest(fields, f_n))[0], amplitude)
+
+    def floor(t, y):
+        return y[0] - math.log(lo * (1.0 + 1e-9))
+
+    floor.terminal = True
+    t_eval = np.linspace(0.0, float(duration), int(points))
+    sol = solve_ivp(rate, (0.0, float(duration)), [math.log(float(amplitude))], t_eval=t_eval, rtol=1e-6,
+                    atol=1e-9, events=None if extrapolate else floor)
+    A = np.exp(sol.y[0])
+    return sol.t, A, np.array([frequency(a) for a in A])
+
+
+def _frequency_nearest(fields, f: float) -> float:
+    """The fields' frequency node nearest ``f`` [Hz] when f is outside their range, else f."""
+    fs = fields.frequencies
+    return float(min(max(f, fs[0]), fs[-1]))
