@@ -71,8 +71,11 @@ def _common(func):
 
 @main.command("decay")
 @_common
+@click.option("--fields", "fields_path", type=click.Path(dir_okay=False),
+              help="Also the envelope from the damper's fields (pdamper fields --out F.nc), by averaging.")
+@click.option("--extrapolate", is_flag=True, help="With --fields: continue the fields below their smallest amplitude.")
 @user_errors
-def decay_command(config, cycles, seed, settings, plot, as_json):
+def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, extrapolate):
     """Free decay of the structure of CONFIG.toml ([structure]) with and without the damper.
 
     Releases the structure from [structure] displacement; prints the equivalent damping ratio
@@ -87,7 +90,12 @@ def decay_command(config, cycles, seed, settings, plot, as_json):
     case = _load(config, settings, cycles, seed)
     check_path(plot)
     with fraction_bar("pdamper decay", round(case.duration, 3), "s", not as_json and sys.stderr.isatty()) as progress:
-        res = run_decay(case, progress=progress)
+        fields = None
+        if fields_path:
+            from ..studies.fields import load_fields
+
+            fields = load_fields(fields_path)
+        res = run_decay(case, progress=progress, fields=fields, extrapolate=extrapolate)
     s = _report(res, case, config, plot, decay_figure, as_json)
     if s is None:
         return
@@ -110,6 +118,9 @@ def decay_command(config, cycles, seed, settings, plot, as_json):
         f"at {mm(s['amplitude_at_zeta_max_m'])}",
         f"  after {s['duration_s']:.3g} s           {mm(s['final_amplitude_damped_m'])} with damper, "
         f"{mm(s['final_amplitude_bare_m'])} without",
+        *([f"  from the fields       {mm(s['final_amplitude_fields_m'])} after {s['fields_decay_end_s']:.3g} s; "
+           f"largest difference to the direct envelope {100 * s['fields_vs_direct_envelope_max_error']:.3g} %"]
+          if "final_amplitude_fields_m" in s else []),
         f"  energy balance error  {s['energy_balance_error']:.2g}          (structure + bed)",
         f"  wall time             {s['wall_time_s']:.3g} s, {s['steps']:,} steps of {1e6 * s['time_step_s']:.3g} us",
     ]
@@ -120,53 +131,116 @@ def decay_command(config, cycles, seed, settings, plot, as_json):
 
 @main.command("response")
 @_common
-@click.option("--frequencies", default="1.8Hz:2.2Hz:9", show_default=True,
-              help="LOW:HIGH:N (linear, both ends) or a list 1.9Hz,2Hz,2.1Hz.")
+@click.option("--frequencies", help="LOW:HIGH:N (linear, both ends) or a list 1.9Hz,2Hz,2.1Hz "
+              "[default: 9 points over +-10 % around the natural frequency of --mode].")
+@click.option("--mode", "mode", type=click.IntRange(min=1), default=1, show_default=True,
+              help="The mode whose resonance the default grid is centred on (and the warning checks).")
 @click.option("--force", "force", type=Quantity("force"),
               help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude).")
+@click.option("--fields", "fields_path", type=click.Path(dir_okay=False),
+              help="The damper's fields (pdamper fields --out F.nc): the response by harmonic balance, in "
+                   "milliseconds, instead of DEM runs (with --start: the DEM runs, and the fields' prediction beside).")
+@click.option("--extrapolate", is_flag=True,
+              help="With --fields: continue the fields' end values where the solution lies outside their box "
+                   "(default: refuse).")
+@click.option("--start", type=click.Choice(["rest", "bare", "fields"]),
+              help="DEM runs: start from rest (default), on the bare structure's steady orbit, or on the fields' "
+                   "prediction (needs --fields).")
 @click.option("--measure-cycles", type=click.IntRange(min=1), default=8, show_default=True,
               help="Last cycles of each run over which the steady amplitude is measured.")
 @click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
               help="Local worker processes (>1: the sweep executor, Dask).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
 @user_errors
-def response_command(config, cycles, seed, settings, plot, as_json, frequencies, force, measure_cycles,
-                     workers, scheduler):
+def response_command(config, cycles, seed, settings, plot, as_json, frequencies, mode, force, fields_path,
+                     extrapolate, start, measure_cycles, workers, scheduler):
     """Frequency response of the structure of CONFIG.toml with and without the damper.
 
-    At each frequency the structure starts from rest under F0 sin(2 pi f t) for the config's
-    [run] cycles (of the forcing); the steady amplitude is the Fourier amplitude over the last
-    --measure-cycles. Without the damper: closed form (and the bare structure run the same way);
-    the bed as a solid mass: closed form.
+    DEM (default): at each frequency the structure runs under F0 sin(2 pi f t) for the config's
+    [run] cycles (of the forcing), from rest or on an orbit (--start); the steady amplitude is
+    the Fourier amplitude over the last --measure-cycles, and each point says whether it is
+    steady (the last two periods' amplitudes within 2 %). Without the damper: closed form (and
+    the bare structure run the same way); the bed as a solid mass: closed form.
 
-    Example: pdamper response examples/structure_36.toml --force 0.4N --plot response.png
+    With --fields F.nc (and no --start): harmonic balance of the modal model with the damper as
+    its fields' mass and dashpot at its node, every solution branch per frequency with its
+    stability and the jump frequencies (docs/structure.md).
+
+    Examples: pdamper response examples/structure_36.toml --force 0.4N --plot response.png;
+    pdamper response examples/mast_modal.toml --force 0.3N --fields fields_36.nc --plot r.png
     """
     from ..errors import InputError
-    from ..plotting.structure import response_figure
     from ..plotting.figure import check_path
-    from ..studies.structure import parse_frequencies, run_response
+    from ..plotting.structure import response_figure
+    from ..studies.structure import (default_frequencies, grid_warnings, parse_frequencies, run_response,
+                                     run_response_fields)
 
     case = _load(config, settings, cycles, seed)
     check_path(plot)
-    freqs = parse_frequencies(frequencies)
+    if frequencies is None:
+        freqs = default_frequencies(case, mode)
+        warnings = []
+    else:
+        freqs = parse_frequencies(frequencies)
+        warnings = grid_warnings(case, freqs, mode)
     f0 = force if force is not None else (case.drive.force_amplitude if case.drive.coupled else 0.0)
     if not f0 > 0:
         raise InputError("--force: give the force amplitude on the structure, e.g. --force 0.4N "
                          "([structure] force_amplitude is 0)")
+    fields = None
+    if fields_path:
+        from ..studies.fields import load_fields
+
+        fields = load_fields(fields_path)
+    elif start == "fields":
+        raise InputError("--start fields needs the damper's fields: --fields F.nc")
+    elif extrapolate:
+        raise InputError("--extrapolate belongs to --fields F.nc")
+    if not as_json:
+        for w in warnings:
+            click.echo(f"warning: {w}", err=True)
+    if fields is not None and start is None:
+        res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+        res.summary["warnings"] = warnings
+        s = _report(res, case, config, plot, response_figure, as_json)
+        if s is not None:
+            click.echo("\n".join(_fields_lines(s, config, f0, fields_path, plot)))
+        return
     res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
-                       scheduler=scheduler, progress=None if not as_json else False)
-    s = _report(res, case, config, plot, response_figure, as_json)
+                       scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
+                       fields=fields, extrapolate=extrapolate)
+    res.summary["warnings"] = warnings
+    prediction = None
+    if fields is not None:
+        prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+        res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
+            "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
+            "peak_damped_frequency_hz")}
+    s = _report(res, case, config, plot, lambda r, p: response_figure(r, p, fields=prediction), as_json)
     if s is None:
         return
+    mark = lambda k: "" if s["steady"][k] else " *"  # noqa: E731
     lines = [f"pdamper response {config}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
-             f"{100 * s['mass_ratio']:.3g} % of M; {s['measure_cycles']} of {s['cycles']:g} cycles measured)",
-             f"  {'f [Hz]':>8}  {'damper [mm]':>12}  {'bare [mm]':>10}  {'bare run [mm]':>13}  {'solid mass [mm]':>15}"]
+             f"{100 * s['mass_ratio']:.3g} % of M; {s['measure_cycles']} of {s['cycles']:g} cycles measured, "
+             f"from {s['start']})",
+             f"  {'f [Hz]':>8}  {'damper [mm]':>12}  {'bare [mm]':>10}  {'bare run [mm]':>13}  {'solid mass [mm]':>15}"
+             + ("  fields [mm]" if prediction else "")]
     for k, f in enumerate(s["frequencies_hz"]):
-        lines.append(f"  {f:8.4g}  {1e3 * s['amplitude_damped_m'][k]:12.4g}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
-                     f"{1e3 * s['amplitude_bare_run_m'][k]:13.4g}  {1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
+        line = (f"  {f:8.4g}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
+                f"{1e3 * s['amplitude_bare_run_m'][k]:11.4g}{'' if s['bare_run_steady'][k] else ' *':2}  "
+                f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
+        if prediction:
+            line += "  " + _branches_mm(s["fields_prediction"]["damper_amplitude_m"][k])
+        lines.append(line)
+    change = s["last_period_change"][s["frequencies_hz"].index(s["peak_damped_frequency_hz"])]
+    ratio = (f"ratio {s['peak_reduction']:.3g}" if s["peak_steady"]
+             else f"no ratio: the damped peak is a transient (changed {100 * change:.2g} % over the last period)")
     lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
                  f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
-                 f"ratio {s['peak_reduction']:.3g}")
+                 + ratio)
+    if not all(s["steady"]) or not all(s["bare_run_steady"]):
+        lines.append(f"  * not steady: the amplitude over the last period differs from the one before by more than "
+                     f"{100 * s['steady_tolerance']:g} % (a transient; run more --cycles or --start bare|fields)")
     lines.append(f"  energy balance error (worst point) {s['energy_balance_error_max']:.2g}; "
                  f"DEM time {s['wall_time_s']:.3g} s")
     for f, msg in s["failed"].items():
@@ -174,6 +248,34 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     if plot:
         lines.append(f"  wrote {plot}")
     click.echo("\n".join(lines))
+
+
+def _branches_mm(v) -> str:
+    """A frequency's stable amplitudes in mm: one number, or the branches joined by ' / '."""
+    vals = v if isinstance(v, list) else [v]
+    return " / ".join(f"{1e3 * x:.4g}" for x in vals) if vals else "none"
+
+
+def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
+    lines = [f"pdamper response {config} --fields {fields_path}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
+             f"{100 * s['mass_ratio']:.3g} % of M; harmonic balance, stable branches)",
+             f"  {'f [Hz]':>8}  {'damper [mm]':>16}  {'response [mm]':>16}  {'bare [mm]':>10}  {'solid mass [mm]':>15}"]
+    for k, f in enumerate(s["frequencies_hz"]):
+        lines.append(f"  {f:8.4g}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
+                     f"{_branches_mm(s['response_amplitude_m'][k]):>16}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
+                     f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
+    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
+                 f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
+                 f"ratio {s['peak_reduction']:.3g}")
+    if s["jump_frequencies_hz"]:
+        lines.append("  jumps (the number of stable branches changes) at " +
+                     ", ".join(f"{f:.4g} Hz" for f in s["jump_frequencies_hz"]))
+    if s["extrapolated"]:
+        lines.append("  warning: some solutions lie outside the fields' box (--extrapolate: end values continued)")
+    lines.append(f"  solve time {1e3 * s['solve_time_median_s']:.3g} ms per frequency (median); fields {s['fields_box']}")
+    if plot:
+        lines.append(f"  wrote {plot}")
+    return lines
 
 
 @main.command("design")

@@ -42,6 +42,10 @@ def decay_figure(result, path=None, *, title: str | None = None, dpi: int = 150)
     te, ae = result.envelope_damped
     ax_t.plot(te, ae * _MM, "o-", color=_C_DAMPED, ms=2.5, lw=1.2,
               label=f"with damper, {s['particles']} spheres ({100 * s['mass_ratio']:.2g} % of M)")
+    if getattr(result, "envelope_fields", None) is not None:
+        tf, af = result.envelope_fields
+        ax_t.plot(tf, af * _MM, "-", color="tab:purple", lw=1.6,
+                  label="with damper, from the fields (averaging: energy balance per cycle)")
     ax_t.set_xlabel("time t [s]")
     ax_t.set_ylabel("structure displacement $x_s$ [mm]")
     ax_t.grid(True, alpha=0.3)
@@ -84,8 +88,10 @@ def _envelope_closed_form(result):
     return abs(s["initial_displacement_m"]) * np.exp(-s["damping_ratio"] * w * result.time)
 
 
-def response_figure(result, path=None, *, title: str | None = None, dpi: int = 150):
-    """Frequency response (a :class:`pdamper.studies.structure.ResponseResult`)."""
+def response_figure(result, path=None, *, fields=None, title: str | None = None, dpi: int = 150):
+    """Frequency response: a DEM :class:`pdamper.studies.structure.ResponseResult` (``fields``: a
+    :class:`~pdamper.studies.structure.FieldsResponseResult` drawn beside it) or a
+    ``FieldsResponseResult`` alone (its stable branches, the unstable solutions, the jumps)."""
     from matplotlib.figure import Figure
 
     target = check_path(path)
@@ -102,17 +108,27 @@ def response_figure(result, path=None, *, title: str | None = None, dpi: int = 1
     bare = st.steady_amplitude(fine, F0)
     solid = st.steady_amplitude(fine, F0, added_mass=case.bed_mass)
     ax.plot(fine, bare * _MM, color=_C_BARE, lw=1.3, label="without damper (closed form, steady state)")
-    ax.plot(f, result.bare_run * _MM, "s", mfc="none", color=_C_BARE, ms=5,
-            label=f"without damper, run as the DEM ({s['measure_cycles']} of {s['cycles']:g} cycles)")
+    dem = s.get("method", "dem") == "dem"
+    if dem:
+        ax.plot(f, result.bare_run * _MM, "s", mfc="none", color=_C_BARE, ms=5,
+                label=f"without damper, run as the DEM ({s['measure_cycles']} of {s['cycles']:g} cycles)")
     ax.plot(fine, solid * _MM, "--", color=_C_SOLID, lw=1.1, label=f"bed as a solid mass (+{case.bed_mass * 1e3:.3g} g)")
-    ax.plot(f, result.damped * _MM, "o-", color=_C_DAMPED, ms=5, lw=1.3,
-            label=f"with damper (DEM, {s['particles']} spheres)")
+    if dem:
+        steady = np.asarray(s.get("steady", [True] * f.size), dtype=bool)
+        ax.plot(f, result.damped * _MM, "-", color=_C_DAMPED, lw=1.3)
+        ax.plot(f[steady], result.damped[steady] * _MM, "o", color=_C_DAMPED, ms=5,
+                label=f"with damper (DEM, {s['particles']} spheres, from {s.get('start', 'rest')})")
+        if not steady.all():
+            ax.plot(f[~steady], result.damped[~steady] * _MM, "o", mfc="white", color=_C_DAMPED, ms=5,
+                    label="with damper (DEM), not steady (a transient)")
+    for fr in ([result] if not dem else [] if fields is None else [fields]):
+        _draw_fields(ax, fr)
     x_opt = s.get("x_opt_m")
     if x_opt:
         ax.axhline(x_opt * _MM, color="gray", ls=":", lw=1.0, label=f"$X_{{opt}}$ = {x_opt * _MM:.3g} mm")
     ax.set_ylim(bottom=0)
     ax.set_xlabel("forcing frequency f [Hz]")
-    ax.set_ylabel("steady amplitude of the structure |X| [mm]")
+    ax.set_ylabel("steady amplitude at the damper |X| [mm]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, framealpha=0.9)
     ax.set_title(f"frequency response, F$_0$ = {F0:.3g} N: M = {st.mass:.3g} kg, f$_n$ = {st.natural_frequency:.3g} Hz, "
@@ -122,3 +138,27 @@ def response_figure(result, path=None, *, title: str | None = None, dpi: int = 1
     if target is not None:
         save(fig, target, dpi)
     return fig
+
+
+_C_FIELDS = ("tab:purple", "tab:green", "tab:orange")
+
+
+def _draw_fields(ax, result):
+    """The fields' stable branches (a line per mode family, or per rank where no family is known),
+    the unstable solutions (crosses) and the jump frequencies (dotted verticals)."""
+    groups: dict = {}
+    unstable = []
+    for f, sols in zip(result.frequencies, result.solution.solutions):
+        stable = [x for x in sols if x.stable]
+        for rank, x in enumerate(stable):
+            groups.setdefault(x.family or f"branch {rank + 1}", []).append((f, x.damper_amplitude_m))
+        unstable += [(f, x.damper_amplitude_m) for x in sols if not x.stable]
+    for k, (name, pts) in enumerate(sorted(groups.items())):
+        p = np.array(pts)
+        ax.plot(p[:, 0], p[:, 1] * _MM, ".-", color=_C_FIELDS[k % len(_C_FIELDS)], lw=1.6, ms=4,
+                label=f"with damper, from the fields ({name}{' branch' if not name.startswith('branch') else ''})")
+    if unstable:
+        p = np.array(unstable)
+        ax.plot(p[:, 0], p[:, 1] * _MM, "x", color="black", ms=5, label="from the fields, unstable (slope criterion)")
+    for j, fj in enumerate(result.summary.get("jump_frequencies_hz", [])):
+        ax.axvline(fj, color="black", ls=":", lw=1.0, label="jump (a branch ends)" if j == 0 else None)

@@ -26,7 +26,9 @@ from ..excitation import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
 
-__all__ = ["DecayResult", "ResponseResult", "run_decay", "run_response", "response_case", "parse_frequencies"]
+__all__ = ["DecayResult", "ResponseResult", "FieldsResponseResult", "run_decay", "run_response",
+           "run_response_fields", "fields_decay", "response_case", "parse_frequencies", "default_frequencies",
+           "grid_warnings", "start_phasors", "steadiness", "STARTS", "STEADY_TOLERANCE"]
 
 
 def _structure(case: Case) -> CoupledStructure | ModalStructure:
@@ -44,7 +46,8 @@ class DecayResult:
     (the bare one from the compiled step, ``closed_form`` the structure's own closed form, its
     ``motion``: :func:`pdamper.theory.oscillator_response`, summed over the modes of N modes);
     ``envelope_*`` = (times [s], amplitudes [m]) of the extremes; ``zeta_*`` = (times [s],
-    amplitudes [m], damping ratios [-]); ``summary`` plain numbers for JSON.
+    amplitudes [m], damping ratios [-]); ``summary`` plain numbers for JSON; ``envelope_fields``
+    (times [s], amplitudes [m]) the envelope from the damper's fields by averaging, if asked.
     """
 
     case: Case
@@ -57,6 +60,7 @@ class DecayResult:
     zeta_damped: tuple
     zeta_bare: tuple
     summary: dict = field(default_factory=dict)
+    envelope_fields: tuple | None = None
 
 
 def _zeta_at(zeta: tuple, lo: float, hi: float) -> float:
@@ -66,9 +70,10 @@ def _zeta_at(zeta: tuple, lo: float, hi: float) -> float:
     return float(np.mean(z[sel])) if np.any(sel) else math.nan
 
 
-def run_decay(case: Case, *, progress=None) -> DecayResult:
+def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = False) -> DecayResult:
     """Free decay of the structure of ``case`` with its bed and without (``case.cycles`` periods
-    of the natural frequency). ``progress(fraction)`` is passed to the coupled run."""
+    of the natural frequency). ``progress(fraction)`` is passed to the coupled run. ``fields``:
+    also the envelope from the damper's fields (:func:`fields_decay`)."""
     from ..simulation import Simulation, run_bare_structure
 
     s = _structure(case)
@@ -102,8 +107,19 @@ def run_decay(case: Case, *, progress=None) -> DecayResult:
         "steps": res.steps, "time_step_s": res.time_step_s, "wall_time_s": res.wall_time_s,
         **s.structure_summary(),
     }
+    env_f = None
+    if fields is not None:
+        tf, af, _ = fields_decay(case, fields, extrapolate=extrapolate)
+        env_f = (tf, af)
+        summary["final_amplitude_fields_m"] = float(af[-1])
+        summary["fields_decay_end_s"] = float(tf[-1])
+        if np.any(env_d[0] <= tf[-1]):  # the direct envelope against the fields' at the direct extremes' times
+            inside = env_d[0] <= tf[-1]
+            ref = np.interp(env_d[0][inside], tf, af)
+            summary["fields_vs_direct_envelope_max_error"] = float(np.max(np.abs(ref / env_d[1][inside] - 1.0)))
     return DecayResult(case=case, time=t, damped=rec.displacement, bare=bare.displacement, closed_form=exact,
-                       envelope_damped=env_d, envelope_bare=env_b, zeta_damped=z_d, zeta_bare=z_b, summary=summary)
+                       envelope_damped=env_d, envelope_bare=env_b, zeta_damped=z_d, zeta_bare=z_b, summary=summary,
+                       envelope_fields=env_f)
 
 
 # --------------------------------------------------------------------------- frequency response
@@ -136,12 +152,86 @@ def parse_frequencies(text: str) -> np.ndarray:
     return out
 
 
-def response_case(case: Case, frequency: float, force_amplitude: float) -> Case:
-    """The case forced at ``frequency`` [Hz] with ``force_amplitude`` [N], started from rest."""
+#: What ``start=`` takes: from rest, on the bare structure's steady orbit, on the fields' orbit.
+STARTS = ("rest", "bare", "fields")
+#: A point is steady when its amplitude over the last forcing period differs from the one over
+#: the period before by at most this (relative).
+STEADY_TOLERANCE = 0.02
+
+
+def response_case(case: Case, frequency: float, force_amplitude: float, phasor: complex = 0j) -> Case:
+    """The case forced at ``frequency`` [Hz] with ``force_amplitude`` [N], started from rest, or
+    with ``phasor`` x^ [m] (complex amplitude of the damper point, ``x(t) = Im(x^ e^{i Omega t})``
+    against the force ``F0 sin(Omega t)``) on that orbit: x(0) = Im x^, v(0) = Omega Re x^ (a
+    modal structure takes them in its static shape of a load at the damper)."""
     s = _structure(case)
+    x0, v0 = (0.0, 0.0) if phasor == 0 else (float(phasor.imag), float(2.0 * math.pi * frequency * phasor.real))
     drive = dataclasses.replace(s, force_amplitude=force_amplitude, force_frequency=frequency,
-                                displacement=0.0, velocity=0.0)
+                                displacement=x0, velocity=v0)
     return dataclasses.replace(case, drive=drive)
+
+
+def start_phasors(case: Case, frequencies, force_amplitude: float, start: str = "rest", fields=None,
+                  extrapolate: bool = False) -> list[complex]:
+    """The damper point's complex amplitude to start each frequency on (``start``: ``"rest"`` 0,
+    ``"bare"`` the bare structure's steady state H_df F0, ``"fields"`` the fields' prediction: the
+    stable solution of smallest amplitude)."""
+    from ..analysis.harmonic import receptances, solve_frequency
+
+    if start not in STARTS:
+        raise InputError(f"--start {start!r}; choose one of {', '.join(STARTS)}")
+    s = _structure(case)
+    modal = s.modal_arrays()
+    out = []
+    for f in np.asarray(frequencies, dtype=float):
+        if start == "rest":
+            out.append(0j)
+        elif start == "bare":
+            out.append(receptances(modal, f)[1] * force_amplitude)
+        else:
+            if fields is None:
+                raise InputError("--start fields needs the damper's fields: --fields F.nc")
+            sols = [x for x in solve_frequency(modal, fields, f, force_amplitude, extrapolate=extrapolate) if x.stable]
+            out.append(sols[0].damper_phasor if sols else 0j)
+    return out
+
+
+def default_frequencies(case: Case, mode: int = 1, *, points: int = 9, spread: float = 0.1) -> np.ndarray:
+    """``points`` frequencies [Hz] from (1 - spread) to (1 + spread) times the natural frequency of
+    mode ``mode`` (1-based) of the case's structure, the ends rounded to 3 significant digits.
+
+    >>> from pdamper.config import load_case
+    >>> default_frequencies(load_case("examples/structure_36.toml")).tolist()[::4]
+    [1.8, 2.0, 2.2]
+    """
+    fn = mode_frequency(case, mode)
+    lo, hi = (float(f"{(1.0 + sign * spread) * fn:.3g}") for sign in (-1, 1))
+    return np.linspace(lo, hi, points)
+
+
+def mode_frequency(case: Case, mode: int = 1) -> float:
+    """The natural frequency [Hz] of mode ``mode`` (1-based) of the case's structure (without the bed)."""
+    s = _structure(case)
+    fs = np.atleast_1d(getattr(s, "mode_frequencies", [s.natural_frequency]))
+    if isinstance(mode, bool) or not isinstance(mode, (int, np.integer)) or not 1 <= mode <= fs.size:
+        raise InputError(f"--mode {mode!r}; the structure has {fs.size} mode{'s' if fs.size > 1 else ''}: "
+                         f"give 1{f' to {fs.size}' if fs.size > 1 else ''}")
+    return float(fs[mode - 1])
+
+
+def grid_warnings(case: Case, frequencies, mode: int = 1) -> list[str]:
+    """A warning when ``frequencies`` [Hz] miss the resonance of mode ``mode`` (the bare mode's
+    natural frequency and the one with the bed as a solid mass both outside the grid's range)."""
+    fn = mode_frequency(case, mode)
+    s = _structure(case)
+    f_solid = fn * math.sqrt(s.mass / (s.mass + case.bed_mass)) if mode == 1 else fn
+    f = np.asarray(frequencies, dtype=float)
+    lo, hi = float(f.min()), float(f.max())
+    if lo <= fn <= hi or lo <= f_solid <= hi:
+        return []
+    return [f"the frequencies {lo:g}-{hi:g} Hz miss the resonance of mode {mode} at {fn:.4g} Hz "
+            f"({f_solid:.4g} Hz with the bed as a solid mass): the peak is not on this grid; leave --frequencies "
+            f"out (a grid around the mode) or include it"]
 
 
 def response_point(case: Case, measure_cycles: int) -> dict:
@@ -158,7 +248,19 @@ def response_point(case: Case, measure_cycles: int) -> dict:
     return {"amplitude_m": harmonic_amplitude(rec.time, rec.displacement, f, cycles=measure_cycles),
             "peak_m": float(np.max(np.abs(rec.displacement[-int(measure_cycles / f * case.recording.sample_rate):]))),
             "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps,
-            "wall_time_s": res.wall_time_s}
+            "wall_time_s": res.wall_time_s, **steadiness(rec.time, rec.displacement, f)}
+
+
+def steadiness(time, x, frequency: float) -> dict:
+    """``last_period_change``: |A_last / A_before - 1| of the amplitudes [m] over the last forcing
+    period and the one before; ``steady``: that change within :data:`STEADY_TOLERANCE`."""
+    n = int(round(1.0 / frequency / (time[1] - time[0])))
+    if time.size < 2 * n + 1:
+        return {"steady": False, "last_period_change": math.nan}
+    a1 = harmonic_amplitude(time, x, frequency, cycles=1)
+    a0 = harmonic_amplitude(time[:-n], x[:-n], frequency, cycles=1)
+    change = abs(a1 / a0 - 1.0) if a0 > 0 else math.inf
+    return {"steady": bool(change <= STEADY_TOLERANCE), "last_period_change": float(change)}
 
 
 class _Point:
@@ -190,11 +292,14 @@ class ResponseResult:
 
 @quantities(frequencies="frequency", force_amplitude="force")
 def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cycles: int = 8,
-                 workers: int | None = 1, scheduler: str | None = None, progress: bool | None = None) -> ResponseResult:
+                 workers: int | None = 1, scheduler: str | None = None, progress: bool | None = None,
+                 start: str = "rest", fields=None, extrapolate: bool = False) -> ResponseResult:
     """Frequency response of the structure of ``case`` under ``force_amplitude`` [N] at each of
-    ``frequencies`` [Hz]; each point runs ``case.cycles`` forcing cycles from rest and measures
-    the last ``measure_cycles``. ``workers`` > 1 or a ``scheduler`` run the points with the
-    sweep executor (Dask); ``workers = 1`` runs them one after another."""
+    ``frequencies`` [Hz]; each point runs ``case.cycles`` forcing cycles and measures the last
+    ``measure_cycles``, started from rest or on an orbit (``start``, :func:`start_phasors`; the
+    fields for ``"fields"``); each point says whether it is steady (:func:`steadiness`).
+    ``workers`` > 1 or a ``scheduler`` run the points with the sweep executor (Dask);
+    ``workers = 1`` runs them one after another."""
     from ..simulation import run_bare_structure
 
     s = _structure(case)
@@ -210,7 +315,8 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         raise InputError(f"run.cycles = {case.cycles:g} leaves no transient to discard before the {measured}: "
                          f"{measured} need at least {measure_cycles + 2} cycles (2 of transient first); run "
                          f"--cycles {measure_cycles + 2} or more{alt}")
-    cases = [response_case(case, float(f), force_amplitude) for f in freqs]
+    phasors = start_phasors(case, freqs, force_amplitude, start, fields, extrapolate)
+    cases = [response_case(case, float(f), force_amplitude, z) for f, z in zip(freqs, phasors)]
     results: dict = {}
     if (workers is not None and workers > 1) or scheduler or workers is None:
         from .executor import execute
@@ -225,10 +331,11 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         points = [response_point(c, measure_cycles)
                   for c in progress_bar(cases, desc="response", unit="freq", disable=not show_progress(progress))]
     damped = np.array([p.get("amplitude_m", math.nan) for p in points])
-    bare_run = []
+    bare_run, bare_steady = [], []
     for c in cases:
         rec = run_bare_structure(c.drive, c.duration, sample_rate=c.recording.sample_rate)
         bare_run.append(harmonic_amplitude(rec.time, rec.displacement, c.drive.force_frequency, cycles=measure_cycles))
+        bare_steady.append(steadiness(rec.time, rec.displacement, c.drive.force_frequency)["steady"])
     bare = s.steady_amplitude(freqs, force_amplitude)
     # the bed as a rigid mass at the damper: same stiffness and damping, the mass added
     solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
@@ -241,6 +348,11 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         "amplitude_solid_mass_m": solid.tolist(),
         "peak_damped_m": float(damped[k]), "peak_damped_frequency_hz": float(freqs[k]),
         "peak_bare_m": float(np.max(bare)),
+        "method": "dem", "start": start, "steady_tolerance": STEADY_TOLERANCE,
+        "steady": [bool(p.get("steady", False)) for p in points],
+        "last_period_change": [float(p.get("last_period_change", math.nan)) for p in points],
+        "bare_run_steady": bare_steady,
+        "peak_steady": bool(points[k].get("steady", False)),
         "resonance_bare_m": float(s.steady_amplitude([s.natural_frequency], force_amplitude)[0])
         if s.modal_damping_ratio > 0 else math.inf,
         "energy_balance_error_max": float(max((p.get("energy_balance_error", math.nan) for p in points),
@@ -252,3 +364,101 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return ResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, damped=damped,
                           bare_run=np.asarray(bare_run), bare=bare, solid=solid, points=points, summary=summary)
+
+
+# --------------------------------------------------------------------------- from the fields
+
+@dataclass(frozen=True, kw_only=True)
+class FieldsResponseResult:
+    """The forced response from the damper's fields (harmonic balance,
+    :mod:`pdamper.analysis.harmonic`): ``solution`` the
+    :class:`~pdamper.analysis.harmonic.FrequencyResponse` (every fixed point per frequency, its
+    stability, the jumps); ``bare`` / ``solid`` the damper point's amplitude [m] without the bed
+    and with it as a rigid mass (``bare_response`` / ``solid_response`` at the response point);
+    ``summary`` for JSON."""
+
+    case: Case
+    force_amplitude: float
+    frequencies: np.ndarray
+    solution: object
+    bare: np.ndarray
+    solid: np.ndarray
+    bare_response: np.ndarray
+    solid_response: np.ndarray
+    summary: dict = field(default_factory=dict)
+
+
+def _one_or_list(values: list):
+    """A frequency's stable values: the value when there is one, the list when several (or none)."""
+    return values[0] if len(values) == 1 else list(values)
+
+
+@quantities(frequencies="frequency", force_amplitude="force")
+def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: float, extrapolate: bool = False,
+                        points: int = 48) -> FieldsResponseResult:
+    """Frequency response of the structure of ``case`` with the damper as its ``fields`` (a
+    :class:`~pdamper.analysis.fields.DamperFields`) at the damper node: every solution per
+    frequency, stable or not, the jump frequencies, and the curves without the bed and with it
+    as a solid mass. Refuses (InputError) where the fields do not hold the solution, unless
+    ``extrapolate``."""
+    from ..analysis.harmonic import solve_response
+
+    s = _structure(case)
+    freqs = np.asarray(frequencies, dtype=float)
+    if freqs.ndim != 1 or freqs.size == 0 or np.any(~(freqs > 0)):
+        raise InputError("frequencies: give one or more frequencies > 0 [Hz]")
+    if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
+        raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
+    bed = fields.bed_mass
+    if math.isfinite(bed) and abs(bed - case.bed_mass) > 0.02 * case.bed_mass:
+        raise InputError(f"the fields were built for a bed of {bed * 1e3:.4g} g, the config's bed is "
+                         f"{case.bed_mass * 1e3:.4g} g; build the fields from a sweep of this damper")
+    sol = solve_response(s.modal_arrays(), fields, freqs, force_amplitude, extrapolate=extrapolate, points=points)
+    bare = s.steady_amplitude(freqs, force_amplitude)
+    solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
+    bare_r = s.steady_amplitude(freqs, force_amplitude, point="response")
+    solid_r = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass, point="response")
+    xd, xr = sol.stable("damper_amplitude_m"), sol.stable("response_amplitude_m")
+    flat = [(x, f) for f, xs in zip(freqs, xd) for x in xs]
+    peak, f_peak = max(flat) if flat else (math.nan, math.nan)
+    summary = {
+        "method": "fields", "force_amplitude_N": force_amplitude, "particles": case.n_particles,
+        "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
+        "frequencies_hz": freqs.tolist(),
+        "damper_amplitude_m": [_one_or_list(v) for v in xd],
+        "response_amplitude_m": [_one_or_list(v) for v in xr],
+        "branches": [[x.to_dict() for x in sols] for sols in sol.solutions],
+        "jump_frequencies_hz": [j["frequency_hz"] for j in sol.jumps], "jumps": sol.jumps,
+        "stability": "slope criterion: stable where d(ln X - ln G(X))/d ln X > 0, G(X) = F0 |H_df| / "
+                     "|1 + H_dd Z(X, f)| (the fold where a branch ends; phase instabilities not seen)",
+        "amplitude_bare_m": bare.tolist(), "amplitude_solid_mass_m": solid.tolist(),
+        "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
+        "peak_damped_m": float(peak), "peak_damped_frequency_hz": float(f_peak),
+        "peak_bare_m": float(np.max(bare)),
+        "resonance_bare_m": float(s.steady_amplitude([s.natural_frequency], force_amplitude)[0])
+        if s.modal_damping_ratio > 0 else math.inf,
+        "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
+        "fields_box": fields.box(), "fields_source": str(fields.dataset.attrs.get("source", "")),
+        "solve_time_per_frequency_s": sol.time_s.tolist(),
+        "solve_time_median_s": float(np.median(sol.time_s)),
+        **s.structure_summary(),
+    }
+    summary["peak_reduction"] = summary["peak_damped_m"] / summary["peak_bare_m"]
+    return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
+                                bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
+
+
+def fields_decay(case: Case, fields, *, duration: float | None = None, amplitude: float | None = None,
+                 extrapolate: bool = False):
+    """The free decay's envelope of the case's structure (its first mode at the damper) with the
+    damper as its ``fields``, by averaging (:func:`pdamper.analysis.harmonic.decay_envelope`):
+    (t [s], A [m], f [Hz]) from ``amplitude`` (default: [structure] displacement) over
+    ``duration`` (default: the case's)."""
+    from ..analysis.harmonic import decay_envelope
+
+    s = _structure(case)
+    a0 = abs(s.displacement) if amplitude is None else float(amplitude)
+    if not a0 > 0:
+        raise InputError("the decay from the fields needs a start: [structure] displacement > 0, e.g. '20mm'")
+    return decay_envelope(fields, mass=s.mass, stiffness=s.stiffness, damping=s.damping, amplitude=a0,
+                          duration=case.duration if duration is None else duration, extrapolate=extrapolate)
