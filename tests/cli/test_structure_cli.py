@@ -108,3 +108,44 @@ def test_decay_and_response_on_a_two_mode_structure():
     c1 = 2 * 0.005 * math.sqrt(k1 * m1)
     assert s["amplitude_solid_mass_m"][1] == pytest.approx(0.4 / abs(k1 - (m1 + ma) * w * w + 1j * c1 * w), rel=1e-3)
     assert all(a > 0 for a in s["amplitude_damped_m"]) and s["energy_balance_error_max"] < 5e-3
+
+
+def _step_fields_file(tmp_path):
+    """Synthetic fields of the example's bed with a jump (tests/studies/test_structure_response_fields.py)."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
+    from test_structure_response_fields import step_fields
+
+    from pdamper.studies.fields import write_fields
+
+    return str(write_fields(step_fields(), tmp_path / "step.nc"))
+
+
+def test_response_from_fields_json_table_plot_and_refusal(tmp_path):
+    nc = _step_fields_file(tmp_path)
+    r = run(["response", EXAMPLE, "--fields", nc, "--force", "0.2N", "--frequencies", "1.9Hz:2.1Hz:21", "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    assert s["method"] == "fields" and len(s["frequencies_hz"]) == 21
+    assert any(isinstance(v, list) and len(v) == 2 for v in s["response_amplitude_m"])
+    assert len(s["jump_frequencies_hz"]) == 2
+    png = tmp_path / "fields.png"
+    r = run(["response", EXAMPLE, "--fields", nc, "--force", "0.2N", "--frequencies", "1.9Hz:2.1Hz:21",
+             "--plot", str(png)])
+    assert r.exit_code == 0, r.output
+    assert " / " in r.output and "jumps (the number of stable branches changes) at" in r.output
+    assert png.stat().st_size > 10_000
+    r = run(["response", EXAMPLE, "--fields", nc, "--force", "0.2N", "--frequencies", "1.8Hz"])
+    assert r.exit_code != 0 and "at f = 1.8 Hz and F0 = 0.2 N the damper amplitude lies below X = 1 mm" in r.output
+    r = run(["response", EXAMPLE, "--fields", nc, "--force", "0.2N", "--frequencies", "1.8Hz", "--extrapolate",
+             "--json"])
+    assert r.exit_code == 0 and json.loads(r.stdout)["extrapolated"] is True
+
+
+def test_response_warns_when_the_grid_misses_the_resonance():
+    r = run(["response", EXAMPLE, "--cycles", "3", "--measure-cycles", "1", "--frequencies", "3Hz", *SMALL,
+             "--force", "0.2N"])
+    assert r.exit_code == 0, r.output
+    assert "warning: the frequencies 3-3 Hz miss the resonance of mode 1 at 2 Hz" in r.stderr
+    assert "* not steady" in r.output
