@@ -130,3 +130,17 @@ def test_decay_envelope_of_a_dashpot_is_the_exponential():
     rate = (SDOF.damping + c_a) / (2 * (SDOF.mass + m_a))
     np.testing.assert_allclose(A, 0.02 * np.exp(-rate * t), rtol=1e-5)
     np.testing.assert_allclose(f, math.sqrt(SDOF.stiffness / (SDOF.mass + m_a)) / (2 * math.pi), rtol=1e-12)
+
+
+def test_where_neither_mode_holds_the_solution_sits_at_the_jump():
+    # low segment: G ~ 21 mm > the top of the interval (15 mm); collide segment: G ~ 6 mm < its bottom (9 mm):
+    # the bed switches between its modes, the amplitude held at the interval's geometric midpoint
+    F = step_fields(c_low=0.05, c_high=3.0)
+    (s,) = solve_frequency(SDOF.modal_arrays(), F, 2.0, 0.3)
+    assert s.branch == "jump" and s.stable and s.family == "other/collide"
+    assert s.damper_amplitude_m == pytest.approx(math.sqrt(0.009 * 0.015), rel=1e-6)
+    assert 0.05 < s.equivalent_damping_N_s_per_m < 3.0
+    w = 4 * math.pi
+    Hdd, Hdf, _, _ = receptances(SDOF.modal_arrays(), 2.0)
+    Z = complex(-w * w * s.effective_mass_kg, w * s.equivalent_damping_N_s_per_m)
+    assert abs(Hdf * 0.3 / (1 + Hdd * Z)) == pytest.approx(s.damper_amplitude_m, rel=1e-9)

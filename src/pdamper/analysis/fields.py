@@ -213,6 +213,41 @@ def _pchip(t, y):
     return lambda v: np.concatenate([p(v) for p in parts])
 
 
+def _pchip_at(t, y, v: float) -> np.ndarray:
+    """PCHIP through the nodes (t, y[:, k]) evaluated at one point v (continued beyond the ends by
+    the end cubics): the same numbers as :func:`_pchip` (scipy's PchipInterpolator: Fritsch-Butland
+    derivatives, scipy's one-sided three-point ends) without building an interpolator, for the
+    many single-point calls of a solver. Columns with a non-finite node go through :func:`_pchip`."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    n = t.size
+    if n < 3 or not np.isfinite(y).all():
+        return _pchip(t, y)(v)
+    h = np.diff(t)
+    m = np.diff(y, axis=0) / h[:, None]
+    j = int(min(max(np.searchsorted(t, v, side="right") - 1, 0), n - 2))
+    d = [_pchip_slope(h, m, i) for i in (j, j + 1)]
+    s = (v - t[j]) / h[j]
+    h00, h10, h01, h11 = (2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2)
+    return h00 * y[j] + h10 * h[j] * d[0] + h01 * y[j + 1] + h11 * h[j] * d[1]
+
+
+def _pchip_slope(h, m, i: int) -> np.ndarray:
+    """The PCHIP derivative at node i of every column (scipy's ``_find_derivatives``)."""
+    n = h.size + 1
+    if i == 0 or i == n - 1:
+        h0, h1, m0, m1 = (h[0], h[1], m[0], m[1]) if i == 0 else (h[-1], h[-2], m[-1], m[-2])
+        d = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
+        d = np.where(np.sign(d) != np.sign(m0), 0.0, d)
+        return np.where((np.sign(m0) != np.sign(m1)) & (np.abs(d) > 3.0 * np.abs(m0)), 3.0 * m0, d)
+    mk, mk1 = m[i - 1], m[i]
+    w1, w2 = 2 * h[i] + h[i - 1], h[i] + 2 * h[i - 1]
+    flat = (np.sign(mk) != np.sign(mk1)) | (mk == 0) | (mk1 == 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        whmean = (w1 / mk + w2 / mk1) / (w1 + w2)
+        return np.where(flat, 0.0, 1.0 / whmean)
+
+
 def _spread(values, dim="seed") -> dict:
     """Mean, standard deviation (ddof 1; 0 for a single value), min and max over ``dim``."""
     import warnings
@@ -442,7 +477,7 @@ class DamperFields:
             vals, br, fam = results[cols.index(near[0])]
             out = vals
         else:
-            out = _pchip(fs, np.array([r[0] for r in results]))(f)
+            out = _pchip_at(fs, np.array([r[0] for r in results]), f)
             nearest = min(range(len(cols)), key=lambda i: abs(fs[i] - f))
             fam = results[nearest][2]
             br = next((results[cols.index(c)][1] for c in near if results[cols.index(c)][1]), "")
@@ -468,7 +503,7 @@ class DamperFields:
                 break
             k += 1
         cols = self._columns
-        out = _pchip(np.array([c.frequency for c in cols]), np.array([c.on_segment(k, X) for c in cols]))(f)
+        out = _pchip_at(np.array([c.frequency for c in cols]), np.array([c.on_segment(k, X) for c in cols]), f)
         return FieldValues(amplitude_m=X, frequency_hz=f, **{a: float(v) for (a, _, _), v in zip(FIELDS.values(), out)},
                            branch=br, family=c0.sequence[k], extrapolated=extrapolated)
 

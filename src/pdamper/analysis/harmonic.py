@@ -179,22 +179,28 @@ def solve_frequency(modal, fields, frequency: float, force_amplitude: float, *, 
     grid = np.unique(np.concatenate([np.geomspace(lo, hi, int(points)), nodes[(nodes > lo) & (nodes < hi)]]))
     jumpy = any(residual(X, "below")[1].branch for X in grid) if fields.jumps() else False
     roots: list[Solution] = []
-    for branch in (("below", "above") if jumpy else (None,)):
+    for branch in (("below", "above", None) if jumpy else (None,)):
+        if jumpy and branch is None and any(s.branch for s in roots):
+            break  # a mode holds in the jump interval: the bed does not switch there
         r = np.array([residual(X, branch)[0] for X in grid])
         for i in np.flatnonzero(np.sign(r[:-1]) * np.sign(r[1:]) <= 0):
             if r[i] == 0 and i > 0 and r[i - 1] == 0:
                 continue
-            sol = _refine(residual, grid[i], grid[i + 1], branch, r[i], r[i + 1])
-            if sol is None:
-                continue
-            X, v = sol
+            X, v, is_root = _refine(residual, grid[i], grid[i + 1], branch, r[i], r[i + 1])
             if any(abs(X - s.damper_amplitude_m) <= 1e-7 * X for s in roots):
                 continue
-            roots.append(_solution(X, v, branch, residual, f, F0, Hdd, Hdf, Hrd, Hrf, fields, extrapolate))
+            if is_root:
+                roots.append(_solution(X, v, branch, residual, f, F0, Hdd, Hdf, Hrd, Hrf))
+            elif jumpy and branch is None:  # the fields' jump itself, at the interval's geometric midpoint
+                sol = _at_jump(X, residual, f, F0, Hdd, Hdf, Hrd, Hrf, fields, extrapolate, rising=r[i] < r[i + 1])
+                if sol is not None:
+                    roots.append(sol)
     return sorted(roots, key=lambda s: s.damper_amplitude_m)
 
 
 def _refine(residual, a, b, branch, ra, rb):
+    """(X, fields at X, True) at a root of the residual between a and b, or (X, fields, False) where
+    Brent's method closed on a jump of the fields instead."""
     from scipy.optimize import brentq
 
     if ra == 0:
@@ -202,15 +208,39 @@ def _refine(residual, a, b, branch, ra, rb):
     elif rb == 0:
         X = b
     else:
-        lx = brentq(lambda u: residual(math.exp(u), branch)[0], math.log(a), math.log(b), xtol=1e-13, rtol=1e-15)
-        X = math.exp(lx)
+        g = lambda u: residual(math.exp(u), branch)[0]  # noqa: E731
+        la, lb = math.log(a), math.log(b)
+        if g(la) * g(lb) > 0:  # a jump on a grid node: exp(log a) fell on its other side
+            X = a if abs(ra) < abs(rb) else b
+        else:
+            X = math.exp(brentq(g, la, lb, xtol=1e-13, rtol=1e-15))
     rx, v = residual(X, branch)
-    if abs(rx) > RESIDUAL_TOLERANCE:
-        return None  # Brent's method closed on the fields' jump, not a root
-    return X, v
+    return X, v, abs(rx) <= RESIDUAL_TOLERANCE
 
 
-def _solution(X, v, branch, residual, f, F0, Hdd, Hdf, Hrd, Hrf, fields, extrapolate) -> Solution:
+def _at_jump(X, residual, f, F0, Hdd, Hdf, Hrd, Hrf, fields, extrapolate, *, rising: bool):
+    """A solution held at the fields' jump X [m]: neither branch has a fixed point there, the
+    residual changes sign across the jump; the bed's impedance a mixture (1 - s) Z_- + s Z_+ of the
+    two sides with the s in [0, 1] that makes X = G(X) (the bed switching between its modes).
+    ``rising``: the residual rises across the jump (stable by the slope criterion)."""
+    from scipy.optimize import brentq
+
+    w = 2.0 * math.pi * f
+    (Zm, vm), (Zp, vp) = (_impedance(fields, X * (1.0 + d), f, None, extrapolate) for d in (-1e-9, 1e-9))
+    g = lambda s: math.log(X) - math.log(F0 * abs(Hdf) / abs(1.0 + Hdd * ((1 - s) * Zm + s * Zp)))  # noqa: E731
+    if g(0.0) * g(1.0) > 0:
+        return None
+    s = brentq(g, 0.0, 1.0, xtol=1e-14)
+    Z = (1 - s) * Zm + s * Zp
+    xd = Hdf * F0 / (1.0 + Hdd * Z)
+    xr = Hrf * F0 - Hrd * Z * xd
+    return Solution(damper_amplitude_m=float(abs(xd)), response_amplitude_m=float(abs(xr)), damper_phasor=complex(xd),
+                    response_phasor=complex(xr), effective_mass_kg=float(-Z.real / (w * w)),
+                    equivalent_damping_N_s_per_m=float(Z.imag / w), branch="jump", family=f"{vm.family}/{vp.family}",
+                    stable=bool(rising), slope=math.inf if rising else -math.inf, extrapolated=vm.extrapolated)
+
+
+def _solution(X, v, branch, residual, f, F0, Hdd, Hdf, Hrd, Hrf) -> Solution:
     h = 1e-4
     slope = (residual(X * math.exp(h), branch)[0] - residual(X * math.exp(-h), branch)[0]) / (2 * h)
     w = 2.0 * math.pi * f
