@@ -169,6 +169,8 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     Examples: pdamper response examples/structure_36.toml --force 0.4N --plot response.png;
     pdamper response examples/mast_modal.toml --force 0.3N --fields fields_36.nc --plot r.png
     """
+    import numpy as np
+
     from ..errors import InputError
     from ..plotting.figure import check_path
     from ..plotting.structure import response_figure
@@ -210,13 +212,16 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
                        scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
                        fields=fields, extrapolate=extrapolate)
     res.summary["warnings"] = warnings
-    prediction = None
+    prediction = curve = None
     if fields is not None:
         prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
         res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
             "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
-            "peak_damped_frequency_hz")}
-    s = _report(res, case, config, plot, lambda r, p: response_figure(r, p, fields=prediction), as_json)
+            "peak_damped_frequency_hz", "solve_time_median_s")}
+        if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
+            curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields, force_amplitude=f0,
+                                        extrapolate=extrapolate)
+    s = _report(res, case, config, plot, lambda r, p: response_figure(r, p, fields=curve or prediction), as_json)
     if s is None:
         return
     mark = lambda k: "" if s["steady"][k] else " *"  # noqa: E731
