@@ -290,6 +290,17 @@ class ResponseResult:
     summary: dict = field(default_factory=dict)
 
 
+def _forced(case: Case, frequencies, force_amplitude: float):
+    """(the structure, the frequencies [Hz] as an array) of a forced response, checked."""
+    s = _structure(case)
+    freqs = np.asarray(frequencies, dtype=float)
+    if freqs.ndim != 1 or freqs.size == 0 or np.any(~(freqs > 0)):
+        raise InputError("frequencies: give one or more frequencies > 0 [Hz]")
+    if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
+        raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
+    return s, freqs
+
+
 @quantities(frequencies="frequency", force_amplitude="force")
 def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cycles: int = 8,
                  workers: int | None = 1, scheduler: str | None = None, progress: bool | None = None,
@@ -302,12 +313,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     ``workers = 1`` runs them one after another."""
     from ..simulation import run_bare_structure
 
-    s = _structure(case)
-    freqs = np.asarray(frequencies, dtype=float)
-    if freqs.ndim != 1 or freqs.size == 0 or np.any(~(freqs > 0)):
-        raise InputError("frequencies: give one or more frequencies > 0 [Hz]")
-    if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
-        raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
+    s, freqs = _forced(case, frequencies, force_amplitude)
     if case.cycles < measure_cycles + 2:
         fewer = int(math.floor(case.cycles + 1e-9)) - 2
         alt = (f", or measure at most {fewer} (--measure-cycles {fewer})" if fewer >= 1 else "")
@@ -403,12 +409,7 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     ``extrapolate``."""
     from ..analysis.harmonic import solve_response
 
-    s = _structure(case)
-    freqs = np.asarray(frequencies, dtype=float)
-    if freqs.ndim != 1 or freqs.size == 0 or np.any(~(freqs > 0)):
-        raise InputError("frequencies: give one or more frequencies > 0 [Hz]")
-    if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
-        raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
+    s, freqs = _forced(case, frequencies, force_amplitude)
     bed = fields.bed_mass
     if math.isfinite(bed) and abs(bed - case.bed_mass) > 0.02 * case.bed_mass:
         raise InputError(f"the fields were built for a bed of {bed * 1e3:.4g} g, the config's bed is "
