@@ -67,10 +67,16 @@ def test_steadiness_compares_the_last_two_periods():
     t = (np.arange(4000) + 0.5) * 1e-3
     steady = np.sin(2 * np.pi * 2 * t)
     growing = (1 - np.exp(-t / 2.0)) * steady  # ~5 % from the period 3-3.5 s to 3.5-4 s
-    assert steadiness(t, steady, 2.0) == {"steady": True, "last_period_change": pytest.approx(0.0, abs=1e-9)}
+    assert steadiness(t, steady, 2.0) == {"steady": True, "last_period_change": pytest.approx(0.0, abs=1e-9),
+                                          "window_change": pytest.approx(0.0, abs=1e-9)}
     g = steadiness(t, growing, 2.0)
     expected = (1 - math.exp(-3.75 / 2)) / (1 - math.exp(-3.25 / 2)) - 1  # the envelopes at the periods' middles
     assert not g["steady"] and g["last_period_change"] == pytest.approx(expected, rel=0.05)
+    # a slow beat (a free motion at 2.02 Hz, 20 % of the forced one) passes the last two periods, not the window
+    t = (np.arange(10000) + 0.5) * 1e-3
+    beat = np.sin(2 * np.pi * 2 * t) + 0.2 * np.sin(2 * np.pi * 2.02 * t)
+    b = steadiness(t, beat, 2.0, measure_cycles=8)
+    assert b["last_period_change"] < 0.02 < b["window_change"] and not b["steady"]
 
 
 def test_start_on_the_bare_orbit_is_steady_from_the_first_period():

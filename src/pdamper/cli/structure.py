@@ -159,7 +159,8 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     DEM (default): at each frequency the structure runs under F0 sin(2 pi f t) for the config's
     [run] cycles (of the forcing), from rest or on an orbit (--start); the steady amplitude is
     the Fourier amplitude over the last --measure-cycles, and each point says whether it is
-    steady (the last two periods' amplitudes within 2 %). Without the damper: closed form (and
+    steady (the last two periods' amplitudes within 2 %, and the two halves of the measured
+    ones). Without the damper: closed form (and
     the bare structure run the same way); the bed as a solid mass: closed form.
 
     With --fields F.nc (and no --start): harmonic balance of the modal model with the damper as
@@ -244,8 +245,9 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
                  f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
                  + ratio)
     if not all(s["steady"]) or not all(s["bare_run_steady"]):
-        lines.append(f"  * not steady: the amplitude over the last period differs from the one before by more than "
-                     f"{100 * s['steady_tolerance']:g} % (a transient; run more --cycles or --start bare|fields)")
+        lines.append(f"  * not steady: the amplitude over the last period (or the last half of the measured ones) "
+                     f"differs from the one before by more than {100 * s['steady_tolerance']:g} %; a bare run: "
+                     "more than that from its steady closed form (a transient; run more --cycles or --start bare|fields)")
     lines.append(f"  energy balance error (worst point) {s['energy_balance_error_max']:.2g}; "
                  f"DEM time {s['wall_time_s']:.3g} s")
     for f, msg in s["failed"].items():

@@ -155,7 +155,8 @@ def parse_frequencies(text: str) -> np.ndarray:
 #: What ``start=`` takes: from rest, on the bare structure's steady orbit, on the fields' orbit.
 STARTS = ("rest", "bare", "fields")
 #: A point is steady when its amplitude over the last forcing period differs from the one over
-#: the period before by at most this (relative).
+#: the period before, and the two halves of the measured periods from each other, by at most
+#: this (relative); a bare run when it is this close to its exact steady amplitude.
 STEADY_TOLERANCE = 0.02
 
 
@@ -248,19 +249,27 @@ def response_point(case: Case, measure_cycles: int) -> dict:
     return {"amplitude_m": harmonic_amplitude(rec.time, rec.displacement, f, cycles=measure_cycles),
             "peak_m": float(np.max(np.abs(rec.displacement[-int(measure_cycles / f * case.recording.sample_rate):]))),
             "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps,
-            "wall_time_s": res.wall_time_s, **steadiness(rec.time, rec.displacement, f)}
+            "wall_time_s": res.wall_time_s, **steadiness(rec.time, rec.displacement, f, measure_cycles)}
 
 
-def steadiness(time, x, frequency: float) -> dict:
-    """``last_period_change``: |A_last / A_before - 1| of the amplitudes [m] over the last forcing
-    period and the one before; ``steady``: that change within :data:`STEADY_TOLERANCE`."""
-    n = int(round(1.0 / frequency / (time[1] - time[0])))
-    if time.size < 2 * n + 1:
-        return {"steady": False, "last_period_change": math.nan}
-    a1 = harmonic_amplitude(time, x, frequency, cycles=1)
-    a0 = harmonic_amplitude(time[:-n], x[:-n], frequency, cycles=1)
-    change = abs(a1 / a0 - 1.0) if a0 > 0 else math.inf
-    return {"steady": bool(change <= STEADY_TOLERANCE), "last_period_change": float(change)}
+def steadiness(time, x, frequency: float, measure_cycles: int = 2) -> dict:
+    """Is the record's amplitude at ``frequency`` steady? ``last_period_change``: |A_last / A_before
+    - 1| of the amplitudes [m] over the last forcing period and the one before; ``window_change``:
+    the same between the two halves of the last ``measure_cycles`` periods (a slow beat of a
+    lightly damped transient moves little from one period to the next); ``steady``: both within
+    :data:`STEADY_TOLERANCE`."""
+    def change(cycles):
+        n = int(round(cycles / frequency / (time[1] - time[0])))
+        if time.size < 2 * n + 1:
+            return math.inf
+        a1 = harmonic_amplitude(time, x, frequency, cycles=cycles)
+        a0 = harmonic_amplitude(time[:-n], x[:-n], frequency, cycles=cycles)
+        return abs(a1 / a0 - 1.0) if a0 > 0 else math.inf
+
+    last = change(1)
+    window = change(max(1, int(measure_cycles) // 2))
+    return {"steady": bool(last <= STEADY_TOLERANCE and window <= STEADY_TOLERANCE),
+            "last_period_change": float(last), "window_change": float(window)}
 
 
 class _Point:
@@ -341,7 +350,9 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     for c in cases:
         rec = run_bare_structure(c.drive, c.duration, sample_rate=c.recording.sample_rate)
         bare_run.append(harmonic_amplitude(rec.time, rec.displacement, c.drive.force_frequency, cycles=measure_cycles))
-        bare_steady.append(steadiness(rec.time, rec.displacement, c.drive.force_frequency)["steady"])
+        bare_steady.append(bool(abs(bare_run[-1] / float(s.steady_amplitude([c.drive.force_frequency],
+                                                                             force_amplitude)[0]) - 1.0)
+                                <= STEADY_TOLERANCE))  # against its exact steady amplitude
     bare = s.steady_amplitude(freqs, force_amplitude)
     # the bed as a rigid mass at the damper: same stiffness and damping, the mass added
     solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
@@ -357,6 +368,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         "method": "dem", "start": start, "steady_tolerance": STEADY_TOLERANCE,
         "steady": [bool(p.get("steady", False)) for p in points],
         "last_period_change": [float(p.get("last_period_change", math.nan)) for p in points],
+        "window_change": [float(p.get("window_change", math.nan)) for p in points],
         "bare_run_steady": bare_steady,
         "peak_steady": bool(points[k].get("steady", False)),
         "resonance_bare_m": float(s.steady_amplitude([s.natural_frequency], force_amplitude)[0])
