@@ -106,8 +106,9 @@ class Solution:
 @dataclass(frozen=True)
 class FrequencyResponse:
     """The solutions at each of ``frequencies`` [Hz] (``solutions[i]``: every fixed point, stable
-    or not, by increasing amplitude), ``jumps``: the frequencies [Hz] where the number of stable
-    solutions changes (a fold: the response jumps there on a slow sweep), ``time_s``: the wall
+    or not, by increasing amplitude), ``jumps``: the frequencies [Hz] where the stable solutions
+    change in number or in mode family (a fold, or the response moving to another mode or onto the
+    fields' jump: it jumps there on a slow sweep), ``time_s``: the wall
     time [s] of each frequency's solve."""
 
     frequencies: np.ndarray
@@ -253,15 +254,17 @@ def _solution(X, v, branch, residual, f, F0, Hdd, Hdf, Hrd, Hrf) -> Solution:
                     stable=bool(slope > 0), slope=float(slope), extrapolated=v.extrapolated)
 
 
-def _n_stable(modal, fields, f, F0, extrapolate, points) -> int:
-    return sum(s.stable for s in solve_frequency(modal, fields, f, F0, extrapolate=extrapolate, points=points))
+def _signature(solutions) -> tuple:
+    """The mode families of the stable solutions, sorted: a change of it between two frequencies is
+    a jump (a branch ends, or the response moves to another mode or to the jump)."""
+    return tuple(sorted(s.family for s in solutions if s.stable))
 
 
 def solve_response(modal, fields, frequencies, force_amplitude: float, *, extrapolate: bool = False,
                    points: int = 48, jump_tolerance: float = 1e-4) -> FrequencyResponse:
-    """:func:`solve_frequency` at each of ``frequencies`` [Hz]; between two neighbours whose numbers
-    of stable solutions differ, the jump frequency found by bisection to ``jump_tolerance``
-    (relative)."""
+    """:func:`solve_frequency` at each of ``frequencies`` [Hz]; between two neighbours whose stable
+    solutions differ in number or in mode family (:func:`_signature`), the jump frequency found by
+    bisection to ``jump_tolerance`` (relative)."""
     freqs = np.asarray(frequencies, dtype=float)
     sols, times = [], []
     for f in freqs:
@@ -271,17 +274,19 @@ def solve_response(modal, fields, frequencies, force_amplitude: float, *, extrap
     order = np.argsort(freqs)
     jumps = []
     for a, b in zip(order[:-1], order[1:]):
-        na, nb = (sum(s.stable for s in sols[i]) for i in (a, b))
-        if na == nb:
+        sa, sb = _signature(sols[a]), _signature(sols[b])
+        if sa == sb:
             continue
         lo, hi = float(freqs[a]), float(freqs[b])
         while hi - lo > jump_tolerance * hi:
             mid = 0.5 * (lo + hi)
-            if _n_stable(modal, fields, mid, force_amplitude, extrapolate, points) == na:
+            if _signature(solve_frequency(modal, fields, mid, force_amplitude, extrapolate=extrapolate,
+                                          points=points)) == sa:
                 lo = mid
             else:
                 hi = mid
-        jumps.append({"frequency_hz": 0.5 * (lo + hi), "stable_below": na, "stable_above": nb})
+        jumps.append({"frequency_hz": 0.5 * (lo + hi), "stable_below": len(sa), "stable_above": len(sb),
+                      "families_below": list(sa), "families_above": list(sb)})
     return FrequencyResponse(frequencies=freqs, force_amplitude=float(force_amplitude), solutions=sols, jumps=jumps,
                              time_s=np.asarray(times))
 

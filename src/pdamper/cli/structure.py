@@ -275,7 +275,7 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
                  f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
                  f"ratio {s['peak_reduction']:.3g}")
     if s["jump_frequencies_hz"]:
-        lines.append("  jumps (the number of stable branches changes) at " +
+        lines.append("  jumps (the stable branches change) at " +
                      ", ".join(f"{f:.4g} Hz" for f in s["jump_frequencies_hz"]))
     if s["extrapolated"]:
         lines.append("  warning: some solutions lie outside the fields' box (--extrapolate: end values continued)")
