@@ -141,6 +141,9 @@ def response_figure(result, path=None, *, fields=None, title: str | None = None,
 
 
 _C_FIELDS = ("tab:purple", "tab:green", "tab:orange")
+#: What a fields solution's mode family means on the figure.
+_FAMILY_WORDS = {"other": "scattered or swaying bed", "collide": "rolling collect-and-collide bed",
+                 "other/collide": "held at the mode change"}
 
 
 def _draw_fields(ax, result):
@@ -156,7 +159,7 @@ def _draw_fields(ax, result):
     for k, (name, pts) in enumerate(sorted(groups.items())):
         p = np.array(pts)
         ax.plot(p[:, 0], p[:, 1] * _MM, ".-", color=_C_FIELDS[k % len(_C_FIELDS)], lw=1.6, ms=4,
-                label=f"with damper, from the fields ({name}{' branch' if not name.startswith('branch') else ''})")
+                label=f"with damper, from the fields ({_FAMILY_WORDS.get(name, name)})")
     if unstable:
         p = np.array(unstable)
         ax.plot(p[:, 0], p[:, 1] * _MM, "x", color="black", ms=5, label="from the fields, unstable (slope criterion)")
