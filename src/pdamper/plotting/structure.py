@@ -151,10 +151,15 @@ def _draw_fields(ax, result):
     the unstable solutions (crosses) and the jump frequencies (dotted verticals)."""
     groups: dict = {}
     unstable = []
-    for f, sols in zip(result.frequencies, result.solution.solutions):
+    order = np.argsort(result.frequencies)
+    for i, j in enumerate(order):
+        f, sols = result.frequencies[j], result.solution.solutions[j]
         stable = [x for x in sols if x.stable]
         for rank, x in enumerate(stable):
-            groups.setdefault(x.family or f"branch {rank + 1}", []).append((f, x.damper_amplitude_m))
+            pts = groups.setdefault(x.family or f"branch {rank + 1}", [])
+            if pts and pts[-1][2] != i - 1:  # the branch was absent in between: no line across
+                pts.append((np.nan, np.nan, i - 1))
+            pts.append((f, x.damper_amplitude_m, i))
         unstable += [(f, x.damper_amplitude_m) for x in sols if not x.stable]
     for k, (name, pts) in enumerate(sorted(groups.items())):
         p = np.array(pts)
