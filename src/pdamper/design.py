@@ -28,7 +28,8 @@ from .units import quantities
 
 __all__ = ["Design", "design_filling", "TILT_MARGIN", "MIN_ROWS", "MARGINAL", "OPERATING_MARGIN", "Mode",
            "structure_mode", "rolling_mass_ratio", "closed_form_fields", "required_force", "OperatingPoint",
-           "operating_points", "StructureDesign", "design_for_structure"]
+           "operating_points", "StructureDesign", "design_for_structure", "load_structure", "verify_factors",
+           "judge_verification", "ROLLING_MODE", "VERIFY_REACH"]
 
 #: Fewer rows of spheres along the drive than this: the bed is a thin slab, little mass per wall.
 MIN_ROWS = 3
@@ -611,3 +612,138 @@ def _with_particles(fill: Design, n: int, x: float, gravity: float) -> Design:
                    stroke_over_x_opt=x / x_opt, regime="rolling collect-and-collide" if x >= x_opt else "scattered",
                    eta_star=eta, energy_per_cycle_J=math.pi * m_bed * fill.velocity_amplitude_m_s**2 * eta,
                    bed_mass_kg=m_bed)
+
+
+def load_structure(path, overrides: dict | None = None):
+    """The :class:`~pdamper.params.Case` of a structure file for the design: a config with a
+    ``[structure]`` section (one mode: mass with stiffness or natural_frequency; or ``modes =
+    [...]``; or ``matrices = ...``), read by :func:`pdamper.config.case_from_dict`. A file with
+    only ``[structure]`` is enough: ``[particles]`` defaults to the paper's 5 mm steel spheres
+    (their count is the design's), ``[container]`` to the paper's cuboid, and a structure given
+    without motion (no displacement, velocity or force) gets a nominal 1 mm start (the design
+    does not use it)."""
+    import tomllib
+    from pathlib import Path
+
+    from .config import case_from_dict
+
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"--structure {path}: file not found (give a TOML file with a [structure] section)")
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"--structure {path}: cannot read it as TOML: {exc}") from None
+    t = data.get("structure")
+    if not isinstance(t, dict):
+        raise InputError(f"--structure {path}: no [structure] section; give the structure's mode, e.g. [structure] "
+                         "mass = '25kg', natural_frequency = '3Hz', damping_ratio = 0.003 (or modes = [...], or "
+                         "matrices = 'frame.npz'; docs/structure.md)")
+    data.setdefault("particles", {"count": 1})
+    if not any(k in t for k in ("displacement", "velocity", "force_amplitude")):
+        t["displacement"] = "1mm"
+    return case_from_dict(data, overrides, source=str(path), base_dir=p.parent)
+
+
+def verify_factors(n: int):
+    """Strokes of the DEM check as factors of the operating stroke: 1 alone, 0.85 and 1 for two,
+    else ``n`` from 0.85 to 1.15 (the operating stroke among them for odd ``n``).
+
+    >>> verify_factors(2), verify_factors(3)
+    ([0.85, 1.0], [0.85, 1.0, 1.15])
+    """
+    import numpy as np
+
+    if n < 1:
+        raise InputError(f"--verify-strokes = {n}: give at least 1 (e.g. 3)")
+    if n == 1:
+        return [1.0]
+    if n == 2:
+        return [0.85, 1.0]
+    return [round(float(v), 6) for v in np.linspace(0.85, 1.15, n)]
+
+
+ROLLING_MODE = "rolling-collect-and-collide"
+#: How far beyond the checked strokes the DEM's operating stroke may be extrapolated for a pass.
+VERIFY_REACH = 1.1
+
+
+def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
+    """The verdict of a DEM check of design ``sd``: ``eta_star`` (mean over seeds) and ``modes``
+    (the majority motion mode) measured at the damper ``strokes`` [m] at the design's frequency.
+
+    The DEM's eta* replaces the law's in the energy balance (:func:`required_force` with the DEM
+    value): the force each stroke needs; where it crosses the design's force (linear between the
+    strokes) is the DEM's operating stroke. Verdict ``"pass"`` when that stroke lies within the
+    checked strokes (or within :data:`VERIFY_REACH` beyond them, extrapolated with the end stroke's
+    eta* held: the force needed then grows as X) and the bed rolls (collect-and-collide) at the
+    checked stroke nearest to it; otherwise ``"move the filling"`` with the reason and the next
+    filling to try.
+    """
+    import numpy as np
+
+    md = Mode(number=sd.mode, mass=sd.modal_mass_kg, stiffness=sd.modal_mass_kg * (2 * math.pi *
+              sd.natural_frequency_hz) ** 2, damping=2 * sd.damping_ratio * sd.modal_mass_kg * 2 * math.pi *
+              sd.natural_frequency_hz, frequency=sd.natural_frequency_hz, damping_ratio=sd.damping_ratio,
+              phi_damper=sd.phi_damper, phi_force=sd.phi_force, phi_response=sd.phi_response, modes=sd.modes)
+    fill = sd.filling
+    xs = np.asarray(strokes, dtype=float)
+    order = np.argsort(xs)
+    xs, eta = xs[order], np.asarray(eta_star, dtype=float)[order]
+    modes = [str(modes[i]) for i in order]
+    om = 2 * math.pi * sd.frequency_hz
+    pd2 = sd.phi_damper**2
+    need = xs / abs(sd.phi_damper) * (md.damping * om + eta * fill.bed_mass_kg * pd2 * om**2) / abs(sd.phi_force)
+    ok = np.isfinite(need)
+    x_dem, where, inside = None, "no DEM value", False
+    if ok.any():
+        xv, nv = xs[ok], need[ok]
+        g = nv - sd.force_N
+        cross = np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) <= 0)[0]
+        if cross.size:
+            i = int(cross[0])
+            x_dem = float(xv[i] - g[i] * (xv[i + 1] - xv[i]) / (g[i + 1] - g[i])) if g[i + 1] != g[i] else float(xv[i])
+            where, inside = "within the checked strokes", True
+        else:
+            i = 0 if g[0] > 0 else -1  # at a fixed eta* the force needed grows as X: extrapolate so
+            x_dem = float(xv[i] * sd.force_N / nv[i])
+            where = f"{'below' if i == 0 else 'above'} the checked strokes (extrapolated with eta* held)"
+            inside = xs[0] / VERIFY_REACH <= x_dem <= xs[-1] * VERIFY_REACH
+    nearest = int(np.argmin(np.abs(xs - x_dem))) if x_dem is not None else 0
+    mode_there = modes[nearest]
+    n, n_max = fill.particles, fill.max_particles
+
+    def other(k):
+        if not 1 <= k < n_max:
+            return ""
+        x_opt = th.optimal_stroke(th.clearance(fill.length_m, k, n_max))
+        return f"{k} spheres (X_opt = {x_opt * 1e3:.4g} mm, X/X_opt = {sd.damper_stroke_m / x_opt:.3g})"
+
+    if x_dem is not None and inside and mode_there == ROLLING_MODE:
+        verdict, reason, move = "pass", (f"the DEM's eta* puts the damper at {x_dem * 1e3:.4g} mm (the laws: "
+                                         f"{sd.damper_stroke_m * 1e3:.4g} mm, X/X_opt = "
+                                         f"{x_dem / fill.x_opt_m:.3g}), where the bed rolls"), ""
+    elif x_dem is None:
+        verdict, reason, move = "move the filling", "no stroke of the DEM check gave an eta*", "run more cycles"
+    elif mode_there != ROLLING_MODE:
+        verdict = "move the filling"
+        reason = (f"the bed is {mode_there or 'not classified'} at {xs[nearest] * 1e3:.4g} mm, not rolling "
+                  "collect-and-collide")
+        move = "add spheres (a smaller clearance puts the stroke further above X_opt): try " + (other(n + 1) or
+                                                                                            "a shorter container")
+    elif x_dem < xs[0]:
+        verdict = "move the filling"
+        reason = (f"the DEM bed dissipates more than the laws: the damper settles at about {x_dem * 1e3:.4g} mm "
+                  f"({x_dem / fill.x_opt_m:.3g} X_opt), {where}")
+        move = "add spheres to keep the margin: try " + (other(n + 1) or "a shorter container")
+    else:
+        verdict = "move the filling"
+        reason = (f"the DEM bed dissipates less than the laws: the damper settles at about {x_dem * 1e3:.4g} mm "
+                  f"({x_dem / fill.x_opt_m:.3g} X_opt), {where}")
+        move = "take spheres out (X_opt closer to the stroke, more eta*): try " + (other(n - 1) or
+                                                                                 "a longer container")
+    return {"strokes_m": xs.tolist(), "eta_star_dem": eta.tolist(),
+            "eta_star_law": [float(v) for v in closed_form_fields(xs / fill.x_opt_m, sd.kappa)[0]],
+            "stroke_over_x_opt": (xs / fill.x_opt_m).tolist(), "modes": modes, "force_required_N": need.tolist(),
+            "amplitude_damper_dem_m": x_dem, "operating_stroke": where, "verdict": verdict, "reason": reason,
+            "move": move}
