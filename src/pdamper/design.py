@@ -300,7 +300,7 @@ def rolling_mass_ratio(stroke_over_x_opt):
     acceleration) and tends to 1 far above (the bed rides with the walls).
 
     >>> round(float(rolling_mass_ratio(1.0)), 4), round(float(rolling_mass_ratio(1000.0)), 2)
-    (0.2857, 1.01)
+    (0.2857, 1.0)
     """
     import numpy as np
 
@@ -308,11 +308,10 @@ def rolling_mass_ratio(stroke_over_x_opt):
     if np.any(~(s >= 1.0)):
         raise InputError("rolling_mass_ratio: the rolling law holds for X >= X_opt (stroke_over_x_opt >= 1)")
     ti = np.asarray(th.impact_phase_rolling(s * th.X_OPT_OVER_H, 1.0), dtype=float).reshape(s.shape)
-    theta = np.linspace(0.0, math.pi, 4001)
-    c, sn = np.cos(theta), np.sin(theta)
-    rolling = (2.0 * c + np.sqrt(25.0 + 10.0 * sn**2)) / 7.0
-    u = np.where(theta[None, :] < ti[:, None], rolling[None, :], c[None, :])
-    out = 2.0 / math.pi * np.trapezoid(u * c[None, :], theta, axis=1)
+    theta = ti[:, None] * np.linspace(0.0, 1.0, 2001)[None, :]  # the rolling phase, 0 .. theta_i
+    rolling = (2.0 * np.cos(theta) + np.sqrt(25.0 + 10.0 * np.sin(theta) ** 2)) / 7.0
+    pushed = (math.pi - ti) / 2.0 - np.sin(2.0 * ti) / 4.0  # int cos^2 from theta_i to pi: the bed on the wall
+    out = 2.0 / math.pi * (np.trapezoid(rolling * np.cos(theta), theta, axis=1) + pushed)
     return out if np.ndim(stroke_over_x_opt) else out[0]
 
 
@@ -325,7 +324,7 @@ def closed_form_fields(stroke_over_x_opt, kappa: float = 1.0):
 
     >>> e, m = closed_form_fields([0.5, 1.0, 1.2])
     >>> [round(float(v), 3) for v in e], [round(float(v), 3) for v in m]
-    ([0.204, 0.91, 0.887], [0.286, 0.286, 0.543])
+    ([0.204, 0.909, 0.887], [0.286, 0.286, 0.543])
     """
     import numpy as np
 
@@ -422,7 +421,8 @@ class StructureDesign:
     """The filling that minimises a structure mode's resonant amplitude, with what the laws expect
     (SI units). ``amplitude_*``: at the damper point and at the response point, with the damper
     (at the operating point) and without (bare resonance F phi_f / (c omega_n)) and with the bed
-    as a solid mass; ``zeta_*``: the modal damping ratios; ``operating_points``: every solution of
+    as a solid mass; ``zeta_*``: the modal damping ratios (``zeta_bare`` the structure's alone,
+    ``zeta_structure + zeta_damper = zeta_total`` with the damper's added mass, at its resonance); ``operating_points``: every solution of
     the energy balance for the chosen filling (the design's is the largest stable one)."""
 
     mode: int
@@ -447,6 +447,7 @@ class StructureDesign:
     added_modal_mass_kg: float
     equivalent_damping_N_s_per_m: float
     zeta_bare: float
+    zeta_structure: float
     zeta_damper: float
     zeta_total: float
     amplitude_damper_m: float
@@ -573,6 +574,7 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     c_d = op.eta_star * m_bed * om
     m_add = pd**2 * op.effective_mass_kg
     zeta_b = md.damping_ratio
+    zeta_s = md.damping / (2 * (md.mass + m_add) * om)
     zeta_d = pd**2 * c_d / (2 * (md.mass + m_add) * om)
     zeta_t = (md.damping + pd**2 * c_d) / (2 * (md.mass + m_add) * om)
     q_bare = pf * f0 / (md.damping * 2 * math.pi * md.frequency)
@@ -593,7 +595,7 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
         frequency_hz=op.frequency_hz, damper_stroke_m=x, stroke_over_x_opt=op.stroke_over_x_opt,
         eta_star=op.eta_star, energy_per_cycle_J=math.pi * op.eta_star * m_bed * (x * om) ** 2,
         effective_mass_kg=op.effective_mass_kg, added_modal_mass_kg=m_add, equivalent_damping_N_s_per_m=c_d,
-        zeta_bare=zeta_b, zeta_damper=zeta_d, zeta_total=zeta_t, amplitude_damper_m=x,
+        zeta_bare=zeta_b, zeta_structure=zeta_s, zeta_damper=zeta_d, zeta_total=zeta_t, amplitude_damper_m=x,
         amplitude_damper_bare_m=pd * q_bare, amplitude_damper_solid_m=pd * q_solid, amplitude_response_m=pr * q,
         amplitude_response_bare_m=pr * q_bare, reduction=x / (pd * q_bare), mass_ratio=m_bed / m_at_damper,
         operating_points=[asdict(p) for p in pts], warnings=warnings)

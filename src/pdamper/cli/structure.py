@@ -395,7 +395,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
         ("added mass", f"{1e3 * sd.added_modal_mass_kg:.4g} g", f"phi_d^2 m_eff, m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} "
          "m_bed (rolling bed, eqs. 10-12)"),
         ("resonance", f"{sd.frequency_hz:.4g} Hz", f"without damper {sd.natural_frequency_hz:.4g} Hz"),
-        ("modal damping", pct(sd.zeta_total), f"= {pct(sd.zeta_bare)} structure + {pct(sd.zeta_damper)} damper"),
+        ("modal damping", pct(sd.zeta_total), f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
         ("amplitude, damper", mm(sd.amplitude_damper_m), f"without damper {mm(sd.amplitude_damper_bare_m)}, bed as a "
          f"solid mass {mm(sd.amplitude_damper_solid_m)}: ratio {sd.reduction:.3g}"),
     ]
