@@ -422,8 +422,9 @@ class StructureDesign:
     (SI units). ``amplitude_*``: at the damper point and at the response point, with the damper
     (at the operating point) and without (bare resonance F phi_f / (c omega_n)) and with the bed
     as a solid mass; ``zeta_*``: the modal damping ratios (``zeta_bare`` the structure's alone,
-    ``zeta_structure + zeta_damper = zeta_total`` with the damper's added mass, at its resonance); ``operating_points``: every solution of
-    the energy balance for the chosen filling (the design's is the largest stable one)."""
+    ``zeta_structure + zeta_damper = zeta_total`` with the damper's added mass, at its
+    resonance); ``operating_points``: every solution of the energy balance for the chosen
+    filling (the design's is the largest stable one)."""
 
     mode: int
     modes: int

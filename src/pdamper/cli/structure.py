@@ -378,8 +378,9 @@ def _design_structure_lines(sd, out, structure_file) -> list:
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
     pct = lambda z: f"{100 * z:.3g} %"  # noqa: E731
     d = sd.filling
-    lines = [f"pdamper design --structure {structure_file}: mode {sd.mode} of {sd.modes}, m = {sd.modal_mass_kg:.4g} kg, "
-             f"f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, F = {sd.force_N:.4g} N at resonance"
+    lines = [f"pdamper design --structure {structure_file}: mode {sd.mode} of {sd.modes}, "
+             f"m = {sd.modal_mass_kg:.4g} kg, f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, "
+             f"F = {sd.force_N:.4g} N at resonance"
              + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response {sd.phi_response:.4g})"
                 if sd.modes > 1 or sd.phi_damper != 1.0 else "")]
     rows = [
@@ -392,10 +393,12 @@ def _design_structure_lines(sd, out, structure_file) -> list:
          "rolling collect-and-collide)"),
         ("eta*", f"{sd.eta_star:.3f}", "rolling law, eq. (14)"),
         ("energy per cycle", f"{1e3 * sd.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2"),
-        ("added mass", f"{1e3 * sd.added_modal_mass_kg:.4g} g", f"phi_d^2 m_eff, m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} "
+        ("added mass", f"{1e3 * sd.added_modal_mass_kg:.4g} g",
+         f"phi_d^2 m_eff, m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} "
          "m_bed (rolling bed, eqs. 10-12)"),
         ("resonance", f"{sd.frequency_hz:.4g} Hz", f"without damper {sd.natural_frequency_hz:.4g} Hz"),
-        ("modal damping", pct(sd.zeta_total), f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
+        ("modal damping", pct(sd.zeta_total),
+         f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
         ("amplitude, damper", mm(sd.amplitude_damper_m), f"without damper {mm(sd.amplitude_damper_bare_m)}, bed as a "
          f"solid mass {mm(sd.amplitude_damper_solid_m)}: ratio {sd.reduction:.3g}"),
     ]
@@ -443,7 +446,8 @@ def _verify_structure(sd, case, cycles, n_strokes, n_seeds, workers, quiet) -> d
         mat = dataclasses.replace(mat, density=d.density_kg_m3)
     base = dataclasses.replace(
         case, particles=(dataclasses.replace(sphere, count=d.particles, radius=d.sphere_radius_m, material=mat),),
-        container=dataclasses.replace(case.container, geometry=Cuboid(length=d.length_m, width=d.width_m, height=height)),
+        container=dataclasses.replace(case.container,
+                                      geometry=Cuboid(length=d.length_m, width=d.width_m, height=height)),
         drive=HarmonicDrive(stroke=sd.damper_stroke_m, frequency=sd.frequency_hz), cycles=cycles,
         drop_cycles=2 if cycles >= 5 else 1)  # the record's whole cycles: one fewer than asked at an odd frequency
     strokes = [sd.damper_stroke_m * f for f in verify_factors(n_strokes)]
