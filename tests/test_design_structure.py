@@ -136,6 +136,10 @@ def test_judge_verification_passes_the_laws_and_moves_the_filling_otherwise():
     sway = judge_verification(d, xs, law, ["swaying"] * 3)
     assert sway["verdict"] == "move the filling" and "swaying" in sway["reason"]
     assert f"{d.filling.particles + 1} spheres" in sway["move"]
+    # the DEM's operating stroke between a swaying and a rolling stroke: on the edge, not a pass
+    edge = judge_verification(d, xs, 0.9 * law, [ROLLING_MODE, "swaying", ROLLING_MODE])
+    assert xs[1] < edge["amplitude_damper_dem_m"] < xs[2]
+    assert edge["verdict"] == "move the filling" and "swaying" in edge["reason"]
 
 
 def test_verify_runs_the_dem_at_ci_size_and_gives_a_verdict():

@@ -680,7 +680,7 @@ def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
     strokes) is the DEM's operating stroke. Verdict ``"pass"`` when that stroke lies within the
     checked strokes (or within :data:`VERIFY_REACH` beyond them, extrapolated with the end stroke's
     eta* held: the force needed then grows as X) and the bed rolls (collect-and-collide) at the
-    checked stroke nearest to it; otherwise ``"move the filling"`` with the reason and the next
+    checked strokes on both sides of it (at the end stroke, extrapolated); otherwise ``"move the filling"`` with the reason and the next
     filling to try.
     """
     import numpy as np
@@ -712,7 +712,11 @@ def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
             x_dem = float(xv[i] * sd.force_N / nv[i])
             where = f"{'below' if i == 0 else 'above'} the checked strokes (extrapolated with eta* held)"
             inside = xs[0] / VERIFY_REACH <= x_dem <= xs[-1] * VERIFY_REACH
-    nearest = int(np.argmin(np.abs(xs - x_dem))) if x_dem is not None else 0
+    # the checked strokes around the DEM's operating stroke (both sides of it, or the end one)
+    around = ([i, i + 1] if where.startswith("within") else [0 if where.startswith("below") else len(xs) - 1]
+              ) if x_dem is not None else [0]
+    off = [j for j in around if modes[j] != ROLLING_MODE]
+    nearest = off[0] if off else around[0]
     mode_there = modes[nearest]
     n, n_max = fill.particles, fill.max_particles
 
@@ -745,6 +749,11 @@ def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
                   f"({x_dem / fill.x_opt_m:.3g} X_opt), {where}")
         move = "take spheres out (X_opt closer to the stroke, more eta*): try " + (other(n - 1) or
                                                                                  "a longer container")
+    rolls_from = next((j for j in range(len(xs)) if all(m == ROLLING_MODE for m in modes[j:])), None)
+    if verdict != "pass" and mode_there != ROLLING_MODE and rolls_from is not None and rolls_from > 0:
+        need_margin = math.ceil(10 * xs[rolls_from] / fill.x_opt_m - 1e-9) / 10
+        move += (f"; or design again with --margin {need_margin:g} (the bed rolled from "
+                 f"{xs[rolls_from] / fill.x_opt_m:.3g} X_opt on in this check)")
     return {"strokes_m": xs.tolist(), "eta_star_dem": eta.tolist(),
             "eta_star_law": [float(v) for v in closed_form_fields(xs / fill.x_opt_m, sd.kappa)[0]],
             "stroke_over_x_opt": (xs / fill.x_opt_m).tolist(), "modes": modes, "force_required_N": need.tolist(),
