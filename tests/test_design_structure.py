@@ -188,8 +188,15 @@ def test_a_file_without_structure_and_a_mode_beyond_the_modes(tmp_path):
     assert r.exit_code != 0 and "--force" in r.output and "--structure" in r.output
 
 
-def test_a_structure_only_file_takes_the_paper_container_and_spheres():
-    case = load_structure(FRAME)
+def test_a_structure_only_file_takes_the_paper_container_and_spheres(tmp_path):
+    p = tmp_path / "frame.toml"
+    p.write_text('[structure]\nmass = "25kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.003\n')
+    case = load_structure(p)
     assert (case.container.geometry.length, case.container.geometry.width) == pytest.approx((0.12, 0.0404))
     assert case.particles[0].radius == pytest.approx(0.005)
     assert case.drive.mass == pytest.approx(M) and case.drive.natural_frequency == pytest.approx(F_N)
+    r = CliRunner().invoke(main, ["design", "--structure", str(p), "--force", "1.5N", "--json"])
+    full = CliRunner().invoke(main, ["design", "--structure", str(FRAME), "--force", "1.5N", "--json"])
+    assert r.exit_code == 0 and full.exit_code == 0, r.output + full.output
+    only, ex = json.loads(r.stdout), json.loads(full.stdout)
+    assert only["filling"] == ex["filling"] and only["amplitude_damper_m"] == ex["amplitude_damper_m"]
