@@ -436,6 +436,7 @@ class StructureDesign:
     phi_response: float
     force_N: float
     filling: Design
+    warnings: list = field(default_factory=list)
     margin: float
     kappa: float
     candidates: int
@@ -459,13 +460,13 @@ class StructureDesign:
     reduction: float
     mass_ratio: float
     operating_points: list
-    warnings: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
+        """Every field, the filling and the operating points as nested dicts (for JSON)."""
         return asdict(self)
 
 
-def _lengths(length_range, length, width, radius):
+def _lengths(length_range, length):
     import numpy as np
 
     if length_range is not None:
@@ -537,7 +538,7 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     if 2 * r > w:
         raise InputError(f"--sphere-radius = {r * 1e3:g} mm: a sphere does not fit the width of {w * 1e3:g} mm")
     best, count = None, 0
-    for big_l in _lengths(length_range, length, w, r):
+    for big_l in _lengths(length_range, length):
         if 2 * r > big_l:
             continue
         n_max = Cuboid(length=float(big_l), width=w).clearance_capacity(r)
