@@ -64,6 +64,22 @@ def test_energy_balance_against_a_hand_calculation_on_one_mode():
     assert d.amplitude_damper_bare_m == pytest.approx(F0 / (2 * ZETA * K), rel=1e-12)
 
 
+def test_a_force_inside_the_jump_holds_the_damper_at_x_opt():
+    md = structure_mode(frame())
+    h = 0.030
+    x_opt, m_bed = th.optimal_stroke(h), 36 * SPHERE
+    low = operating_points(md, 0.5, x_opt=x_opt, bed_mass=m_bed)
+    # the force the scattered bed needs just below X_opt and the rolling bed at X_opt, by hand
+    om_s = math.sqrt(K / (M + 2 / 7 * m_bed))
+    f_low = x_opt * (md.damping * om_s + th.X_OPT_OVER_H * m_bed * om_s**2)
+    f_high = x_opt * (md.damping * om_s + th.ETA_MAX * m_bed * om_s**2)
+    f_mid = 0.5 * (f_low + f_high)
+    pts = operating_points(md, f_mid, x_opt=x_opt, bed_mass=m_bed)
+    assert [p.state for p in pts if p.stable] == ["held at X_opt"]
+    assert [p.state for p in low if p.stable] == ["scattered"]  # a small force: below X_opt, scattered
+    assert f_low < 1.5 and f_high < 1.5  # the 25 kg frame at 1.5 N: above the jump, on the rolling branch
+
+
 def test_design_lowers_the_amplitude_and_operates_at_least_1_2_x_opt():
     d = design_for_structure(frame(), force=F0, length_range=(0.08, 0.2), max_mass_ratio=0.01)
     assert d.amplitude_damper_m < d.amplitude_damper_bare_m

@@ -205,8 +205,8 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
 # the kinematics of eqs. 10-12); the mode's amplitude follows from the energy balance at phase
 # resonance (docs/structure.md, "Design for a structure").
 
-#: The design keeps the operating stroke at least this factor above X_opt: in the DEM try of
-#: issue 22 the efficient rolling collect-and-collide set in only above ~1.1-1.2 X_opt (the bed
+#: The design keeps the operating stroke at least this factor above X_opt: in a DEM try of the
+#: design question (a frame at 3 Hz) the efficient rolling collect-and-collide set in only above ~1.1-1.2 X_opt (the bed
 #: sways below it, with a lower eta*), so the law's jump at X_opt is not a point to aim at.
 OPERATING_MARGIN = 1.2
 #: Effective mass over bed mass assumed in the scattered state (the scattered law, eq. 8, gives
