@@ -252,7 +252,7 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
                              "(or --frequency and --stroke without it)")
     for name, value in (("--frequency", frequency), ("--stroke", stroke)):
         if value is None:
-            raise click.UsageError(f"Missing option '{name}' (or give --structure STRUCT.toml --force F).")
+            raise InputError(f"Missing option '{name}' (or give --structure STRUCT.toml --force F).")
     if radius is None:
         raise InputError("missing --sphere-radius (the sphere radius r, e.g. 5mm)")
 
