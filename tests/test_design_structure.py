@@ -175,6 +175,8 @@ def test_verify_runs_the_dem_at_ci_size_and_gives_a_verdict():
     (["--mode", "0"], ["--mode 0"]),
     (["--force", "0N"], ["--force"]),
     (["--force", "-1N"], ["--force"]),
+    (["--force", "0.01N"], ["no filling", "1.2 X_opt", "47 fillings tried"]),
+    (["--force", "5N"], ["no filling", "lift"]),
     (["--stroke", "10mm"], ["--stroke", "--structure"]),
     (["--shape", "cylinder"], ["cylinder", "cuboid"]),
 ])

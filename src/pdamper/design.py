@@ -496,7 +496,8 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     whose bed mass is within ``max_bed_mass`` [kg] and ``max_mass_ratio`` (of the mode's mass at the
     damper, m / phi_d^2). A candidate is admissible when every stable solution of its balance is on
     the rolling branch at X >= margin X_opt (none scattered, none held at X_opt); the design is
-    the admissible one with the smallest amplitude (the largest stable solution, if several).
+    the admissible one with the smallest amplitude (the largest stable solution, if several) whose
+    acceleration X Omega^2 stays below ``gravity`` (no lift-off: the laws assume the bed on the floor).
 
     >>> from pdamper.excitation import CoupledStructure
     >>> s = CoupledStructure(mass=25.0, stiffness=25.0 * (6 * math.pi) ** 2, damping_ratio=0.003,
@@ -553,14 +554,17 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
             if not pts or any(p.state != "rolling" or p.stroke_over_x_opt < margin for p in pts):
                 continue
             x = max(p.stroke_m for p in pts)
+            if x * (2 * math.pi * max(p.frequency_hz for p in pts)) ** 2 >= gravity:
+                continue  # lift-off: the bed leaves the floor, the laws do not hold
             if best is None or x < best[0] * (1 - 1e-9):
                 best = (x, float(big_l), n, n_max, m_bed, x_opt)
     if best is None:
         raise InputError(
             f"no filling within the bounds keeps the operating stroke at or above {margin:g} X_opt on the rolling "
-            f"branch ({count} fillings tried): the force {f0:g} N is too small for the clearances of these containers "
-            "(a longer container, smaller spheres or fewer spheres raise X_opt... the other way: a shorter container "
-            "or a larger --max-bed-mass lowers it); see docs/structure.md, \"Design for a structure\"")
+            f"branch without lift-off (A = X Omega^2 < g; {count} fillings tried): the force {f0:g} N puts the damper "
+            "below the margin for the clearances of these containers (a shorter container or more spheres lower X_opt; "
+            "a larger --max-bed-mass allows more spheres) or, with a large force, lifts the bed off (a longer "
+            "container); see docs/structure.md, \"Design for a structure\"")
     _, big_l, n, n_max, m_bed, x_opt = best
     pts = operating_points(md, f0, x_opt=x_opt, bed_mass=m_bed, kappa=kappa, refine=True)
     op = max((p for p in pts if p.stable), key=lambda p: p.stroke_m)
