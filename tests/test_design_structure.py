@@ -152,6 +152,8 @@ def test_judge_verification_passes_the_laws_and_moves_the_filling_otherwise():
     sway = judge_verification(d, xs, law, ["swaying"] * 3)
     assert sway["verdict"] == "move the filling" and "swaying" in sway["reason"]
     assert f"{d.filling.particles + 1} spheres" in sway["move"]
+    failed = judge_verification(d, xs, [np.nan] * 3, [""] * 3)
+    assert failed["verdict"] == "no verdict" and failed["amplitude_damper_dem_m"] is None
     # the DEM's operating stroke between a swaying and a rolling stroke: on the edge, not a pass
     edge = judge_verification(d, xs, 0.9 * law, [ROLLING_MODE, "swaying", ROLLING_MODE])
     assert xs[1] < edge["amplitude_damper_dem_m"] < xs[2]

@@ -685,8 +685,9 @@ def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
     strokes) is the DEM's operating stroke. Verdict ``"pass"`` when that stroke lies within the
     checked strokes (or within :data:`VERIFY_REACH` beyond them, extrapolated with the end stroke's
     eta* held: the force needed then grows as X) and the bed rolls (collect-and-collide) at the
-    checked strokes on both sides of it (at the end stroke, extrapolated); otherwise ``"move the filling"`` with the reason and the next
-    filling to try.
+    checked strokes on both sides of it (at the end stroke, extrapolated); otherwise ``"move the
+    filling"`` with the reason and the next filling (or margin) to try; ``"no verdict"`` when no
+    stroke gave an eta* (every case failed). The effective mass (so the frequency) stays the laws'.
     """
     import numpy as np
 
@@ -736,7 +737,8 @@ def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
                                          f"{sd.damper_stroke_m * 1e3:.4g} mm, X/X_opt = "
                                          f"{x_dem / fill.x_opt_m:.3g}), where the bed rolls"), ""
     elif x_dem is None:
-        verdict, reason, move = "move the filling", "no stroke of the DEM check gave an eta*", "run more cycles"
+        verdict, reason, move = ("no verdict", "no stroke of the DEM check gave an eta* (every case failed)",
+                                 "run the check with more --verify-cycles")
     elif mode_there != ROLLING_MODE:
         verdict = "move the filling"
         reason = (f"the bed is {mode_there or 'not classified'} at {xs[nearest] * 1e3:.4g} mm, not rolling "
