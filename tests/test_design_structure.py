@@ -220,3 +220,15 @@ def test_a_structure_only_file_takes_the_paper_container_and_spheres(tmp_path):
     assert r.exit_code == 0 and full.exit_code == 0, r.output + full.output
     only, ex = json.loads(r.stdout), json.loads(full.stdout)
     assert only["filling"] == ex["filling"] and only["amplitude_damper_m"] == ex["amplitude_damper_m"]
+
+
+def test_a_harmonic_case_writes_its_config_the_verify_sweep_stores():
+    # the sweep store writes each case's config: DriveBase.config_extra must be the drive's method
+    from pdamper.config import dumps_case, loads_case
+    from pdamper.excitation import HarmonicDrive
+    from pdamper.params import Case, ParticleSet
+
+    case = Case(particles=(ParticleSet(count=36),), drive=HarmonicDrive(stroke=0.015, frequency=2.995))
+    assert HarmonicDrive(stroke=0.015, frequency=2.995).config_extra() == {}
+    again = loads_case(dumps_case(case))
+    assert again.drive == case.drive and again.particles == case.particles
