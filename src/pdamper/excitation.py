@@ -143,13 +143,14 @@ class DriveBase:
         """InputError when the drive moves the container absurdly far for its inner ``length`` [m]
         (a bare number read as metres); nothing to check by default."""
 
+    def config_extra(self) -> dict:
+        """Config keys beyond the plain fields (a modal structure's ``modes``); none by default."""
+        return {}
+
 
 def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
     """'; did you mean '13mm'?' when the number read in thousandths would be plausible."""
     return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
-    def config_extra(self) -> dict:
-        """Config keys beyond the plain fields (a modal structure's ``modes``); none by default."""
-        return {}
 
 
 @register_drive
