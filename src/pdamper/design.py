@@ -766,3 +766,16 @@ def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
             "stroke_over_x_opt": (xs / fill.x_opt_m).tolist(), "modes": modes, "force_required_N": need.tolist(),
             "amplitude_damper_dem_m": x_dem, "operating_stroke": where, "verdict": verdict, "reason": reason,
             "move": move}
+
+
+def design_cuboid(case, *, given: bool, source) -> Cuboid:
+    """The cuboid a design for a structure starts from: the case's container when it is a cuboid,
+    else the paper's, which the user must then size (``given``: --length/--length-range and --width
+    were given)."""
+    geo = case.container.geometry
+    if isinstance(geo, Cuboid):
+        return geo
+    if not given:
+        raise InputError(f"{source}: [container] is a {geo.shape}; the design sizes a cuboid: give --length "
+                         "(or --length-range) and --width")
+    return Cuboid()

@@ -322,9 +322,8 @@ def _design_structure(structure_file, mode_number, force, frequency, stroke, sha
                       container_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
                       verify, verify_cycles, verify_strokes, seeds, workers, as_json):
     """``pdamper design --structure``: the filling for a structure mode, its report and the DEM check."""
-    from ..design import design_for_structure, load_structure
+    from ..design import design_cuboid, design_for_structure, load_structure
     from ..errors import InputError
-    from ..geometry.cuboid import Cuboid
 
     for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--container-radius", container_radius),
                         ("--max-particles", max_particles), ("--tilt", tilt)):
@@ -339,12 +338,8 @@ def _design_structure(structure_file, mode_number, force, frequency, stroke, sha
         raise InputError(f"--force{'' if force is None else f' = {force:g} N'}: give the force amplitude on the "
                          "structure at the mode's resonance, > 0, e.g. --force 1.5N")
     case = load_structure(structure_file)
-    geo = case.container.geometry
-    if not isinstance(geo, Cuboid):
-        if length is None and length_range is None or width is None:
-            raise InputError(f"{structure_file}: [container] is a {getattr(geo, 'shape', type(geo).__name__)}; the "
-                             "design sizes a cuboid: give --length (or --length-range) and --width")
-        geo = Cuboid()
+    geo = design_cuboid(case, given=not (length is None and length_range is None or width is None),
+                        source=structure_file)
     sphere = case.particles[0]
     rng = _length_range(length_range) if length_range is not None else None
     if rng is None and length is None:
