@@ -1,8 +1,8 @@
 """What sets Gear's step: an instrumented copy of ``run_gear`` that counts, per accepted step of the
 driven run, the step length (log bins) and which degree of freedom gave the largest error estimate
 (a sphere resting on the floor -- touching it with |v_y| < 5 mm/s --, one touching it while moving,
-one off the floor; its position along y, along x/z, or its spin), and whether that sphere touches
-another sphere. ``--mode 1`` leaves the y error of the resting spheres out of the error control (the
+one off the floor; its position along y, along x/z, or its spin), whether that sphere touches
+another sphere, and whether one of its pair contacts opened or closed within the step. ``--mode 1`` leaves the y error of the resting spheres out of the error control (the
 most a floor held as a constraint could give the step control), ``--mode 2`` every error of the
 resting spheres (unstable: shows the control is needed there).
 
@@ -50,27 +50,35 @@ _ERR_PROBE = """        err = 0.0
                     arg = kind * 10 + 3 + c
                     arg_i = i
 """
-_ACC = """        t = tn
-        steps += 1
+_ACC = """        # accept: correct the prediction into the Nordsieck vector (the corrector increments of
 """
-_ACC_PROBE = """        t = tn
-        steps += 1
-        if t > 0.0:
+_ACC_PROBE = """        if tn > 0.0:
             b = int(math.floor(math.log10(hs) * 10.0)) + 100
             probe[0, min(max(b, 0), 99)] += 1
             probe[1, arg] += 1
             probe[2, 0] += hs
             touch = 0
+            changed = 0
             for i2 in range(n):
                 for a2 in range(pairs.row[i2], pairs.row[i2 + 1]):
                     j2 = pairs.second[a2]
                     if i2 == arg_i or j2 == arg_i:
+                        rr = (rad[i2] + rad[j2]) ** 2
                         dx = pos[i2, 0] - pos[j2, 0]
                         dy = pos[i2, 1] - pos[j2, 1]
                         dz = pos[i2, 2] - pos[j2, 2]
-                        if dx * dx + dy * dy + dz * dz < (rad[i2] + rad[j2]) ** 2:
+                        now = dx * dx + dy * dy + dz * dz < rr
+                        dx = nord[0, i2, 0] - nord[0, j2, 0]
+                        dy = nord[0, i2, 1] - nord[0, j2, 1]
+                        dz = nord[0, i2, 2] - nord[0, j2, 2]
+                        before = dx * dx + dy * dy + dz * dz < rr
+                        if now:
                             touch = 1
+                        if now != before:
+                            changed = 1
             probe[2, 1 + touch] += 1
+            probe[2, 3 + changed] += 1
+        # accept: correct the prediction into the Nordsieck vector (the corrector increments of
 """
 _WRAP = '''
 
@@ -149,6 +157,7 @@ def main(argv=None):
            "driven steps per s": round(acc / case.drive.duration(case.cycles)),
            "mean driven step [us]": round(p[2, 0] / acc * 1e6, 2),
            "largest error on a sphere touching another": round(p[2, 2] / acc, 3),
+           "... whose pair contact opened or closed in the step": round(p[2, 4] / acc, 3),
            "eta*": s["eta_star"], "ledger error": s["energy_balance_error"],
            "largest error at": {k: round(v, 3) for k, v in sorted(share.items(), key=lambda kv: -kv[1])},
            "steps [us]: count": {f"{10 ** ((b - 100) / 10) * 1e6:.2g}-{10 ** ((b - 99) / 10) * 1e6:.2g}": int(p[0, b])
