@@ -25,14 +25,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-_ERR = """        err = 0.0
-        for i in range(n):
-            for c in range(3):
-                if math.fabs(force[i, c]) > err:
-                    err = math.fabs(force[i, c])
-                if math.fabs(torque[i, c]) * rad[i] > err:
-                    err = math.fabs(torque[i, c]) * rad[i]
-"""
+#: the error loop of run_gear runs from this line to the NaN check after it (replaced whole)
+_ERR_START, _ERR_END = "        err = 0.0\n", "        if not (err < 1e300):"
 _ERR_PROBE = """        err = 0.0
         arg = 0
         for i in range(n):
@@ -99,7 +93,11 @@ def probe_module(where: Path):
                 "from .neighbours import", "from .record import", "from .structure import"):
         assert old in src, f"kernels/gear.py changed: {old!r} not found; update benchmarks/gear_probe.py"
         src = src.replace(old, old.replace("from ..", "from pdamper.").replace("from .", "from pdamper.kernels."))
-    for old, new in ((_ERR, _ERR_PROBE), (_ACC, _ACC_PROBE),
+    i0 = src.index(_ERR_START)
+    i1 = src.index(_ERR_END, i0)
+    assert "math.fabs(force[i, c]) > err" in src[i0:i1], "kernels/gear.py changed: update benchmarks/gear_probe.py"
+    src = src[:i0] + _ERR_PROBE + src[i1:]
+    for old, new in ((_ACC, _ACC_PROBE),
                      ("def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):",
                       "def run_gear_probe(span, bodies, gear, pairs, walls, search, table, drive, samples, probe, mode, "
                       "vrest):")):
