@@ -4,7 +4,10 @@ driven run, the step length (log bins) and which degree of freedom gave the larg
 one off the floor; its position along y, along x/z, or its spin), whether that sphere touches
 another sphere, and whether one of its pair contacts opened or closed within the step. ``--mode 1`` leaves the y error of the resting spheres out of the error control (the
 most a floor held as a constraint could give the step control), ``--mode 2`` every error of the
-resting spheres (unstable: shows the control is needed there).
+resting spheres (unstable: shows the control is needed there), ``--mode 3`` adds a linearly
+implicit normal force (the Hertz force of every touching pair and floor contact linearised in the
+overlap at the corrected positions, stiffness only, one Gauss-Seidel sweep) inside Gear's step:
+the second candidate of issue 23 in its simplest form.
 
     python benchmarks/gear_probe.py examples/cuboid_36.toml --stroke 3mm --cycles 6 [--mode 1]
                                     [--set numerics.gear_max_step=5e-4]
@@ -74,6 +77,52 @@ _ACC_PROBE = """        if tn > 0.0:
             probe[2, 3 + changed] += 1
         # accept: correct the prediction into the Nordsieck vector (the corrector increments of
 """
+_IMPLICIT_NORMAL = '''
+
+@njit
+def _implicit_normal(bodies, dv, hs, pairs, walls):
+    """Mode 3 of benchmarks/gear_probe.py: the Hertz normal force of every touching pair and floor
+    contact linearised in the overlap at the corrected positions (stiffness only, dF/d delta =
+    1.5 k delta^0.5; one Gauss-Seidel sweep), its change added to the position increments dv."""
+    pos = bodies.position
+    rad = bodies.radius
+    inv_m = bodies.inv_mass
+    c0h = 0.5 * hs * hs * GEAR_C[0]
+    n = pos.shape[0]
+    for a in range(pairs.row[n]):
+        i = pairs.first[a]
+        j = pairs.second[a]
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dz = pos[j, 2] - pos[i, 2]
+        cut = rad[i] + rad[j]
+        d2 = dx * dx + dy * dy + dz * dz
+        if d2 >= cut * cut:
+            continue
+        dist = math.sqrt(d2)
+        nx = dx / dist
+        ny = dy / dist
+        nz = dz / dist
+        kl = 1.5 * pairs.stiffness[a] * math.sqrt(cut - dist)
+        kk = inv_m[i] + inv_m[j]
+        u = (dv[i, 0] - dv[j, 0]) * nx + (dv[i, 1] - dv[j, 1]) * ny + (dv[i, 2] - dv[j, 2]) * nz
+        s = c0h * kl * kk
+        du = -u * s / (1.0 + s)
+        for c in range(3):
+            nc = nx if c == 0 else (ny if c == 1 else nz)
+            dv[i, c] += du * inv_m[i] / kk * nc
+            dv[j, c] -= du * inv_m[j] / kk * nc
+    floor = walls.floor
+    if floor >= 0:
+        for i in range(n):
+            delta = rad[i] - pos[i, 1]
+            if delta <= 0.0:
+                continue
+            kl = 1.5 * walls.stiffness[i, floor] * math.sqrt(delta)
+            s = c0h * kl * inv_m[i]
+            dv[i, 1] -= dv[i, 1] * s / (1.0 + s)
+'''
+
 _WRAP = '''
 
 import numpy as _np
@@ -104,6 +153,10 @@ def probe_module(where: Path):
         assert old in src, "kernels/gear.py changed: update benchmarks/gear_probe.py"
         src = src.replace(old, new)
     src = src.replace("        arg = 0\n", "        arg = 0\n        arg_i = 0\n", 1)
+    call = "        dfx, dfy, dfz, dpf = _implicit_friction(bodies, force, torque, hs, record)\n"
+    assert call in src, "kernels/gear.py changed: update benchmarks/gear_probe.py"
+    src = src.replace(call, call + "        if mode == 3:\n            _implicit_normal(bodies, force, hs, pairs, walls)\n")
+    src += _IMPLICIT_NORMAL
     f = where / "gear_probe_kernel.py"
     f.write_text(src + _WRAP)
     spec = importlib.util.spec_from_file_location("gear_probe_kernel", f)
@@ -128,7 +181,7 @@ def main(argv=None):
     ap.add_argument("config")
     ap.add_argument("--stroke", default="3mm")
     ap.add_argument("--cycles", type=float, default=6)
-    ap.add_argument("--mode", type=int, default=0, choices=(0, 1, 2))
+    ap.add_argument("--mode", type=int, default=0, choices=(0, 1, 2, 3))
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = ap.parse_args(argv)
     import pdamper.kernels.gear as kg
