@@ -196,7 +196,7 @@ MODE = '{ frequency = "2Hz", damping_ratio = 0.005, modal_mass = "7kg", damper =
     (f'modes = [{MODE}]\nmatrices = "mast.npz"\ndisplacement = "1cm"', "both are given"),
     (f'modes = [{MODE}]\nmass = "7kg"\ndisplacement = "1cm"', "[structure] mass is a key of the single-mode"),
     ('mass = "7kg"\nnatural_frequency = "2Hz"\ndamper_dof = 3\ndisplacement = "1cm"', "damper_dof is a key"),
-    (f'modes = [{MODE}]\ndamper_dof = 3\ndisplacement = "1cm"', "structure.damper_dof belongs to matrices"),
+    (f'modes = [{MODE}]\ndamper_dof = 3\ndisplacement = "1cm"', "[structure] damper_dof belongs to matrices"),
     ('matrices = "mast.npz"\ndamping_ratio = 0.005\ndisplacement = "1cm"', "damper_dof is missing"),
     ('matrices = "mast.npz"\ndamper_dof = 40\ndamping_ratio = 0.005\ndisplacement = "1cm"',
      "damper_dof = 40; must be a dof index from 0 to 39"),

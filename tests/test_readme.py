@@ -107,3 +107,17 @@ def test_python_api_example_runs(monkeypatch, capsys):
     out = capsys.readouterr().out
     eta = float(re.search(r"eta\* = ([0-9.]+)", out).group(1))
     assert 0.3 < eta < 1.2, out
+
+
+@pytest.mark.slow
+def test_quoted_run_output_is_real():
+    """The README's `pdamper run examples/cuboid_36.toml` line is what the command prints (20 cycles)."""
+    from pdamper.cli import main
+
+    use = _section("Use")
+    i = next(k for k, b in enumerate(_blocks(use, "sh")) if b.strip().startswith("pdamper run "))
+    command = _blocks(use, "sh")[i].strip()
+    quoted = _blocks(use, "text")[i].strip()
+    result = CliRunner().invoke(main, shlex.split(command.replace("examples/", str(ROOT / "examples") + "/"))[1:])
+    assert result.exit_code == 0, result.output
+    assert quoted in result.stdout

@@ -246,8 +246,12 @@ def with_overrides(case: Case, overrides: dict) -> Case:
     """``case`` with the dotted keys of ``overrides`` replaced, e.g. ``{"contact.friction": 1.0,
     "drive.stroke": "3mm", "particles.material": Material(...)}``: :func:`pdamper.schema.replace`
     (values read exactly like a config file's, with the same messages; parameter objects as they
-    are; keys not given keep their values, the same objects)."""
-    return replace(case, overrides)
+    are; keys not given keep their values, the same objects). A parameter class's message names
+    the key as a config file has it (``[run] gravity``)."""
+    try:
+        return replace(case, overrides)
+    except InputError as exc:
+        raise InputError(_as_key(str(exc))) from None
 
 
 def _apply_overrides(data: dict, overrides: dict) -> dict:

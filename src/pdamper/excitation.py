@@ -148,6 +148,24 @@ class DriveBase:
         return {}
 
 
+def _check_structure_scale(s, length: float, damping_ratio: float) -> None:
+    """A structure's start (``displacement``, ``velocity``) or resonant swing (F0 / K / 2 zeta, of
+    its first mode) beyond twice the container's ``length`` [m]: an InputError with the fix."""
+    for key in ("displacement", "velocity"):
+        v = abs(getattr(s, key))
+        limit = 2 * length if key == "displacement" else 2 * length * 2 * math.pi * s.natural_frequency
+        if v > limit:
+            unit = "m" if key == "displacement" else "m/s"
+            raise InputError(f"structure.{key} = {getattr(s, key):g} {unit} moves the container {v / limit:.3g} "
+                             f"times further than twice its length {length:g} m (a number without a unit is SI)"
+                             f"{_mm_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
+    resonant = s.force_amplitude / s.stiffness / max(2.0 * damping_ratio, 0.02)
+    if resonant > 2 * length:
+        raise InputError(f"structure.force_amplitude = {s.force_amplitude:g} N would swing the structure by about "
+                         f"{resonant:.3g} m at resonance (F0 / K / 2 zeta), beyond twice the container's length "
+                         f"{length:g} m; give a smaller force (a number without a unit is N)")
+
+
 def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
     """'; did you mean '13mm'?' when the number read in thousandths would be plausible."""
     return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
@@ -502,19 +520,7 @@ class CoupledStructure(DriveBase):
     def check_scale(self, length: float) -> None:
         """A start or a resonant swing beyond twice the container's length is a bare number meant
         in thousandths (or a force far too large)."""
-        for key in ("displacement", "velocity"):
-            v = abs(getattr(self, key))
-            limit = 2 * length if key == "displacement" else 2 * length * 2 * math.pi * self.natural_frequency
-            if v > limit:
-                unit = "m" if key == "displacement" else "m/s"
-                raise InputError(f"structure.{key} = {getattr(self, key):g} {unit} moves the container {v / limit:.3g} "
-                                 f"times further than twice its length {length:g} m (a number without a unit is SI)"
-                                 f"{_mm_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
-        resonant = self.force_amplitude / self.stiffness / max(2.0 * self.damping_ratio, 0.02)
-        if resonant > 2 * length:
-            raise InputError(f"structure.force_amplitude = {self.force_amplitude:g} N would swing the structure by "
-                             f"about {resonant:.3g} m at resonance (F0 / K / 2 zeta), beyond twice the container's "
-                             f"length {length:g} m; give a smaller force (a number without a unit is N)")
+        _check_structure_scale(self, length, self.damping_ratio)
 
     def describe(self) -> str:
         forced = (f"F0 = {self.force_amplitude:g} N at {self.force_frequency:g} Hz" if self.force_amplitude > 0
@@ -980,6 +986,10 @@ class ModalStructure(DriveBase):
             q = np.linalg.solve(A, pf * force_amplitude)
             out.append(abs(complex(np.dot(pr if point == "response" else pd, q))))
         return np.array(out)
+
+    def check_scale(self, length: float) -> None:
+        """As a single mode's, with the first mode's frequency, stiffness and damping."""
+        _check_structure_scale(self, length, self.modal_damping_ratio)
 
     def kernel_drive(self):
         """(kind, par, table, state) for the kernels (:func:`pdamper.kernels.structure.modal_step`);

@@ -81,9 +81,13 @@ def _check_fit(case) -> None:
     spans = {"length": hi[0] - lo[0], "height": hi[1] - lo[1], "width": hi[2] - lo[2]}
     key = min(spans, key=spans.get)
     if 2 * r > spans[key]:
+        # the shape's own key that sets this span (a cylinder's radius sets twice itself)
+        fields = {f.name: getattr(geo, f.name) for f in dataclasses.fields(geo) if spec_of(f).dimension == "length"}
+        own = next((f"container.{k} = {v * 1e3:g} mm" for k, v in fields.items()
+                    if math.isclose(v, spans[key]) or math.isclose(2 * v, spans[key])),
+                   f"its inside is {spans[key] * 1e3:g} mm across")
         raise InputError(f"particles.radius = {r * 1e3:g} mm: a sphere of diameter {2e3 * r:g} mm does not fit in the "
-                         f"container (its inside is {spans[key] * 1e3:g} mm across in {key}); give a smaller radius or "
-                         "a larger container")
+                         f"container ({own}); give a smaller radius or a larger container")
     volume = geo.volume()
     beds = sum(p.count * 4.0 / 3.0 * math.pi * p.radius ** 3 for p in case.particles)
     if beds > _DENSEST * volume:

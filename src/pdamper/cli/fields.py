@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-import sys
+import shlex
 
 import click
 
@@ -47,7 +47,10 @@ def fields_command(source, out, sel, plot, as_json):
             chosen[dim.strip()] = float(value)
         except ValueError:
             chosen[dim.strip()] = value
-    fields = build_fields(source, sel=chosen, command="pdamper " + " ".join(sys.argv[1:]))
+    # the command as given (from its parsed options, not sys.argv, which is the caller's when embedded)
+    command = " ".join(["pdamper fields", shlex.quote(str(source)), "--out", shlex.quote(str(out)),
+                        *[f"--sel {shlex.quote(item)}" for item in sel]])
+    fields = build_fields(source, sel=chosen, command=command)
     write_fields(fields, out)
     if plot:
         from ..plotting.fields import fields_figure

@@ -286,46 +286,88 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 
 
 @main.command("design")
-@click.option("--frequency", type=Quantity("frequency"), required=True, help="Structure's frequency, e.g. 2Hz.")
-@click.option("--stroke", type=Quantity("length"), required=True,
-              help="Stroke (amplitude) of the structure where the damper sits, e.g. 10mm.")
+@click.option("--structure", "structure_file", type=click.Path(dir_okay=False), metavar="STRUCT.toml",
+              help="Design for a structure: a config whose [structure] section gives the mode(s) "
+                   "(the stroke is then the design's answer; give --force, not --frequency/--stroke).")
+@click.option("--mode", "mode_number", type=int, default=1, show_default=True,
+              help="With --structure: the mode to damp (1 = the lowest).")
+@click.option("--force", type=Quantity("force"), help="With --structure: force amplitude at the mode's resonance, "
+              "e.g. 1.5N.")
+@click.option("--frequency", type=Quantity("frequency"), help="Structure's frequency, e.g. 2Hz (without --structure).")
+@click.option("--stroke", type=Quantity("length"),
+              help="Stroke (amplitude) of the structure where the damper sits, e.g. 10mm (without --structure).")
 @click.option("--shape", type=click.Choice(["cuboid", "cylinder"]), default="cuboid", show_default=True)
 @click.option("--length", type=Quantity("length"), help="Cuboid: inner length along the motion, e.g. 120mm.")
+@click.option("--length-range", metavar="LOW:HIGH",
+              help="With --structure: container lengths to choose from, e.g. 80mm:200mm (1 mm steps, at most 121).")
 @click.option("--width", type=Quantity("length"), help="Cuboid: inner width, e.g. 40.4mm.")
 @click.option("--container-radius", type=Quantity("length"), help="Cylinder: inner radius R, e.g. 39mm.")
-@click.option("--sphere-radius", type=Quantity("length"), help="Sphere radius r, e.g. 5mm (required).")
+@click.option("--sphere-radius", type=Quantity("length"),
+              help="Sphere radius r, e.g. 5mm (required without --structure; with it the config's, else 5 mm).")
 @click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --sphere-radius.")
-@click.option("--density", type=Quantity("density"), default=7900.0, show_default=True,
-              help="Sphere density [kg/m^3] (steel).")
+@click.option("--density", type=Quantity("density"),
+              help="Sphere density [kg/m^3] (default: 7900, steel; with --structure the config's spheres).")
 @click.option("--max-particles", type=click.IntRange(min=2),
               help="Spheres covering the floor in one layer (default: the floor packing of the container).")
+@click.option("--max-bed-mass", type=Quantity("mass"), help="With --structure: largest bed mass, e.g. 200g.")
+@click.option("--max-mass-ratio", type=click.FloatRange(min=0, min_open=True),
+              help="With --structure: largest bed mass over the mode's mass at the damper, e.g. 0.01.")
+@click.option("--margin", type=click.FloatRange(min=1.0), default=1.2, show_default=True,
+              help="With --structure: the operating stroke is kept at least this factor above X_opt.")
 @click.option("--tilt", type=Quantity("angle"), help="Expected mounting tilt, e.g. 1deg.")
 @click.option("--verify", is_flag=True, help="Run a short DEM sweep around the stroke with the proposed filling.")
 @click.option("--verify-cycles", type=click.IntRange(min=3), default=8, show_default=True,
-              help="Drive cycles per verification case (the first 2 dropped).")
+              help="Drive cycles per verification case (the first 2 dropped; 1 below 5 cycles with --structure).")
+@click.option("--verify-strokes", type=click.IntRange(min=1), default=3, show_default=True,
+              help="With --structure: strokes of the DEM check (0.85 to 1.15 times the operating stroke).")
+@click.option("--seeds", type=click.IntRange(min=1), default=2, show_default=True,
+              help="With --structure: DEM seeds per stroke of the check.")
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes for --verify (default: all cores).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @user_errors
-def design_command(frequency, stroke, shape, length, width, container_radius, sphere_radius, radius, density,
-                   max_particles, tilt, verify, verify_cycles, workers, as_json):
+def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
+                   container_radius, sphere_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio,
+                   margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
-    Inverts eqs. (6), (17): h = X / 0.4075, N_p = N_p,max (1 - h/L), rounded up so that X is at
-    or just above X_opt (the largest eta* of the paper's laws). Reports the expected eta*,
-    energy per cycle and bed mass, and warns about lift-off, tilt sensitivity and thin beds.
+    With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
+    N_p = N_p,max (1 - h/L), rounded up so that X is at or just above X_opt (the largest eta*
+    of the paper's laws). Reports the expected eta*, energy per cycle and bed mass, and warns
+    about lift-off, tilt sensitivity and thin beds.
+
+    With a structure (--structure STRUCT.toml --mode 1 --force 1.5N): the stroke is the
+    unknown. Sizes the filling (and the container's length within --length-range, the bed
+    within --max-bed-mass / --max-mass-ratio) that minimises the mode's resonant amplitude,
+    from the energy balance at resonance with the paper's laws, keeping the operating stroke
+    >= 1.2 X_opt; --verify checks it with a short DEM sweep and gives a verdict.
 
     Example: pdamper design --frequency 2Hz --stroke 10mm --length 120mm --width 40.4mm --sphere-radius 5mm
+
+    Example: pdamper design --structure examples/frame_3hz.toml --mode 1 --force 1.5N
     """
     from ..design import design_filling
     from ..errors import InputError
 
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
+    if structure_file is not None:
+        return _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range,
+                                 width, container_radius, radius, density, max_particles, max_bed_mass,
+                                 max_mass_ratio, margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers,
+                                 as_json)
+    for name, value in (("--force", force), ("--length-range", length_range), ("--max-bed-mass", max_bed_mass),
+                        ("--max-mass-ratio", max_mass_ratio)):
+        if value is not None:
+            raise InputError(f"{name} belongs to the design for a structure: give --structure STRUCT.toml with it "
+                             "(or --frequency and --stroke without it)")
+    for name, value in (("--frequency", frequency), ("--stroke", stroke)):
+        if value is None:
+            raise InputError(f"Missing option '{name}' (or give --structure STRUCT.toml --force F).")
     if radius is None:
         raise InputError("missing --sphere-radius (the sphere radius r, e.g. 5mm)")
 
     d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius, shape=shape, length=length,
                        width=width, container_radius=container_radius, max_particles=max_particles, tilt=tilt,
-                       density=density)
+                       density=7900.0 if density is None else density)
     out = d.to_dict()
     if verify:
         out["verify"] = _verify(d, verify_cycles, workers, quiet=as_json)
@@ -383,3 +425,144 @@ def _verify(d, cycles, workers, quiet):
         xs = ds.stroke.values
     return {"strokes_m": xs.tolist(), "eta_star_mean": eta.tolist(), "seeds": [0, 1], "cycles": cycles,
             "eta_theory": [float(th.eta_theory(x, d.clearance_m)) for x in xs]}
+
+
+def _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
+                      container_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
+                      verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+    """``pdamper design --structure``: the filling for a structure mode, its report and the DEM check."""
+    from ..design import design_cuboid, design_for_structure, load_structure
+    from ..errors import InputError
+
+    for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--container-radius", container_radius),
+                        ("--max-particles", max_particles), ("--tilt", tilt)):
+        if value is not None:
+            raise InputError(f"{name} does not apply with --structure: the design finds the stroke at the mode's "
+                             "resonance and sizes a cuboid (give --length or --length-range, --width, "
+                             "--sphere-radius)")
+    if shape != "cuboid":
+        raise InputError("--shape cylinder: the design for a structure sizes a cuboid (give --length or "
+                         "--length-range and --width)")
+    if force is None or not force > 0:
+        raise InputError(f"--force{'' if force is None else f' = {force:g} N'}: give the force amplitude on the "
+                         "structure at the mode's resonance, > 0, e.g. --force 1.5N")
+    case = load_structure(structure_file)
+    geo = design_cuboid(case, given=not (length is None and length_range is None or width is None),
+                        source=structure_file)
+    sphere = case.particles[0]
+    rng = _length_range(length_range) if length_range is not None else None
+    if rng is None and length is None:
+        length = geo.length
+    sd = design_for_structure(case.drive, force=force, mode=mode_number,
+                              sphere_radius=radius if radius is not None else sphere.radius,
+                              length=length, width=width if width is not None else geo.width, length_range=rng,
+                              max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio,
+                              density=density if density is not None else sphere.material.density, margin=margin)
+    out = sd.to_dict()
+    out["structure_file"] = str(structure_file)
+    if verify:
+        out["verify"] = _verify_structure(sd, case, verify_cycles, verify_strokes, seeds, workers, quiet=as_json)
+    if as_json:
+        echo_json(out)
+        return
+    click.echo("\n".join(_design_structure_lines(sd, out, structure_file)))
+
+
+def _length_range(text: str):
+    from ..errors import InputError
+    from ..units import parse_quantity
+
+    parts = str(text).split(":")
+    if len(parts) != 2:
+        raise InputError(f"--length-range {text!r}: write LOW:HIGH, e.g. 80mm:200mm")
+    return tuple(parse_quantity(p, "length", name="--length-range") for p in parts)
+
+
+def _design_structure_lines(sd, out, structure_file) -> list:
+    mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
+    pct = lambda z: f"{100 * z:.3g} %"  # noqa: E731
+    d = sd.filling
+    lines = [f"pdamper design --structure {structure_file}: mode {sd.mode} of {sd.modes}, "
+             f"m = {sd.modal_mass_kg:.4g} kg, f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, "
+             f"F = {sd.force_N:.4g} N at resonance"
+             + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response {sd.phi_response:.4g})"
+                if sd.modes > 1 or sd.phi_damper != 1.0 else "")]
+    rows = [
+        ("container", d.describe_container(), f"{sd.candidates} fillings tried"),
+        ("filling", f"{d.particles} of {d.max_particles}", f"spheres r = {mm(d.sphere_radius_m)}, {d.rows} rows"),
+        ("bed mass", f"{1e3 * d.bed_mass_kg:.4g} g", f"{pct(sd.mass_ratio)} of the mode's mass at the damper"),
+        ("clearance h", mm(d.clearance_m), "eq. (6)"),
+        ("X_opt", mm(d.x_opt_m), "eq. (17)"),
+        ("damper stroke X", mm(sd.damper_stroke_m), f"X/X_opt = {sd.stroke_over_x_opt:.3f} (kept >= {sd.margin:g}: "
+         "rolling collect-and-collide)"),
+        ("eta*", f"{sd.eta_star:.3f}", "rolling law, eq. (14)"),
+        ("energy per cycle", f"{1e3 * sd.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2"),
+        ("added mass", f"{1e3 * sd.added_modal_mass_kg:.4g} g",
+         f"phi_d^2 m_eff, m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} "
+         "m_bed (rolling bed, eqs. 10-12)"),
+        ("resonance", f"{sd.frequency_hz:.4g} Hz", f"without damper {sd.natural_frequency_hz:.4g} Hz"),
+        ("modal damping", pct(sd.zeta_total),
+         f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
+        ("amplitude, damper", mm(sd.amplitude_damper_m), f"without damper {mm(sd.amplitude_damper_bare_m)}, bed as a "
+         f"solid mass {mm(sd.amplitude_damper_solid_m)}: ratio {sd.reduction:.3g}"),
+    ]
+    if sd.modes > 1 or sd.phi_response != sd.phi_damper:
+        rows.append(("amplitude, response", mm(sd.amplitude_response_m),
+                     f"without damper {mm(sd.amplitude_response_bare_m)} (the response point)"))
+    rows.append(("acceleration", f"{d.acceleration_amplitude_m_s2:.3g} m/s^2",
+                 f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"))
+    wv = max(16, *(len(value) + 2 for _, value, _ in rows))
+    lines += [f"  {name:<20}{value:<{wv}}{note}" for name, value, note in rows]
+    lines.append(f"  margin: the DEM shows the rolling mode only above ~1.1-1.2 X_opt (the bed sways below, with less "
+                 f"eta*); the filling keeps X >= {sd.margin:g} X_opt (--margin)")
+    lines += [f"warning: {w}" for w in sd.warnings]
+    if "verify" in out:
+        v = out["verify"]
+        lines.append(f"  DEM check at {sd.frequency_hz:.4g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
+        for x, s, e, t, m, fr in zip(v["strokes_m"], v["stroke_over_x_opt"], v["eta_star_dem"], v["eta_star_law"],
+                                     v["modes"], v["force_required_N"]):
+            lines.append(f"    X = {mm(x):>9} ({s:.3g} X_opt)  eta* DEM {e:.3f}  law {t:.3f}  force needed "
+                         f"{fr:.3g} N  {m or 'mode n/a'}")
+        dem = v["amplitude_damper_dem_m"]
+        lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else "")
+                     + (f" (DEM amplitude {mm(dem)})" if dem is not None and v["verdict"] == "pass" else ""))
+    return lines
+
+
+def _verify_structure(sd, case, cycles, n_strokes, n_seeds, workers, quiet) -> dict:
+    """The DEM check of a structure design: a sweep of the design's filling, driven at the design's
+    resonance with strokes around its operating stroke, and the verdict (:func:`pdamper.design.judge_verification`)."""
+    import dataclasses
+
+    import numpy as np
+
+    from ..analysis.modes import majority_mode
+    from ..design import judge_verification, verify_factors
+    from ..excitation import HarmonicDrive
+    from ..geometry.cuboid import Cuboid
+    from ..studies import SweepSpec, run_sweep
+
+    d = sd.filling
+    height = getattr(case.container.geometry, "height", Cuboid().height)
+    sphere = case.particles[0]
+    mat = sphere.material
+    if mat.density != d.density_kg_m3:
+        mat = dataclasses.replace(mat, density=d.density_kg_m3)
+    base = dataclasses.replace(
+        case, particles=(dataclasses.replace(sphere, count=d.particles, radius=d.sphere_radius_m, material=mat),),
+        container=dataclasses.replace(case.container,
+                                      geometry=Cuboid(length=d.length_m, width=d.width_m, height=height)),
+        drive=HarmonicDrive(stroke=sd.damper_stroke_m, frequency=sd.frequency_hz), cycles=cycles,
+        drop_cycles=2 if cycles >= 5 else 1)  # the record's whole cycles: one fewer than asked at an odd frequency
+    strokes = [sd.damper_stroke_m * f for f in verify_factors(n_strokes)]
+    seeds = tuple(range(n_seeds))
+    spec = SweepSpec(base=base, strokes=tuple(strokes), seeds=seeds)
+    with tempfile.TemporaryDirectory(prefix="pdamper-design-") as tmp:
+        ds = run_sweep(spec, f"{tmp}/store", workers=workers, progress=False if quiet else None)
+        eta = ds.eta_star.mean("seed", skipna=True).values
+        xs = ds.stroke.values
+        modes = ([majority_mode(ds["mode"].sel(stroke=x).values.ravel())[0] for x in xs] if "mode" in ds
+                 else [""] * len(xs))
+    out = judge_verification(sd, xs, eta, modes)
+    out.update(seeds=list(seeds), cycles=cycles, eta_star_seeds=np.asarray(ds.eta_star.values).tolist())
+    return out

@@ -42,22 +42,28 @@ def _client(workers, scheduler):
     n = workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"--workers {workers}: need at least 1")
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=logging.ERROR)
+    import dask
+
+    # one case per worker at a time: the rest wait at the scheduler in priority order (longest
+    # first) instead of in a busy worker's own queue, where the last of them would keep one worker
+    # busy while another idles
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
 
-def _weight(point) -> float:
-    """How long a case is expected to take, for ordering: the stroke (large strokes take longest)."""
-    if isinstance(point, dict):
-        return float(point.get("drive.stroke", 0.0)) if isinstance(point.get("drive.stroke"), (int, float)) else 0.0
-    return float(point)
-
-
-def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None, total=None, done=0):
+def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None, total=None, done=0, costs=None):
     """Run ``fn(case)`` for every ``(key, point, seed, case)`` of ``items``; call
     ``on_result(key, point, seed, result)`` as each finishes (``point``: the case's ``{key: value}``
     on the sweep's grid).
+
+    The cases start longest first (``costs``: ``{key: expected cost}``, default
+    :func:`pdamper.studies.cost.expected_cost` of each case), each with a Dask priority by that
+    rank, and a local cluster hands a worker its next case only when it is free (worker
+    saturation 1.0), so the last cases to start are the short ones and no worker waits at the end
+    while another still works through a queue. The order changes no number: every case is
+    independent and seeded.
 
     ``progress``: show a bar (cases done / total, rate, time left) on stderr; default: when
     stderr is a terminal or in Jupyter.
@@ -76,9 +82,11 @@ def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None
     client, cluster = _client(workers, scheduler)
     bar = progress_bar(total=total or len(items), initial=done, unit="case", desc="sweep", disable=not progress,
                        dynamic_ncols=True)
-    # the longest cases (large strokes) first, for a balanced finish
-    order = sorted(items, key=lambda it: -_weight(it[1]))
-    futures = {client.submit(fn, it[3], key=f"pdamper-{it[0]}", pure=False): it for it in order}
+    from .cost import ranked
+
+    order = ranked(items, costs)
+    futures = {client.submit(fn, it[3], key=f"pdamper-{it[0]}", pure=False, priority=len(order) - rank): it
+               for rank, it in enumerate(order)}
     finished = 0
     try:
         try:

@@ -182,6 +182,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
     import numpy as np
     import xarray as xr
 
+    from .cost import finished, learned_costs
     from .executor import execute
     from .store import ResultStore
     from .sweep import STROKE, SweepSpec, add_theory, parse_axis, run_one, theory_attrs
@@ -197,7 +198,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
     if strokes is not None:
         axes = [a for a in axes if a.key != STROKE]
     out = Path(out)
-    stores, items, total = [], [], 0
+    stores, items, total, group_of, measured = [], [], 0, {}, {}
     for label, case, _ in settings:
         if cycles is not None:
             case = dataclasses.replace(case, cycles=cycles)
@@ -206,10 +207,13 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         spec = SweepSpec(base=case, axes=axes, strokes=strokes, seeds=seeds)
         store = ResultStore.create_or_open(out / _slug(label), spec, attrs=theory_attrs(case), until_steady=until_steady)
         stores.append((label, store, case))
-        for k, p, s in spec.items():
-            total += 1
-            if not store.has(k):
-                items.append((f"{_slug(label)}--{k}", p, s, spec.case(p, s)))
+        todo = [(k, p, s) for k, p, s in spec.items() if not store.has(k)]
+        total += len(spec.items())
+        for k, p, s in todo:
+            items.append((f"{_slug(label)}--{k}", p, s, spec.case(p, s)))
+            group_of[items[-1][0]] = label
+        if len(todo) < len(spec.items()):  # resumed: its finished cases tell how long this setting's take
+            measured[label] = finished(store, spec)
     by_slug = {_slug(label): store for label, store, _ in stores}
 
     def save(key, point, seed, result):
@@ -218,8 +222,8 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
 
     if items:
         execute(items, functools.partial(run_one, keep=keep, until_steady=until_steady), save, workers=workers,
-                scheduler=scheduler,
-                progress=progress, total=total, done=total - len(items))
+                scheduler=scheduler, progress=progress, total=total, done=total - len(items),
+                costs=learned_costs(items, group_of, measured))
     panels = {label: panel for label, _, panel in settings}
     parts = []
     for label, store, case in stores:

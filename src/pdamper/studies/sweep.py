@@ -369,6 +369,7 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
     """
     import functools
 
+    from .cost import finished, learned_costs
     from .executor import execute
     from .store import ResultStore
 
@@ -382,9 +383,9 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
     items = spec.items()
     todo = [(k, p, s, spec.case(p, s)) for k, p, s in items if not store.has(k)]
     if todo:
+        costs = learned_costs(todo, {}, {None: finished(store, spec)} if len(todo) < len(items) else {})
         execute(todo, functools.partial(run_one, keep=keep, until_steady=until_steady), store.save, workers=workers,
-                scheduler=scheduler,
-                progress=progress, total=len(items), done=len(items) - len(todo))
+                scheduler=scheduler, progress=progress, total=len(items), done=len(items) - len(todo), costs=costs)
     ds = add_theory(store.dataset(), store.case())
     store.write_outputs(ds)
     return ds
