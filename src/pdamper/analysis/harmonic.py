@@ -24,7 +24,10 @@ residual ``R(X) = ln X - ln G(X)`` on a log grid over the fields' amplitude rang
 nodes), on each branch of the fields (:meth:`~pdamper.analysis.fields.DamperFields.branches`: in
 a jump interval the segment below and the one above both exist), refines each sign change with
 Brent's method and drops those that are the fields' jump rather than a root (``|R| > 1e-6``
-after refinement).
+after refinement). Where no segment has a root inside a jump interval and R changes sign across
+the jump itself, the bed switches between its modes: that solution is reported at the jump (the
+interval's geometric midpoint), branch ``"jump"``, with the two sides' impedances mixed to meet
+X = G(X). A jump frequency is where the stable solutions change in number or in mode family.
 
 **Stability** is the slope criterion of the amplitude equation: a fixed point is stable when
 ``dR/d ln X > 0`` (equivalently ``dG/dX < 1``: G crosses the identity from above). Its sign
