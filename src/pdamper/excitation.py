@@ -148,9 +148,22 @@ class DriveBase:
         return {}
 
 
+#: Highest natural or forcing frequency of a structure [Hz].
+_MAX_STRUCTURE_HZ = 1000.0
+
+
 def _check_structure_scale(s, length: float, damping_ratio: float) -> None:
     """A structure's start (``displacement``, ``velocity``) or resonant swing (F0 / K / 2 zeta, of
-    its first mode) beyond twice the container's ``length`` [m]: an InputError with the fix."""
+    its first mode) beyond twice the container's ``length`` [m], or a frequency beyond 1 kHz (no
+    damper test; the time step would vanish): an InputError with the fix."""
+    if not s.natural_frequency <= _MAX_STRUCTURE_HZ:
+        raise InputError(f"structure: a natural frequency of {s.natural_frequency:.3g} Hz (structure.mass = {s.mass:g} kg, "
+                         f"stiffness {s.stiffness:.3g} N/m) is beyond {_MAX_STRUCTURE_HZ:g} Hz; check structure.mass and "
+                         "structure.stiffness / natural_frequency (a number without a unit is SI)")
+    ff = s.force_frequency
+    if ff is not None and not ff <= _MAX_STRUCTURE_HZ:
+        raise InputError(f"structure.force_frequency = {ff:g} Hz is beyond {_MAX_STRUCTURE_HZ:g} Hz, no damper test; "
+                         "give the forcing frequency, e.g. '2Hz'")
     for key in ("displacement", "velocity"):
         v = abs(getattr(s, key))
         limit = 2 * length if key == "displacement" else 2 * length * 2 * math.pi * s.natural_frequency
@@ -161,9 +174,10 @@ def _check_structure_scale(s, length: float, damping_ratio: float) -> None:
                              f"{_mm_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
     resonant = s.force_amplitude / s.stiffness / max(2.0 * damping_ratio, 0.02)
     if resonant > 2 * length:
-        raise InputError(f"structure.force_amplitude = {s.force_amplitude:g} N would swing the structure by about "
-                         f"{resonant:.3g} m at resonance (F0 / K / 2 zeta), beyond twice the container's length "
-                         f"{length:g} m; give a smaller force (a number without a unit is N)")
+        raise InputError(f"structure.force_amplitude = {s.force_amplitude:g} N would swing the structure "
+                         f"(structure.mass = {s.mass:g} kg, stiffness {s.stiffness:.3g} N/m) by about {resonant:.3g} m "
+                         f"at resonance (F0 / K / 2 zeta), beyond twice the container's length {length:g} m; give a "
+                         "smaller force or check the mass (a number without a unit is SI)")
 
 
 def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
