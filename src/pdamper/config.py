@@ -89,7 +89,7 @@ from .excitation import DRIVES
 from .geometry import SHAPES
 from .materials import LIBRARY, Material, read_material
 from .params import (Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording, read_baffles,
-                     read_tilt, read_wall_materials)
+                     read_tilt, read_wall_materials, read_with_material)
 from .schema import (Spec, _choice, _grammar, _quoted, check_keys, config_keys, plain_fields, read_fields,
                      read_number, read_quantity, replace, spec_of, suggest)
 from .units import unit_factor
@@ -368,13 +368,8 @@ class _Reader:
             label = "particles" if len(tables) == 1 else f"particles #{k + 1}"
             if not isinstance(t, dict):
                 raise InputError(f"[{label}] must be a table, got {t!r}")
-            check_keys(t, label, SECTIONS["particles"])
-            if "count" not in t:
-                raise InputError(f"[{label}] count is missing; give the number of spheres, e.g. count = 36")
-            kw = read_fields(t, label, ParticleSet)
-            if "material" in t:
-                kw["material"] = read_material(t["material"], label)
-            out.append(ParticleSet(**kw))
+            out.append(read_with_material(t, label, ParticleSet, required="count",
+                                          hint="; give the number of spheres, e.g. count = 36"))
         return tuple(out)
 
     def drive(self, t):

@@ -419,15 +419,22 @@ def read_baffles(value, section: str = "container") -> tuple:
         if isinstance(b, Baffle):
             out.append(b)
             continue
-        label = f"{section}.baffles #{k}"
-        check_keys(b, label, config_keys(Baffle))
-        if "position" not in b:
-            raise InputError(f"[{label}] position is missing: give the x of the plate, e.g. position = '20mm'")
-        kw = read_fields(b, label, Baffle)
-        if "material" in b:
-            kw["material"] = read_material(b["material"], label)
-        out.append(Baffle(**kw))
+        out.append(read_with_material(b, f"{section}.baffles #{k}", Baffle, required="position",
+                                      hint=": give the x of the plate, e.g. position = '20mm'"))
     return tuple(out)
+
+
+def read_with_material(t: dict, label: str, cls, *, required: str, hint: str):
+    """A ``cls`` from the config table ``t`` (``[label]`` in messages): its keys checked, the
+    ``required`` one present (else ``[label] <required> is missing<hint>``), its fields read by
+    their specs and its ``material`` by :func:`~pdamper.materials.read_material`."""
+    check_keys(t, label, config_keys(cls))
+    if required not in t:
+        raise InputError(f"[{label}] {required} is missing{hint}")
+    kw = read_fields(t, label, cls)
+    if "material" in t:
+        kw["material"] = read_material(t["material"], label)
+    return cls(**kw)
 
 
 def read_wall_materials(value, section: str = "container") -> dict:
