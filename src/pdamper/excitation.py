@@ -38,6 +38,7 @@ import numpy as np
 
 from .errors import InputError
 from .schema import convert_fields, param, register_tagged, registered
+from .units import thousandth_hint
 
 __all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure", "ModalStructure", "DriveBase", "DRIVES",
            "register_drive", "drive_class", "read_structure_matrices"]
@@ -171,18 +172,13 @@ def _check_structure_scale(s, length: float, damping_ratio: float) -> None:
             unit = "m" if key == "displacement" else "m/s"
             raise InputError(f"structure.{key} = {getattr(s, key):g} {unit} moves the container {v / limit:.3g} "
                              f"times further than twice its length {length:g} m (a number without a unit is SI)"
-                             f"{_mm_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
+                             f"{thousandth_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
     resonant = s.force_amplitude / s.stiffness / max(2.0 * damping_ratio, 0.02)
     if resonant > 2 * length:
         raise InputError(f"structure.force_amplitude = {s.force_amplitude:g} N would swing the structure "
                          f"(structure.mass = {s.mass:g} kg, stiffness {s.stiffness:.3g} N/m) by about {resonant:.3g} m "
                          f"at resonance (F0 / K / 2 zeta), beyond twice the container's length {length:g} m; give a "
                          "smaller force or check the mass (a number without a unit is SI)")
-
-
-def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
-    """'; did you mean '13mm'?' when the number read in thousandths would be plausible."""
-    return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
 
 
 @register_drive
@@ -256,7 +252,7 @@ class HarmonicDrive(DriveBase):
         """A stroke beyond twice the container's length is a bare number meant in mm."""
         if self.stroke > 2 * length:
             raise InputError(f"drive.stroke = {self.stroke:g} m is {self.stroke / length:.3g} times the container's "
-                             f"length {length:g} m (a number without a unit is metres){_mm_hint(self.stroke, 2 * length)}")
+                             f"length {length:g} m (a number without a unit is metres){thousandth_hint(self.stroke, 2 * length)}")
 
     def describe(self) -> str:
         where = "" if self.direction is None and self.angle == 0.0 else (

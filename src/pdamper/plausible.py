@@ -18,6 +18,7 @@ import warnings
 from ._deprecated import renamed_keyword
 from .errors import InputError
 from .schema import spec_of
+from .units import thousandth_hint
 
 __all__ = ["check_case", "memory_needed", "LiftOffWarning"]
 
@@ -39,22 +40,16 @@ _MAX_SETTLE = 10.0
 _G0 = 9.81
 
 
-def _mm_hint(value: float, upper: float, unit: str = "mm") -> str:
-    """' did you mean '13mm'?' when the number read as millimetres (or ``unit``, a thousandth of the SI unit)
-    would be plausible."""
-    return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
-
-
 def _check_lengths(case, dims: dict) -> None:
     """Lengths that a bare number (metres) makes absurd: container sizes, radii, jitter, settling time."""
     for k, v in dims.items():
         if v > _MAX_SIZE:
             raise InputError(f"container.{k} = {v:g} m is not a damper container (a number without a unit is "
-                             f"metres){_mm_hint(v, _MAX_SIZE)}")
+                             f"metres){thousandth_hint(v, _MAX_SIZE)}")
     for p in case.particles:
         if p.radius > _MAX_RADIUS:
             raise InputError(f"particles.radius = {p.radius:g} m (a number without a unit is metres)"
-                             f"{_mm_hint(p.radius, _MAX_RADIUS)}")
+                             f"{thousandth_hint(p.radius, _MAX_RADIUS)}")
         if p.radius < _MIN_RADIUS:
             raise InputError(f"particles.radius = {p.radius:g} m is below {_MIN_RADIUS * 1e6:g} um: not a damper "
                              "particle (a number without a unit is metres; the paper's spheres have 5 mm)")
@@ -65,12 +60,12 @@ def _check_lengths(case, dims: dict) -> None:
     if jitter > floor:
         raise InputError(f"initial.jitter = {jitter:g} m is larger than the container's floor ({floor * 1e3:g} mm "
                          f"across); it shifts each sphere by a small random amount (a number without a unit is "
-                         f"metres){_mm_hint(jitter, floor)}")
+                         f"metres){thousandth_hint(jitter, floor)}")
     settle = case.initial.settle_time
     if settle > _MAX_SETTLE:
         raise InputError(f"initial.settle_time = {settle:g} s: a bed settles under gravity in well under a second "
                          f"(default 0.1 s; at most {_MAX_SETTLE:g} s; a number without a unit is seconds)"
-                         f"{_mm_hint(settle, _MAX_SETTLE, 'ms')}")
+                         f"{thousandth_hint(settle, _MAX_SETTLE, 'ms')}")
 
 
 def _check_fit(case) -> None:

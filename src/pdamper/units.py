@@ -35,7 +35,7 @@ import re
 
 from .errors import InputError
 
-__all__ = ["parse_quantity", "to_si", "quantities", "is_quantity", "unit_factor", "DIMENSIONS"]
+__all__ = ["parse_quantity", "to_si", "quantities", "is_quantity", "unit_factor", "DIMENSIONS", "thousandth_hint"]
 
 #: Dimension names accepted by :func:`parse_quantity`, with their SI unit.
 DIMENSIONS = {
@@ -380,3 +380,9 @@ def _example(dimension: str) -> str:
         "density": "'7900kg/m^3'",
         "dimensionless": "0.9",
     }.get(dimension, "a number")
+
+
+def thousandth_hint(value: float, upper: float, unit: str = "mm") -> str:
+    """``"; did you mean '13mm'?"`` when a bare number (SI) read in ``unit``, a thousandth of the SI
+    unit ("mm", "ms", "mm/s"), would be at most ``upper``; else ``""``."""
+    return f"; did you mean '{value:g}{unit}'?" if 1e-3 * value <= upper else ""
