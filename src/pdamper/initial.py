@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import InputError
-from .geometry.walls import wall_distances
+from .geometry.walls import PLANE, wall_distances
 
 __all__ = ["initial_positions"]
 
@@ -80,7 +80,8 @@ def _layer_sites(case, r, jitter, n_needed=None):
     kinds, data, _ = c.walls()
     pts = np.column_stack([placed[:, 0], np.full(len(placed), r + _GAP), placed[:, 1]])
     s, _ = wall_distances(np.ascontiguousarray(kinds), np.ascontiguousarray(data), np.ascontiguousarray(pts))
-    floor_like = np.abs(data[:, 1]) > 0.99  # the floor and the lid: the layer's height is set apart
+    # the floor and the lid (planes with a vertical normal): the layer's height is set apart
+    floor_like = (kinds == PLANE) & (np.abs(data[:, 1]) > 0.99)
     moved = xs != sites[:, 0]                # the shape's own sites keep the room it gave them
     room = np.where(moved, r + max(jx, jz), r)[:, None] - 1e-12
     keep = np.all((s >= room) | floor_like[None, :], axis=1)
