@@ -339,11 +339,12 @@ class _Reader:
     def container(self, t) -> Container:
         check_keys(t, "container", SECTIONS["container"])
         shape = self._choice(t, "container", "shape", tuple(_GEOMETRIES), "cuboid")
+        shape_keys = _shape_keys()
         for key in t:
-            owners = [s for s, keys in _shape_keys().items() if key in keys]
+            owners = [s for s, keys in shape_keys.items() if key in keys]
             if owners and shape not in owners:
                 raise InputError(f"[container] {key} applies to shape = {owners[0]!r}, but shape = {shape!r} "
-                                 f"(give {', '.join(_shape_keys()[shape])})")
+                                 f"(give {', '.join(shape_keys[shape])})")
         kw = {"geometry": _GEOMETRIES[shape](**read_fields(t, "container", _GEOMETRIES[shape]))}
         if "material" in t:
             kw["material"] = read_material(t["material"], "container")
