@@ -37,11 +37,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .schema import convert_fields, param, register_tagged, registered
+from .schema import convert_fields, param, register_tagged
 from .units import thousandth_hint
 
 __all__ = ["HarmonicDrive", "SampledDrive", "Still", "CoupledStructure", "ModalStructure", "DriveBase", "DRIVES",
-           "register_drive", "drive_class", "read_structure_matrices"]
+           "register_drive", "read_structure_matrices"]
 
 #: Registered drive kinds by tag (``[drive] kind``, or ``structure`` for the ``[structure]`` section).
 DRIVES: dict[str, type] = {}
@@ -54,10 +54,6 @@ def register_drive(cls):
     """Class decorator: register a drive class under its ``kind`` tag. Returns the class."""
     return register_tagged(DRIVES, cls, "kind", "drive", needs=("kernel_drive", "motion", "duration"))
 
-
-def drive_class(tag: str) -> type:
-    """The registered drive class of ``tag``."""
-    return registered(DRIVES, tag, "drive.kind")
 
 
 class DriveBase:

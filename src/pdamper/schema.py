@@ -451,10 +451,3 @@ def register_tagged(registry: dict, cls, tag_field: str, what: str, needs: tuple
     registry[tag] = cls
     return cls
 
-
-def registered(registry: dict, tag: str, key: str) -> type:
-    """The class registered under ``tag``, or an InputError naming ``key`` and the known tags."""
-    try:
-        return registry[tag]
-    except KeyError:
-        raise InputError(f"{key} = {tag!r}; choose one of {', '.join(repr(k) for k in registry)}") from None

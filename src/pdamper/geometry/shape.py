@@ -42,9 +42,9 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ..schema import register_tagged, registered
+from ..schema import register_tagged
 
-__all__ = ["Shape", "ShapeBase", "SHAPES", "register_shape", "shape_class", "GAP"]
+__all__ = ["Shape", "ShapeBase", "SHAPES", "register_shape", "GAP"]
 
 #: Clearance [m] between neighbours and to the floor at the start (the initial block's gap).
 GAP = 1e-6
@@ -88,10 +88,6 @@ def register_shape(cls):
     return register_tagged(SHAPES, cls, "shape", "shape",
                            needs=("walls", "bounding_box", "layer_sites", "outline", "max_particles", "describe"))
 
-
-def shape_class(tag: str) -> type:
-    """The registered shape class of ``tag`` (InputError naming the known shapes otherwise)."""
-    return registered(SHAPES, tag, "container.shape")
 
 
 class ShapeBase:
