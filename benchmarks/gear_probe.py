@@ -38,16 +38,16 @@ _ERR_PROBE = """        err = 0.0
             for c in range(3):
                 if (mode == 1 and resting and c == 1) or (mode == 2 and resting):
                     pass
-                elif math.fabs(force[i, c]) > err:
-                    err = math.fabs(force[i, c])
+                elif math.fabs(dlt[i, c]) > err:
+                    err = math.fabs(dlt[i, c])
                     arg = kind * 10 + c
                     arg_i = i
-                if not (mode == 2 and resting) and math.fabs(torque[i, c]) * rad[i] > err:
-                    err = math.fabs(torque[i, c]) * rad[i]
+                if not (mode == 2 and resting) and math.fabs(dlt[i, 3 + c]) * rad[i] > err:
+                    err = math.fabs(dlt[i, 3 + c]) * rad[i]
                     arg = kind * 10 + 3 + c
                     arg_i = i
 """
-_ACC = """        # accept: correct the prediction into the Nordsieck vector (the corrector increments of
+_ACC = """        # accept: correct the prediction into the Nordsieck vector
 """
 _ACC_PROBE = """        if tn > 0.0:
             b = int(math.floor(math.log10(hs) * 10.0)) + 100
@@ -75,7 +75,7 @@ _ACC_PROBE = """        if tn > 0.0:
                             changed = 1
             probe[2, 1 + touch] += 1
             probe[2, 3 + changed] += 1
-        # accept: correct the prediction into the Nordsieck vector (the corrector increments of
+        # accept: correct the prediction into the Nordsieck vector
 """
 _IMPLICIT_NORMAL = '''
 
@@ -144,7 +144,7 @@ def probe_module(where: Path):
         src = src.replace(old, old.replace("from ..", "from pdamper.").replace("from .", "from pdamper.kernels."))
     i0 = src.index(_ERR_START)
     i1 = src.index(_ERR_END, i0)
-    assert "math.fabs(force[i, c]) > err" in src[i0:i1], "kernels/gear.py changed: update benchmarks/gear_probe.py"
+    assert "math.fabs(dlt[i, c]) > err" in src[i0:i1], "kernels/gear.py changed: update benchmarks/gear_probe.py"
     src = src[:i0] + _ERR_PROBE + src[i1:]
     for old, new in ((_ACC, _ACC_PROBE),
                      ("def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):",
@@ -153,9 +153,9 @@ def probe_module(where: Path):
         assert old in src, "kernels/gear.py changed: update benchmarks/gear_probe.py"
         src = src.replace(old, new)
     src = src.replace("        arg = 0\n", "        arg = 0\n        arg_i = 0\n", 1)
-    call = "        dfx, dfy, dfz, dpf = _implicit_friction(bodies, force, torque, hs, record)\n"
+    call = "        dfx, dfy, dfz, dpf = _implicit_friction(bodies, dlt_x, dlt_a, hs, record)\n"
     assert call in src, "kernels/gear.py changed: update benchmarks/gear_probe.py"
-    src = src.replace(call, call + "        if mode == 3:\n            _implicit_normal(bodies, force, hs, pairs, walls)\n")
+    src = src.replace(call, call + "        if mode == 3:\n            _implicit_normal(bodies, dlt_x, hs, pairs, walls)\n")
     src += _IMPLICIT_NORMAL
     f = where / "gear_probe_kernel.py"
     f.write_text(src + _WRAP)

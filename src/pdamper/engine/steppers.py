@@ -144,7 +144,8 @@ class GearStepper(_Stepper):
         h0 = interval / sub
         self.h_next = h0
         self.rejected = 0
-        self.state = GearState(nordsieck=np.zeros((6, n, 6)), predicted=np.zeros((6, n, 6)), step=np.array([h0]),
+        self.state = GearState(nordsieck=np.zeros((6, n, 6)), predicted=np.zeros((6, n, 6)),
+                               increments=np.zeros((n, 6)), step=np.array([h0]),
                                integrands=np.zeros(4), saved_pair_history=np.zeros((2, engine.pairs.second.shape[0])),
                                saved_wall_history=np.zeros((2,) + engine.walls.approach_speed.shape),
                                saved_structure=np.zeros_like(engine.drive.state), friction=self._record(None))

@@ -182,6 +182,7 @@ class GearState(NamedTuple):
 
     nordsieck: np.ndarray        #: (6, N, 6) scaled derivatives r_k = h^k/k! x^(k) of position and angle
     predicted: np.ndarray        #: (6, N, 6) the prediction of the current step
+    increments: np.ndarray       #: (N, 6) the corrector's increments Delta of the current step (position, angle)
     step: np.ndarray             #: (1,) the step [s] the Nordsieck vector is scaled to
     integrands: np.ndarray       #: (4,) the ledger's integrands at the last accepted step (trapezoid)
     saved_pair_history: np.ndarray   #: (2, capacity) pair history before the step
