@@ -15,7 +15,7 @@ from scipy.spatial import cKDTree
 
 from pdamper.config import load_case
 from pdamper.geometry import Cuboid
-from pdamper.kernels.bundles import Search
+from pdamper.kernels.bundles import CellSearch, Search
 from pdamper.kernels.neighbours import build_cells, build_direct, build_wall_list, transfer_history
 from pdamper.simulation import Simulation
 
@@ -57,7 +57,7 @@ def _cells(pos, rad, skin, vmin, vmax, cap=None):
     lo, cell, ncell = _grid(vmin, vmax, float(rad.max()), skin)
     row = np.zeros(n + 1, dtype=np.int64)
     pj = np.zeros(cap if cap is not None else max(16, n * 40), dtype=np.int64)
-    search = Search(skin=float(skin), use_cells=True, origin=lo, cell_size=cell, cells=ncell,
+    search = Search(skin=float(skin), method=CellSearch(), origin=lo, cell_size=cell, cells=ncell,
                     head=np.empty(int(np.prod(ncell)), dtype=np.int64), next=np.empty(n, np.int64),
                     counts=np.zeros(n, np.int64), reference=np.zeros((n, 3)))
     m = build_cells(pos, rad, search, row, pj)

@@ -23,7 +23,8 @@ from ..errors import InputError
 from ..geometry.tilt import container_vectors
 from ..geometry.walls import CYLINDER_INSIDE, PLANE
 from ..initial import initial_positions
-from ..kernels.bundles import Bodies, ContactTable, Drive, PairList, Search, WallList
+from ..kernels.bundles import (Bodies, CellSearch, ContactTable, CoupledMotion, DirectSearch, Drive, PairList,
+                               PrescribedMotion, Search, WallList)
 from ..materials import effective_modulus
 from ..params import Case
 
@@ -117,7 +118,8 @@ def drive_bundle(drive, gravity=None, direction=None) -> Drive:
     kind, par, tab, state = drive.kernel_drive()
     gravity = np.zeros(3) if gravity is None else np.asarray(gravity, dtype=float)
     direction = np.array([1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
-    return Drive(kind=int(kind), par=par, table=tab, state=state, gravity=gravity, direction=direction)
+    return Drive(kind=int(kind), coupling=CoupledMotion() if drive.coupled else PrescribedMotion(), par=par, table=tab,
+                 state=state, gravity=gravity, direction=direction)
 
 
 def _initial_vectors(given, n, name):
@@ -209,7 +211,7 @@ def _search(case, rad, n):
     cells = np.maximum(1, np.floor(span / cut)).astype(np.int64)
     # keep cells at least `cut` wide in every direction
     cell_size = max(float(np.max(span / cells)), cut)
-    search = Search(skin=float(skin), use_cells=name == "cells", origin=vmin - cut, cell_size=cell_size, cells=cells,
+    search = Search(skin=float(skin), method=CellSearch() if name == "cells" else DirectSearch(), origin=vmin - cut, cell_size=cell_size, cells=cells,
                     head=np.empty(int(np.prod(cells)), dtype=np.int64), next=np.empty(n, dtype=np.int64),
                     counts=np.zeros(n, dtype=np.int64), reference=np.full((n, 3), np.inf))
     return search, name

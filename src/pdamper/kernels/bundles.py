@@ -26,6 +26,13 @@ bundle             holds
 :class:`VerletState`, :class:`GearState`  an integrator's own state
 :class:`VerletSpan`, :class:`GearSpan`  what one call of an integrator advances
 =================  =========================================================================
+
+**Markers.** Two choices are made by the *type* of an empty bundle rather than by a value:
+:attr:`Search.method` (:class:`DirectSearch` or :class:`CellSearch`) and :attr:`Drive.coupling`
+(:class:`PrescribedMotion` or :class:`CoupledMotion`), as :attr:`ContactTable.law` picks the damping
+law. numba compiles a kernel for the marker it is given, so a run compiles the pair search and the
+structure code it uses and no other (the link cells and the structure's step are ~2 CPU-s of a
+first run's compiling that a small bed on a prescribed drive never needs).
 """
 
 from __future__ import annotations
@@ -34,7 +41,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Bodies", "PairList", "WallList", "Search", "ContactTable", "Drive", "Samples", "FrictionRecord",
+__all__ = ["Bodies", "PairList", "WallList", "Search", "DirectSearch", "CellSearch", "ContactTable", "Drive",
+           "PrescribedMotion", "CoupledMotion", "Samples", "FrictionRecord",
            "VerletState", "GearState", "VerletSpan", "GearSpan", "ENERGY_COLUMNS", "STRUCTURE_COLUMNS",
            "FRAME_COLUMNS"]
 
@@ -103,11 +111,20 @@ class WallList(NamedTuple):
     effective_radius: np.ndarray  #: (N, W) R* [m] (flat wall r; concave wall 1/(1/r - 1/R))
 
 
+class DirectSearch(NamedTuple):
+    """:attr:`Search.method` marker: every pair is tested (small beds)."""
+
+
+class CellSearch(NamedTuple):
+    """:attr:`Search.method` marker: link cells (large beds)."""
+
+
 class Search(NamedTuple):
     """Neighbour-search settings and scratch (:mod:`pdamper.kernels.neighbours`)."""
 
     skin: float                  #: list skin [m]
-    use_cells: bool              #: link cells (True) or all pairs
+    method: tuple                #: DirectSearch() or CellSearch(): a marker whose *type* picks the pair
+                                 #: search when a kernel is compiled, so a run compiles only its own
     origin: np.ndarray           #: (3,) corner of the link-cell grid [m]
     cell_size: float             #: edge of a cell [m]
     cells: np.ndarray            #: (3,) int: cells per axis
@@ -133,11 +150,21 @@ class ContactTable(NamedTuple):
     overlap_limit: float         #: a run stops when an overlap exceeds this fraction of the radius
 
 
+class PrescribedMotion(NamedTuple):
+    """:attr:`Drive.coupling` marker: the container's motion is given (the bed does not move it)."""
+
+
+class CoupledMotion(NamedTuple):
+    """:attr:`Drive.coupling` marker: the container rides on a structure the bed's force moves."""
+
+
 class Drive(NamedTuple):
     """Gravity, the drive direction and the container's motion along it
     (:mod:`pdamper.kernels.drive`)."""
 
     kind: int                    #: 0 still, 1 harmonic, 2 sampled, 3 coupled structure, 4 modal structure
+    coupling: tuple              #: PrescribedMotion() or CoupledMotion(): a marker whose *type* decides, when a
+                                 #: kernel is compiled, whether the structure's step is compiled into it
     par: np.ndarray              #: parameters of the kind (harmonic: X, Omega, phase; structure: M, K, c, F0, Omega)
     table: np.ndarray            #: (K, 5) sampled motion: rows (t_k, c0, c1, c2, c3)
     state: np.ndarray            #: (2, 5) the coupled structure's state, (2 + N, 5) with N modes (kernels/structure.py)

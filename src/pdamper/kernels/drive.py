@@ -17,9 +17,12 @@ import math
 
 import numpy as np
 
-from ..jit import njit
+from numba.extending import overload
 
-__all__ = ["drive_motion", "is_coupled", "is_modal", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED",
+from ..jit import JIT, njit
+from .bundles import CoupledMotion
+
+__all__ = ["drive_motion", "is_coupled", "is_modal", "marker_class", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED",
            "DRIVE_STRUCTURE", "DRIVE_MODAL"]
 
 DRIVE_STILL = 0
@@ -31,11 +34,27 @@ DRIVE_STRUCTURE = 3
 DRIVE_MODAL = 4
 
 
-@njit
+def marker_class(bundle_type, field):
+    """The class of the marker in field ``field`` of a bundle's numba type (``Drive.coupling``,
+    ``Search.method``): what an overload resolves on when a kernel is compiled."""
+    return bundle_type.types[bundle_type.fields.index(field)].instance_class
+
+
 def is_coupled(drive):
     """True for a drive the bed's force moves (the coupled structure): the time loops advance its
-    state and record it."""
-    return drive.kind == DRIVE_STRUCTURE or drive.kind == DRIVE_MODAL
+    state and record it. Compiled kernels only: a constant of the drive's
+    :attr:`~pdamper.kernels.bundles.Drive.coupling` marker."""
+    return isinstance(drive.coupling, CoupledMotion)
+
+
+@overload(is_coupled, inline="always", jit_options=JIT)
+def _is_coupled(drive):
+    coupled = marker_class(drive, "coupling") is CoupledMotion
+
+    def impl(drive):
+        return coupled
+
+    return impl
 
 
 @njit

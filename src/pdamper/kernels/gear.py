@@ -60,7 +60,7 @@ from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OV
                      no_friction_record)
 from .neighbours import max_displacement_sq, rebuild_lists
 from .record import record_sample
-from .structure import structure_step
+from .structure import advance_structure
 
 __all__ = ["run_gear", "GEAR_C"]
 
@@ -382,7 +382,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(bodies, pairs, walls, table, _NO_CAP, record)
         if coupled:
             _copy_structure(drive.state, gear.saved_structure)
-            structure_step(drive, tn, hs, fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2])
+            advance_structure(drive, tn, hs, fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2])
         xc, vc, ac = drive_motion(drive, tn)
         half_h2 = 0.5 * hs * hs
         for i in range(n):
@@ -398,7 +398,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             # the structure again, with the wall force after the friction pass; the spheres
             # follow the change of the container's acceleration
             _copy_structure(gear.saved_structure, drive.state)
-            structure_step(drive, tn, hs, fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2])
+            advance_structure(drive, tn, hs, fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2])
             xc, vc, ac2 = drive_motion(drive, tn)
             da = half_h2 * (ac2 - ac)
             for i in range(n):

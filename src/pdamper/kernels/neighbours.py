@@ -14,12 +14,16 @@ The building blocks take plain arrays; :func:`rebuild_lists` runs them on the bu
 
 from __future__ import annotations
 
+from numba.extending import overload
+
 from ..contact.hertz import hertz_stiffness
 from ..geometry.walls import wall_distance
-from ..jit import njit
+from ..jit import JIT, njit
+from .bundles import CellSearch
 from .contact import FRICTION_CAP
+from .drive import marker_class
 
-__all__ = ["build_direct", "build_cells", "transfer_history", "build_wall_list", "max_displacement_sq", "rebuild_lists"]
+__all__ = ["build_direct", "build_cells", "build_pairs", "transfer_history", "build_wall_list", "max_displacement_sq", "rebuild_lists"]
 
 
 @njit
@@ -185,6 +189,24 @@ def max_displacement_sq(pos, ref):
     return best
 
 
+def build_pairs(method, pos, rad, search, row, pj):
+    """The pair list by the search that ``method`` (``search.method``) marks: :func:`build_cells`
+    for :class:`~pdamper.kernels.bundles.CellSearch`, else :func:`build_direct` -- chosen when the
+    calling kernel is compiled (compiled kernels only)."""
+    raise NotImplementedError("build_pairs is compiled into the kernels")
+
+
+@overload(build_pairs, inline="always", jit_options=JIT)
+def _build_pairs(method, pos, rad, search, row, pj):
+    if method.instance_class is CellSearch:
+        def impl(method, pos, rad, search, row, pj):
+            return build_cells(pos, rad, search, row, pj)
+    else:
+        def impl(method, pos, rad, search, row, pj):
+            return build_direct(pos, rad, search.skin, row, pj)
+    return impl
+
+
 @njit
 def rebuild_lists(bodies, pairs, walls, search, table):
     """Rebuild the pair and wall lists at ``bodies.position``, carrying contact history over.
@@ -196,10 +218,7 @@ def rebuild_lists(bodies, pairs, walls, search, table):
     """
     pos = bodies.position
     rad = bodies.radius
-    if search.use_cells:
-        m = build_cells(pos, rad, search, pairs.next_row, pairs.next_second)
-    else:
-        m = build_direct(pos, rad, search.skin, pairs.next_row, pairs.next_second)
+    m = build_pairs(search.method, pos, rad, search, pairs.next_row, pairs.next_second)
     if m < 0:
         return -1
     nw = build_wall_list(pos, rad, search.skin, walls.kind, walls.data, walls.candidate_body, walls.candidate_wall,

@@ -7,9 +7,8 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
-from .drive import is_coupled
 from .forces import elastic_energy
-from .structure import record_structure
+from .structure import record_coupled
 
 __all__ = ["record_sample"]
 
@@ -74,5 +73,4 @@ def record_sample(k, samples, bodies, pairs, walls, drive, xc, vc):
                     traj[f, i, c] = pos[i, c]
                     traj[f, i, 3 + c] = vel[i, c]
                     traj[f, i, 6 + c] = omg[i, c]
-    if is_coupled(drive):
-        record_structure(k, drive, samples.structure)
+    record_coupled(k, drive, samples.structure)

@@ -46,10 +46,14 @@ from __future__ import annotations
 
 import math
 
-from ..jit import njit
-from .drive import is_modal
+from numba.extending import overload
 
-__all__ = ["structure_step", "modal_step", "record_structure", "run_structure_alone"]
+from ..jit import JIT, njit
+from .bundles import CoupledMotion
+from .drive import is_modal, marker_class
+
+__all__ = ["structure_step", "modal_step", "record_structure", "run_structure_alone", "advance_structure",
+           "record_coupled"]
 
 
 @njit
@@ -171,3 +175,38 @@ def run_structure_alone(n_steps, dt, t0, sub, drive, out):
         structure_step(drive, t, dt, 0.0)
         if (s + 1) % sub == 0:
             record_structure((s + 1) // sub - 1, drive, out)
+
+
+def advance_structure(drive, t, dt, fw):
+    """:func:`structure_step` on a coupled drive, nothing on a prescribed one -- decided by the
+    type of ``drive.coupling`` when the calling kernel is compiled, so a prescribed drive's kernels
+    hold no structure code (compiled kernels only)."""
+    raise NotImplementedError("advance_structure is compiled into the kernels")
+
+
+def record_coupled(k, drive, out):
+    """:func:`record_structure` on a coupled drive, nothing on a prescribed one (compiled kernels
+    only, as :func:`advance_structure`)."""
+    raise NotImplementedError("record_coupled is compiled into the kernels")
+
+
+@overload(advance_structure, inline="always", jit_options=JIT)
+def _advance_structure(drive, t, dt, fw):
+    if marker_class(drive, "coupling") is CoupledMotion:
+        def impl(drive, t, dt, fw):
+            structure_step(drive, t, dt, fw)
+    else:
+        def impl(drive, t, dt, fw):
+            return
+    return impl
+
+
+@overload(record_coupled, inline="always", jit_options=JIT)
+def _record_coupled(k, drive, out):
+    if marker_class(drive, "coupling") is CoupledMotion:
+        def impl(k, drive, out):
+            record_structure(k, drive, out)
+    else:
+        def impl(k, drive, out):
+            return
+    return impl

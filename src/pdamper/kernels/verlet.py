@@ -21,7 +21,7 @@ from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OV
                      no_friction_record)
 from .neighbours import max_displacement_sq, rebuild_lists
 from .record import record_sample
-from .structure import structure_step
+from .structure import advance_structure
 
 __all__ = ["run_verlet"]
 
@@ -114,7 +114,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(bodies, pairs, walls, table, dt, no_record)
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         if coupled:
-            structure_step(drive, t, dt, fd)
+            advance_structure(drive, t, dt, fd)
         xc, vc, ac = drive_motion(drive, t)
         gx = gvec[0] - ac * dvec[0]
         gy = gvec[1] - ac * dvec[1]
