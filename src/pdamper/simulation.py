@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .engine import warmup
 from .engine.build import CELLS_THRESHOLD, auto_time_step, build
 from .engine.steppers import GEAR_MIN_STEP, stepper_for
 from .errors import InputError
@@ -187,6 +188,7 @@ class Simulation:
             raise InputError(f"run: {self.case.duration:g} s at {self.case.recording.sample_rate:g} Hz gives fewer "
                              "than 2 samples; run longer")
         t0 = _time.perf_counter()
+        warmup.start(self.case, self.stepper)  # a cold kernel cache: compile on a second core too
         for r in self.recorders:
             r.start(self.info)
         s = self.settle_samples

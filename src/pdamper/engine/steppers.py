@@ -122,6 +122,22 @@ class VerletStepper(_Stepper):
         self.steps += done
         return done
 
+    def warm_jobs(self, samples):
+        """``[(kernel, arguments), (callee, arguments), ...]``: the kernel, then its larger callees
+        in the order opposite to the one it meets them in (:mod:`pdamper.engine.warmup`)."""
+        from ..kernels.forces import compute_forces, no_friction_record
+        from ..kernels.neighbours import rebuild_lists
+        from ..kernels.record import record_sample
+        from ..kernels.verlet import run_verlet
+
+        e = self.engine
+        b = e.bodies
+        span = VerletSpan(steps=0, dt=1.0, t0=0.0, step0=0, sub=1, record=False, skip_samples=0, prime=False)
+        return [(run_verlet, (span, b, self.state, e.pairs, e.walls, e.search, e.table, e.drive, samples)),
+                (record_sample, (0, samples, b, e.pairs, e.walls, e.drive, 0.0, 0.0)),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, no_friction_record())),
+                (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
+
     def start_drive(self, jump, a0) -> None:
         """The drive starts: the spheres' velocities relative to the container jumped by
         ``-jump`` (done by the caller); a coupled structure starts with acceleration ``a0``
@@ -192,6 +208,26 @@ class GearStepper(_Stepper):
             self._check(status, k, culprit, t, self.h_next)
         self.steps += steps
         return steps
+
+    def warm_jobs(self, samples):
+        """``[(kernel, arguments), (callee, arguments), ...]``: the kernel, then its larger callees
+        in the order opposite to the one it meets them in (:mod:`pdamper.engine.warmup`)."""
+        from ..kernels.forces import compute_forces
+        from ..kernels.gear import _implicit_friction, _predict, run_gear
+        from ..kernels.neighbours import rebuild_lists
+        from ..kernels.record import record_sample
+
+        e = self.engine
+        b = e.bodies
+        s = self.state
+        span = GearSpan(t0=0.0, t_end=0.0, h_try=1.0, interval=1.0, record=False, prime=False, tolerance=1.0,
+                        h_min=1.0, h_max=1.0, max_steps=0)
+        return [(run_gear, (span, b, s, e.pairs, e.walls, e.search, e.table, e.drive, samples)),
+                (record_sample, (0, samples, b, e.pairs, e.walls, e.drive, 0.0, 0.0)),
+                (_implicit_friction, (b, s.increments[:, 0:3], s.increments[:, 3:6], 1.0, s.friction)),
+                (_predict, (s.nordsieck, s.predicted, 1.0, 1.0, b)),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, s.friction)),
+                (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
 
     def start_drive(self, jump, a0) -> None:
         """The drive starts: the spheres' velocities relative to the container jumped by
