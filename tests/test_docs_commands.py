@@ -62,7 +62,10 @@ def _dry_parse(words: list[str]):
     if not words or words[0].startswith("-"):
         return main.make_context("pdamper", list(words), resilient_parsing=False), None
     name, *rest = words
-    with click.Context(main, info_name="pdamper") as group_ctx:
+    # the group's context settings (help_option_names) as click gives them: a context built without
+    # them makes click cache each command's help option as a bare --help, and the help pages
+    # printed later in the same process (tests/cli/test_cli_docs.py) would lose their '-h'
+    with click.Context(main, info_name="pdamper", **main.context_settings) as group_ctx:
         cmd = main.get_command(group_ctx, name)
         if cmd is None:
             return None, f"no command {name!r}"
