@@ -45,7 +45,7 @@ def empty_samples(n: int):
 def cold(kernel) -> bool:
     """True when numba's cache directory is known and holds no copy of ``kernel`` (a dispatcher)
     and this process has not compiled it either."""
-    if kernel.signatures:
+    if not hasattr(kernel, "py_func") or kernel.signatures:  # not a numba dispatcher, or compiled here
         return False
     root = numba.config.CACHE_DIR
     if not root or not os.path.isdir(root):
