@@ -68,19 +68,25 @@ def _in_dask_worker() -> bool:
 
 def start(case, stepper):
     """Launch the helper for ``case`` when it can help (module docstring); returns the process or
-    None. The process is ended at the latest when this interpreter exits."""
+    None. The process is ended at the latest when this interpreter exits. It only saves time:
+    whatever goes wrong with it (a case that cannot be pickled, a helper that fails) leaves the run
+    to compile alone, as without it."""
     if os.environ.get("PDAMPER_WARMUP", "1") == "0" or (os.cpu_count() or 1) < 2:
         return None
     kernel, _ = stepper.warm_jobs(empty_samples(stepper.engine.n))[0]
     if not cold(kernel) or _in_dask_worker():
         return None
     try:
+        data = pickle.dumps(case)
+    except (pickle.PicklingError, TypeError, AttributeError):  # e.g. a drive or shape defined in a script
+        return None
+    try:
         proc = subprocess.Popen([sys.executable, "-m", "pdamper.engine.warmup"], stdin=subprocess.PIPE,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 env={**os.environ, "PDAMPER_WARMUP": "0"})
-        proc.stdin.write(pickle.dumps(case))
+        proc.stdin.write(data)
         proc.stdin.close()
-    except (OSError, pickle.PicklingError, ValueError):
+    except OSError:  # no process could be started, or it ended at once: the run compiles alone
         return None
     atexit.register(_end, proc)
     return proc
