@@ -25,6 +25,7 @@ from ..geometry.walls import CYLINDER_INSIDE, PLANE
 from ..initial import initial_positions
 from ..kernels.bundles import (Bodies, CellSearch, ContactTable, CoupledMotion, DirectSearch, Drive, PairList,
                                PrescribedMotion, Search, WallList)
+from ..kernels.drive import DRIVE_MODAL, DRIVE_STRUCTURE
 from ..materials import effective_modulus
 from ..params import Case
 
@@ -116,6 +117,9 @@ def drive_bundle(drive, gravity=None, direction=None) -> Drive:
     """The kernels' :class:`~pdamper.kernels.bundles.Drive` of a drive (:mod:`pdamper.excitation`),
     with the gravity vector and drive direction in the container frame (default: none, along x)."""
     kind, par, tab, state = drive.kernel_drive()
+    if bool(drive.coupled) != (int(kind) in (DRIVE_STRUCTURE, DRIVE_MODAL)):
+        raise ValueError(f"{type(drive).__name__}: coupled = {drive.coupled} disagrees with its kernel kind {kind}; "
+                         "a drive the bed moves has a structure's kind (3 or 4), any other has not")
     gravity = np.zeros(3) if gravity is None else np.asarray(gravity, dtype=float)
     direction = np.array([1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
     return Drive(kind=int(kind), coupling=CoupledMotion() if drive.coupled else PrescribedMotion(), par=par, table=tab,

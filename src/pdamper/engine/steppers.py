@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from numba import types
 
 from ..errors import SimulationError
 from ..kernels import forces as kf
@@ -222,9 +223,12 @@ class GearStepper(_Stepper):
         s = self.state
         span = GearSpan(t0=0.0, t_end=0.0, h_try=1.0, interval=1.0, record=False, prime=False, tolerance=1.0,
                         h_min=1.0, h_max=1.0, max_steps=0)
+        view = types.Array(types.float64, 2, "A")
         return [(run_gear, (span, b, s, e.pairs, e.walls, e.search, e.table, e.drive, samples)),
                 (record_sample, (0, samples, b, e.pairs, e.walls, e.drive, 0.0, 0.0)),
-                (_implicit_friction, (b, s.increments[:, 0:3], s.increments[:, 3:6], 1.0, s.friction)),
+                # the kernel passes column views, which numba types as layout 'A' (from Python a
+                # one-sphere view would be typed 'C')
+                (_implicit_friction, (b, view, view, 1.0, s.friction)),
                 (_predict, (s.nordsieck, s.predicted, 1.0, 1.0, b)),
                 (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, s.friction)),
                 (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]

@@ -9,11 +9,12 @@ compiles the kernel's larger callees in the order opposite to the one the kernel
 in (the stepper's :meth:`warm_jobs`); each one it finishes first is then loaded from the cache by
 the main process instead of compiled again. Nothing is shared but the cache files, which numba
 writes whole (to a temporary file, then renamed), so the outcome of a run does not depend on
-who compiled what; the helper is ended when the run ends.
+who compiled what; a helper still running when the run's interpreter exits is ended.
 
-Not started when there is one core, inside a Dask worker (a study already keeps every core
-busy), when the cache directory is not known, when the kernel is cached already, or with
-``PDAMPER_WARMUP=0``. No library does this (numba's own parallel compilation is for
+Not started when this process may use one core only, inside a Dask worker (a study already keeps
+every core busy), in a frozen application, when the cache directory is not known, when the
+kernel is cached already (any copy of it for this Python: a first coupled or link-cell run after
+plain ones compiles alone), or with ``PDAMPER_WARMUP=0``. No library does this (numba's own parallel compilation is for
 ``parallel=True`` loops, not for the call graph of one kernel); it is ~100 lines.
 """
 
@@ -24,11 +25,12 @@ import os
 import pickle
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import numba
 import numpy as np
-from numba import typeof
+from numba import typeof, types
 
 __all__ = ["start", "cold", "empty_samples"]
 
@@ -50,7 +52,8 @@ def cold(kernel) -> bool:
     root = numba.config.CACHE_DIR
     if not root or not os.path.isdir(root):
         return False
-    name = f"*.{kernel.py_func.__name__}-*.nbi"  # numba's index file: <module>.<function>-<line>.<python>.nbi
+    # numba's index file: <module>.<function>-<line>.py<major><minor>.nbi
+    name = f"*.{kernel.py_func.__name__}-*.py{sys.version_info.major}{sys.version_info.minor}.nbi"
     return not any(Path(root).glob(name)) and not any(Path(root).glob("*/" + name))
 
 
@@ -66,30 +69,46 @@ def _in_dask_worker() -> bool:
     return True
 
 
+def _cores() -> int:
+    """The processors this process may run on (a container's or ``taskset``'s limit included)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
 def start(case, stepper):
     """Launch the helper for ``case`` when it can help (module docstring); returns the process or
-    None. The process is ended at the latest when this interpreter exits. It only saves time:
-    whatever goes wrong with it (a case that cannot be pickled, a helper that fails) leaves the run
-    to compile alone, as without it."""
-    if os.environ.get("PDAMPER_WARMUP", "1") == "0" or (os.cpu_count() or 1) < 2:
-        return None
-    kernel, _ = stepper.warm_jobs(empty_samples(stepper.engine.n))[0]
-    if not cold(kernel) or _in_dask_worker():
+    None. It only saves time: whatever goes wrong with it (a case that cannot be pickled, a helper
+    that cannot start or fails) leaves the run to compile alone, as without it, so no error of its
+    own reaches the run. The process is ended, if it still runs, when this interpreter exits."""
+    if os.environ.get("PDAMPER_WARMUP", "1") == "0" or _cores() < 2 or getattr(sys, "frozen", False) \
+            or not sys.executable:
         return None
     try:
+        kernel, _ = stepper.warm_jobs(empty_samples(stepper.engine.n))[0]
+        if not cold(kernel) or _in_dask_worker():
+            return None
         data = pickle.dumps(case)
-    except (pickle.PicklingError, TypeError, AttributeError):  # e.g. a drive or shape defined in a script
-        return None
-    try:
         proc = subprocess.Popen([sys.executable, "-m", "pdamper.engine.warmup"], stdin=subprocess.PIPE,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 env={**os.environ, "PDAMPER_WARMUP": "0"})
-        proc.stdin.write(data)
-        proc.stdin.close()
-    except OSError:  # no process could be started, or it ended at once: the run compiles alone
+    except Exception:  # an optimisation only: never the reason a run fails
         return None
+    # the case goes in and the helper is reaped by a thread of its own (a large case would block a
+    # write until the helper reads; a finished helper must not linger as a zombie)
+    threading.Thread(target=_feed, args=(proc, data), daemon=True).start()
     atexit.register(_end, proc)
     return proc
+
+
+def _feed(proc, data: bytes) -> None:
+    try:
+        proc.stdin.write(data)
+        proc.stdin.close()
+    except OSError:  # the helper ended early: nothing to do
+        pass
+    proc.wait()
 
 
 def _end(proc) -> None:
@@ -103,9 +122,10 @@ def _end(proc) -> None:
 
 def compile_jobs(jobs) -> None:
     """Compile each ``(dispatcher, arguments)`` for the numba types of its arguments (loaded from
-    the cache when it is there)."""
+    the cache when it is there); an argument may be given as its numba type (a view whose layout
+    numba types differently inside a kernel than from Python)."""
     for kernel, args in jobs:
-        kernel.compile(tuple(typeof(a) for a in args))
+        kernel.compile(tuple(a if isinstance(a, types.Type) else typeof(a) for a in args))
 
 
 def main() -> None:

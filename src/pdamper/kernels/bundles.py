@@ -42,7 +42,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["Bodies", "PairList", "WallList", "Search", "DirectSearch", "CellSearch", "ContactTable", "Drive",
-           "PrescribedMotion", "CoupledMotion", "Samples", "FrictionRecord",
+           "PrescribedMotion", "CoupledMotion", "marker_class", "Samples", "FrictionRecord",
            "VerletState", "GearState", "VerletSpan", "GearSpan", "ENERGY_COLUMNS", "STRUCTURE_COLUMNS",
            "FRAME_COLUMNS"]
 
@@ -156,6 +156,13 @@ class PrescribedMotion(NamedTuple):
 
 class CoupledMotion(NamedTuple):
     """:attr:`Drive.coupling` marker: the container rides on a structure the bed's force moves."""
+
+
+def marker_class(bundle_type, field):
+    """The class of the marker in field ``field`` of a bundle's numba type (``Drive.coupling``,
+    ``Search.method``): what an overload resolves on when a kernel is compiled. (The markers are
+    empty tuples, so they compare equal as values: ask for their class, never ``==``.)"""
+    return bundle_type.types[bundle_type.fields.index(field)].instance_class
 
 
 class Drive(NamedTuple):

@@ -20,9 +20,9 @@ import numpy as np
 from numba.extending import overload
 
 from ..jit import JIT, njit
-from .bundles import CoupledMotion
+from .bundles import CoupledMotion, marker_class
 
-__all__ = ["drive_motion", "is_coupled", "is_modal", "marker_class", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED",
+__all__ = ["drive_motion", "is_coupled", "is_modal", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED",
            "DRIVE_STRUCTURE", "DRIVE_MODAL"]
 
 DRIVE_STILL = 0
@@ -32,12 +32,6 @@ DRIVE_SAMPLED = 2
 DRIVE_STRUCTURE = 3
 #: Drive kind of the coupled modal structure of N modes (:mod:`pdamper.kernels.structure`).
 DRIVE_MODAL = 4
-
-
-def marker_class(bundle_type, field):
-    """The class of the marker in field ``field`` of a bundle's numba type (``Drive.coupling``,
-    ``Search.method``): what an overload resolves on when a kernel is compiled."""
-    return bundle_type.types[bundle_type.fields.index(field)].instance_class
 
 
 def is_coupled(drive):

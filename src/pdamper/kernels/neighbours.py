@@ -21,7 +21,6 @@ from ..geometry.walls import wall_distance
 from ..jit import JIT, njit
 from .bundles import CellSearch
 from .contact import FRICTION_CAP
-from .drive import marker_class
 
 __all__ = ["build_direct", "build_cells", "build_pairs", "transfer_history", "build_wall_list", "max_displacement_sq", "rebuild_lists"]
 

@@ -49,8 +49,8 @@ import math
 from numba.extending import overload
 
 from ..jit import JIT, njit
-from .bundles import CoupledMotion
-from .drive import is_modal, marker_class
+from .bundles import CoupledMotion, marker_class
+from .drive import is_modal
 
 __all__ = ["structure_step", "modal_step", "record_structure", "run_structure_alone", "advance_structure",
            "record_coupled"]
