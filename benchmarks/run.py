@@ -200,7 +200,7 @@ def paper_curves():
     """Every distinct DEM curve of the paper: ``[(label, case)]`` from the settings of all named
     studies, a setting that repeats another's physics (fig4's 36 spheres is also friction's
     mu = 0.1, restitution's eps = 0.9, ...) kept once."""
-    from pdamper.studies.named import STUDIES, study_settings
+    from pdamper.studies.named import PAPER_STUDIES, study_settings
 
     def physics(d):
         # the material's name is a label, not physics (modulus' 'steel-mod' at 208 GPa is steel)
@@ -211,7 +211,7 @@ def paper_curves():
         return d
 
     seen = {}
-    for name in STUDIES:
+    for name in PAPER_STUDIES:  # the shipped studies beyond the paper (vertical) are not its curves
         for label, case in study_settings(name):
             key = json.dumps(physics(dataclasses.asdict(case)), sort_keys=True, default=str)
             seen.setdefault(key, (f"{name}: {label}", case))

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["STUDIES", "Study", "load_study", "study_settings", "run_study", "PAPER_CASES"]
+__all__ = ["STUDIES", "PAPER_STUDIES", "Study", "load_study", "study_settings", "run_study", "PAPER_CASES"]
 
 _DATA = Path(__file__).parent / "data"
 #: The paper's four cases a setting can start from (``base = ...``).
@@ -155,10 +155,13 @@ def _title(path: Path) -> str:
     return str(tomllib.loads(path.read_text(encoding="utf-8")).get("title", path.stem))
 
 
-_ORDER = ("fig4", "friction", "modulus", "density", "restitution", "radius", "tilt", "cylinder", "cylinder-tilt")
-#: Study name -> (builder of the settings, what it shows): the paper's studies, from their files.
+#: The paper's nine studies, in its order (the study files beyond the paper follow them in STUDIES).
+PAPER_STUDIES = ("fig4", "friction", "modulus", "density", "restitution", "radius", "tilt", "cylinder", "cylinder-tilt")
+#: Study name -> (builder of the settings, what it shows): the paper's studies and the shipped ones
+#: beyond it (``vertical``), from their files.
 STUDIES = {p.stem: (_builder(p.stem), _title(p))
-           for p in sorted(_DATA.glob("*.toml"), key=lambda p: (_ORDER.index(p.stem) if p.stem in _ORDER else 99, p.stem))}
+           for p in sorted(_DATA.glob("*.toml"), key=lambda p: (PAPER_STUDIES.index(p.stem) if p.stem in PAPER_STUDIES else 99,
+                                                            p.stem))}
 
 
 def study_settings(name: str):
