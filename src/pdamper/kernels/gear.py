@@ -75,6 +75,8 @@ _NO_CAP = 1e-300
 
 @njit
 def _rescale(nord, ratio):
+    """The Nordsieck vector rescaled to a step ``ratio`` times the one it is scaled to
+    (``r_k *= ratio^k``), in flat loops."""
     nf = nord.reshape(6, -1)
     f = 1.0
     for k in range(1, 6):
@@ -87,25 +89,14 @@ def _rescale(nord, ratio):
 def _predict(nord, pred, ratio, inv_h, bodies):
     """Rescale the Nordsieck vector to the new step (``r_k *= ratio^k``, skipped when ``ratio`` is
     1), predict it into ``pred`` (Pascal triangle) and unpack the predicted positions, velocities
-    and spins into ``bodies``. The first two run as flat loops over all degrees of freedom, which
-    LLVM vectorises (twice as fast as one loop over spheres and components with the unpacking in
-    it; the same arithmetic per value, so bit-identical)."""
+    and spins into ``bodies``. The rescaling and the prediction run as flat loops over all degrees
+    of freedom, which LLVM vectorises (twice as fast as one loop over spheres and components with
+    the unpacking in it; the same arithmetic per value, so bit-identical)."""
+    if ratio != 1.0:
+        _rescale(nord, ratio)
     nf = nord.reshape(6, -1)
     pf = pred.reshape(6, -1)
-    size = nf.shape[1]
-    if ratio != 1.0:
-        f1 = ratio
-        f2 = f1 * ratio
-        f3 = f2 * ratio
-        f4 = f3 * ratio
-        f5 = f4 * ratio
-        for m in range(size):
-            nf[1, m] *= f1
-            nf[2, m] *= f2
-            nf[3, m] *= f3
-            nf[4, m] *= f4
-            nf[5, m] *= f5
-    for m in range(size):
+    for m in range(nf.shape[1]):
         r0 = nf[0, m]
         r1 = nf[1, m]
         r2 = nf[2, m]
