@@ -117,13 +117,12 @@ def drive_bundle(drive, gravity=None, direction=None) -> Drive:
     """The kernels' :class:`~pdamper.kernels.bundles.Drive` of a drive (:mod:`pdamper.excitation`),
     with the gravity vector and drive direction in the container frame (default: none, along x)."""
     kind, par, tab, state = drive.kernel_drive()
-    if bool(drive.coupled) != (int(kind) in (DRIVE_STRUCTURE, DRIVE_MODAL)):
-        raise ValueError(f"{type(drive).__name__}: coupled = {drive.coupled} disagrees with its kernel kind {kind}; "
-                         "a drive the bed moves has a structure's kind (3 or 4), any other has not")
     gravity = np.zeros(3) if gravity is None else np.asarray(gravity, dtype=float)
     direction = np.array([1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
-    return Drive(kind=int(kind), coupling=CoupledMotion() if drive.coupled else PrescribedMotion(), par=par, table=tab,
-                 state=state, gravity=gravity, direction=direction)
+    # the marker follows the kind, which the kernels read the structure's motion by
+    coupling = CoupledMotion() if int(kind) in (DRIVE_STRUCTURE, DRIVE_MODAL) else PrescribedMotion()
+    return Drive(kind=int(kind), coupling=coupling, par=par, table=tab, state=state, gravity=gravity,
+                 direction=direction)
 
 
 def _initial_vectors(given, n, name):
@@ -215,7 +214,8 @@ def _search(case, rad, n):
     cells = np.maximum(1, np.floor(span / cut)).astype(np.int64)
     # keep cells at least `cut` wide in every direction
     cell_size = max(float(np.max(span / cells)), cut)
-    search = Search(skin=float(skin), method=CellSearch() if name == "cells" else DirectSearch(), origin=vmin - cut, cell_size=cell_size, cells=cells,
+    method = CellSearch() if name == "cells" else DirectSearch()
+    search = Search(skin=float(skin), method=method, origin=vmin - cut, cell_size=cell_size, cells=cells,
                     head=np.empty(int(np.prod(cells)), dtype=np.int64), next=np.empty(n, dtype=np.int64),
                     counts=np.zeros(n, dtype=np.int64), reference=np.full((n, 3), np.inf))
     return search, name
