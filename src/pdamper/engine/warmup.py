@@ -14,8 +14,9 @@ who compiled what; a helper still running when the run's interpreter exits is en
 Not started when this process may use one core only, inside a Dask worker (a study already keeps
 every core busy), in a frozen application, when the cache directory is not known, when the
 kernel is cached already (any copy of it for this Python: a first coupled or link-cell run after
-plain ones compiles alone), or with ``PDAMPER_WARMUP=0``. No library does this (numba's own parallel compilation is for
-``parallel=True`` loops, not for the call graph of one kernel); it is ~100 lines.
+plain ones compiles alone), or with ``PDAMPER_WARMUP=0``. No library does this (numba's own
+parallel compilation is for ``parallel=True`` loops, not for the call graph of one kernel); it is
+~100 lines.
 """
 
 from __future__ import annotations
@@ -86,8 +87,10 @@ def start(case, stepper):
             or not sys.executable:
         return None
     try:
+        if _in_dask_worker():
+            return None
         kernel, _ = stepper.warm_jobs(empty_samples(stepper.engine.n))[0]
-        if not cold(kernel) or _in_dask_worker():
+        if not cold(kernel):
             return None
         data = pickle.dumps(case)
         proc = subprocess.Popen([sys.executable, "-m", "pdamper.engine.warmup"], stdin=subprocess.PIPE,

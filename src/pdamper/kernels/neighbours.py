@@ -22,7 +22,8 @@ from ..jit import JIT, njit
 from .bundles import CellSearch
 from .contact import FRICTION_CAP
 
-__all__ = ["build_direct", "build_cells", "build_pairs", "transfer_history", "build_wall_list", "max_displacement_sq", "rebuild_lists"]
+__all__ = ["build_direct", "build_cells", "build_pairs", "transfer_history", "build_wall_list", "max_displacement_sq",
+           "rebuild_lists"]
 
 
 @njit

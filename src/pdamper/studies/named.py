@@ -160,8 +160,8 @@ PAPER_STUDIES = ("fig4", "friction", "modulus", "density", "restitution", "radiu
 #: Study name -> (builder of the settings, what it shows): the paper's studies and the shipped ones
 #: beyond it (``vertical``), from their files.
 STUDIES = {p.stem: (_builder(p.stem), _title(p))
-           for p in sorted(_DATA.glob("*.toml"), key=lambda p: (PAPER_STUDIES.index(p.stem) if p.stem in PAPER_STUDIES else 99,
-                                                            p.stem))}
+           for p in sorted(_DATA.glob("*.toml"),
+                           key=lambda p: (PAPER_STUDIES.index(p.stem) if p.stem in PAPER_STUDIES else 99, p.stem))}
 
 
 def study_settings(name: str):
