@@ -40,11 +40,10 @@ def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, 
         _vertical(quick, max(seeds, 2) if not quick else seeds, out, report, workers, scheduler, as_json)
         return
 
-    checks, datasets, seconds = run_validation(out, quick=quick, seeds=seeds, fig4_seeds=None if quick else fig4_seeds, workers=workers, scheduler=scheduler,
+    checks, datasets, seconds = run_validation(out, quick=quick, seeds=seeds, fig4_seeds=None if quick else fig4_seeds,
+                                               workers=workers, scheduler=scheduler,
                                                progress=False if as_json else None)
-    report = Path(report) if report else Path(out) / "validation.md"
-    img = report.parent / "img" / "validation"
-    img.mkdir(parents=True, exist_ok=True)
+    report, img = _report_paths(report, out)
     figures = []
     for name, ds in datasets.items():
         f = img / f"{name}.png"
@@ -70,9 +69,7 @@ def _vertical(quick, seeds, out, report, workers, scheduler, as_json):
 
     rows, h, case, _, seconds = run_vertical(out, seeds=seeds, quick=quick, workers=workers, scheduler=scheduler,
                                              progress=False if as_json else None)
-    report = Path(report) if report else Path(out) / "validation.md"
-    img = report.parent / "img" / "validation"
-    img.mkdir(parents=True, exist_ok=True)
+    report, img = _report_paths(report, out)
     bouncing_figure(rows, h, img / "vertical.png")
     cmd = "pdamper validate --part vertical" + (" --quick" if quick else "") + (f" --seeds {seeds}" if seeds != 2 else "")
     write_section(report, vertical_section(rows, h, case, (img / "vertical.png").relative_to(report.parent).as_posix(),
@@ -85,3 +82,12 @@ def _vertical(quick, seeds, out, report, workers, scheduler, as_json):
         click.echo(f"X = {r['stroke_m'] * 1e3:6.3g} mm  Gamma = {r['intensity']:5.3g}  eta* DEM {r['eta_dem']:.3f} "
                    f"({r['eta_min']:.3f}-{r['eta_max']:.3f})  bouncing law {law}")
     click.echo(f"clearance h = {h * 1e3:.2f} mm (settled bed to lid); report: {report}")
+
+
+def _report_paths(report, out):
+    """The report's path (default ``<out>/validation.md``) and its figures' folder beside it,
+    ``img/validation/``, made."""
+    report = Path(report) if report else Path(out) / "validation.md"
+    img = report.parent / "img" / "validation"
+    img.mkdir(parents=True, exist_ok=True)
+    return report, img
