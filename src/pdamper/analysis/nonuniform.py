@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .sinusoid import MIN_DETECTED_SHARE, MIN_GIVEN_SHARE, detect_uniform, sinusoid_rss
+from .sinusoid import MIN_DETECTED_SHARE, MIN_GIVEN_SHARE, detect_uniform, linear_residual, sinusoid_rss
 
 __all__ = ["TimeBase", "time_base", "analyze_nonuniform", "MAX_GAP_PERIODS", "MIN_SAMPLES_PER_PERIOD"]
 
@@ -100,9 +100,7 @@ def detect_nonuniform(t: np.ndarray, s: np.ndarray, name: str) -> tuple[float, f
     grid = t[0] + np.arange(n) * (t[-1] - t[0]) / (n - 1)
     f0, _ = detect_uniform(np.interp(grid, t, s), float(grid[1] - grid[0]), name)
     u = t - 0.5 * (t[0] + t[-1])
-    trend = np.column_stack([np.ones(n), u])
-    coef, *_ = np.linalg.lstsq(trend, s, rcond=None)
-    r = s - trend @ coef
+    r = linear_residual(u, s)
     tss = float(r @ r)
 
     rss = sinusoid_rss(u, s)

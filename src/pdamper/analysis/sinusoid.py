@@ -11,12 +11,19 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["MIN_DETECTED_SHARE", "MIN_GIVEN_SHARE", "detect_uniform", "sinusoid_rss"]
+__all__ = ["MIN_DETECTED_SHARE", "MIN_GIVEN_SHARE", "detect_uniform", "linear_residual", "sinusoid_rss"]
 
 #: A detected drive must explain at least this share of the detrended motion variance.
 MIN_DETECTED_SHARE = 0.5
 #: A given drive frequency must carry at least this share of the motion variance in the window.
 MIN_GIVEN_SHARE = 0.01
+
+
+def linear_residual(u: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """``s`` minus its least-squares straight line ``c + d u`` (the trend a drive detection removes)."""
+    trend = np.column_stack([np.ones(u.size), u])
+    coef, *_ = np.linalg.lstsq(trend, s, rcond=None)
+    return s - trend @ coef
 
 
 def detect_uniform(s: np.ndarray, dt: float, name: str) -> tuple[float, float]:
@@ -28,9 +35,7 @@ def detect_uniform(s: np.ndarray, dt: float, name: str) -> tuple[float, float]:
 
     n = s.size
     u = (np.arange(n) - 0.5 * (n - 1)) * dt          # centred time
-    trend = np.column_stack([np.ones(n), u])
-    coef, *_ = np.linalg.lstsq(trend, s, rcond=None)
-    r = s - trend @ coef
+    r = linear_residual(u, s)
     tss = float(r @ r)
     if not tss > 0.0 or tss <= 1e-28 * float(s @ s):
         raise InputError(
