@@ -13,7 +13,7 @@ import pytest
 
 from pdamper.config import case_from_dict, case_to_dict, load_case, loads_case
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, ModalStructure
+from pdamper.structure import CoupledStructure, ModalStructure
 from pdamper.params import Case, Numerics, ParticleSet
 from pdamper.run import run_case
 from pdamper.simulation import run_bare_structure

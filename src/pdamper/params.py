@@ -391,6 +391,13 @@ class Case:
         """Driven time [s] (after settling)."""
         return self.drive.duration(self.cycles)
 
+    @property
+    def running_drive(self):
+        """The drive as a run moves it: with the empty container's mass (``container.mass``) on it
+        (:meth:`~pdamper.excitation.DriveBase.carrying`: a structure carries it at the damper; a
+        prescribed motion is the drive itself)."""
+        return self.drive.carrying(self.container.mass)
+
 
 def read_tilt(value, section: str = "container") -> tuple:
     """The container's tilt as a config gives it: three angles about x, y, z, or one angle for all
@@ -450,6 +457,4 @@ def with_stroke(case: Case, stroke) -> Case:
     """Deprecated: ``pdamper.schema.replace(case, {"drive.stroke": stroke})``."""
     warnings.warn('with_stroke is deprecated; use pdamper.schema.replace(case, {"drive.stroke": stroke})',
                   DeprecationWarning, stacklevel=2)
-    if case.drive.stroke is None:
-        raise InputError("a stroke can only be set on a harmonic drive")
     return replace(case, {"drive.stroke": stroke})

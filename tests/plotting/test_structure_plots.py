@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from pdamper.analysis import decay_damping, extrema
-from pdamper.excitation import CoupledStructure
+from pdamper.structure import CoupledStructure
 from pdamper.params import Case, Numerics, ParticleSet
 from pdamper.plotting.structure import decay_figure, response_figure
 

@@ -89,9 +89,9 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     if out_dir is not None:
         check_run_dir(out_dir)  # fail before a long run, not after it
 
-    periodic = hasattr(case.drive, "stroke")
-    total = float(case.cycles) if periodic else round(case.duration, 3)
-    with fraction_bar("pdamper run", total, "cycle" if periodic else "s",
+    cycles = case.drive.counts_cycles
+    total = float(case.cycles) if cycles else round(case.duration, 3)
+    with fraction_bar("pdamper run", total, "cycle" if cycles else "s",
                       not as_json and sys.stderr.isatty()) as progress:
         result = run_case(case, progress=progress, until_steady=until_steady)
     written = write_run(result, out_dir) if out_dir is not None else None

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..analysis.decay import decay_damping, extrema, harmonic_amplitude
 from ..errors import InputError
-from ..excitation import CoupledStructure, ModalStructure
+from ..structure import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
 
@@ -32,10 +32,12 @@ __all__ = ["DecayResult", "ResponseResult", "FieldsResponseResult", "run_decay",
 
 
 def _structure(case: Case) -> CoupledStructure | ModalStructure:
+    """The case's structure as its runs move it: with the empty container's mass at the damper
+    (:attr:`pdamper.params.Case.running_drive`)."""
     if not case.drive.coupled:
         raise InputError("this study needs a [structure] section in the config (the container riding on a "
                          "structure); see examples/structure_36.toml")
-    return case.drive
+    return case.running_drive
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -78,8 +80,8 @@ def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = Fal
 
     s = _structure(case)
     if s.force_amplitude > 0:
-        case = dataclasses.replace(case, drive=dataclasses.replace(s, force_amplitude=0.0))
-        s = case.drive
+        case = dataclasses.replace(case, drive=dataclasses.replace(case.drive, force_amplitude=0.0))
+        s = _structure(case)
     res = Simulation(case).run(progress=progress)
     rec = res.structure
     fs = case.recording.sample_rate
@@ -165,9 +167,9 @@ def response_case(case: Case, frequency: float, force_amplitude: float, phasor: 
     with ``phasor`` x^ [m] (complex amplitude of the damper point, ``x(t) = Im(x^ e^{i Omega t})``
     against the force ``F0 sin(Omega t)``) on that orbit: x(0) = Im x^, v(0) = Omega Re x^ (a
     modal structure takes them in its static shape of a load at the damper)."""
-    s = _structure(case)
+    _structure(case)
     x0, v0 = (0.0, 0.0) if phasor == 0 else (float(phasor.imag), float(2.0 * math.pi * frequency * phasor.real))
-    drive = dataclasses.replace(s, force_amplitude=force_amplitude, force_frequency=frequency,
+    drive = dataclasses.replace(case.drive, force_amplitude=force_amplitude, force_frequency=frequency,
                                 displacement=x0, velocity=v0)
     return dataclasses.replace(case, drive=drive)
 
@@ -213,7 +215,7 @@ def default_frequencies(case: Case, mode: int = 1, *, points: int = 9, spread: f
 def mode_frequency(case: Case, mode: int = 1) -> float:
     """The natural frequency [Hz] of mode ``mode`` (1-based) of the case's structure (without the bed)."""
     s = _structure(case)
-    fs = np.atleast_1d(getattr(s, "mode_frequencies", [s.natural_frequency]))
+    fs = np.atleast_1d(s.mode_frequencies)
     if isinstance(mode, bool) or not isinstance(mode, (int, np.integer)) or not 1 <= mode <= fs.size:
         raise InputError(f"--mode {mode!r}; the structure has {fs.size} mode{'s' if fs.size > 1 else ''}: "
                          f"give 1{f' to {fs.size}' if fs.size > 1 else ''}")
@@ -348,7 +350,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     damped = np.array([p.get("amplitude_m", math.nan) for p in points])
     bare_run, bare_steady = [], []
     for c in cases:
-        rec = run_bare_structure(c.drive, c.duration, sample_rate=c.recording.sample_rate)
+        rec = run_bare_structure(c.running_drive, c.duration, sample_rate=c.recording.sample_rate)
         bare_run.append(harmonic_amplitude(rec.time, rec.displacement, c.drive.force_frequency, cycles=measure_cycles))
         bare_steady.append(bool(abs(bare_run[-1] / float(s.steady_amplitude([c.drive.force_frequency],
                                                                              force_amplitude)[0]) - 1.0)
