@@ -14,7 +14,7 @@ from pdamper.cli.common import main
 from pdamper.design import (OPERATING_MARGIN, ROLLING_MODE, closed_form_fields, design_for_structure,
                             judge_verification, load_structure, operating_points, rolling_mass_ratio, structure_mode)
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure
+from pdamper.structure import CoupledStructure
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FRAME = EXAMPLES / "frame_3hz.toml"
@@ -180,7 +180,7 @@ def test_verify_runs_the_dem_at_ci_size_and_gives_a_verdict():
     (["--force", "0.01N"], ["no filling", "1.2 X_opt", "47 fillings tried"]),
     (["--force", "5N"], ["no filling", "lift"]),
     (["--stroke", "10mm"], ["--stroke", "--structure"]),
-    (["--shape", "cylinder"], ["cylinder", "cuboid"]),
+    (["--shape", "cylinder", "--width", "30mm"], ["--width", "cylinder", "cuboid"]),
 ])
 def test_bad_inputs_name_the_option(args, words):
     base = ["design", "--structure", str(FRAME), "--force", "1.5N"]

@@ -9,7 +9,7 @@ import tempfile
 
 import click
 
-from .common import Quantity, echo_json, fraction_bar, main, renamed, user_errors
+from .common import Quantity, ShapeChoice, echo_json, fraction_bar, main, parse_sizes, renamed, user_errors
 from .run import parse_set
 
 __all__ = ["decay_command", "response_command", "design_command"]
@@ -296,12 +296,15 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 @click.option("--frequency", type=Quantity("frequency"), help="Structure's frequency, e.g. 2Hz (without --structure).")
 @click.option("--stroke", type=Quantity("length"),
               help="Stroke (amplitude) of the structure where the damper sits, e.g. 10mm (without --structure).")
-@click.option("--shape", type=click.Choice(["cuboid", "cylinder"]), default="cuboid", show_default=True)
+@click.option("--shape", type=ShapeChoice(),
+              help="Container shape (any registered shape) [default: cuboid; with --structure the file's container].")
 @click.option("--length", type=Quantity("length"), help="Cuboid: inner length along the motion, e.g. 120mm.")
 @click.option("--length-range", metavar="LOW:HIGH",
               help="With --structure: container lengths to choose from, e.g. 80mm:200mm (1 mm steps, at most 121).")
 @click.option("--width", type=Quantity("length"), help="Cuboid: inner width, e.g. 40.4mm.")
 @click.option("--container-radius", type=Quantity("length"), help="Cylinder: inner radius R, e.g. 39mm.")
+@click.option("--size", "sizes", multiple=True, metavar="KEY=VALUE",
+              help="Another [container] key of the shape, e.g. --size height=30mm (repeatable).")
 @click.option("--sphere-radius", type=Quantity("length"),
               help="Sphere radius r, e.g. 5mm (required without --structure; with it the config's, else 5 mm).")
 @click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --sphere-radius.")
@@ -326,8 +329,8 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @user_errors
 def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
-                   container_radius, sphere_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio,
-                   margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+                   container_radius, sizes, sphere_radius, radius, density, max_particles, max_bed_mass,
+                   max_mass_ratio, margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
     With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
@@ -347,13 +350,14 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     """
     from ..design import design_filling
     from ..errors import InputError
+    from ..params import Container
 
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
+    sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
     if structure_file is not None:
         return _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range,
-                                 width, container_radius, radius, density, max_particles, max_bed_mass,
-                                 max_mass_ratio, margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers,
-                                 as_json)
+                                 sizes, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
+                                 verify, verify_cycles, verify_strokes, seeds, workers, as_json)
     for name, value in (("--force", force), ("--length-range", length_range), ("--max-bed-mass", max_bed_mass),
                         ("--max-mass-ratio", max_mass_ratio)):
         if value is not None:
@@ -365,8 +369,9 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     if radius is None:
         raise InputError("missing --sphere-radius (the sphere radius r, e.g. 5mm)")
 
-    d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius, shape=shape, length=length,
-                       width=width, container_radius=container_radius, max_particles=max_particles, tilt=tilt,
+    d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius,
+                       shape=shape if shape is not None else Container().geometry.shape, length=length,
+                       sizes=sizes, max_particles=max_particles, tilt=tilt,
                        density=7900.0 if density is None else density)
     out = d.to_dict()
     if verify:
@@ -427,35 +432,29 @@ def _verify(d, cycles, workers, quiet):
             "eta_theory": [float(th.eta_theory(x, d.clearance_m)) for x in xs]}
 
 
-def _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
-                      container_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
-                      verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+def _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, sizes,
+                      radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt, verify,
+                      verify_cycles, verify_strokes, seeds, workers, as_json):
     """``pdamper design --structure``: the filling for a structure mode, its report and the DEM check."""
-    from ..design import design_cuboid, design_for_structure, load_structure
+    from ..design import design_container, design_for_structure, load_structure
     from ..errors import InputError
 
-    for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--container-radius", container_radius),
-                        ("--max-particles", max_particles), ("--tilt", tilt)):
+    for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--max-particles", max_particles),
+                        ("--tilt", tilt)):
         if value is not None:
             raise InputError(f"{name} does not apply with --structure: the design finds the stroke at the mode's "
-                             "resonance and sizes a cuboid (give --length or --length-range, --width, "
-                             "--sphere-radius)")
-    if shape != "cuboid":
-        raise InputError("--shape cylinder: the design for a structure sizes a cuboid (give --length or "
-                         "--length-range and --width)")
+                             "resonance and sizes the container's length along the drive (give --length or "
+                             "--length-range, the other sizes, --sphere-radius)")
     if force is None or not force > 0:
         raise InputError(f"--force{'' if force is None else f' = {force:g} N'}: give the force amplitude on the "
                          "structure at the mode's resonance, > 0, e.g. --force 1.5N")
     case = load_structure(structure_file)
-    geo = design_cuboid(case, given=not (length is None and length_range is None or width is None),
-                        source=structure_file)
+    geo = design_container(case, shape=shape, sizes=sizes)
     sphere = case.particles[0]
     rng = _length_range(length_range) if length_range is not None else None
-    if rng is None and length is None:
-        length = geo.length
     sd = design_for_structure(case.drive, force=force, mode=mode_number,
                               sphere_radius=radius if radius is not None else sphere.radius,
-                              length=length, width=width if width is not None else geo.width, length_range=rng,
+                              length=length, length_range=rng, container=geo, container_mass=case.container.mass,
                               max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio,
                               density=density if density is not None else sphere.material.density, margin=margin)
     out = sd.to_dict()
@@ -479,14 +478,21 @@ def _length_range(text: str):
 
 
 def _design_structure_lines(sd, out, structure_file) -> list:
+    from ..design import margin_note
+
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
     pct = lambda z: f"{100 * z:.3g} %"  # noqa: E731
     d = sd.filling
+    shaped = sd.modes > 1 or sd.phi_damper != 1.0
     lines = [f"pdamper design --structure {structure_file}: mode {sd.mode} of {sd.modes}, "
-             f"m = {sd.modal_mass_kg:.4g} kg, f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, "
-             f"F = {sd.force_N:.4g} N at resonance"
-             + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response {sd.phi_response:.4g})"
-                if sd.modes > 1 or sd.phi_damper != 1.0 else "")]
+             f"M = {sd.mass_at_damper_kg:.4g} kg at the damper"
+             + (f" (m / phi_d^2: modal mass m = {sd.modal_mass_kg:.4g} kg in the mode's normalisation)" if shaped
+                else "") + (f", the empty container's {1e3 * sd.container_mass_kg:.4g} g included"
+                            if sd.container_mass_kg > 0 else "")
+             + f", f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, F = {sd.force_N:.4g} N at "
+             "resonance" + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response "
+                            f"{sd.phi_response:.4g})" if shaped else ""),
+             "  masses are physical, at the damper (the mode's own normalisation only where it says so)"]
     rows = [
         ("container", d.describe_container(), f"{sd.candidates} fillings tried"),
         ("filling", f"{d.particles} of {d.max_particles}", f"spheres r = {mm(d.sphere_radius_m)}, {d.rows} rows"),
@@ -497,9 +503,10 @@ def _design_structure_lines(sd, out, structure_file) -> list:
          "rolling collect-and-collide)"),
         ("eta*", f"{sd.eta_star:.3f}", "rolling law, eq. (14)"),
         ("energy per cycle", f"{1e3 * sd.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2"),
-        ("added mass", f"{1e3 * sd.added_modal_mass_kg:.4g} g",
-         f"phi_d^2 m_eff, m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} "
-         "m_bed (rolling bed, eqs. 10-12)"),
+        ("added mass", f"{1e3 * sd.effective_mass_kg:.4g} g",
+         f"at the damper: the rolling bed's m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} m_bed (eqs. 10-12)"
+         + (f"; phi_d^2 m_eff = {1e3 * sd.added_modal_mass_kg:.4g} g in the mode's normalisation" if
+            sd.phi_damper != 1.0 else "")),
         ("resonance", f"{sd.frequency_hz:.4g} Hz", f"without damper {sd.natural_frequency_hz:.4g} Hz"),
         ("modal damping", pct(sd.zeta_total),
          f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
@@ -513,8 +520,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
                  f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"))
     wv = max(16, *(len(value) + 2 for _, value, _ in rows))
     lines += [f"  {name:<20}{value:<{wv}}{note}" for name, value, note in rows]
-    lines.append(f"  margin: the DEM shows the rolling mode only above ~1.1-1.2 X_opt (the bed sways below, with less "
-                 f"eta*); the filling keeps X >= {sd.margin:g} X_opt (--margin)")
+    lines.append(f"  {margin_note(sd.margin)}")
     lines += [f"warning: {w}" for w in sd.warnings]
     if "verify" in out:
         v = out["verify"]
@@ -539,19 +545,16 @@ def _verify_structure(sd, case, cycles, n_strokes, n_seeds, workers, quiet) -> d
     from ..analysis.modes import majority_mode
     from ..design import judge_verification, verify_factors
     from ..excitation import HarmonicDrive
-    from ..geometry.cuboid import Cuboid
     from ..studies import SweepSpec, run_sweep
 
     d = sd.filling
-    height = getattr(case.container.geometry, "height", Cuboid().height)
     sphere = case.particles[0]
     mat = sphere.material
     if mat.density != d.density_kg_m3:
         mat = dataclasses.replace(mat, density=d.density_kg_m3)
     base = dataclasses.replace(
         case, particles=(dataclasses.replace(sphere, count=d.particles, radius=d.sphere_radius_m, material=mat),),
-        container=dataclasses.replace(case.container,
-                                      geometry=Cuboid(length=d.length_m, width=d.width_m, height=height)),
+        container=dataclasses.replace(case.container, geometry=d.container_geometry()),
         drive=HarmonicDrive(stroke=sd.damper_stroke_m, frequency=sd.frequency_hz), cycles=cycles,
         drop_cycles=2 if cycles >= 5 else 1)  # the record's whole cycles: one fewer than asked at an odd frequency
     strokes = [sd.damper_stroke_m * f for f in verify_factors(n_strokes)]
