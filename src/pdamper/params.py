@@ -85,7 +85,9 @@ class Container:
     material : Material of the walls (paper: PVC).
     tilt : (a_x, a_y, a_z) [rad] about the container's x, y, z axes, applied in that order
         (see :mod:`pdamper.geometry.tilt`). Paper default 0.1 deg each.
-    mass : float, m_c [kg] >= 0; enters the driving force as m_c x_c'' (no effect on Re P).
+    mass : float, m_c [kg] >= 0, the empty container's (a key of the damper): with a prescribed
+        drive it enters the driving force as m_c x_c'' (no effect on Re P); on a structure it
+        moves with the structure, at the damper (:attr:`Case.running_drive`).
     baffles : inner plates across the x axis (:class:`pdamper.geometry.baffles.Baffle`).
     wall_materials : {wall name: Material} for walls of another material than ``material`` (a
         coating), by the names of :meth:`walls` (a cuboid: x_min, x_max, floor, lid, z_min, z_max).

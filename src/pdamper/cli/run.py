@@ -156,7 +156,11 @@ def _table(config, case, s, written) -> str:
         if s.get("truncation_error") is not None and math.isfinite(s["truncation_error"]):
             rows.insert(4, ("truncation error", _fmt(s["truncation_error"], 2), "[-]",
                             f"static compliance at the damper from the {s['modes_kept']} kept modes vs K^-1"))
-        at = 4 + ("truncation_error" in s)
+        if s.get("modes_kept", 1) > 1:
+            rows.insert(4, ("modes", str(s["modes_kept"]), "",
+                            "f = " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"]) + " Hz; zeta = "
+                            + ", ".join(f"{100 * z:.3g}" for z in s["mode_damping_ratios"]) + " %"))
+        at = 4 + ("truncation_error" in s) + (s.get("modes_kept", 1) > 1)
     if s.get("mode"):
         f = s.get("mode_features") or {}
         # after eta* and its steadiness line (which is about eta*, not about the mode)

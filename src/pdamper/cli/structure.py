@@ -15,7 +15,11 @@ from .run import parse_set
 __all__ = ["decay_command", "response_command", "design_command"]
 
 
-def _load(config, settings, cycles, seed):
+def _load(config, settings, cycles, seed, force=None):
+    """The case of CONFIG.toml with the command's overrides. ``force`` [N] (``--force``): the
+    structure is forced (its ``force_amplitude``), at its ``force_frequency`` or, where the file
+    gives none, at its first mode's natural frequency; a file whose structure nothing moves
+    (``force_amplitude = 0``, no start) is then read as forced, not refused."""
     from ..config import load_case
 
     overrides = parse_set(settings)
@@ -23,6 +27,14 @@ def _load(config, settings, cycles, seed):
         overrides["run.cycles"] = int(cycles) if float(cycles).is_integer() else cycles
     if seed is not None:
         overrides["initial.seed"] = seed
+    if force is not None and force > 0 and "structure.force_amplitude" not in overrides:
+        # the file as it stands may have nothing that moves it: read it once with a nominal start
+        probe = load_case(config, {**overrides, "structure.displacement": "1mm", "structure.force_amplitude": 0.0})
+        if not probe.drive.coupled:
+            return probe  # not a structure: the command says so
+        overrides["structure.force_amplitude"] = force
+        overrides.setdefault("structure.force_frequency",
+                             probe.drive.force_frequency or probe.drive.natural_frequency)
     return load_case(config, overrides)
 
 
@@ -107,7 +119,8 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
         f"zeta = {pct(s['damping_ratio'])}, from {mm(s['initial_displacement_m'])}",
         *([f"  modes                 {s['modes_kept']}: " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"])
            + " Hz (M, f_n, zeta: the first mode's, M at the damper)"
-           + (f"; truncation error {s['truncation_error']:.2g}" if "truncation_error" in s else "")]
+           + (f"; truncation error {s['truncation_error']:.2g}" if "truncation_error" in s else ""),
+           "  mode damping ratios   " + ", ".join(f"{100 * z:.3g}" for z in s["mode_damping_ratios"]) + " %"]
           if s.get("modes_kept", 1) > 1 else []),
         f"  damper                {s['particles']} spheres, {1e3 * s['bed_mass_kg']:.4g} g "
         f"({100 * s['mass_ratio']:.3g} % of M), X_opt = {mm(s['x_opt_m'])}",
@@ -135,8 +148,9 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
               "[default: 9 points over +-10 % around the natural frequency of --mode].")
 @click.option("--mode", "mode", type=click.IntRange(min=1), default=1, show_default=True,
               help="The mode whose resonance the default grid is centred on (and the warning checks).")
-@click.option("--force", "force", type=Quantity("force"),
-              help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude).")
+@click.option("--force", "force", type=Quantity("force"), multiple=True,
+              help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude); repeat it "
+                   "for several forces, overlaid in the figure (|X|/F0 panel).")
 @click.option("--fields", "fields_path", type=click.Path(dir_okay=False),
               help="The damper's fields (pdamper fields --out F.nc): the response by harmonic balance, in "
                    "milliseconds, instead of DEM runs (with --start: the DEM runs, and the fields' prediction beside).")
@@ -178,7 +192,8 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     from ..studies.structure import (default_frequencies, grid_warnings, parse_frequencies, run_response,
                                      run_response_fields)
 
-    case = _load(config, settings, cycles, seed)
+    forces = [float(f) for f in force or ()]
+    case = _load(config, settings, cycles, seed, force=forces[0] if forces else None)
     check_path(plot)
     if frequencies is None:
         freqs = default_frequencies(case, mode)
@@ -186,8 +201,9 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     else:
         freqs = parse_frequencies(frequencies)
         warnings = grid_warnings(case, freqs, mode)
-    f0 = force if force is not None else (case.drive.force_amplitude if case.drive.coupled else 0.0)
-    if not f0 > 0:
+    if not forces:
+        forces = [case.drive.force_amplitude if case.drive.coupled else 0.0]
+    if not all(f0 > 0 for f0 in forces):
         raise InputError("--force: give the force amplitude on the structure, e.g. --force 0.4N "
                          "([structure] force_amplitude is 0)")
     fields = None
@@ -202,48 +218,69 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     if not as_json:
         for w in warnings:
             click.echo(f"warning: {w}", err=True)
-    if fields is not None and start is None:
-        res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
-        res.summary["warnings"] = warnings
-        s = _report(res, case, config, plot, response_figure, as_json)
-        if s is not None:
-            click.echo("\n".join(_fields_lines(s, config, f0, fields_path, plot)))
+    results, beside, text = [], [], []
+    x_opt = _x_opt(case)
+    for f0 in forces:
+        if fields is not None and start is None:
+            res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+            res.summary.update(warnings=warnings, x_opt_m=x_opt)
+            results.append(res)
+            beside.append(None)
+            text += _fields_lines(dict(res.summary, config=str(config)), config, f0, fields_path, None)
+            continue
+        res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
+                           scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
+                           fields=fields, extrapolate=extrapolate)
+        res.summary.update(warnings=warnings, x_opt_m=x_opt)
+        prediction = curve = None
+        if fields is not None:
+            prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+            res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
+                "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
+                "peak_damped_frequency_hz", "solve_time_median_s")}
+            if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
+                curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields,
+                                            force_amplitude=f0, extrapolate=extrapolate)
+        results.append(res)
+        beside.append(curve or prediction)
+        text += _dem_lines(res.summary, config, f0, prediction is not None)
+    if plot:
+        response_figure(results if len(results) > 1 else results[0], plot,
+                        fields=(beside if len(beside) > 1 else beside[0]) if any(b is not None for b in beside)
+                        else None)
+    summaries = [dict(r.summary) for r in results]
+    if as_json:
+        if len(summaries) == 1:
+            echo_json(dict(summaries[0], config=str(config), plot=plot))
+        else:
+            echo_json({"forces_N": forces, "responses": summaries, "config": str(config), "plot": plot})
         return
-    res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
-                       scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
-                       fields=fields, extrapolate=extrapolate)
-    res.summary["warnings"] = warnings
-    prediction = curve = None
-    if fields is not None:
-        prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
-        res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
-            "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
-            "peak_damped_frequency_hz", "solve_time_median_s")}
-        if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
-            curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields, force_amplitude=f0,
-                                        extrapolate=extrapolate)
-    s = _report(res, case, config, plot, lambda r, p: response_figure(r, p, fields=curve or prediction), as_json)
-    if s is None:
-        return
+    if plot:
+        text.append(f"  wrote {plot}")
+    click.echo("\n".join(text))
+
+
+def _dem_lines(s: dict, config, f0: float, prediction: bool) -> list[str]:
+    """The table of a DEM response (``s``: its summary)."""
+    from ..studies.structure import frequency_format
+
     mark = lambda k: "" if s["steady"][k] else " *"  # noqa: E731
+    hz = frequency_format(s["frequencies_hz"])
     lines = [f"pdamper response {config}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
              f"{100 * s['mass_ratio']:.3g} % of M; {s['measure_cycles']} of {s['cycles']:g} cycles measured, "
              f"from {s['start']})",
              f"  {'f [Hz]':>8}  {'damper [mm]':>12}  {'bare [mm]':>10}  {'bare run [mm]':>13}  {'solid mass [mm]':>15}"
              + ("  fields [mm]" if prediction else "")]
     for k, f in enumerate(s["frequencies_hz"]):
-        line = (f"  {f:8.4g}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
+        line = (f"  {hz(f):>8}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                 f"{1e3 * s['amplitude_bare_run_m'][k]:11.4g}{'' if s['bare_run_steady'][k] else ' *':2}  "
                 f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
         if prediction:
             line += "  " + _branches_mm(s["fields_prediction"]["damper_amplitude_m"][k])
         lines.append(line)
-    change = s["last_period_change"][s["frequencies_hz"].index(s["peak_damped_frequency_hz"])]
     ratio = (f"ratio {s['peak_reduction']:.3g}" if s["peak_steady"]
-             else f"no ratio: the damped peak is a transient (changed {100 * change:.2g} % over the last period)")
-    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
-                 f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
-                 + ratio)
+             else f"no ratio: the damped peak is a transient ({transient_words(s)})")
+    lines.append(_peak_line(s, hz) + ratio)
     if not all(s["steady"]) or not all(s["bare_run_steady"]):
         lines.append(f"  * not steady: the amplitude over the last period (or the last half of the measured ones) "
                      f"differs from the one before by more than {100 * s['steady_tolerance']:g} %; a bare run: "
@@ -252,9 +289,26 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
                  f"DEM time {s['wall_time_s']:.3g} s")
     for f, msg in s["failed"].items():
         lines.append(f"  failed at {f} Hz: {msg}")
-    if plot:
-        lines.append(f"  wrote {plot}")
-    click.echo("\n".join(lines))
+    return lines
+
+
+def transient_words(s: dict) -> str:
+    """Why the damped peak of a DEM response ``s`` is not steady: the checks that failed, with
+    their numbers and the limit (:func:`pdamper.studies.structure.steadiness`)."""
+    k = s["frequencies_hz"].index(s["peak_damped_frequency_hz"])
+    tol = s["steady_tolerance"]
+    checks = [("over the last period", s["last_period_change"][k]),
+              ("between the two halves of the measured periods", s["window_change"][k])]
+    failed = [f"changed {100 * v:.2g} % {what}" for what, v in checks if not v <= tol]
+    return "; ".join(failed or ["its run failed"]) + f", beyond the {100 * tol:g} % limit"
+
+
+def _peak_line(s: dict, hz) -> str:
+    """The damped peak against the bare structure's resonance (its closed-form peak, not the grid's
+    largest bare value)."""
+    return (f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {hz(s['peak_damped_frequency_hz'])} Hz; without "
+            f"{1e3 * s['resonance_bare_m']:.4g} mm at its resonance {s['resonance_bare_frequency_hz']:.5g} Hz "
+            f"({1e3 * s['peak_bare_m']:.4g} mm on this grid): ")
 
 
 def _branches_mm(v) -> str:
@@ -267,16 +321,17 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
     lines = [f"pdamper response {config} --fields {fields_path}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
              f"{100 * s['mass_ratio']:.3g} % of M; harmonic balance, stable branches)",
              f"  {'f [Hz]':>8}  {'damper [mm]':>16}  {'response [mm]':>16}  {'bare [mm]':>10}  {'solid mass [mm]':>15}"]
+    from ..studies.structure import frequency_format
+
+    hz = frequency_format(s["frequencies_hz"])
     for k, f in enumerate(s["frequencies_hz"]):
-        lines.append(f"  {f:8.4g}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
+        lines.append(f"  {hz(f):>8}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
                      f"{_branches_mm(s['response_amplitude_m'][k]):>16}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                      f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
-    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
-                 f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
-                 f"ratio {s['peak_reduction']:.3g}")
+    lines.append(_peak_line(s, hz) + f"ratio {s['peak_reduction']:.3g}")
     if s["jump_frequencies_hz"]:
         lines.append("  jumps (the stable branches change) at " +
-                     ", ".join(f"{f:.4g} Hz" for f in s["jump_frequencies_hz"]))
+                     ", ".join(f"{f:.5g} Hz" for f in s["jump_frequencies_hz"]))
     if s["extrapolated"]:
         lines.append("  warning: some solutions lie outside the fields' box (--extrapolate: end values continued)")
     lines.append(f"  solve time {1e3 * s['solve_time_median_s']:.3g} ms per frequency (median); fields {s['fields_box']}")
@@ -489,7 +544,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
              + (f" (m / phi_d^2: modal mass m = {sd.modal_mass_kg:.4g} kg in the mode's normalisation)" if shaped
                 else "") + (f", the empty container's {1e3 * sd.container_mass_kg:.4g} g included"
                             if sd.container_mass_kg > 0 else "")
-             + f", f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, F = {sd.force_N:.4g} N at "
+             + f", f = {sd.natural_frequency_hz:.5g} Hz, zeta = {pct(sd.damping_ratio)}, F = {sd.force_N:.4g} N at "
              "resonance" + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response "
                             f"{sd.phi_response:.4g})" if shaped else ""),
              "  masses are physical, at the damper (the mode's own normalisation only where it says so)"]
@@ -507,7 +562,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
          f"at the damper: the rolling bed's m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} m_bed (eqs. 10-12)"
          + (f"; phi_d^2 m_eff = {1e3 * sd.added_modal_mass_kg:.4g} g in the mode's normalisation" if
             sd.phi_damper != 1.0 else "")),
-        ("resonance", f"{sd.frequency_hz:.4g} Hz", f"without damper {sd.natural_frequency_hz:.4g} Hz"),
+        ("resonance", f"{sd.frequency_hz:.5g} Hz", f"without damper {sd.natural_frequency_hz:.5g} Hz"),
         ("modal damping", pct(sd.zeta_total),
          f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
         ("amplitude, damper", mm(sd.amplitude_damper_m), f"without damper {mm(sd.amplitude_damper_bare_m)}, bed as a "
@@ -524,7 +579,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
     lines += [f"warning: {w}" for w in sd.warnings]
     if "verify" in out:
         v = out["verify"]
-        lines.append(f"  DEM check at {sd.frequency_hz:.4g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
+        lines.append(f"  DEM check at {sd.frequency_hz:.5g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
         for x, s, e, t, m, fr in zip(v["strokes_m"], v["stroke_over_x_opt"], v["eta_star_dem"], v["eta_star_law"],
                                      v["modes"], v["force_required_N"]):
             lines.append(f"    X = {mm(x):>9} ({s:.3g} X_opt)  eta* DEM {e:.3f}  law {t:.3f}  force needed "

@@ -186,9 +186,8 @@ def _at_stroke(stroke, h, frequency, bed_mass, kappa, x_opt) -> dict:
 def _table(r: dict) -> str:
     mm = lambda x: f"{x * 1e3:.4g} mm"  # noqa: E731
     sizes = ", ".join(f"{k} = {mm(v) if isinstance(v, float) else v}" for k, v in r["container"].items())
-    geometry = f"{r['shape']}, {sizes}: L = {mm(r['length_m'])} along the drive"
     rows = [
-        ("container", geometry, ""),
+        ("container", f"{r['shape']}, L = {mm(r['length_m'])}", f"{sizes} (L: its length along the drive)"),
         ("particles", f"{r['particles']} of {r['max_particles']}", "one layer"),
         ("frequency", f"{r['frequency_hz']:.4g} Hz", ""),
         ("clearance h", mm(r["clearance_m"]), "eq. (6)"),

@@ -158,6 +158,21 @@ class StructureBase(DriveBase):
         """The damper point's ``(x, v, a)`` now, from the kernels' state."""
         return state[0, 0], state[0, 1], state[0, 2]
 
+    def steady_phasor(self, frequencies, force_amplitude: float, added_mass: float = 0.0, point: str = "damper"):
+        """Complex steady amplitude x^ [m] at the damper (or ``point = "response"``) under
+        ``force_amplitude`` sin(2 pi f t) at each of ``frequencies`` [Hz] without the bed
+        (``x(t) = Im(x^ e^{i 2 pi f t})``: its angle is the phase against the force), with
+        ``added_mass`` [kg] rigidly at the damper: ``(-W^2 (diag m + m_a phi_d phi_d^T) + i W diag c +
+        diag k) q = phi_f F0``; ``|x^|`` is :meth:`steady_amplitude`."""
+        mass, k, c, pd, pf, pr = self.modal_arrays()
+        out = []
+        for f in np.atleast_1d(np.asarray(frequencies, dtype=float)):
+            w = 2.0 * math.pi * f
+            A = np.diag(k - w * w * mass + 1j * w * c) - w * w * added_mass * np.outer(pd, pd)
+            q = np.linalg.solve(A, pf * force_amplitude)
+            out.append(complex(np.dot(pr if point == "response" else pd, q)))
+        return np.array(out)
+
     def _forced_words(self) -> str:
         return (f"F0 = {self.force_amplitude:g} N at {self.force_frequency:g} Hz" if self.force_amplitude > 0
                 else f"free decay from {self.displacement * 1e3:g} mm")

@@ -305,15 +305,9 @@ class ModalStructure(StructureBase, _Modes):
         """Steady amplitude [m] at the damper (or ``point = "response"``) under ``force_amplitude``
         sin(2 pi f t) at each of ``frequencies`` [Hz], without the bed; ``added_mass`` [kg] rigidly
         at the damper (the bed as a solid mass): the modal equations coupled by it,
-        ``(-W^2 (diag m + m_a phi_d phi_d^T) + i W diag c + diag k) q = phi_f F0``."""
-        mass, k, c, pd, pf, pr = self._modal_arrays()
-        out = []
-        for f in np.atleast_1d(np.asarray(frequencies, dtype=float)):
-            w = 2.0 * math.pi * f
-            A = np.diag(k - w * w * mass + 1j * w * c) - w * w * added_mass * np.outer(pd, pd)
-            q = np.linalg.solve(A, pf * force_amplitude)
-            out.append(abs(complex(np.dot(pr if point == "response" else pd, q))))
-        return np.array(out)
+        ``(-W^2 (diag m + m_a phi_d phi_d^T) + i W diag c + diag k) q = phi_f F0``: the magnitude of
+        :meth:`~pdamper.structure.base.StructureBase.steady_phasor`."""
+        return np.array([abs(complex(z)) for z in self.steady_phasor(frequencies, force_amplitude, added_mass, point)])
 
     def kernel_drive(self):
         """(kernel kind, par, table, state) for the kernels (:func:`pdamper.kernels.structure.modal_step`);
