@@ -221,8 +221,9 @@ def _draw_dem(ax_a, ax_n, ax_p, result, fields, dash):
         for run in _segments(f, damped, jumps):
             if len(run) > 1:
                 ax.plot(f[run], damped[run] * scale, dash, color=colour, lw=1.2)
-        ax.plot(f[steady], damped[steady] * scale, "o", color=colour, ms=5,
-                label=f"with damper (DEM, {s['particles']} spheres, from {s.get('start', 'rest')})")
+        if steady.any():
+            ax.plot(f[steady], damped[steady] * scale, "o", color=colour, ms=5,
+                    label=f"with damper (DEM, {s['particles']} spheres, from {s.get('start', 'rest')})")
         if not steady.all():
             ax.plot(f[~steady], damped[~steady] * scale, "o", mfc="white", color=colour, ms=5,
                     label="with damper (DEM), not steady (a transient)")

@@ -111,12 +111,12 @@ class CoupledStructure(StructureBase, _OneMode):
 
     @property
     def mode_frequencies(self) -> np.ndarray:
-        """[f_n] [Hz]: its one mode."""
+        """The one mode's natural frequency f_n [Hz], as an array of one."""
         return np.array([self.natural_frequency])
 
     @property
     def mode_damping_ratios(self) -> np.ndarray:
-        """[zeta] [-]: its one mode."""
+        """The one mode's damping ratio zeta, as an array of one."""
         return np.array([float(self.damping_ratio)])
 
     @property
