@@ -105,13 +105,15 @@ def test_a_motion_family_keeps_its_colour_from_figure_to_figure():
         return SimpleNamespace(frequencies=np.array([1.9, 2.0, 2.1]), solution=SimpleNamespace(solutions=sols),
                                summary={})
 
-    colours = []
-    for families in (["collide"], ["other", "collide"]):
+    colours = {}
+    for families in (["other"], ["collide"], ["other", "collide"], ["collide", "other/collide", "other"]):
         ax = Figure().subplots()
         _draw_fields(ax, fields(families))
-        colours.append({ln.get_label(): ln.get_color() for ln in ax.get_lines()})
-    rolling = [c for c in colours if any("rolling" in k for k in c)]
-    assert {c[next(k for k in c if "rolling" in k)] for c in rolling} == {_C_FAMILY["collide"]}
+        for ln in ax.get_lines():
+            colours.setdefault(ln.get_label(), set()).add(ln.get_color())
+    assert all(len(c) == 1 for c in colours.values()), colours  # one colour per family, whatever else is drawn
+    assert colours["with damper, from the fields (rolling collect-and-collide bed)"] == {_C_FAMILY["collide"]}
+    assert colours["with damper, from the fields (scattered or swaying bed)"] == {_C_FAMILY["other"]}
 
 
 def test_decay_legends_cover_no_curve_and_not_the_last_peaks():
