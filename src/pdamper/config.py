@@ -273,7 +273,9 @@ def key_spec(dotted: str) -> Spec:
         raise InputError(f"{dotted!r}: unknown key {key!r} in [{section}]; " + _quoted(key, SECTIONS[section]))
     if dotted in _VALUE_SPECS:
         return _VALUE_SPECS[dotted]
-    classes = (*_GEOMETRIES.values(), *_section_classes(section)) if section == "container" else _section_classes(section)
+    classes = _section_classes(section)
+    if section == "container":
+        classes = (*_GEOMETRIES.values(), *classes)
     for cls in classes:
         for f, s in plain_fields(cls):
             if (s.key or f.name) == key:

@@ -25,7 +25,8 @@ from .geometry import Cuboid, shape_from_keys
 from .theory.bounds import TILT_MARGIN  # the margin `pdamper theory` uses
 from .units import quantities
 
-__all__ = ["Design", "design_filling", "design_container", "check_fits", "size_option", "margin_note", "TILT_MARGIN", "MIN_ROWS", "MARGINAL", "OPERATING_MARGIN", "Mode",
+__all__ = ["Design", "design_filling", "design_container", "check_fits", "size_option", "margin_note",
+           "TILT_MARGIN", "MIN_ROWS", "MARGINAL", "OPERATING_MARGIN", "Mode",
            "structure_mode", "rolling_mass_ratio", "closed_form_fields", "required_force", "OperatingPoint",
            "operating_points", "StructureDesign", "design_for_structure", "load_structure", "verify_factors",
            "judge_verification", "ROLLING_MODE", "VERIFY_REACH"]
@@ -441,13 +442,13 @@ def operating_points(mode: Mode, force: float, *, x_opt: float, bed_mass: float,
 
 @dataclass(frozen=True, kw_only=True)
 class StructureDesign:
-    """The filling that minimises a structure mode's resonant amplitude, with what the laws expect
-    (SI units; masses physical, at the damper, where they are named so). ``amplitude_*``: at the damper point and at the response point, with the damper
-    (at the operating point) and without (bare resonance F phi_f / (c omega_n)) and with the bed
-    as a solid mass; ``zeta_*``: the modal damping ratios (``zeta_bare`` the structure's alone,
-    ``zeta_structure + zeta_damper = zeta_total`` with the damper's added mass, at its
-    resonance); ``operating_points``: every solution of the energy balance for the chosen
-    filling (the design's is the largest stable one)."""
+    """The filling that minimises a structure mode's resonant amplitude, with what the laws expect (SI
+    units; masses physical, at the damper, where they are named so). ``amplitude_*``: at the damper
+    point and at the response point, with the damper (at the operating point) and without (bare
+    resonance F phi_f / (c omega_n)) and with the bed as a solid mass; ``zeta_*``: the modal damping
+    ratios (``zeta_bare`` the structure's alone, ``zeta_structure + zeta_damper = zeta_total`` with the
+    damper's added mass, at its resonance); ``operating_points``: every solution of the energy balance
+    for the chosen filling (the design's is the largest stable one)."""
 
     mode: int
     modes: int

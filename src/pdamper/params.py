@@ -459,4 +459,7 @@ def with_stroke(case: Case, stroke) -> Case:
     """Deprecated: ``pdamper.schema.replace(case, {"drive.stroke": stroke})``."""
     warnings.warn('with_stroke is deprecated; use pdamper.schema.replace(case, {"drive.stroke": stroke})',
                   DeprecationWarning, stacklevel=2)
+    if not case.drive.sweepable:
+        raise InputError(f"a stroke can only be set on a drive swept by its stroke, a harmonic drive; this one is "
+                         f"{case.drive.describe()}")
     return replace(case, {"drive.stroke": stroke})
