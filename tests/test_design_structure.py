@@ -14,7 +14,7 @@ from pdamper.cli.common import main
 from pdamper.design import (OPERATING_MARGIN, ROLLING_MODE, closed_form_fields, design_for_structure,
                             judge_verification, load_structure, operating_points, rolling_mass_ratio, structure_mode)
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure
+from pdamper.structure import CoupledStructure
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FRAME = EXAMPLES / "frame_3hz.toml"
@@ -180,7 +180,7 @@ def test_verify_runs_the_dem_at_ci_size_and_gives_a_verdict():
     (["--force", "0.01N"], ["no filling", "1.2 X_opt", "47 fillings tried"]),
     (["--force", "5N"], ["no filling", "lift"]),
     (["--stroke", "10mm"], ["--stroke", "--structure"]),
-    (["--shape", "cylinder"], ["cylinder", "cuboid"]),
+    (["--shape", "cylinder", "--width", "30mm"], ["--width", "cylinder", "cuboid"]),
 ])
 def test_bad_inputs_name_the_option(args, words):
     base = ["design", "--structure", str(FRAME), "--force", "1.5N"]
@@ -232,3 +232,88 @@ def test_a_harmonic_case_writes_its_config_the_verify_sweep_stores():
     assert HarmonicDrive(stroke=0.015, frequency=2.995).config_extra() == {}
     again = loads_case(dumps_case(case))
     assert again.drive == case.drive and again.particles == case.particles
+
+
+# ------------------------------------------------------------------ what a designer tripped over (issue 30, item 6)
+
+def test_fe_modes_are_reported_in_physical_masses_at_the_damper():
+    r = CliRunner().invoke(main, ["design", "--structure", str(EXAMPLES / "mast_fe.toml"), "--force", "0.3N",
+                                  "--json"])
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.stdout)
+    assert d["modal_mass_kg"] == pytest.approx(1.0)  # mass-normalised FE modes ...
+    assert d["mass_at_damper_kg"] == pytest.approx(1.0 / d["phi_damper"] ** 2, rel=1e-12)  # ... M at the damper
+    # the mast: the beam's first mode at the tip is a quarter of its 31.9 kg (docs/structure.md)
+    assert d["mass_at_damper_kg"] == pytest.approx(31.9 / 4, rel=0.01)
+    assert d["mass_ratio"] == pytest.approx(d["filling"]["bed_mass_kg"] / d["mass_at_damper_kg"], rel=1e-12)
+    text = CliRunner().invoke(main, ["design", "--structure", str(EXAMPLES / "mast_fe.toml"), "--force", "0.3N"]).output
+    header = text.splitlines()[0]
+    assert f"M = {d['mass_at_damper_kg']:.4g} kg at the damper" in header and "m = 1 kg" not in header.split("(")[0]
+    added = next(line for line in text.splitlines() if line.strip().startswith("added mass"))
+    assert f"{1e3 * d['effective_mass_kg']:.4g} g" in added and "at the damper" in added
+    assert added.split()[2] != f"{1e3 * d['added_modal_mass_kg']:.4g}"  # not the mode-normalised number first
+
+
+def test_the_filling_warnings_and_the_margin_note_are_the_designs_own():
+    r = CliRunner().invoke(main, ["design", "--structure", str(FRAME), "--force", "1.5N", "--margin", "1.4", "--json"])
+    d = json.loads(r.stdout)
+    fill = d["filling"]
+    assert fill["particles"] > 36  # a larger margin, a smaller clearance: more spheres than the default's 36
+    assert d["damper_stroke_m"] / fill["x_opt_m"] >= 1.4
+    x_opt_36 = th.optimal_stroke(th.clearance(0.12, 36, 48))
+    assert not any("marginal" in w or f"{x_opt_36 * 1e3:.4g} mm" in w for w in fill["warnings"] + d["warnings"])
+    text = CliRunner().invoke(main, ["design", "--structure", str(FRAME), "--force", "1.5N", "--margin", "1.4"]).output
+    note = next(line for line in text.splitlines() if line.strip().startswith("margin:"))
+    assert "X >= 1.4 X_opt (--margin 1.4" in note and "the default 1.2" in note
+
+
+def test_the_empty_containers_mass_moves_with_the_structure():
+    """[container] mass is a key of the damper: the design and the runs put it on the structure at
+    the damper (a 0.5 kg container on the 25 kg frame lowers its mode by sqrt(25/25.5))."""
+    base = load_structure(FRAME)
+    heavy = load_structure(FRAME, {"container.mass": "0.5kg"})
+    s = heavy.running_drive
+    assert s.mass == pytest.approx(25.5) and s.damping == pytest.approx(base.drive.damping, rel=1e-12)
+    assert s.natural_frequency == pytest.approx(3.0 * math.sqrt(25 / 25.5), rel=1e-12)
+    d0 = design_for_structure(base.drive, force=F0)
+    d1 = design_for_structure(heavy.drive, force=F0, container_mass=heavy.container.mass)
+    assert d1.natural_frequency_hz == pytest.approx(3.0 * math.sqrt(25 / 25.5), rel=1e-9)
+    assert d1.mass_at_damper_kg == pytest.approx(25.5) and d1.container_mass_kg == 0.5
+    assert d1.natural_frequency_hz < d0.natural_frequency_hz
+    r = CliRunner().invoke(main, ["design", "--structure", str(FRAME), "--force", "1.5N", "--json"])
+    assert json.loads(r.stdout)["container_mass_kg"] == 0.0
+
+
+def test_a_modal_structure_carries_the_container_as_the_full_model_does(tmp_path):
+    """Two modes as data with a rigid mass at the damper against the same mass added to the
+    two-dof M matrix: the carried modes' frequencies are the matrix model's eigenfrequencies."""
+    from scipy.linalg import eigh
+
+    from pdamper.structure import ModalStructure
+
+    M2 = np.diag([3.0, 2.0])
+    K2 = np.array([[600.0, -200.0], [-200.0, 400.0]])
+    np.savez(tmp_path / "two.npz", M=M2, K=K2)
+    s = ModalStructure(matrices=str(tmp_path / "two.npz"), damper_dof=1, damping_ratio=0.01, displacement=0.001)
+    carried = s.carrying(0.4)
+    exact = np.sqrt(eigh(K2, M2 + np.diag([0.0, 0.4]), eigvals_only=True)) / (2 * math.pi)
+    np.testing.assert_allclose(carried.mode_frequencies, exact, rtol=1e-12)
+    assert s.carrying(0.0) is s and carried == s  # a derived object, not a new config
+    # a one-mode modal structure carries as the single mode does
+    one = ModalStructure(modes=({"frequency": 3.0, "damping_ratio": ZETA, "modal_mass": M, "damper": 1.0},),
+                         displacement=0.001)
+    np.testing.assert_allclose(one.carrying(0.5).mode_frequencies, [frame().carrying(0.5).natural_frequency],
+                               rtol=1e-12)
+    np.testing.assert_allclose(one.carrying(0.5).mode_damping_ratios, [frame().carrying(0.5).damping_ratio],
+                               rtol=1e-12)
+
+
+def test_a_cylinder_is_designed_for_a_structure_too():
+    r = CliRunner().invoke(main, ["design", "--structure", str(FRAME), "--force", "1.5N", "--shape", "cylinder",
+                                  "--length-range", "70mm:100mm", "--json"])
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.stdout)
+    fill = d["filling"]
+    assert fill["shape"] == "cylinder" and 0.07 <= fill["length_m"] <= 0.1
+    assert fill["clearance_m"] == pytest.approx(fill["length_m"] * (1 - fill["particles"] / fill["max_particles"]))
+    assert d["damper_stroke_m"] / fill["x_opt_m"] >= 1.2

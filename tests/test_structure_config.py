@@ -6,7 +6,7 @@ import pytest
 
 from pdamper.config import dumps_case, loads_case
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure
+from pdamper.structure import CoupledStructure
 
 BASE = """
 [particles]

@@ -10,7 +10,8 @@ import pytest
 
 from pdamper.config import case_from_dict, case_to_dict, loads_case
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
+from pdamper.excitation import HarmonicDrive, SampledDrive, Still
+from pdamper.structure import CoupledStructure
 from pdamper.plausible import LiftOffWarning, check_case
 
 VERTICAL = """

@@ -81,8 +81,8 @@ _LAZY = {
     "HarmonicDrive": "excitation",
     "SampledDrive": "excitation",
     "Still": "excitation",
-    "CoupledStructure": "excitation",
-    "ModalStructure": "excitation",
+    "CoupledStructure": "structure",
+    "ModalStructure": "structure",
     "run_decay": "studies.structure",
     "run_response": "studies.structure",
     "design_filling": "design",
@@ -147,7 +147,8 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .config import load_case
     from .contact import ConstantRestitution, TabulatedRestitution, ThorntonRestitution
     from .design import design_filling
-    from .excitation import CoupledStructure, HarmonicDrive, ModalStructure, SampledDrive, Still
+    from .excitation import HarmonicDrive, SampledDrive, Still
+    from .structure import CoupledStructure, ModalStructure
     from .studies.structure import run_decay, run_response
     from .geometry import Cuboid, Cylinder
     from .materials import PVC, STEEL_S235, Material

@@ -21,12 +21,12 @@ from dataclasses import asdict, dataclass, field
 
 from . import theory as th
 from .errors import InputError
-from .geometry.cuboid import Cuboid
-from .geometry.cylinder import Cylinder
+from .geometry import Cuboid, shape_from_keys
 from .theory.bounds import TILT_MARGIN  # the margin `pdamper theory` uses
 from .units import quantities
 
-__all__ = ["Design", "design_filling", "TILT_MARGIN", "MIN_ROWS", "MARGINAL", "OPERATING_MARGIN", "Mode",
+__all__ = ["Design", "design_filling", "design_container", "check_fits", "size_option", "margin_note",
+           "TILT_MARGIN", "MIN_ROWS", "MARGINAL", "OPERATING_MARGIN", "Mode",
            "structure_mode", "rolling_mass_ratio", "closed_form_fields", "required_force", "OperatingPoint",
            "operating_points", "StructureDesign", "design_for_structure", "load_structure", "verify_factors",
            "judge_verification", "ROLLING_MODE", "VERIFY_REACH"]
@@ -70,22 +70,33 @@ class Design:
     acceleration_amplitude_m_s2: float
     max_stroke_no_liftoff_m: float
     warnings: list = field(default_factory=list)
+    #: the container (a shape of :mod:`pdamper.geometry`); ``shape``, ``length_m`` (its L along the
+    #: drive) and ``width_m`` (its inner width across the drive) are its numbers
+    geometry: object = field(default=None, compare=False, repr=False)
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        """Every field but the container object (its numbers are ``shape``, ``length_m``, ``width_m``)."""
+        out = asdict(self)
+        out.pop("geometry")
+        return out
 
     def describe_container(self) -> str:
-        """The container as the design sizes it (its floor; the height is not the design's)."""
-        mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
-        if self.shape == "cuboid":
-            return f"cuboid {mm(self.length_m)} x {mm(self.width_m)}"
-        return f"cylinder R = {mm(self.length_m / 2)} (L = 2R)"
+        """The container as the design sizes it (the shape's own words)."""
+        return self.geometry.describe()
 
     def container_geometry(self):
-        """The container shape of this design (default height)."""
-        if self.shape == "cuboid":
-            return Cuboid(length=self.length_m, width=self.width_m)
-        return Cylinder(radius=self.length_m / 2)
+        """The container shape of this design."""
+        return self.geometry
+
+
+#: The command-line options of ``pdamper design`` that set a [container] key.
+_SIZE_OPTIONS = {"length": "--length", "width": "--width", "radius": "--container-radius"}
+
+
+def size_option(key: str, named: dict = _SIZE_OPTIONS) -> str:
+    """The option that sets the [container] key ``key`` (``radius``: ``--container-radius``; a key
+    without an option of its own: ``--size key=VALUE``)."""
+    return named.get(key, f"--size {key}=VALUE")
 
 
 @quantities(frequency="frequency", stroke="length", sphere_radius="length", length="length", width="length",
@@ -93,13 +104,18 @@ class Design:
 def design_filling(*, frequency: float, stroke: float, sphere_radius: float, shape: str = "cuboid",
                    length: float | None = None, width: float | None = None,
                    container_radius: float | None = None, max_particles: int | None = None,
-                   tilt: float | None = None, density: float = 7900.0, gravity: float = th.GRAVITY) -> Design:
+                   tilt: float | None = None, density: float = 7900.0, gravity: float = th.GRAVITY,
+                   container=None, sizes: dict | None = None, particles: int | None = None) -> Design:
     """The filling N_p that puts ``stroke`` [m] at (just above) X_opt, and its expected η*.
 
-    Parameters: ``frequency`` [Hz]; ``stroke`` X [m]; ``sphere_radius`` r [m]; ``shape``
-    "cuboid" (``length`` along the drive and ``width`` [m]) or "cylinder" (``container_radius``
-    [m], L = 2R); ``max_particles`` overrides the floor count; ``tilt`` α [rad]; sphere
-    ``density`` [kg/m^3]; ``gravity`` [m/s^2].
+    Parameters: ``frequency`` [Hz]; ``stroke`` X [m]; ``sphere_radius`` r [m]; the container:
+    ``container`` (a shape of :mod:`pdamper.geometry`), or a registered ``shape`` with its sizes
+    as [container] keys (``length``, ``width`` [m] of the cuboid; ``container_radius`` [m], the
+    cylinder's ``radius``; any other shape's keys in ``sizes``), its L along the drive from the
+    shape (:attr:`~pdamper.geometry.ShapeBase.drive_length`: the cuboid's length, the
+    cylinder's 2R); ``max_particles`` overrides the floor count; ``tilt`` α [rad]; sphere
+    ``density`` [kg/m^3]; ``gravity`` [m/s^2]; ``particles``: evaluate this filling instead of
+    choosing one (its warnings are its own: the design for a structure chooses N_p itself).
 
     >>> d = design_filling(frequency=2.0, stroke=0.01223, sphere_radius=0.005, length=0.12, width=0.0404)
     >>> d.particles, d.max_particles, round(d.eta_star, 3)
@@ -111,40 +127,21 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
     x = positive("stroke", stroke, "m", "0.01 (10 mm)")
     r = positive("radius", sphere_radius, "m", "0.005 (5 mm), the sphere radius")
     rho = positive("density", density, "kg/m^3", "7900 (steel)")
-    if shape == "cuboid":
-        if container_radius is not None:
-            raise InputError("--container-radius applies to the cylinder only; the cuboid takes --length and --width")
-        if length is None or width is None:
-            raise InputError("the cuboid needs --length (inner length along the drive, e.g. 120mm) and --width "
-                             "(e.g. 40.4mm)")
-        geo = Cuboid(length=positive("length", length, "m", "0.12 (120 mm)"),
-                     width=positive("width", width, "m", "0.0404 (40.4 mm)"))
-        per_row = int(math.floor(geo.width / (2 * r) + 1e-9))
-    elif shape == "cylinder":
-        if length is not None or width is not None:
-            raise InputError("the cylinder takes --container-radius (inner radius R, e.g. 39mm), not --length/--width")
-        if container_radius is None:
-            raise InputError("the cylinder needs --container-radius (inner radius R, e.g. 39mm); L = 2R")
-        geo = Cylinder(radius=positive("container_radius", container_radius, "m", "0.039 (39 mm)"))
-        per_row = None
-    else:
-        raise InputError(f"shape = {shape!r} is unknown; use one of {', '.join(th.SHAPES)}")
+    geo = container if container is not None else _container(shape, length=length, width=width,
+                                                              container_radius=container_radius, sizes=sizes)
     big_l = geo.drive_length
-    for name, span in (("length" if shape == "cuboid" else "container_radius (2R)", big_l),
-                       ("width", getattr(geo, "width", big_l))):
-        if 2 * r > span:
-            raise InputError(f"radius = {r * 1e3:g} mm is not allowed: a sphere ({2 * r * 1e3:g} mm across) does not "
-                             f"fit the {name} of {span * 1e3:g} mm; use smaller spheres or a larger container")
+    check_fits(geo, r)
     n_max = max_particles if max_particles is not None else geo.clearance_capacity(r)
     if isinstance(n_max, bool) or not isinstance(n_max, int) or n_max < 2:
         raise InputError(f"max_particles = {n_max!r} is not allowed: it must be a whole number >= 2 of spheres "
                          "covering the floor in one layer")
-    if per_row is None:
-        per_row = max(1, round(n_max / max(1, math.floor(big_l / (2 * r) + 1e-9))))
+    per_row = max(1, geo.row_capacity(r))
     warnings = []
     h_wanted = x / th.X_OPT_OVER_H
     exact = n_max * (1.0 - h_wanted / big_l)
-    n = math.ceil(exact - 1e-6)
+    n = math.ceil(exact - 1e-6) if particles is None else particles
+    if particles is not None and not (isinstance(particles, int) and 1 <= particles < n_max):
+        raise InputError(f"particles = {particles!r}: give a filling from 1 to {n_max - 1} (N_p,max = {n_max})")
     if n < 1:
         n = 1
         warnings.append(f"the stroke {x * 1e3:.4g} mm is too large for this container: even one sphere has "
@@ -188,12 +185,33 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
                         f"{x_opt * 1e3:.4g} mm; a real bed may fall out of collect-and-collide there (docs/motion.md)"
                         + (f"; {n + 1} spheres give X_opt = {th.optimal_stroke(th.clearance(big_l, n + 1, n_max)) * 1e3:.4g} mm"
                            if n + 1 < n_max else ""))
-    return Design(shape=shape, length_m=big_l, width_m=getattr(geo, "width", None), sphere_radius_m=r,
+    return Design(shape=geo.shape, length_m=big_l, width_m=geo.length_along((0.0, 0.0, 1.0)), sphere_radius_m=r,
                   density_kg_m3=rho, frequency_hz=f, stroke_m=x, tilt_rad=tilt, particles=n, max_particles=n_max,
                   exact_particles=exact, rows=rows, clearance_m=h, x_opt_m=x_opt, stroke_over_x_opt=x / x_opt,
                   regime=regime, eta_star=eta, energy_per_cycle_J=energy, bed_mass_kg=m_bed, sphere_mass_kg=m_sphere,
                   velocity_amplitude_m_s=v, acceleration_amplitude_m_s2=acc, max_stroke_no_liftoff_m=x_lift,
-                  warnings=warnings)
+                  warnings=warnings, geometry=geo)
+
+
+def _container(shape: str, *, length=None, width=None, container_radius=None, sizes=None):
+    """The registered ``shape`` from the design's sizes (:func:`pdamper.geometry.shape_from_keys`)."""
+    keys = {"length": length, "width": width, "radius": container_radius, **(sizes or {})}
+    for key, value in keys.items():
+        if value is not None and not isinstance(value, str) and not (value > 0 and math.isfinite(value)):
+            raise InputError(f"{size_option(key)} = {value!r} m is not allowed: it must be > 0, a length such as "
+                             "0.12 (120 mm)")
+    return shape_from_keys(shape, keys, option=size_option)
+
+
+def check_fits(geo, radius: float) -> None:
+    """An InputError when a sphere of ``radius`` [m] does not fit the container ``geo`` along the
+    drive or across it (its inner lengths through the floor's centre)."""
+    for name, span in (("length along the drive", geo.drive_length),
+                       ("width across the drive", geo.length_along((0.0, 0.0, 1.0)))):
+        if 2 * radius > span:
+            raise InputError(f"radius = {radius * 1e3:g} mm is not allowed: a sphere ({2 * radius * 1e3:g} mm across) "
+                             f"does not fit the {name} of {span * 1e3:g} mm ({geo.describe()}); use smaller spheres "
+                             "or a larger container")
 
 
 # =========================================================================== design for a structure
@@ -209,6 +227,18 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
 #: design question (a frame at 3 Hz) the efficient rolling collect-and-collide set in only above ~1.1-1.2 X_opt (the bed
 #: sways below it, with a lower eta*), so the law's jump at X_opt is not a point to aim at.
 OPERATING_MARGIN = 1.2
+
+
+def margin_note(margin: float) -> str:
+    """One line on the margin the design kept, in the margin's own numbers."""
+    seen = (f"in a DEM try (a frame at 3 Hz) the rolling collect-and-collide set in only above ~1.1-"
+            f"{OPERATING_MARGIN:g} X_opt, the bed swaying below it with less eta*")
+    if margin == OPERATING_MARGIN:
+        return f"margin: the filling keeps X >= {margin:g} X_opt (--margin, the default: {seen})"
+    return (f"margin: the filling keeps X >= {margin:g} X_opt (--margin {margin:g}; the default {OPERATING_MARGIN:g} "
+            f"is where {seen[3:]})")
+
+
 #: Effective mass over bed mass assumed in the scattered state (the scattered law, eq. 8, gives
 #: none): the rolling law's value at X_opt, 2/7, so the mass is continuous across the jump.
 SCATTERED_MASS_RATIO = 2.0 / 7.0
@@ -236,10 +266,10 @@ class Mode:
 
 def structure_mode(structure, number: int = 1) -> Mode:
     """Mode ``number`` (1-based) of a structure of the config reader: a
-    :class:`~pdamper.excitation.CoupledStructure` (one mode, shape 1 everywhere) or a
-    :class:`~pdamper.excitation.ModalStructure` (modes given or from matrices).
+    :class:`~pdamper.structure.CoupledStructure` (one mode, shape 1 everywhere) or a
+    :class:`~pdamper.structure.ModalStructure` (modes given or from matrices).
 
-    >>> from pdamper.excitation import CoupledStructure
+    >>> from pdamper.structure import CoupledStructure
     >>> m = structure_mode(CoupledStructure(mass=25.0, stiffness=25.0 * (6 * math.pi) ** 2,
     ...                                     damping_ratio=0.003, displacement=0.001))
     >>> round(m.frequency, 6), m.phi_damper
@@ -247,28 +277,22 @@ def structure_mode(structure, number: int = 1) -> Mode:
     """
     if isinstance(number, bool) or not isinstance(number, int):
         raise InputError(f"--mode {number!r}: give the mode's number, 1 for the lowest")
-    if hasattr(structure, "_modal_arrays"):
-        mass, k, c, pd, pf, pr = structure._modal_arrays()
-        n = int(mass.size)
-        j = number - 1
-        if not 0 <= j < n:
-            raise InputError(f"--mode {number}: the structure has {n} mode{'s' if n > 1 else ''} (give 1 to {n}, "
-                             "1 the lowest)")
-        if pd[j] == 0.0:
-            raise InputError(f"--mode {number}: the mode shape is zero at the damper (damper = 0); the damper cannot "
-                             "act on this mode")
-        return Mode(number=number, mass=float(mass[j]), stiffness=float(k[j]), damping=float(c[j]),
-                    frequency=math.sqrt(k[j] / mass[j]) / (2 * math.pi),
-                    damping_ratio=float(c[j] / (2 * math.sqrt(k[j] * mass[j]))), phi_damper=float(pd[j]),
-                    phi_force=float(pf[j]), phi_response=float(pr[j]), modes=n)
-    if not (hasattr(structure, "stiffness") and hasattr(structure, "damping")):
+    if not getattr(structure, "coupled", False):
         raise InputError("the structure must be a [structure] section (mass with stiffness or natural_frequency, "
                          "or modes = [...], or matrices = ...)")
-    if number != 1:
-        raise InputError(f"--mode {number}: the structure has 1 mode (mass, stiffness); give --mode 1")
-    return Mode(number=1, mass=float(structure.mass), stiffness=float(structure.stiffness),
-                damping=float(structure.damping), frequency=float(structure.natural_frequency),
-                damping_ratio=float(structure.damping_ratio), phi_damper=1.0, phi_force=1.0, phi_response=1.0)
+    mass, k, c, pd, pf, pr = structure.modal_arrays()
+    n = int(mass.size)
+    j = number - 1
+    if not 0 <= j < n:
+        raise InputError(f"--mode {number}: the structure has {n} mode{'s' if n > 1 else ''} (give "
+                         + (f"1 to {n}, 1 the lowest)" if n > 1 else "--mode 1)"))
+    if pd[j] == 0.0:
+        raise InputError(f"--mode {number}: the mode shape is zero at the damper (damper = 0); the damper cannot "
+                         "act on this mode")
+    return Mode(number=number, mass=float(mass[j]), stiffness=float(k[j]), damping=float(c[j]),
+                frequency=math.sqrt(k[j] / mass[j]) / (2 * math.pi),
+                damping_ratio=float(c[j] / (2 * math.sqrt(k[j] * mass[j]))), phi_damper=float(pd[j]),
+                phi_force=float(pf[j]), phi_response=float(pr[j]), modes=n)
 
 
 _TABLES: dict = {}
@@ -418,17 +442,22 @@ def operating_points(mode: Mode, force: float, *, x_opt: float, bed_mass: float,
 
 @dataclass(frozen=True, kw_only=True)
 class StructureDesign:
-    """The filling that minimises a structure mode's resonant amplitude, with what the laws expect
-    (SI units). ``amplitude_*``: at the damper point and at the response point, with the damper
-    (at the operating point) and without (bare resonance F phi_f / (c omega_n)) and with the bed
-    as a solid mass; ``zeta_*``: the modal damping ratios (``zeta_bare`` the structure's alone,
-    ``zeta_structure + zeta_damper = zeta_total`` with the damper's added mass, at its
-    resonance); ``operating_points``: every solution of the energy balance for the chosen
-    filling (the design's is the largest stable one)."""
+    """The filling that minimises a structure mode's resonant amplitude, with what the laws expect (SI
+    units; masses physical, at the damper, where they are named so). ``amplitude_*``: at the damper
+    point and at the response point, with the damper (at the operating point) and without (bare
+    resonance F phi_f / (c omega_n)) and with the bed as a solid mass; ``zeta_*``: the modal damping
+    ratios (``zeta_bare`` the structure's alone, ``zeta_structure + zeta_damper = zeta_total`` with the
+    damper's added mass, at its resonance); ``operating_points``: every solution of the energy balance
+    for the chosen filling (the design's is the largest stable one)."""
 
     mode: int
     modes: int
     modal_mass_kg: float
+    #: the mode's mass seen at the damper, m / phi_d^2 [kg] (physical: the mass the damper moves
+    #: with; ``modal_mass_kg`` is in the mode's normalisation, 1 kg for mass-normalised FE modes)
+    mass_at_damper_kg: float
+    #: the empty container's mass [kg], in the mode's mass (it moves with the structure)
+    container_mass_kg: float
     natural_frequency_hz: float
     damping_ratio: float
     phi_damper: float
@@ -481,16 +510,23 @@ def _lengths(length_range, length):
 
 
 @quantities(force="force", sphere_radius="length", length="length", width="length", density="density",
-            max_bed_mass="mass", gravity="acceleration")
+            max_bed_mass="mass", gravity="acceleration", container_mass="mass")
 def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radius: float = 0.005,
-                         length: float | None = None, width: float = 0.0404, length_range=None,
+                         length: float | None = None, width: float | None = None, length_range=None,
                          max_bed_mass: float | None = None, max_mass_ratio: float | None = None,
                          density: float = 7900.0, margin: float = OPERATING_MARGIN, kappa: float = 1.0,
-                         gravity: float = th.GRAVITY) -> StructureDesign:
-    """The cuboid filling (N_p of N_p,max, and the container's length within ``length_range``)
-    that minimises the resonant amplitude of ``mode`` of ``structure`` under ``force`` [N] at
-    its resonance, from the closed-form fields (:func:`closed_form_fields`) and the energy
-    balance (:func:`required_force`), with the operating stroke at least ``margin`` X_opt.
+                         gravity: float = th.GRAVITY, container=None, container_mass: float = 0.0) -> StructureDesign:
+    """The filling (N_p of N_p,max, and the container's length along the drive within
+    ``length_range``) that minimises the resonant amplitude of ``mode`` of ``structure`` under
+    ``force`` [N] at its resonance, from the closed-form fields (:func:`closed_form_fields`) and
+    the energy balance (:func:`required_force`), with the operating stroke at least ``margin``
+    X_opt.
+
+    The container: ``container`` (any shape of :mod:`pdamper.geometry`, its length along the drive
+    set per candidate by :meth:`~pdamper.geometry.ShapeBase.with_drive_length`), else the paper's
+    cuboid of ``width`` [m] (default 40.4 mm). Its empty mass ``container_mass`` [kg] moves with
+    the structure: it is put at the damper (:meth:`~pdamper.excitation.DriveBase.carrying`) before
+    the mode is taken, so the mode's mass and frequency include it.
 
     Candidates: every length of the range (1 mm steps, at most 121), every filling 1 .. N_p,max - 1
     whose bed mass is within ``max_bed_mass`` [kg] and ``max_mass_ratio`` (of the mode's mass at the
@@ -499,7 +535,7 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     the admissible one with the smallest amplitude (the largest stable solution, if several) whose
     acceleration X Omega^2 stays below ``gravity`` (no lift-off: the laws assume the bed on the floor).
 
-    >>> from pdamper.excitation import CoupledStructure
+    >>> from pdamper.structure import CoupledStructure
     >>> s = CoupledStructure(mass=25.0, stiffness=25.0 * (6 * math.pi) ** 2, damping_ratio=0.003,
     ...                      displacement=0.001)
     >>> d = design_for_structure(s, force=1.5)
@@ -510,6 +546,11 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
 
     from .theory._common import positive
 
+    if not (isinstance(container_mass, (int, float)) and container_mass >= 0 and math.isfinite(container_mass)):
+        raise InputError(f"container mass = {container_mass!r} kg is not allowed: give the empty container's mass, "
+                         ">= 0 ([container] mass, e.g. '80g')")
+    if getattr(structure, "coupled", False):
+        structure = structure.carrying(container_mass)
     md = structure_mode(structure, mode)
     f0 = force
     if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 > 0 and math.isfinite(f0)):
@@ -517,12 +558,15 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
                          "e.g. --force 1.5N")
     r = positive("sphere_radius", sphere_radius, "m", "0.005 (5 mm)")
     rho = positive("density", density, "kg/m^3", "7900 (steel)")
-    w = positive("width", width, "m", "0.0404 (40.4 mm)")
+    if container is None:
+        container = Cuboid(width=positive("width", width if width is not None else 0.0404, "m", "0.0404 (40.4 mm)"))
+    elif width is not None:
+        raise InputError("give the container's width in the container itself (--width sets the cuboid's), not both")
     if not (isinstance(margin, (int, float)) and margin >= 1.0):
         raise InputError(f"--margin = {margin!r}: the operating stroke over X_opt must be >= 1 (default "
                          f"{OPERATING_MARGIN:g})")
     if length_range is None:
-        length = 0.120 if length is None else positive("length", length, "m", "0.12 (120 mm)")
+        length = container.drive_length if length is None else positive("length", length, "m", "0.12 (120 mm)")
     m_sphere = rho * 4.0 / 3.0 * math.pi * r**3
     m_at_damper = md.mass / md.phi_damper**2
     cap = math.inf
@@ -536,13 +580,18 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     if cap < m_sphere:
         raise InputError(f"the bed-mass bound {cap * 1e3:.4g} g is below one sphere's mass ({m_sphere * 1e3:.4g} g); "
                          "raise --max-bed-mass / --max-mass-ratio or use smaller spheres (--sphere-radius)")
-    if 2 * r > w:
-        raise InputError(f"--sphere-radius = {r * 1e3:g} mm: a sphere does not fit the width of {w * 1e3:g} mm")
+    across = container.length_along((0.0, 0.0, 1.0))
+    if 2 * r > across:
+        raise InputError(f"--sphere-radius = {r * 1e3:g} mm: a sphere does not fit the width across the drive of "
+                         f"{across * 1e3:g} mm ({container.describe()})")
     best, count = None, 0
     for big_l in _lengths(length_range, length):
         if 2 * r > big_l:
             continue
-        n_max = Cuboid(length=float(big_l), width=w).clearance_capacity(r)
+        geo = container.with_drive_length(float(big_l))
+        if 2 * r > geo.length_along((0.0, 0.0, 1.0)):
+            continue
+        n_max = geo.clearance_capacity(r)
         for n in range(1, n_max):
             m_bed = n * m_sphere
             if m_bed > cap * (1 + 1e-12):
@@ -557,7 +606,7 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
             if x * (2 * math.pi * max(p.frequency_hz for p in pts)) ** 2 >= gravity:
                 continue  # lift-off: the bed leaves the floor, the laws do not hold
             if best is None or x < best[0] * (1 - 1e-9):
-                best = (x, float(big_l), n, n_max, m_bed, x_opt)
+                best = (x, geo, n, n_max, m_bed, x_opt)
     if best is None:
         raise InputError(
             f"no filling within the bounds keeps the operating stroke at or above {margin:g} X_opt on the rolling "
@@ -565,16 +614,14 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
             "below the margin for the clearances of these containers (a shorter container or more spheres lower X_opt; "
             "a larger --max-bed-mass allows more spheres) or, with a large force, lifts the bed off (a longer "
             "container); see docs/structure.md, \"Design for a structure\"")
-    _, big_l, n, n_max, m_bed, x_opt = best
+    _, geo, n, n_max, m_bed, x_opt = best
     pts = operating_points(md, f0, x_opt=x_opt, bed_mass=m_bed, kappa=kappa, refine=True)
     op = max((p for p in pts if p.stable), key=lambda p: p.stroke_m)
     x = op.stroke_m
     om = 2 * math.pi * op.frequency_hz
-    fill = design_filling(frequency=op.frequency_hz, stroke=x, sphere_radius=r, shape="cuboid", length=big_l,
-                          width=w, max_particles=n_max, density=rho, gravity=gravity)
-    warnings = [wn for wn in fill.warnings if not wn.startswith("marginal")]
-    if fill.particles != n:  # design_filling rounds to the stroke's filling; the design's is n
-        fill = _with_particles(fill, n, x, gravity)
+    fill = design_filling(frequency=op.frequency_hz, stroke=x, sphere_radius=r, container=geo, max_particles=n_max,
+                          density=rho, gravity=gravity, particles=n)  # its warnings for the design's n, X
+    warnings = list(fill.warnings)
     pd, pf, pr = abs(md.phi_damper), abs(md.phi_force), abs(md.phi_response)
     q = x / pd
     c_d = op.eta_star * m_bed * om
@@ -595,7 +642,8 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
         warnings.append(f"mode {md.number} of {md.modes}: the other modes are left out of the balance (their "
                         "response at this frequency is off resonance)")
     return StructureDesign(
-        mode=md.number, modes=md.modes, modal_mass_kg=md.mass, natural_frequency_hz=md.frequency,
+        mode=md.number, modes=md.modes, modal_mass_kg=md.mass, mass_at_damper_kg=m_at_damper,
+        container_mass_kg=float(container_mass), natural_frequency_hz=md.frequency,
         damping_ratio=md.damping_ratio, phi_damper=md.phi_damper, phi_force=md.phi_force,
         phi_response=md.phi_response, force_N=f0, filling=fill, margin=margin, kappa=kappa, candidates=count,
         frequency_hz=op.frequency_hz, damper_stroke_m=x, stroke_over_x_opt=op.stroke_over_x_opt,
@@ -605,21 +653,6 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
         amplitude_damper_bare_m=pd * q_bare, amplitude_damper_solid_m=pd * q_solid, amplitude_response_m=pr * q,
         amplitude_response_bare_m=pr * q_bare, reduction=x / (pd * q_bare), mass_ratio=m_bed / m_at_damper,
         operating_points=[asdict(p) for p in pts], warnings=warnings)
-
-
-def _with_particles(fill: Design, n: int, x: float, gravity: float) -> Design:
-    """``fill`` with ``n`` spheres (and what follows from them) at stroke ``x``."""
-    from dataclasses import replace
-
-    h = th.clearance(fill.length_m, n, fill.max_particles)
-    x_opt = th.optimal_stroke(h)
-    eta = float(th.eta_theory(x, h))
-    m_bed = n * fill.sphere_mass_kg
-    per_row = max(1, int(math.floor(fill.width_m / (2 * fill.sphere_radius_m) + 1e-9)))
-    return replace(fill, particles=n, rows=math.ceil(n / per_row), clearance_m=h, x_opt_m=x_opt,
-                   stroke_over_x_opt=x / x_opt, regime="rolling collect-and-collide" if x >= x_opt else "scattered",
-                   eta_star=eta, energy_per_cycle_J=math.pi * m_bed * fill.velocity_amplitude_m_s**2 * eta,
-                   bed_mass_kg=m_bed)
 
 
 def load_structure(path, overrides: dict | None = None):
@@ -768,14 +801,15 @@ def judge_verification(sd: StructureDesign, strokes, eta_star, modes) -> dict:
             "move": move}
 
 
-def design_cuboid(case, *, given: bool, source) -> Cuboid:
-    """The cuboid a design for a structure starts from: the case's container when it is a cuboid,
-    else the paper's, which the user must then size (``given``: --length/--length-range and --width
-    were given)."""
+def design_container(case, *, shape: str | None = None, sizes: dict | None = None):
+    """The container a design for a structure starts from: the case's (``[container]`` of the
+    structure file) with the given [container] ``sizes`` over it (None: not given), or, for another
+    registered ``shape``, that shape with the sizes given. Its length along the drive is the
+    design's to choose (``--length``, ``--length-range``)."""
+    from .schema import config_keys
+
     geo = case.container.geometry
-    if isinstance(geo, Cuboid):
-        return geo
-    if not given:
-        raise InputError(f"{source}: [container] is a {geo.shape}; the design sizes a cuboid: give --length "
-                         "(or --length-range) and --width")
-    return Cuboid()
+    if shape is None or shape == geo.shape:
+        current = {k: getattr(geo, k) for k in config_keys(type(geo))}
+        return shape_from_keys(geo.shape, {**current, **(sizes or {})}, option=size_option)
+    return shape_from_keys(shape, sizes or {}, option=size_option, require=False)

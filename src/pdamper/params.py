@@ -85,7 +85,9 @@ class Container:
     material : Material of the walls (paper: PVC).
     tilt : (a_x, a_y, a_z) [rad] about the container's x, y, z axes, applied in that order
         (see :mod:`pdamper.geometry.tilt`). Paper default 0.1 deg each.
-    mass : float, m_c [kg] >= 0; enters the driving force as m_c x_c'' (no effect on Re P).
+    mass : float, m_c [kg] >= 0, the empty container's (a key of the damper): with a prescribed
+        drive it enters the driving force as m_c x_c'' (no effect on Re P); on a structure it
+        moves with the structure, at the damper (:attr:`Case.running_drive`).
     baffles : inner plates across the x axis (:class:`pdamper.geometry.baffles.Baffle`).
     wall_materials : {wall name: Material} for walls of another material than ``material`` (a
         coating), by the names of :meth:`walls` (a cuboid: x_min, x_max, floor, lid, z_min, z_max).
@@ -391,6 +393,13 @@ class Case:
         """Driven time [s] (after settling)."""
         return self.drive.duration(self.cycles)
 
+    @property
+    def running_drive(self):
+        """The drive as a run moves it: with the empty container's mass (``container.mass``) on it
+        (:meth:`~pdamper.excitation.DriveBase.carrying`: a structure carries it at the damper; a
+        prescribed motion is the drive itself)."""
+        return self.drive.carrying(self.container.mass)
+
 
 def read_tilt(value, section: str = "container") -> tuple:
     """The container's tilt as a config gives it: three angles about x, y, z, or one angle for all
@@ -450,6 +459,7 @@ def with_stroke(case: Case, stroke) -> Case:
     """Deprecated: ``pdamper.schema.replace(case, {"drive.stroke": stroke})``."""
     warnings.warn('with_stroke is deprecated; use pdamper.schema.replace(case, {"drive.stroke": stroke})',
                   DeprecationWarning, stacklevel=2)
-    if case.drive.stroke is None:
-        raise InputError("a stroke can only be set on a harmonic drive")
+    if not case.drive.sweepable:
+        raise InputError(f"a stroke can only be set on a drive swept by its stroke, a harmonic drive; this one is "
+                         f"{case.drive.describe()}")
     return replace(case, {"drive.stroke": stroke})

@@ -191,7 +191,7 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
         if not (until_steady > 0 and math.isfinite(until_steady)):
             raise InputError(f"until_steady = {until_steady!r}: give eta*'s standard error to stop at, > 0 "
                              "(e.g. 0.01)")
-        if case.drive.kind != "harmonic" or not analyze:
+        if not (case.drive.periodic and analyze):
             raise InputError("until_steady needs a harmonic drive ([drive] stroke and frequency) and the analysis")
     if analyze:
         from .plausible import check_case
@@ -212,7 +212,7 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
     record = sim.finalize()
     out = record.outputs
     analysis = None
-    if analyze and case.drive.kind != "still" and not case.drive.coupled:
+    if analyze and case.drive.analysable:
         analysis = analyze_signals(case, record.signals)
     extras = {"rejected_steps": record.rejected_steps} if record.rejected_steps is not None else {}
     if analysis is not None:

@@ -39,7 +39,8 @@ from .errors import InputError
 from .units import _example, _needs_conversion, is_quantity, parse_quantity, to_si
 
 __all__ = ["Spec", "param", "spec_of", "plain_fields", "config_keys", "check_choice", "convert_fields",
-           "read_value", "read_fields", "read_quantity", "read_number", "check_keys", "suggest", "replace"]
+           "read_value", "read_fields", "write_fields", "read_quantity", "read_number", "check_keys", "suggest",
+           "replace"]
 
 #: Kinds of field value: a real number, a whole number, a text, a list of numbers, a list of
 #: [x, y, z] rows, a constant type tag (``kind`` / ``shape``, written but not read as a value),
@@ -288,6 +289,42 @@ def read_fields(t: dict, section: str, cls) -> dict:
             for f, s in plain_fields(cls) if (s.key or f.name) in t}
 
 
+def _num(v):
+    """Keep ints as ints (TOML integer), everything else a float."""
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, int):
+        return v
+    return float(v)
+
+
+def write_fields(obj) -> dict:
+    """The plain fields of ``obj`` as config keys in plain SI numbers, type tags first (the inverse
+    of :func:`read_fields`); None is left out, or written ``"auto"`` where the spec says so."""
+    out = {}
+    for f in dataclasses.fields(obj):
+        s = spec_of(f)
+        if s.kind == "tag":
+            out[s.key or f.name] = getattr(obj, f.name)
+    for f, s in plain_fields(type(obj)):
+        v = getattr(obj, f.name)
+        key = s.key or f.name
+        if v is None:
+            if s.auto:
+                out[key] = "auto"
+        elif s.kind == "text":
+            out[key] = v
+        elif s.kind == "whole":
+            out[key] = int(v)
+        elif s.kind == "list":
+            out[key] = [float(x) for x in v]
+        elif s.kind == "rows":
+            out[key] = [[float(x) for x in row] for row in v]
+        else:
+            out[key] = float(v) if s.dimension is not None else _num(v)
+    return out
+
+
 # --------------------------------------------------------------------------- changing a case
 
 def _plain(value, s: Spec):
@@ -438,14 +475,15 @@ def _change_section(obj, fields: list, items: dict, section: str) -> dict:
     return kw
 
 
-def register_tagged(registry: dict, cls, tag_field: str, what: str, needs: tuple = ()):
+def register_tagged(registry: dict, cls, tag_field: str, what: str, needs: tuple = (), has: tuple = ()):
     """Put the dataclass ``cls`` into ``registry`` under the default of its field ``tag_field``
-    (a shape's ``shape``, a drive's ``kind``), once it has the methods ``needs``; returns ``cls``
-    (so it serves as a class decorator)."""
+    (a shape's ``shape``, a drive's ``kind``), once it has the methods ``needs`` and the
+    attributes (or properties) ``has``; returns ``cls`` (so it serves as a class decorator)."""
     tag = next((f.default for f in dataclasses.fields(cls) if f.name == tag_field), None)
     if not isinstance(tag, str) or not tag:
         raise TypeError(f"{cls.__name__}: a {what} needs a field {tag_field!r} with its tag as default")
     missing = [m for m in needs if not callable(getattr(cls, m, None))]
+    missing += [a for a in has if not hasattr(cls, a)]
     if missing:
         raise TypeError(f"{cls.__name__} does not answer the {what} protocol: missing {', '.join(missing)}")
     registry[tag] = cls

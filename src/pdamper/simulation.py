@@ -114,6 +114,8 @@ class Simulation:
         from .plausible import check_case, check_memory
 
         self.case = case
+        #: the drive as it runs (a structure with the empty container's mass on it)
+        self.drive = case.running_drive
         check_case(case)
         # a list once: a generator of recorders is read here and nowhere else
         recs = list(default_recorders(case) if recorders is None else recorders)
@@ -202,10 +204,10 @@ class Simulation:
         """The drive starts: the spheres keep their lab velocity, so their velocity relative to the
         container jumps by ``-v_c(0+)``; a coupled structure is released; the running sums restart."""
         e = self.engine
-        _, v0, _ = self.case.drive.motion(np.array([0.0]))
+        _, v0, _ = self.drive.motion(np.array([0.0]))
         jump = float(v0[0]) * e.drive.direction
         e.bodies.velocity[:] -= jump
-        a0 = self.case.drive.start_state(e.drive.state)
+        a0 = self.drive.start_state(e.drive.state)
         self.stepper.start_drive(jump, a0)
         self.samples.sums[:] = 0.0
 
@@ -237,7 +239,7 @@ class Simulation:
         """The state now, as the Python recorders see it (:class:`~pdamper.recorders.base.State`)."""
         e = self.engine
         t = self.time
-        xc, vc, ac = self.case.drive.container_motion(t, e.drive.state)
+        xc, vc, ac = self.drive.container_motion(t, e.drive.state)
         b = e.bodies
         sums = self.samples.sums
         views = [a.view() for a in (b.position, b.velocity, b.spin)]
@@ -277,8 +279,8 @@ class Simulation:
 
 def run_bare_structure(structure, duration: float, *, sample_rate: float = 1000.0,
                        time_step: float | None = None) -> StructureRecord:
-    """The structure of ``structure`` (a :class:`~pdamper.excitation.CoupledStructure` or
-    :class:`~pdamper.excitation.ModalStructure`) without a bed, for ``duration`` [s]: the same
+    """The structure of ``structure`` (a :class:`~pdamper.structure.CoupledStructure` or
+    :class:`~pdamper.structure.ModalStructure`) without a bed, for ``duration`` [s]: the same
     compiled step as the coupled runs (:func:`pdamper.kernels.structure.structure_step`) with no
     wall force.
 

@@ -89,9 +89,9 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     if out_dir is not None:
         check_run_dir(out_dir)  # fail before a long run, not after it
 
-    periodic = hasattr(case.drive, "stroke")
-    total = float(case.cycles) if periodic else round(case.duration, 3)
-    with fraction_bar("pdamper run", total, "cycle" if periodic else "s",
+    cycles = case.drive.counts_cycles
+    total = float(case.cycles) if cycles else round(case.duration, 3)
+    with fraction_bar("pdamper run", total, "cycle" if cycles else "s",
                       not as_json and sys.stderr.isatty()) as progress:
         result = run_case(case, progress=progress, until_steady=until_steady)
     written = write_run(result, out_dir) if out_dir is not None else None
@@ -156,7 +156,11 @@ def _table(config, case, s, written) -> str:
         if s.get("truncation_error") is not None and math.isfinite(s["truncation_error"]):
             rows.insert(4, ("truncation error", _fmt(s["truncation_error"], 2), "[-]",
                             f"static compliance at the damper from the {s['modes_kept']} kept modes vs K^-1"))
-        at = 4 + ("truncation_error" in s)
+        if s.get("modes_kept", 1) > 1:
+            rows.insert(4, ("modes", str(s["modes_kept"]), "",
+                            "f = " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"]) + " Hz; zeta = "
+                            + ", ".join(f"{100 * z:.3g}" for z in s["mode_damping_ratios"]) + " %"))
+        at = 4 + ("truncation_error" in s) + (s.get("modes_kept", 1) > 1)
     if s.get("mode"):
         f = s.get("mode_features") or {}
         # after eta* and its steadiness line (which is about eta*, not about the mode)

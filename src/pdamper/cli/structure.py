@@ -9,13 +9,17 @@ import tempfile
 
 import click
 
-from .common import Quantity, echo_json, fraction_bar, main, renamed, user_errors
+from .common import Quantity, ShapeChoice, echo_json, fraction_bar, main, parse_sizes, renamed, user_errors
 from .run import parse_set
 
 __all__ = ["decay_command", "response_command", "design_command"]
 
 
-def _load(config, settings, cycles, seed):
+def _load(config, settings, cycles, seed, force=None):
+    """The case of CONFIG.toml with the command's overrides. ``force`` [N] (``--force``): the
+    structure is forced (its ``force_amplitude``), at its ``force_frequency`` or, where the file
+    gives none, at its first mode's natural frequency; a file whose structure nothing moves
+    (``force_amplitude = 0``, no start) is then read as forced, not refused."""
     from ..config import load_case
 
     overrides = parse_set(settings)
@@ -23,6 +27,14 @@ def _load(config, settings, cycles, seed):
         overrides["run.cycles"] = int(cycles) if float(cycles).is_integer() else cycles
     if seed is not None:
         overrides["initial.seed"] = seed
+    if force is not None and force > 0 and "structure.force_amplitude" not in overrides:
+        # the file as it stands may have nothing that moves it: read it once with a nominal start
+        probe = load_case(config, {**overrides, "structure.displacement": "1mm", "structure.force_amplitude": 0.0})
+        if not probe.drive.coupled:
+            return probe  # not a structure: the command says so
+        overrides["structure.force_amplitude"] = force
+        overrides.setdefault("structure.force_frequency",
+                             probe.drive.force_frequency or probe.drive.natural_frequency)
     return load_case(config, overrides)
 
 
@@ -107,7 +119,8 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
         f"zeta = {pct(s['damping_ratio'])}, from {mm(s['initial_displacement_m'])}",
         *([f"  modes                 {s['modes_kept']}: " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"])
            + " Hz (M, f_n, zeta: the first mode's, M at the damper)"
-           + (f"; truncation error {s['truncation_error']:.2g}" if "truncation_error" in s else "")]
+           + (f"; truncation error {s['truncation_error']:.2g}" if "truncation_error" in s else ""),
+           "  mode damping ratios   " + ", ".join(f"{100 * z:.3g}" for z in s["mode_damping_ratios"]) + " %"]
           if s.get("modes_kept", 1) > 1 else []),
         f"  damper                {s['particles']} spheres, {1e3 * s['bed_mass_kg']:.4g} g "
         f"({100 * s['mass_ratio']:.3g} % of M), X_opt = {mm(s['x_opt_m'])}",
@@ -135,8 +148,9 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
               "[default: 9 points over +-10 % around the natural frequency of --mode].")
 @click.option("--mode", "mode", type=click.IntRange(min=1), default=1, show_default=True,
               help="The mode whose resonance the default grid is centred on (and the warning checks).")
-@click.option("--force", "force", type=Quantity("force"),
-              help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude).")
+@click.option("--force", "force", type=Quantity("force"), multiple=True,
+              help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude); repeat it "
+                   "for several forces, overlaid in the figure (|X|/F0 panel).")
 @click.option("--fields", "fields_path", type=click.Path(dir_okay=False),
               help="The damper's fields (pdamper fields --out F.nc): the response by harmonic balance, in "
                    "milliseconds, instead of DEM runs (with --start: the DEM runs, and the fields' prediction beside).")
@@ -178,7 +192,8 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     from ..studies.structure import (default_frequencies, grid_warnings, parse_frequencies, run_response,
                                      run_response_fields)
 
-    case = _load(config, settings, cycles, seed)
+    forces = [float(f) for f in force or ()]
+    case = _load(config, settings, cycles, seed, force=forces[0] if forces else None)
     check_path(plot)
     if frequencies is None:
         freqs = default_frequencies(case, mode)
@@ -186,8 +201,9 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     else:
         freqs = parse_frequencies(frequencies)
         warnings = grid_warnings(case, freqs, mode)
-    f0 = force if force is not None else (case.drive.force_amplitude if case.drive.coupled else 0.0)
-    if not f0 > 0:
+    if not forces:
+        forces = [case.drive.force_amplitude if case.drive.coupled else 0.0]
+    if not all(f0 > 0 for f0 in forces):
         raise InputError("--force: give the force amplitude on the structure, e.g. --force 0.4N "
                          "([structure] force_amplitude is 0)")
     fields = None
@@ -202,48 +218,69 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     if not as_json:
         for w in warnings:
             click.echo(f"warning: {w}", err=True)
-    if fields is not None and start is None:
-        res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
-        res.summary["warnings"] = warnings
-        s = _report(res, case, config, plot, response_figure, as_json)
-        if s is not None:
-            click.echo("\n".join(_fields_lines(s, config, f0, fields_path, plot)))
+    results, beside, text = [], [], []
+    x_opt = _x_opt(case)
+    for f0 in forces:
+        if fields is not None and start is None:
+            res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+            res.summary.update(warnings=warnings, x_opt_m=x_opt)
+            results.append(res)
+            beside.append(None)
+            text += _fields_lines(dict(res.summary, config=str(config)), config, f0, fields_path, None)
+            continue
+        res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
+                           scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
+                           fields=fields, extrapolate=extrapolate)
+        res.summary.update(warnings=warnings, x_opt_m=x_opt)
+        prediction = curve = None
+        if fields is not None:
+            prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+            res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
+                "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
+                "peak_damped_frequency_hz", "solve_time_median_s")}
+            if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
+                curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields,
+                                            force_amplitude=f0, extrapolate=extrapolate)
+        results.append(res)
+        beside.append(curve or prediction)
+        text += _dem_lines(res.summary, config, f0, prediction is not None)
+    if plot:
+        response_figure(results if len(results) > 1 else results[0], plot,
+                        fields=(beside if len(beside) > 1 else beside[0]) if any(b is not None for b in beside)
+                        else None)
+    summaries = [dict(r.summary) for r in results]
+    if as_json:
+        if len(summaries) == 1:
+            echo_json(dict(summaries[0], config=str(config), plot=plot))
+        else:
+            echo_json({"forces_N": forces, "responses": summaries, "config": str(config), "plot": plot})
         return
-    res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
-                       scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
-                       fields=fields, extrapolate=extrapolate)
-    res.summary["warnings"] = warnings
-    prediction = curve = None
-    if fields is not None:
-        prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
-        res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
-            "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
-            "peak_damped_frequency_hz", "solve_time_median_s")}
-        if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
-            curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields, force_amplitude=f0,
-                                        extrapolate=extrapolate)
-    s = _report(res, case, config, plot, lambda r, p: response_figure(r, p, fields=curve or prediction), as_json)
-    if s is None:
-        return
+    if plot:
+        text.append(f"  wrote {plot}")
+    click.echo("\n".join(text))
+
+
+def _dem_lines(s: dict, config, f0: float, prediction: bool) -> list[str]:
+    """The table of a DEM response (``s``: its summary)."""
+    from ..studies.structure import frequency_format
+
     mark = lambda k: "" if s["steady"][k] else " *"  # noqa: E731
+    hz = frequency_format(s["frequencies_hz"])
     lines = [f"pdamper response {config}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
              f"{100 * s['mass_ratio']:.3g} % of M; {s['measure_cycles']} of {s['cycles']:g} cycles measured, "
              f"from {s['start']})",
              f"  {'f [Hz]':>8}  {'damper [mm]':>12}  {'bare [mm]':>10}  {'bare run [mm]':>13}  {'solid mass [mm]':>15}"
              + ("  fields [mm]" if prediction else "")]
     for k, f in enumerate(s["frequencies_hz"]):
-        line = (f"  {f:8.4g}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
+        line = (f"  {hz(f):>8}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                 f"{1e3 * s['amplitude_bare_run_m'][k]:11.4g}{'' if s['bare_run_steady'][k] else ' *':2}  "
                 f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
         if prediction:
             line += "  " + _branches_mm(s["fields_prediction"]["damper_amplitude_m"][k])
         lines.append(line)
-    change = s["last_period_change"][s["frequencies_hz"].index(s["peak_damped_frequency_hz"])]
     ratio = (f"ratio {s['peak_reduction']:.3g}" if s["peak_steady"]
-             else f"no ratio: the damped peak is a transient (changed {100 * change:.2g} % over the last period)")
-    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
-                 f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
-                 + ratio)
+             else f"no ratio: the damped peak is a transient ({transient_words(s)})")
+    lines.append(_peak_line(s, hz) + ratio)
     if not all(s["steady"]) or not all(s["bare_run_steady"]):
         lines.append(f"  * not steady: the amplitude over the last period (or the last half of the measured ones) "
                      f"differs from the one before by more than {100 * s['steady_tolerance']:g} %; a bare run: "
@@ -252,9 +289,26 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
                  f"DEM time {s['wall_time_s']:.3g} s")
     for f, msg in s["failed"].items():
         lines.append(f"  failed at {f} Hz: {msg}")
-    if plot:
-        lines.append(f"  wrote {plot}")
-    click.echo("\n".join(lines))
+    return lines
+
+
+def transient_words(s: dict) -> str:
+    """Why the damped peak of a DEM response ``s`` is not steady: the checks that failed, with
+    their numbers and the limit (:func:`pdamper.studies.structure.steadiness`)."""
+    k = s["frequencies_hz"].index(s["peak_damped_frequency_hz"])
+    tol = s["steady_tolerance"]
+    checks = [("over the last period", s["last_period_change"][k]),
+              ("between the two halves of the measured periods", s["window_change"][k])]
+    failed = [f"changed {100 * v:.2g} % {what}" for what, v in checks if not v <= tol]
+    return "; ".join(failed or ["its run failed"]) + f", beyond the {100 * tol:g} % limit"
+
+
+def _peak_line(s: dict, hz) -> str:
+    """The damped peak against the bare structure's resonance (its closed-form peak, not the grid's
+    largest bare value)."""
+    return (f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {hz(s['peak_damped_frequency_hz'])} Hz; without "
+            f"{1e3 * s['resonance_bare_m']:.4g} mm at its resonance {s['resonance_bare_frequency_hz']:.5g} Hz "
+            f"({1e3 * s['peak_bare_m']:.4g} mm on this grid): ")
 
 
 def _branches_mm(v) -> str:
@@ -267,16 +321,17 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
     lines = [f"pdamper response {config} --fields {fields_path}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
              f"{100 * s['mass_ratio']:.3g} % of M; harmonic balance, stable branches)",
              f"  {'f [Hz]':>8}  {'damper [mm]':>16}  {'response [mm]':>16}  {'bare [mm]':>10}  {'solid mass [mm]':>15}"]
+    from ..studies.structure import frequency_format
+
+    hz = frequency_format(s["frequencies_hz"])
     for k, f in enumerate(s["frequencies_hz"]):
-        lines.append(f"  {f:8.4g}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
+        lines.append(f"  {hz(f):>8}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
                      f"{_branches_mm(s['response_amplitude_m'][k]):>16}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                      f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
-    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
-                 f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
-                 f"ratio {s['peak_reduction']:.3g}")
+    lines.append(_peak_line(s, hz) + f"ratio {s['peak_reduction']:.3g}")
     if s["jump_frequencies_hz"]:
         lines.append("  jumps (the stable branches change) at " +
-                     ", ".join(f"{f:.4g} Hz" for f in s["jump_frequencies_hz"]))
+                     ", ".join(f"{f:.5g} Hz" for f in s["jump_frequencies_hz"]))
     if s["extrapolated"]:
         lines.append("  warning: some solutions lie outside the fields' box (--extrapolate: end values continued)")
     lines.append(f"  solve time {1e3 * s['solve_time_median_s']:.3g} ms per frequency (median); fields {s['fields_box']}")
@@ -296,12 +351,15 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 @click.option("--frequency", type=Quantity("frequency"), help="Structure's frequency, e.g. 2Hz (without --structure).")
 @click.option("--stroke", type=Quantity("length"),
               help="Stroke (amplitude) of the structure where the damper sits, e.g. 10mm (without --structure).")
-@click.option("--shape", type=click.Choice(["cuboid", "cylinder"]), default="cuboid", show_default=True)
+@click.option("--shape", type=ShapeChoice(),
+              help="Container shape (any registered shape) [default: cuboid; with --structure the file's container].")
 @click.option("--length", type=Quantity("length"), help="Cuboid: inner length along the motion, e.g. 120mm.")
 @click.option("--length-range", metavar="LOW:HIGH",
               help="With --structure: container lengths to choose from, e.g. 80mm:200mm (1 mm steps, at most 121).")
 @click.option("--width", type=Quantity("length"), help="Cuboid: inner width, e.g. 40.4mm.")
 @click.option("--container-radius", type=Quantity("length"), help="Cylinder: inner radius R, e.g. 39mm.")
+@click.option("--size", "sizes", multiple=True, metavar="KEY=VALUE",
+              help="Another [container] key of the shape, e.g. --size height=30mm (repeatable).")
 @click.option("--sphere-radius", type=Quantity("length"),
               help="Sphere radius r, e.g. 5mm (required without --structure; with it the config's, else 5 mm).")
 @click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --sphere-radius.")
@@ -326,8 +384,8 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @user_errors
 def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
-                   container_radius, sphere_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio,
-                   margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+                   container_radius, sizes, sphere_radius, radius, density, max_particles, max_bed_mass,
+                   max_mass_ratio, margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
     With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
@@ -347,13 +405,14 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     """
     from ..design import design_filling
     from ..errors import InputError
+    from ..params import Container
 
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
+    sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
     if structure_file is not None:
         return _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range,
-                                 width, container_radius, radius, density, max_particles, max_bed_mass,
-                                 max_mass_ratio, margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers,
-                                 as_json)
+                                 sizes, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
+                                 verify, verify_cycles, verify_strokes, seeds, workers, as_json)
     for name, value in (("--force", force), ("--length-range", length_range), ("--max-bed-mass", max_bed_mass),
                         ("--max-mass-ratio", max_mass_ratio)):
         if value is not None:
@@ -365,8 +424,9 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     if radius is None:
         raise InputError("missing --sphere-radius (the sphere radius r, e.g. 5mm)")
 
-    d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius, shape=shape, length=length,
-                       width=width, container_radius=container_radius, max_particles=max_particles, tilt=tilt,
+    d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius,
+                       shape=shape if shape is not None else Container().geometry.shape, length=length,
+                       sizes=sizes, max_particles=max_particles, tilt=tilt,
                        density=7900.0 if density is None else density)
     out = d.to_dict()
     if verify:
@@ -427,35 +487,29 @@ def _verify(d, cycles, workers, quiet):
             "eta_theory": [float(th.eta_theory(x, d.clearance_m)) for x in xs]}
 
 
-def _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
-                      container_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
-                      verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+def _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, sizes,
+                      radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt, verify,
+                      verify_cycles, verify_strokes, seeds, workers, as_json):
     """``pdamper design --structure``: the filling for a structure mode, its report and the DEM check."""
-    from ..design import design_cuboid, design_for_structure, load_structure
+    from ..design import design_container, design_for_structure, load_structure
     from ..errors import InputError
 
-    for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--container-radius", container_radius),
-                        ("--max-particles", max_particles), ("--tilt", tilt)):
+    for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--max-particles", max_particles),
+                        ("--tilt", tilt)):
         if value is not None:
             raise InputError(f"{name} does not apply with --structure: the design finds the stroke at the mode's "
-                             "resonance and sizes a cuboid (give --length or --length-range, --width, "
-                             "--sphere-radius)")
-    if shape != "cuboid":
-        raise InputError("--shape cylinder: the design for a structure sizes a cuboid (give --length or "
-                         "--length-range and --width)")
+                             "resonance and sizes the container's length along the drive (give --length or "
+                             "--length-range, the other sizes, --sphere-radius)")
     if force is None or not force > 0:
         raise InputError(f"--force{'' if force is None else f' = {force:g} N'}: give the force amplitude on the "
                          "structure at the mode's resonance, > 0, e.g. --force 1.5N")
     case = load_structure(structure_file)
-    geo = design_cuboid(case, given=not (length is None and length_range is None or width is None),
-                        source=structure_file)
+    geo = design_container(case, shape=shape, sizes=sizes)
     sphere = case.particles[0]
     rng = _length_range(length_range) if length_range is not None else None
-    if rng is None and length is None:
-        length = geo.length
     sd = design_for_structure(case.drive, force=force, mode=mode_number,
                               sphere_radius=radius if radius is not None else sphere.radius,
-                              length=length, width=width if width is not None else geo.width, length_range=rng,
+                              length=length, length_range=rng, container=geo, container_mass=case.container.mass,
                               max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio,
                               density=density if density is not None else sphere.material.density, margin=margin)
     out = sd.to_dict()
@@ -479,14 +533,21 @@ def _length_range(text: str):
 
 
 def _design_structure_lines(sd, out, structure_file) -> list:
+    from ..design import margin_note
+
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
     pct = lambda z: f"{100 * z:.3g} %"  # noqa: E731
     d = sd.filling
+    shaped = sd.modes > 1 or sd.phi_damper != 1.0
     lines = [f"pdamper design --structure {structure_file}: mode {sd.mode} of {sd.modes}, "
-             f"m = {sd.modal_mass_kg:.4g} kg, f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, "
-             f"F = {sd.force_N:.4g} N at resonance"
-             + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response {sd.phi_response:.4g})"
-                if sd.modes > 1 or sd.phi_damper != 1.0 else "")]
+             f"M = {sd.mass_at_damper_kg:.4g} kg at the damper"
+             + (f" (m / phi_d^2: modal mass m = {sd.modal_mass_kg:.4g} kg in the mode's normalisation)" if shaped
+                else "") + (f", the empty container's {1e3 * sd.container_mass_kg:.4g} g included"
+                            if sd.container_mass_kg > 0 else "")
+             + f", f = {sd.natural_frequency_hz:.5g} Hz, zeta = {pct(sd.damping_ratio)}, F = {sd.force_N:.4g} N at "
+             "resonance" + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response "
+                            f"{sd.phi_response:.4g})" if shaped else ""),
+             "  masses are physical, at the damper (the mode's own normalisation only where it says so)"]
     rows = [
         ("container", d.describe_container(), f"{sd.candidates} fillings tried"),
         ("filling", f"{d.particles} of {d.max_particles}", f"spheres r = {mm(d.sphere_radius_m)}, {d.rows} rows"),
@@ -497,10 +558,11 @@ def _design_structure_lines(sd, out, structure_file) -> list:
          "rolling collect-and-collide)"),
         ("eta*", f"{sd.eta_star:.3f}", "rolling law, eq. (14)"),
         ("energy per cycle", f"{1e3 * sd.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2"),
-        ("added mass", f"{1e3 * sd.added_modal_mass_kg:.4g} g",
-         f"phi_d^2 m_eff, m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} "
-         "m_bed (rolling bed, eqs. 10-12)"),
-        ("resonance", f"{sd.frequency_hz:.4g} Hz", f"without damper {sd.natural_frequency_hz:.4g} Hz"),
+        ("added mass", f"{1e3 * sd.effective_mass_kg:.4g} g",
+         f"at the damper: the rolling bed's m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} m_bed (eqs. 10-12)"
+         + (f"; phi_d^2 m_eff = {1e3 * sd.added_modal_mass_kg:.4g} g in the mode's normalisation" if
+            sd.phi_damper != 1.0 else "")),
+        ("resonance", f"{sd.frequency_hz:.5g} Hz", f"without damper {sd.natural_frequency_hz:.5g} Hz"),
         ("modal damping", pct(sd.zeta_total),
          f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
         ("amplitude, damper", mm(sd.amplitude_damper_m), f"without damper {mm(sd.amplitude_damper_bare_m)}, bed as a "
@@ -513,12 +575,11 @@ def _design_structure_lines(sd, out, structure_file) -> list:
                  f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"))
     wv = max(16, *(len(value) + 2 for _, value, _ in rows))
     lines += [f"  {name:<20}{value:<{wv}}{note}" for name, value, note in rows]
-    lines.append(f"  margin: the DEM shows the rolling mode only above ~1.1-1.2 X_opt (the bed sways below, with less "
-                 f"eta*); the filling keeps X >= {sd.margin:g} X_opt (--margin)")
+    lines.append(f"  {margin_note(sd.margin)}")
     lines += [f"warning: {w}" for w in sd.warnings]
     if "verify" in out:
         v = out["verify"]
-        lines.append(f"  DEM check at {sd.frequency_hz:.4g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
+        lines.append(f"  DEM check at {sd.frequency_hz:.5g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
         for x, s, e, t, m, fr in zip(v["strokes_m"], v["stroke_over_x_opt"], v["eta_star_dem"], v["eta_star_law"],
                                      v["modes"], v["force_required_N"]):
             lines.append(f"    X = {mm(x):>9} ({s:.3g} X_opt)  eta* DEM {e:.3f}  law {t:.3f}  force needed "
@@ -539,19 +600,16 @@ def _verify_structure(sd, case, cycles, n_strokes, n_seeds, workers, quiet) -> d
     from ..analysis.modes import majority_mode
     from ..design import judge_verification, verify_factors
     from ..excitation import HarmonicDrive
-    from ..geometry.cuboid import Cuboid
     from ..studies import SweepSpec, run_sweep
 
     d = sd.filling
-    height = getattr(case.container.geometry, "height", Cuboid().height)
     sphere = case.particles[0]
     mat = sphere.material
     if mat.density != d.density_kg_m3:
         mat = dataclasses.replace(mat, density=d.density_kg_m3)
     base = dataclasses.replace(
         case, particles=(dataclasses.replace(sphere, count=d.particles, radius=d.sphere_radius_m, material=mat),),
-        container=dataclasses.replace(case.container,
-                                      geometry=Cuboid(length=d.length_m, width=d.width_m, height=height)),
+        container=dataclasses.replace(case.container, geometry=d.container_geometry()),
         drive=HarmonicDrive(stroke=sd.damper_stroke_m, frequency=sd.frequency_hz), cycles=cycles,
         drop_cycles=2 if cycles >= 5 else 1)  # the record's whole cycles: one fewer than asked at an odd frequency
     strokes = [sd.damper_stroke_m * f for f in verify_factors(n_strokes)]

@@ -25,7 +25,7 @@ from ..geometry.walls import CYLINDER_INSIDE, PLANE
 from ..initial import initial_positions
 from ..kernels.bundles import (Bodies, CellSearch, ContactTable, CoupledMotion, DirectSearch, Drive, PairList,
                                PrescribedMotion, Search, WallList)
-from ..kernels.drive import DRIVE_MODAL, DRIVE_STRUCTURE
+from ..kernels.drive import DRIVE_KINDS
 from ..materials import effective_modulus
 from ..params import Case
 
@@ -108,7 +108,7 @@ def build(case: Case) -> Engine:
     walls, wall_names = _walls(case, bodies, table, wall_material)
     search, search_name = _search(case, rad, n)
     gvec, dvec = container_vectors(case.container.tilt, case.gravity, case.drive.lab_direction())
-    drive = drive_bundle(case.drive, gvec, dvec)
+    drive = drive_bundle(case.running_drive, gvec, dvec)
     return Engine(case=case, bodies=bodies, pairs=grow_pairs(None, max(16, n * 8), n), walls=walls, search=search,
                   table=table, drive=drive, search_name=search_name, wall_names=wall_names, dt=auto_time_step(case))
 
@@ -116,12 +116,15 @@ def build(case: Case) -> Engine:
 def drive_bundle(drive, gravity=None, direction=None) -> Drive:
     """The kernels' :class:`~pdamper.kernels.bundles.Drive` of a drive (:mod:`pdamper.excitation`),
     with the gravity vector and drive direction in the container frame (default: none, along x)."""
-    kind, par, tab, state = drive.kernel_drive()
+    name, par, tab, state = drive.kernel_drive()
+    if name not in DRIVE_KINDS:
+        raise InputError(f"{type(drive).__name__}.kernel_drive() names the compiled motion {name!r}; the kernels have "
+                         f"{', '.join(repr(k) for k in DRIVE_KINDS)} (pdamper.kernels.drive.DRIVE_KINDS)")
     gravity = np.zeros(3) if gravity is None else np.asarray(gravity, dtype=float)
     direction = np.array([1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
-    # the marker follows the kind, which the kernels read the structure's motion by
-    coupling = CoupledMotion() if int(kind) in (DRIVE_STRUCTURE, DRIVE_MODAL) else PrescribedMotion()
-    return Drive(kind=int(kind), coupling=coupling, par=par, table=tab, state=state, gravity=gravity,
+    # the marker follows what the drive is: one the bed's force moves is read from the state
+    coupling = CoupledMotion() if drive.coupled else PrescribedMotion()
+    return Drive(kind=DRIVE_KINDS[name], coupling=coupling, par=par, table=tab, state=state, gravity=gravity,
                  direction=direction)
 
 

@@ -169,7 +169,7 @@ class Drive(NamedTuple):
     """Gravity, the drive direction and the container's motion along it
     (:mod:`pdamper.kernels.drive`)."""
 
-    kind: int                    #: 0 still, 1 harmonic, 2 sampled, 3 coupled structure, 4 modal structure
+    kind: int                    #: DRIVE_STILL, DRIVE_HARMONIC, DRIVE_SAMPLED, DRIVE_STRUCTURE, DRIVE_MODAL (drive.py)
     coupling: tuple              #: PrescribedMotion() or CoupledMotion(): a marker whose *type* decides, when a
                                  #: kernel is compiled, whether the structure's step is compiled into it
     par: np.ndarray              #: parameters of the kind (harmonic: X, Omega, phase; structure: M, K, c, F0, Omega)

@@ -44,11 +44,11 @@ def _example(name: str):
     """The paper's case ``cuboid_36``, ``cuboid_44``, ``cylinder_30`` or ``cylinder_42``: Table 1
     materials, mu = 0.1, eps = 0.9, 0.1 deg tilt, 2 Hz, 20 cycles (the defaults of
     :mod:`pdamper.params`; ``examples/<name>.toml`` spell out the same cases)."""
-    from ..geometry import Cylinder
+    from ..geometry import SHAPES
     from ..params import Case, Container, ParticleSet
 
     shape, n = name.split("_")
-    container = Container(geometry=Cylinder()) if shape == "cylinder" else Container()
+    container = Container(geometry=SHAPES[shape]())  # the paper's size is each shape's default
     return Case(particles=(ParticleSet(count=int(n)),), container=container)
 
 

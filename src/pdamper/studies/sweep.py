@@ -230,7 +230,7 @@ class SweepSpec:
         names = [a.name for a in axes]
         if len(set(names)) != len(names) or "seed" in names:
             raise InputError(f"two axes would share a dimension name ({names}); vary them in separate sweeps")
-        if any(k.startswith("drive.") for k in keys) and self.base.drive.kind != "harmonic":
+        if any(k.startswith("drive.") for k in keys) and not self.base.drive.sweepable:
             raise InputError("a sweep over drive keys needs a harmonic drive ([drive] stroke and frequency)")
         seeds = tuple(int(s) for s in np.atleast_1d(self.seeds))
         if not seeds or any(s < 0 for s in seeds):
