@@ -19,7 +19,7 @@ from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError
 from .excitation import DriveBase, HarmonicDrive
 from .geometry import Baffle, Cuboid, Shape
-from .geometry.baffles import baffle_outlines, baffle_walls
+from .geometry.baffles import baffle_outlines, baffle_walls, floor_sections
 import numpy as np
 
 from .materials import PVC, STEEL_S235, Material, read_material
@@ -143,6 +143,13 @@ class Container:
         lo, hi = self.geometry.bounding_box()
         bk, bd, bn = baffle_walls(self.baffles, hi[1] - lo[1])
         return np.concatenate([kinds, bk]), np.vstack([data, bd]), list(names) + bn
+
+    def compartments(self, radius: float) -> list[tuple[float, float]]:
+        """The floor's sections along x [m], ``[(a, b), ...]``, that a sphere of ``radius`` cannot
+        leave along the floor: split by the baffles whose gap below is under its diameter
+        (:func:`pdamper.geometry.baffles.floor_sections`); one section without such baffles."""
+        lo, hi = self.geometry.bounding_box()
+        return floor_sections(self.baffles, float(lo[0]), float(hi[0]), radius)
 
     def wall_material_list(self) -> list:
         """The material of each wall, in the order of :meth:`walls`."""

@@ -25,7 +25,8 @@ from .recorders.trajectory import TrajectoryRecorder
 __all__ = ["run_case", "RunResult", "analyze_signals", "analyse_signals", "MODE_FPS", "MIN_STEADY_CYCLES"]
 
 #: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
-#: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
+#: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100);
+#: more above 2 Hz, 25 frames a cycle (:func:`pdamper.analysis.modes.mode_fps`).
 MODE_FPS = 50.0
 
 
@@ -47,8 +48,8 @@ class RunResult:
         a coupled structure, else None.
     recorded : the results of the extra recorders given to :func:`run_case`, by name.
     extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
-        the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
-        ``rejected_steps``.
+        the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`, 25 frames a cycle
+        above 2 Hz), Gear's ``rejected_steps``.
     steps : time steps taken; time_step_s : the step [s] (Verlet) or the mean accepted step (Gear);
     wall_time_s : run time [s]. Numbers on a result carry their unit in the name, as in
     :meth:`summary` (docs/names.md); ``energy_per_cycle`` and ``time_step`` are the old names.
@@ -202,7 +203,9 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
     periodic = float(case.drive.frequency or 0.0) > 0
     classify = analyze and periodic
     if classify and not case.recording.trajectory_fps:
-        builtin.append(TrajectoryRecorder(min(MODE_FPS, case.recording.sample_rate)))
+        from .analysis.modes import mode_fps
+
+        builtin.append(TrajectoryRecorder(mode_fps(case.drive.frequency, case.recording.sample_rate, MODE_FPS)))
     sim = Simulation(case, builtin + recorders)
     cycles_run = float(case.cycles)
     if until_steady is not None:

@@ -64,7 +64,8 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     examples/cuboid_36.toml for the config format.
 
     Every run also reports the bed's motion mode (docs/motion.md), measured on the recorded
-    trajectory (a coarse one at 50 frames/s is recorded for it if none is asked for).
+    trajectory (a coarse one at 50 frames/s, 25 frames a cycle above 2 Hz, is recorded
+    for it if none is asked for).
 
     Example: pdamper run examples/cuboid_36.toml --stroke 20mm --trajectory --out runs/x20
     """
@@ -162,15 +163,12 @@ def _table(config, case, s, written) -> str:
                             + ", ".join(f"{100 * z:.3g}" for z in s["mode_damping_ratios"]) + " %"))
         at = 4 + ("truncation_error" in s) + (s.get("modes_kept", 1) > 1)
     if s.get("mode"):
+        from ..analysis.modes import describe_features
+
         f = s.get("mode_features") or {}
         # after eta* and its steadiness line (which is about eta*, not about the mode)
         rows.insert(at, ("motion mode", s["mode"], "", ""))
-        rows.insert(at + 1, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
-                                    f"phase {f.get('phase_deg', math.nan):.0f} deg, "
-                                    f"wall arrivals/cycle -x {f.get('impacts_lo', math.nan):.2f} "
-                                    f"+x {f.get('impacts_hi', math.nan):.2f}, "
-                                    f"in-container motion {f.get('relative', math.nan):.2g} of the travel; "
-                                    "docs/motion.md"))
+        rows.insert(at + 1, ("", "", "", f"{describe_features(f)}; docs/motion.md"))
     if written is not None:
         rows.append(("run directory", str(written), "", ""))
     lines = [f"pdamper run {config}"]
