@@ -1,0 +1,338 @@
+"""The GPU engine from Python: cases packed into one batch, advanced together on one NVIDIA GPU
+(:mod:`pdamper.kernels.gpu`), their recorded channels handed back.
+
+A :class:`GpuJob` is one case as the CPU engine has built it (:func:`pdamper.engine.build.build`:
+the same initial positions, contact table and walls), with its output arrays
+(:class:`~pdamper.kernels.bundles.Samples`) and its clock. :func:`run_jobs` groups the jobs that one
+kernel can take together (the same damping law and the same contact-table constants), packs each
+group into the batch bundles (:mod:`pdamper.kernels.gpu.batch`), launches the kernel until every
+case is done, and copies each case's channels and final state back into its own arrays.
+
+numba-cuda is imported here only when a batch runs: ``import pdamper`` never needs it.
+:func:`unavailable` says why no GPU can run (no numba-cuda, no driver, no device).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..kernels.bundles import PrescribedMotion
+from ..kernels.drive import DRIVE_HARMONIC, DRIVE_STILL
+
+__all__ = ["GpuJob", "GpuOutcome", "run_jobs", "unavailable", "require", "refusal", "row_capacity",
+           "threads_for", "GPU_HINT"]
+
+#: How to get the GPU engine, for messages.
+GPU_HINT = 'pip install -e ".[gpu]"'
+#: The drive kinds the GPU kernels compute (the kernels' own numbers).
+_GPU_DRIVES = (DRIVE_STILL, DRIVE_HARMONIC)
+
+
+@dataclass
+class GpuJob:
+    """One case for the GPU: its CPU-built engine (:class:`~pdamper.engine.build.Engine`), its
+    output arrays and its clock (Verlet's ``dt`` and ``sub`` steps per sample, the settling and
+    driven samples, the sample interval, the samples of one of the CPU engine's segments) and the
+    velocity jump at the drive's start."""
+
+    engine: object
+    samples: object
+    dt: float
+    sub: int
+    settle_samples: int
+    n_samples: int
+    interval: float
+    segment_samples: int
+    jump: np.ndarray
+
+
+@dataclass
+class GpuOutcome:
+    """How a job went: steps taken, the kernels' status (0: ok), the sphere concerned, the time of a
+    failed step [s], the batch's wall time [s] and the batch's size."""
+
+    steps: int
+    status: int
+    culprit: int
+    t_fail: float
+    wall_time_s: float
+    batch: int
+    sums: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+
+def unavailable() -> str | None:
+    """Why the GPU engine cannot run here (None: it can): numba-cuda missing, or no GPU."""
+    import importlib.util
+
+    if importlib.util.find_spec("numba_cuda") is None:
+        return "numba-cuda is not installed"
+    try:
+        from numba import cuda
+
+        if not cuda.is_available():
+            return "no CUDA driver or GPU (numba.cuda.is_available() is False)"
+        if not os.environ.get("NUMBA_ENABLE_CUDASIM") and len(cuda.gpus) == 0:
+            return "no GPU"
+    except Exception as exc:  # a broken driver or toolkit: say what numba-cuda said
+        return f"{type(exc).__name__}: {' '.join(str(exc).split())[:200]}"
+    return None
+
+
+def require() -> None:
+    """Raise :class:`~pdamper.errors.InputError` (one line) when the GPU engine cannot run here."""
+    why = unavailable()
+    if why is not None:
+        raise InputError(f"--device cuda needs an NVIDIA GPU and numba-cuda ({GPU_HINT}); none found: {why}")
+
+
+def refusal(engine, python_recorders: bool = False) -> str | None:
+    """Why the GPU engine does not run this case (None: it does), and how to run it on the CPU."""
+    how = "; run it on the CPU (device = \"cpu\", the default)"
+    if not isinstance(engine.drive.coupling, PrescribedMotion) or engine.drive.kind not in _GPU_DRIVES:
+        return ("the GPU engine runs harmonic drives (and a container at rest); a coupled structure or a motion "
+                "given as samples is not on the GPU yet" + how)
+    if python_recorders:
+        return "the GPU engine records the kernel channels only; a Python recorder (every > 0) is not on the GPU" + how
+    return None
+
+
+def row_capacity(radius: np.ndarray, skin: float) -> int:
+    """Entries per sphere of the GPU's neighbour rows: the spheres of the smallest radius that fit,
+    packed at 74 %, in the shell a pair is listed within around the largest one (and at most the
+    other spheres), plus two."""
+    r1 = float(np.max(radius))
+    r0 = float(np.min(radius))
+    shell = (r1 + 2.0 * r0 + skin) ** 3 - r1 ** 3
+    k = int(math.ceil(0.74 * shell / r0 ** 3)) + 2
+    return max(1, min(int(radius.size) - 1, k))
+
+
+def threads_for(n: int) -> int:
+    """Threads of a block for ``n`` spheres: one a sphere, whole warps, at most
+    :data:`~pdamper.kernels.gpu.verlet.MAX_THREADS` (each thread then takes several)."""
+    from ..kernels.gpu.verlet import MAX_THREADS
+
+    return int(min(MAX_THREADS, max(32, 32 * math.ceil(n / 32))))
+
+
+def _group_key(job):
+    t = job.engine.table
+    return (type(t.law), t.coefficient.shape[1], float(t.log_speed0), float(t.dlog_speed), float(t.tau),
+            float(t.v_floor), float(t.overlap_limit))
+
+
+def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
+             progress=None, compile_only: bool = False) -> list[GpuOutcome]:
+    """Run every job to its end on the GPU (or numba-cuda's simulator); fill its samples and leave
+    its final state in its engine's bodies. Jobs that share a kernel run as one batch.
+
+    ``threads`` per block (default :func:`threads_for` the largest bed); ``launch_seconds``: a
+    launch's target length (the steps per launch adapt to it; between launches ``progress(done,
+    total)`` is called with the steps done); ``max_launch_steps`` caps the steps of a launch.
+    ``compile_only``: launch once with no steps (compiles the kernel) and return.
+    """
+    groups = {}
+    for k, job in enumerate(jobs):
+        groups.setdefault(_group_key(job), []).append(k)
+    out = [None] * len(jobs)
+    for idx in groups.values():
+        res = _run_group([jobs[k] for k in idx], threads, launch_seconds, max_launch_steps, progress, compile_only)
+        for k, r in zip(idx, res):
+            out[k] = r
+    return out
+
+
+def _device(bundle):
+    """The bundle with its arrays on the GPU (in the simulator: as they are; the simulator passes a
+    bundle's arrays to the kernel untouched, so the CPU-compiled functions the kernel calls get
+    plain arrays)."""
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return bundle
+    from numba import cuda
+
+    return type(bundle)(*[cuda.to_device(np.ascontiguousarray(a)) if isinstance(a, np.ndarray) else a
+                          for a in bundle])
+
+
+def _host(a):
+    return a if isinstance(a, np.ndarray) else a.copy_to_host()
+
+
+def _pack(jobs, threads):
+    from ..kernels.gpu.batch import (CONTROL_FLAGS, PAIR_RESULT, PARTIALS, Control, Lists, Motion, Record, Spheres,
+                                     Walls)
+
+    C = len(jobs)
+    engines = [j.engine for j in jobs]
+    N = max(e.n for e in engines)
+    W = max(e.walls.kind.shape[0] for e in engines)
+    K = max(row_capacity(e.bodies.radius, e.search.skin) for e in engines)
+    bd = threads or threads_for(N)
+    zeros3 = np.zeros((C, N, 3))
+    sp = Spheres(position=zeros3.copy(), velocity=zeros3.copy(), spin=zeros3.copy(), acceleration=zeros3.copy(),
+                 angular_acceleration=zeros3.copy(), previous_acceleration=zeros3.copy(),
+                 previous_angular_acceleration=zeros3.copy(), reference=np.full((C, N, 3), np.inf),
+                 radius=np.ones((C, N)), mass=np.ones((C, N)), inv_mass=np.ones((C, N)), inv_inertia=np.ones((C, N)),
+                 material=np.zeros((C, N), dtype=np.int64), count=np.array([e.n for e in engines], dtype=np.int64))
+    wl = Walls(kind=np.zeros((C, W), dtype=np.int64), data=np.zeros((C, W, 7)),
+               count=np.array([e.walls.kind.shape[0] for e in engines], dtype=np.int64),
+               floor=np.array([e.walls.floor for e in engines], dtype=np.int64), stiffness=np.zeros((C, N, W)),
+               material_pair=np.zeros((C, N, W), dtype=np.int64), effective_radius=np.ones((C, N, W)),
+               approach_speed=np.zeros((C, N, W)), damping=np.zeros((C, N, W)))
+    li = Lists(partner=np.zeros((C, 2, N, K), dtype=np.int64), length=np.zeros((C, 2, N), dtype=np.int64),
+               slot=np.zeros((C, N, K), dtype=np.int64), approach_speed=np.zeros((C, 2, N, K)),
+               damping=np.zeros((C, 2, N, K)), stiffness=np.zeros((C, N, K)),
+               material_pair=np.zeros((C, N, K), dtype=np.int64), friction_cap=np.zeros((C, N, K)),
+               result=np.zeros((C, N, K, PAIR_RESULT)), buffer=np.zeros(C, dtype=np.int64),
+               skin=np.array([e.search.skin for e in engines]))
+    rows0, nmat = [], []
+    row = 0
+    for c, (job, e) in enumerate(zip(jobs, engines)):
+        b = e.bodies
+        n = e.n
+        for name in ("position", "velocity", "spin"):
+            getattr(sp, name)[c, :n] = getattr(b, name)
+        for name in ("radius", "mass", "inv_mass", "inv_inertia", "material"):
+            getattr(sp, name)[c, :n] = getattr(b, name)
+        w = e.walls
+        nw = w.kind.shape[0]
+        wl.kind[c, :nw] = w.kind
+        wl.data[c, :nw] = w.data
+        wl.stiffness[c, :n, :nw] = w.stiffness
+        wl.material_pair[c, :n, :nw] = w.material_pair + row
+        wl.effective_radius[c, :n, :nw] = w.effective_radius
+        rows0.append(row)
+        nmat.append(e.table.n_materials)
+        row += e.table.modulus.shape[0]
+    tables = [e.table for e in engines]
+    t0 = tables[0]
+    tb = (np.concatenate([t.modulus for t in tables]), np.concatenate([t.friction for t in tables]),
+          np.ascontiguousarray(np.concatenate([t.coefficient for t in tables])),
+          np.concatenate([t.yield_pressure for t in tables]), float(t0.log_speed0), float(t0.dlog_speed),
+          float(t0.tau), float(t0.v_floor), float(t0.overlap_limit))
+    mo = Motion(harmonic=np.array([int(e.drive.kind == DRIVE_HARMONIC) for e in engines], dtype=np.int64),
+                par=np.array([np.resize(np.asarray(e.drive.par, dtype=float), 3) for e in engines]),
+                gravity=np.array([e.drive.gravity for e in engines]),
+                direction=np.array([e.drive.direction for e in engines]), jump=np.array([j.jump for j in jobs]))
+    settle = np.array([j.settle_samples * j.sub for j in jobs], dtype=np.int64)
+    ct = Control(dt=np.array([j.dt for j in jobs]), sub=np.array([j.sub for j in jobs], dtype=np.int64),
+                 settle_steps=settle, total_steps=settle + np.array([j.n_samples * j.sub for j in jobs], dtype=np.int64),
+                 segment_steps=np.array([j.segment_samples * j.sub for j in jobs], dtype=np.int64),
+                 segment_samples=np.array([j.segment_samples for j in jobs], dtype=np.int64),
+                 interval=np.array([j.interval for j in jobs]), sample_interval=np.array([j.samples.interval for j in jobs]),
+                 step=np.zeros(C, dtype=np.int64), status=np.zeros(C, dtype=np.int64),
+                 culprit=np.full(C, -1, dtype=np.int64), fail_step=np.zeros(C, dtype=np.int64),
+                 flags=np.zeros((C, CONTROL_FLAGS), dtype=np.int64), partials=np.zeros((C, bd, PARTIALS)))
+    S = max(1, max(max(j.samples.wall_force.shape[0], j.samples.energy.shape[0]) for j in jobs))
+    F = max(1, max(j.samples.frames.shape[0] for j in jobs))
+    rec = Record(wall_force=np.zeros((C, S)), energy=np.zeros((C, S, 7)), frames=np.zeros((C, F, N, 9)),
+                 wall_force_rows=np.array([j.samples.wall_force.shape[0] for j in jobs], dtype=np.int64),
+                 energy_rows=np.array([j.samples.energy.shape[0] for j in jobs], dtype=np.int64),
+                 frame_rows=np.array([j.samples.frames.shape[0] for j in jobs], dtype=np.int64),
+                 frame_every=np.array([j.samples.frame_every for j in jobs], dtype=np.int64),
+                 settle_samples=np.array([j.settle_samples for j in jobs], dtype=np.int64),
+                 bed_mass=np.array([float(np.sum(e.bodies.mass)) for e in engines]))
+    return sp, li, wl, tb, mo, ct, rec, np.array(nmat, dtype=np.int64), np.array(rows0, dtype=np.int64), bd
+
+
+def _run_group(jobs, threads, launch_seconds, max_launch_steps, progress, compile_only):
+    from ..kernels.gpu.verlet import verlet_kernel
+
+    sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
+    total = ct.total_steps.copy()
+    args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), _device(mo), _device(ct), _device(rec),
+            _device_array(nmat), _device_array(row0)]
+    d_ct = args[5]
+    kernel = verlet_kernel(type(jobs[0].engine.table.law))
+    C = len(jobs)
+    t_start = time.perf_counter()
+    steps = 0
+    chunk = 200
+    if compile_only:
+        kernel[C, bd](*args, 0)
+        _sync()
+        return [GpuOutcome(steps=0, status=0, culprit=-1, t_fail=math.nan, wall_time_s=time.perf_counter() - t_start,
+                           batch=C) for _ in jobs]
+    while True:
+        t0 = time.perf_counter()
+        kernel[C, bd](*args, int(chunk))
+        _sync()
+        dt = time.perf_counter() - t0
+        done = _host(d_ct.step)
+        status = _host(d_ct.status)
+        if progress is not None:
+            progress(int(np.minimum(done, total).sum()), int(total.sum()))
+        if np.all((done >= total) | (status != 0)):
+            break
+        steps += chunk
+        # aim each launch at about launch_seconds
+        chunk = int(min(max_launch_steps, max(chunk, chunk * min(8.0, launch_seconds / max(dt, 1e-6)))))
+    wall = time.perf_counter() - t_start
+    rec_h = type(rec)(*[_host(a) if not isinstance(a, (int, float)) else a for a in args[6]])
+    sp_h = type(sp)(*[_host(a) for a in args[0]])
+    ct_h = type(ct)(*[_host(a) for a in d_ct])
+    out = []
+    for c, job in enumerate(jobs):
+        e = job.engine
+        n = e.n
+        s = job.samples
+        s.wall_force[:] = rec_h.wall_force[c, : s.wall_force.shape[0]]
+        s.energy[:] = rec_h.energy[c, : s.energy.shape[0]]
+        if s.frames.shape[0]:
+            s.frames[:] = rec_h.frames[c, : s.frames.shape[0], :n]
+        for name in ("position", "velocity", "spin"):
+            getattr(e.bodies, name)[:] = getattr(sp_h, name)[c, :n]
+        sums = ct_h.partials[c].sum(axis=0)
+        s.sums[:3] = sums[:3]
+        fail = int(ct_h.fail_step[c])
+        out.append(GpuOutcome(steps=int(ct_h.step[c]), status=int(ct_h.status[c]), culprit=int(ct_h.culprit[c]),
+                              t_fail=_time_of(job, fail), wall_time_s=wall, batch=C, sums=sums[:3]))
+    return out
+
+
+def _time_of(job, g):
+    """The time [s] at the end of step ``g`` (the kernel's clock, :func:`pdamper.kernels.gpu.verlet._case_time`)."""
+    settle = job.settle_samples * job.sub
+    if g <= settle:
+        return float(-settle) * job.dt + float(g) * job.dt
+    q = g - settle
+    seg = job.segment_samples * job.sub
+    j = (q - 1) // seg
+    return float(j * job.segment_samples) * job.interval + float(q - j * seg) * job.dt
+
+
+def _device_tuple(tb):
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return tb
+    from numba import cuda
+
+    return tuple(cuda.to_device(a) if isinstance(a, np.ndarray) else a for a in tb)
+
+
+def _device_array(a):
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return a
+    from numba import cuda
+
+    return cuda.to_device(a)
+
+
+def _sync():
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if not SIMULATOR:
+        from numba import cuda
+
+        cuda.synchronize()
