@@ -15,7 +15,6 @@ numba-cuda is imported here only when a batch runs: ``import pdamper`` never nee
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import dataclass, field
 
@@ -67,7 +66,8 @@ class GpuOutcome:
 
 
 def unavailable() -> str | None:
-    """Why the GPU engine cannot run here (None: it can): numba-cuda missing, or no GPU."""
+    """Why the GPU engine cannot run here (None: it can): numba-cuda missing, or no GPU. numba-cuda's
+    simulator (``NUMBA_ENABLE_CUDASIM=1``) counts as a GPU."""
     import importlib.util
 
     if importlib.util.find_spec("numba_cuda") is None:
@@ -75,10 +75,10 @@ def unavailable() -> str | None:
     try:
         from numba import cuda
 
+        if cuda.jit.__module__.startswith("numba.cuda.simulator"):
+            return None
         if not cuda.is_available():
             return "no CUDA driver or GPU (numba.cuda.is_available() is False)"
-        if not os.environ.get("NUMBA_ENABLE_CUDASIM") and len(cuda.gpus) == 0:
-            return "no GPU"
     except Exception as exc:  # a broken driver or toolkit: say what numba-cuda said
         return f"{type(exc).__name__}: {' '.join(str(exc).split())[:200]}"
     return None
@@ -115,9 +115,13 @@ def row_capacity(radius: np.ndarray, skin: float) -> int:
 
 def threads_for(n: int) -> int:
     """Threads of a block for ``n`` spheres: one a sphere, whole warps, at most
-    :data:`~pdamper.kernels.gpu.verlet.MAX_THREADS` (each thread then takes several)."""
+    :data:`~pdamper.kernels.gpu.verlet.MAX_THREADS` (each thread then takes several). In numba-cuda's
+    simulator, where every thread is a Python thread, at most 4."""
+    from ..kernels.gpu.targets import SIMULATOR
     from ..kernels.gpu.verlet import MAX_THREADS
 
+    if SIMULATOR:
+        return int(max(1, min(n, 4)))
     return int(min(MAX_THREADS, max(32, 32 * math.ceil(n / 32))))
 
 

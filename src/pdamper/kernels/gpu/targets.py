@@ -16,14 +16,15 @@ is nothing to register.
 
 from __future__ import annotations
 
-from numba.core import config
+from numba import cuda
 
 from ..contact import _law_of, law_force, law_touch
 
 __all__ = ["SIMULATOR"]
 
-#: True when numba-cuda's simulator runs the kernels (``NUMBA_ENABLE_CUDASIM=1``).
-SIMULATOR = bool(config.ENABLE_CUDASIM)
+#: True when numba-cuda's simulator runs the kernels (``NUMBA_ENABLE_CUDASIM=1`` when numba.cuda
+#: was first imported): its ``cuda.jit`` is the simulator's.
+SIMULATOR = cuda.jit.__module__.startswith("numba.cuda.simulator")
 
 if not SIMULATOR:
     from numba.cuda.extending import overload as _cuda_overload
