@@ -303,6 +303,7 @@ class Simulation:
 
     def _gpu_done(self, outcome):
         """Take a finished GPU job's outcome: the run is done (or raise its failure)."""
+        from .engine.cuda import STATUS_STOPPED
         from .engine.steppers import failure_message
         from .errors import SimulationError
         from .kernels.forces import STATUS_LIST_OVERFLOW, STATUS_OK
@@ -311,6 +312,8 @@ class Simulation:
         self.stepper.primed = True
         self.stepper.steps = outcome.steps
         self._wall = outcome.wall_time_s / max(outcome.batch, 1)
+        if outcome.status == STATUS_STOPPED:
+            raise SimulationError(f"the GPU batch was stopped at t = {outcome.t_fail:.6f} s, before this case's end")
         if outcome.status == STATUS_LIST_OVERFLOW:
             raise SimulationError(f"sphere {outcome.culprit} has more neighbours than the GPU engine's rows hold "
                                   f"(at t = {outcome.t_fail:.6f} s); run this case on the CPU (device = \"cpu\")")
@@ -328,7 +331,7 @@ def run_on_gpu(sims, *, progress=None, compile_only: bool = False) -> list:
     Raises :class:`~pdamper.errors.InputError` when no GPU can run (one line saying why) or when a
     simulation is one the GPU engine does not run (a coupled structure, a sampled drive, a Python
     recorder, Gear): before anything runs. ``progress(done, total)`` gets the steps done between
-    launches. ``compile_only``: compile the kernel (a launch with no steps) and return ``[]``.
+    launches (returning False stops the batch; the unfinished cases end with a SimulationError). ``compile_only``: compile the kernel (a launch with no steps) and return ``[]``.
     """
     from .engine.cuda import require, run_jobs
     from .errors import SimulationError

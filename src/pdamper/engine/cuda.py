@@ -24,11 +24,13 @@ from ..errors import InputError
 from ..kernels.bundles import PrescribedMotion
 from ..kernels.drive import DRIVE_HARMONIC, DRIVE_STILL
 
-__all__ = ["GpuJob", "GpuOutcome", "run_jobs", "unavailable", "require", "refusal", "row_capacity",
+__all__ = ["GpuJob", "GpuOutcome", "run_jobs", "STATUS_STOPPED", "unavailable", "require", "refusal", "row_capacity",
            "threads_for", "GPU_HINT"]
 
 #: How to get the GPU engine, for messages.
 GPU_HINT = 'pip install -e ".[gpu]"'
+#: :attr:`GpuOutcome.status` of a case whose batch was stopped (``progress`` returned False) before its end.
+STATUS_STOPPED = -1
 #: The drive kinds the GPU kernels compute (the kernels' own numbers).
 _GPU_DRIVES = (DRIVE_STILL, DRIVE_HARMONIC)
 
@@ -138,7 +140,8 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
 
     ``threads`` per block (default :func:`threads_for` the largest bed); ``launch_seconds``: a
     launch's target length (the steps per launch adapt to it; between launches ``progress(done,
-    total)`` is called with the steps done); ``max_launch_steps`` caps the steps of a launch.
+    total)`` is called with the steps done, and returning False stops the batch: its unfinished
+    cases end with :data:`STATUS_STOPPED`); ``max_launch_steps`` caps the steps of a launch.
     ``compile_only``: launch once with no steps (compiles the kernel) and return.
     """
     groups = {}
@@ -252,10 +255,10 @@ def _run_group(jobs, threads, launch_seconds, max_launch_steps, progress, compil
 
     sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
     total = ct.total_steps.copy()
-    args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), _device(mo), _device(ct), _device(rec),
-            _device_array(nmat), _device_array(row0)]
-    d_ct = args[5]
-    kernel = verlet_kernel(type(jobs[0].engine.table.law))
+    args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), jobs[0].engine.table.law, _device(mo),
+            _device(ct), _device(rec), _device_array(nmat), _device_array(row0)]
+    d_ct = args[6]
+    kernel = verlet_kernel()
     C = len(jobs)
     t_start = time.perf_counter()
     steps = 0
@@ -272,15 +275,15 @@ def _run_group(jobs, threads, launch_seconds, max_launch_steps, progress, compil
         dt = time.perf_counter() - t0
         done = _host(d_ct.step)
         status = _host(d_ct.status)
-        if progress is not None:
-            progress(int(np.minimum(done, total).sum()), int(total.sum()))
         if np.all((done >= total) | (status != 0)):
             break
+        if progress is not None and progress(int(np.minimum(done, total).sum()), int(total.sum())) is False:
+            break  # the caller stops the batch: the unfinished cases say so
         steps += chunk
         # aim each launch at about launch_seconds
         chunk = int(min(max_launch_steps, max(chunk, chunk * min(8.0, launch_seconds / max(dt, 1e-6)))))
     wall = time.perf_counter() - t_start
-    rec_h = type(rec)(*[_host(a) if not isinstance(a, (int, float)) else a for a in args[6]])
+    rec_h = type(rec)(*[_host(a) for a in args[7]])
     sp_h = type(sp)(*[_host(a) for a in args[0]])
     ct_h = type(ct)(*[_host(a) for a in d_ct])
     out = []
@@ -297,7 +300,10 @@ def _run_group(jobs, threads, launch_seconds, max_launch_steps, progress, compil
         sums = ct_h.partials[c].sum(axis=0)
         s.sums[:3] = sums[:3]
         fail = int(ct_h.fail_step[c])
-        out.append(GpuOutcome(steps=int(ct_h.step[c]), status=int(ct_h.status[c]), culprit=int(ct_h.culprit[c]),
+        status = int(ct_h.status[c])
+        if status == 0 and ct_h.step[c] < total[c]:
+            status, fail = STATUS_STOPPED, int(ct_h.step[c])
+        out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
                               t_fail=_time_of(job, fail), wall_time_s=wall, batch=C, sums=sums[:3]))
     return out
 

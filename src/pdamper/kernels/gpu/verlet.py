@@ -43,7 +43,7 @@ from ..forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_OVERLAP
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_MOVED, FLAG_PRIMED, FLAG_STARTED
 
-__all__ = ["verlet_kernel", "MAX_THREADS", "REDUCED"]
+__all__ = ["verlet_kernel", "batch_verlet", "MAX_THREADS", "REDUCED"]
 
 #: Threads of a block at most (the shared buffer of the block sums is sized for it).
 MAX_THREADS = 256
@@ -51,16 +51,15 @@ MAX_THREADS = 256
 #: rotational, potential and elastic energy.
 REDUCED = 8
 
-_KERNELS = {}
+_KERNEL = []
 
 
-def verlet_kernel(law_marker):
-    """The batch Verlet kernel for the damping law of ``law_marker`` (a marker class,
-    :mod:`pdamper.contact.damping`), compiled when first launched (one per law)."""
-    k = _KERNELS.get(law_marker)
-    if k is None:
-        k = _KERNELS[law_marker] = cuda.jit(_make(law_marker))
-    return k
+def verlet_kernel():
+    """The batch Verlet kernel (compiled when first launched, once per damping law: the law's
+    marker is an argument, and its type picks the law; cached on disk by numba-cuda)."""
+    if not _KERNEL:
+        _KERNEL.append(cuda.jit(cache=True)(batch_verlet))
+    return _KERNEL[0]
 
 
 @cuda.jit(device=True)
@@ -373,285 +372,286 @@ def _elastic(c, i, sp, li, wl):
     return e_el
 
 
-def _make(law_marker):
-    """The kernel's Python function for one damping law (a closure: the marker class is a constant)."""
+def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
+    """Advance every case of the batch by at most ``max_steps`` steps: block ``c`` is case ``c``.
 
-    def kernel(sp, li, wl, tb, mo, ct, rec, nmat, row0, max_steps):
-        c = cuda.blockIdx.x
-        tid = cuda.threadIdx.x
-        bd = cuda.blockDim.x
-        flags = cuda.shared.array(6, int64)
-        red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
-        lin = cuda.local.array((1, 3), float64)
-        ang = cuda.local.array((1, 3), float64)
-        # the batch's contact table, with this law's marker
-        table = ContactTable(law_marker(), 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
-        n = sp.count[c]
-        pos = sp.position
-        vel = sp.velocity
-        omg = sp.spin
-        inv_m = sp.inv_mass
-        inv_i = sp.inv_inertia
-        acc = sp.acceleration
-        alp = sp.angular_acceleration
-        accp = sp.previous_acceleration
-        alpp = sp.previous_angular_acceleration
-        gvx = mo.gravity[c, 0]
-        gvy = mo.gravity[c, 1]
-        gvz = mo.gravity[c, 2]
-        dvx = mo.direction[c, 0]
-        dvy = mo.direction[c, 1]
-        dvz = mo.direction[c, 2]
-        dt = ct.dt[c]
-        half = 0.5 * dt
-        sub = ct.sub[c]
-        settle = ct.settle_steps[c]
-        total = ct.total_steps[c]
-        seg_steps = ct.segment_steps[c]
-        seg_samples = ct.segment_samples[c]
-        interval = ct.interval[c]
-        skin = li.skin[c]
-        skin2 = 0.25 * skin * skin
-        g = ct.step[c]
-        # this thread's running sums: work, damping, friction, impulse
-        s_w = ct.partials[c, tid, 0]
-        s_n = ct.partials[c, tid, 1]
-        s_f = ct.partials[c, tid, 2]
-        s_i = ct.partials[c, tid, 3]
-        # flags: 0 status, 1 + (g % 2) a rebuild is due after step g (two slots: the step after
-        # reads one while this step's drift writes the other), 3 culprit, 4 primed, 5 started
-        if tid == 0:
-            flags[0] = ct.status[c]
-            flags[1 + (g + 1) % 2] = ct.flags[c, FLAG_MOVED]
-            flags[1 + g % 2] = 0
-            flags[3] = -1
-            flags[4] = ct.flags[c, FLAG_PRIMED]
-            flags[5] = ct.flags[c, FLAG_STARTED]
-        cuda.syncthreads()
-        if flags[0] != STATUS_OK:
-            return
-        status = STATUS_OK
-        culprit = -1
-        done = 0
-        while g < total and done < max_steps:
-            # ---- the drive starts: velocities relative to the container jump, the sums restart
-            if g == settle and flags[5] == 0:
-                i = tid
-                while i < n:
-                    for k in range(3):
-                        vel[c, i, k] = vel[c, i, k] - mo.jump[c, k]
-                    i += bd
-                s_w = 0.0
-                s_n = 0.0
-                s_f = 0.0
-                s_i = 0.0
-                cuda.syncthreads()
-                if tid == 0:
-                    flags[5] = 1
-                cuda.syncthreads()
-            # ---- the initial accelerations (run_verlet's priming): lists and forces at the start
-            if flags[4] == 0:
-                st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
-                if st != STATUS_OK:
-                    status = st
-                    culprit = cu
-                p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, dt)
-                cuda.syncthreads()
-                xc, vc, ac = _motion(mo, c, _case_time(g, dt, settle, seg_steps, seg_samples, interval))
-                i = tid
-                while i < n:
-                    _sphere_force(c, i, sp, li, wl, table, dt, lin, ang)
-                    im = inv_m[c, i]
-                    ii = inv_i[c, i]
-                    a0 = lin[0, 0] * im + gvx - ac * dvx
-                    acc[c, i, 0] = a0
-                    accp[c, i, 0] = a0
-                    a0 = lin[0, 1] * im + gvy - ac * dvy
-                    acc[c, i, 1] = a0
-                    accp[c, i, 1] = a0
-                    a0 = lin[0, 2] * im + gvz - ac * dvz
-                    acc[c, i, 2] = a0
-                    accp[c, i, 2] = a0
-                    for k in range(3):
-                        w0 = ang[0, k] * ii
-                        alp[c, i, k] = w0
-                        alpp[c, i, k] = w0
-                    i += bd
-                if status != STATUS_OK:
-                    flags[0] = status
-                    flags[3] = culprit
-                cuda.syncthreads()
-                if tid == 0:
-                    flags[4] = 1
-                    flags[1 + (g + 1) % 2] = 0
-                cuda.syncthreads()
-                if flags[0] != STATUS_OK:
-                    break
-            t = _case_time(g + 1, dt, settle, seg_steps, seg_samples, interval)
-            # ---- rebuild the lists when a sphere moved too far in the previous step
-            mslot = 1 + (g + 1) % 2
-            if flags[mslot] != 0:
-                st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
-                if st != STATUS_OK:
-                    status = st
-                    culprit = cu
-            # ---- drift with the half-step velocity; velocities predicted to the full step
-            disp = 0.0
+    ``sp``, ``li``, ``wl``, ``mo``, ``ct``, ``rec``: the batch's bundles (:mod:`.batch`); ``tb`` the
+    contact table's arrays and constants of every case (rows ``row0[c]`` on; ``nmat[c]`` materials),
+    ``law`` the damping law's marker (its type picks the law when the kernel is compiled)."""
+    c = cuda.blockIdx.x
+    tid = cuda.threadIdx.x
+    bd = cuda.blockDim.x
+    flags = cuda.shared.array(6, int64)
+    red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
+    lin = cuda.local.array((1, 3), float64)
+    ang = cuda.local.array((1, 3), float64)
+    # the batch's contact table, with this law's marker
+    table = ContactTable(law, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
+    n = sp.count[c]
+    pos = sp.position
+    vel = sp.velocity
+    omg = sp.spin
+    inv_m = sp.inv_mass
+    inv_i = sp.inv_inertia
+    acc = sp.acceleration
+    alp = sp.angular_acceleration
+    accp = sp.previous_acceleration
+    alpp = sp.previous_angular_acceleration
+    gvx = mo.gravity[c, 0]
+    gvy = mo.gravity[c, 1]
+    gvz = mo.gravity[c, 2]
+    dvx = mo.direction[c, 0]
+    dvy = mo.direction[c, 1]
+    dvz = mo.direction[c, 2]
+    dt = ct.dt[c]
+    half = 0.5 * dt
+    sub = ct.sub[c]
+    settle = ct.settle_steps[c]
+    total = ct.total_steps[c]
+    seg_steps = ct.segment_steps[c]
+    seg_samples = ct.segment_samples[c]
+    interval = ct.interval[c]
+    skin = li.skin[c]
+    skin2 = 0.25 * skin * skin
+    g = ct.step[c]
+    # this thread's running sums: work, damping, friction, impulse
+    s_w = ct.partials[c, tid, 0]
+    s_n = ct.partials[c, tid, 1]
+    s_f = ct.partials[c, tid, 2]
+    s_i = ct.partials[c, tid, 3]
+    # flags: 0 status, 1 + (g % 2) a rebuild is due after step g (two slots: the step after
+    # reads one while this step's drift writes the other), 3 culprit, 4 primed, 5 started
+    if tid == 0:
+        flags[0] = ct.status[c]
+        flags[1 + (g + 1) % 2] = ct.flags[c, FLAG_MOVED]
+        flags[1 + g % 2] = 0
+        flags[3] = -1
+        flags[4] = ct.flags[c, FLAG_PRIMED]
+        flags[5] = ct.flags[c, FLAG_STARTED]
+    cuda.syncthreads()
+    if flags[0] != STATUS_OK:
+        return
+    status = STATUS_OK
+    culprit = -1
+    done = 0
+    while g < total and done < max_steps:
+        # ---- the drive starts: velocities relative to the container jump, the sums restart
+        if g == settle and flags[5] == 0:
             i = tid
             while i < n:
                 for k in range(3):
-                    a = acc[c, i, k]
-                    x = pos[c, i, k] + dt * (vel[c, i, k] + half * a)
-                    pos[c, i, k] = x
-                    vel[c, i, k] = vel[c, i, k] + half * (3.0 * a - accp[c, i, k])
-                    omg[c, i, k] = omg[c, i, k] + half * (3.0 * alp[c, i, k] - alpp[c, i, k])
-                    dd = x - sp.reference[c, i, k]
-                    disp = max(disp, dd * dd)
+                    vel[c, i, k] = vel[c, i, k] - mo.jump[c, k]
                 i += bd
-            if 3.0 * disp > skin2:
-                flags[1 + g % 2] = 1
+            s_w = 0.0
+            s_n = 0.0
+            s_f = 0.0
+            s_i = 0.0
             cuda.syncthreads()
             if tid == 0:
-                flags[mslot] = 0
-            # ---- the owned pairs' contact law
-            p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, dt)
+                flags[5] = 1
+            cuda.syncthreads()
+        # ---- the initial accelerations (run_verlet's priming): lists and forces at the start
+        if flags[4] == 0:
+            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
             if st != STATUS_OK:
                 status = st
                 culprit = cu
+            p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, dt)
             cuda.syncthreads()
-            # ---- each sphere's force and torque, the half kick with the new accelerations
-            xc, vc, ac = _motion(mo, c, t)
-            gx = gvx - ac * dvx
-            gy = gvy - ac * dvy
-            gz = gvz - ac * dvz
-            fwx = 0.0
-            fwy = 0.0
-            fwz = 0.0
-            vsum = 0.0
+            xc, vc, ac = _motion(mo, c, _case_time(g, dt, settle, seg_steps, seg_samples, interval))
             i = tid
             while i < n:
-                pn, pf, wx, wy, wz, st = _sphere_force(c, i, sp, li, wl, table, dt, lin, ang)
-                if st != STATUS_OK:
-                    status = st
-                    culprit = i
-                p_n += pn
-                p_f += pf
-                fwx += wx
-                fwy += wy
-                fwz += wz
+                _sphere_force(c, i, sp, li, wl, table, dt, lin, ang)
                 im = inv_m[c, i]
                 ii = inv_i[c, i]
+                a0 = lin[0, 0] * im + gvx - ac * dvx
+                acc[c, i, 0] = a0
+                accp[c, i, 0] = a0
+                a0 = lin[0, 1] * im + gvy - ac * dvy
+                acc[c, i, 1] = a0
+                accp[c, i, 1] = a0
+                a0 = lin[0, 2] * im + gvz - ac * dvz
+                acc[c, i, 2] = a0
+                accp[c, i, 2] = a0
                 for k in range(3):
-                    an = lin[0, k] * im + (gx if k == 0 else (gy if k == 1 else gz))
-                    vn = vel[c, i, k] + half * (an - 2.0 * acc[c, i, k] + accp[c, i, k])
-                    vel[c, i, k] = vn
-                    accp[c, i, k] = acc[c, i, k]
-                    acc[c, i, k] = an
-                    wn = ang[0, k] * ii
-                    omg[c, i, k] = omg[c, i, k] + half * (wn - 2.0 * alp[c, i, k] + alpp[c, i, k])
-                    alpp[c, i, k] = alp[c, i, k]
-                    alp[c, i, k] = wn
-                    vsum += math.fabs(vn)
+                    w0 = ang[0, k] * ii
+                    alp[c, i, k] = w0
+                    alpp[c, i, k] = w0
                 i += bd
-            if not (vsum < 1e6):
-                status = STATUS_NAN
-                if culprit < 0:
-                    culprit = tid
             if status != STATUS_OK:
                 flags[0] = status
                 flags[3] = culprit
-            fd = fwx * dvx + fwy * dvy + fwz * dvz
-            s_w += vc * fd * dt
-            s_n += p_n * dt
-            s_f += p_f * dt
-            s_i += fd * dt
-            g += 1
-            done += 1
+            cuda.syncthreads()
+            if tid == 0:
+                flags[4] = 1
+                flags[1 + (g + 1) % 2] = 0
             cuda.syncthreads()
             if flags[0] != STATUS_OK:
                 break
-            # ---- a sample ends: the block's sums, the energies, a frame
-            if g > settle and g % sub == 0:
-                kk = g // sub - 1 - rec.settle_samples[c]
-                ekin = 0.0
-                erot = 0.0
-                epot = 0.0
-                eel = 0.0
-                erec = kk < rec.energy_rows[c]
-                if erec:
-                    i = tid
-                    while i < n:
-                        mi = sp.mass[c, i]
-                        ux = vel[c, i, 0] + vc * dvx
-                        uy = vel[c, i, 1] + vc * dvy
-                        uz = vel[c, i, 2] + vc * dvz
-                        ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
-                        erot += 0.5 / inv_i[c, i] * (omg[c, i, 0] ** 2 + omg[c, i, 1] ** 2 + omg[c, i, 2] ** 2)
-                        epot -= mi * (gvx * pos[c, i, 0] + gvy * pos[c, i, 1] + gvz * pos[c, i, 2])
-                        eel += _elastic(c, i, sp, li, wl)
-                        i += bd
-                red[0, tid] = s_i
-                red[1, tid] = s_w
-                red[2, tid] = s_n
-                red[3, tid] = s_f
-                red[4, tid] = ekin
-                red[5, tid] = erot
-                red[6, tid] = epot
-                red[7, tid] = eel
-                s_i = 0.0
-                cuda.syncthreads()
-                h = 1
-                while h < bd:
-                    h *= 2
-                h //= 2
-                while h > 0:
-                    if tid < h and tid + h < bd:
-                        for q in range(REDUCED):
-                            red[q, tid] += red[q, tid + h]
-                    cuda.syncthreads()
-                    h //= 2
-                if tid == 0:
-                    if kk < rec.wall_force_rows[c]:
-                        rec.wall_force[c, kk] = red[0, 0] / ct.sample_interval[c]
-                    if erec:
-                        epot = red[6, 0]
-                        # the lab frame's potential energy (record_sample): the bed raised with the container
-                        gd = gvx * dvx + gvy * dvy + gvz * dvz
-                        if abs(gd) > 1e-12 * math.sqrt(gvx ** 2 + gvy ** 2 + gvz ** 2):
-                            epot -= rec.bed_mass[c] * gd * xc
-                        rec.energy[c, kk, 0] = red[4, 0]
-                        rec.energy[c, kk, 1] = red[5, 0]
-                        rec.energy[c, kk, 2] = epot
-                        rec.energy[c, kk, 3] = red[7, 0]
-                        rec.energy[c, kk, 4] = red[1, 0]
-                        rec.energy[c, kk, 5] = red[2, 0]
-                        rec.energy[c, kk, 6] = red[3, 0]
-                every = rec.frame_every[c]
-                if every > 0 and (kk + 1) % every == 0:
-                    f = (kk + 1) // every - 1
-                    if f < rec.frame_rows[c]:
-                        i = tid
-                        while i < n:
-                            for k in range(3):
-                                rec.frames[c, f, i, k] = pos[c, i, k]
-                                rec.frames[c, f, i, 3 + k] = vel[c, i, k]
-                                rec.frames[c, f, i, 6 + k] = omg[c, i, k]
-                            i += bd
-                cuda.syncthreads()
-        # ---- leave the clock, the flags and the running sums for the next launch
-        ct.partials[c, tid, 0] = s_w
-        ct.partials[c, tid, 1] = s_n
-        ct.partials[c, tid, 2] = s_f
-        ct.partials[c, tid, 3] = s_i
+        t = _case_time(g + 1, dt, settle, seg_steps, seg_samples, interval)
+        # ---- rebuild the lists when a sphere moved too far in the previous step
+        mslot = 1 + (g + 1) % 2
+        if flags[mslot] != 0:
+            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
+            if st != STATUS_OK:
+                status = st
+                culprit = cu
+        # ---- drift with the half-step velocity; velocities predicted to the full step
+        disp = 0.0
+        i = tid
+        while i < n:
+            for k in range(3):
+                a = acc[c, i, k]
+                x = pos[c, i, k] + dt * (vel[c, i, k] + half * a)
+                pos[c, i, k] = x
+                vel[c, i, k] = vel[c, i, k] + half * (3.0 * a - accp[c, i, k])
+                omg[c, i, k] = omg[c, i, k] + half * (3.0 * alp[c, i, k] - alpp[c, i, k])
+                dd = x - sp.reference[c, i, k]
+                disp = max(disp, dd * dd)
+            i += bd
+        if 3.0 * disp > skin2:
+            flags[1 + g % 2] = 1
         cuda.syncthreads()
         if tid == 0:
-            ct.step[c] = g
-            ct.flags[c, FLAG_MOVED] = flags[1 + (g + 1) % 2]
-            ct.flags[c, FLAG_STARTED] = flags[5]
-            ct.flags[c, FLAG_PRIMED] = flags[4]
-            if flags[0] != STATUS_OK:
-                ct.status[c] = flags[0]
-                ct.culprit[c] = flags[3]
-                ct.fail_step[c] = g
+            flags[mslot] = 0
+        # ---- the owned pairs' contact law
+        p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, dt)
+        if st != STATUS_OK:
+            status = st
+            culprit = cu
+        cuda.syncthreads()
+        # ---- each sphere's force and torque, the half kick with the new accelerations
+        xc, vc, ac = _motion(mo, c, t)
+        gx = gvx - ac * dvx
+        gy = gvy - ac * dvy
+        gz = gvz - ac * dvz
+        fwx = 0.0
+        fwy = 0.0
+        fwz = 0.0
+        vsum = 0.0
+        i = tid
+        while i < n:
+            pn, pf, wx, wy, wz, st = _sphere_force(c, i, sp, li, wl, table, dt, lin, ang)
+            if st != STATUS_OK:
+                status = st
+                culprit = i
+            p_n += pn
+            p_f += pf
+            fwx += wx
+            fwy += wy
+            fwz += wz
+            im = inv_m[c, i]
+            ii = inv_i[c, i]
+            for k in range(3):
+                an = lin[0, k] * im + (gx if k == 0 else (gy if k == 1 else gz))
+                vn = vel[c, i, k] + half * (an - 2.0 * acc[c, i, k] + accp[c, i, k])
+                vel[c, i, k] = vn
+                accp[c, i, k] = acc[c, i, k]
+                acc[c, i, k] = an
+                wn = ang[0, k] * ii
+                omg[c, i, k] = omg[c, i, k] + half * (wn - 2.0 * alp[c, i, k] + alpp[c, i, k])
+                alpp[c, i, k] = alp[c, i, k]
+                alp[c, i, k] = wn
+                vsum += math.fabs(vn)
+            i += bd
+        if not (vsum < 1e6):
+            status = STATUS_NAN
+            if culprit < 0:
+                culprit = tid
+        if status != STATUS_OK:
+            flags[0] = status
+            flags[3] = culprit
+        fd = fwx * dvx + fwy * dvy + fwz * dvz
+        s_w += vc * fd * dt
+        s_n += p_n * dt
+        s_f += p_f * dt
+        s_i += fd * dt
+        g += 1
+        done += 1
+        cuda.syncthreads()
+        if flags[0] != STATUS_OK:
+            break
+        # ---- a sample ends: the block's sums, the energies, a frame
+        if g > settle and g % sub == 0:
+            kk = g // sub - 1 - rec.settle_samples[c]
+            ekin = 0.0
+            erot = 0.0
+            epot = 0.0
+            eel = 0.0
+            erec = kk < rec.energy_rows[c]
+            if erec:
+                i = tid
+                while i < n:
+                    mi = sp.mass[c, i]
+                    ux = vel[c, i, 0] + vc * dvx
+                    uy = vel[c, i, 1] + vc * dvy
+                    uz = vel[c, i, 2] + vc * dvz
+                    ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
+                    erot += 0.5 / inv_i[c, i] * (omg[c, i, 0] ** 2 + omg[c, i, 1] ** 2 + omg[c, i, 2] ** 2)
+                    epot -= mi * (gvx * pos[c, i, 0] + gvy * pos[c, i, 1] + gvz * pos[c, i, 2])
+                    eel += _elastic(c, i, sp, li, wl)
+                    i += bd
+            red[0, tid] = s_i
+            red[1, tid] = s_w
+            red[2, tid] = s_n
+            red[3, tid] = s_f
+            red[4, tid] = ekin
+            red[5, tid] = erot
+            red[6, tid] = epot
+            red[7, tid] = eel
+            s_i = 0.0
+            cuda.syncthreads()
+            h = 1
+            while h < bd:
+                h *= 2
+            h //= 2
+            while h > 0:
+                if tid < h and tid + h < bd:
+                    for q in range(REDUCED):
+                        red[q, tid] += red[q, tid + h]
+                cuda.syncthreads()
+                h //= 2
+            if tid == 0:
+                if kk < rec.wall_force_rows[c]:
+                    rec.wall_force[c, kk] = red[0, 0] / ct.sample_interval[c]
+                if erec:
+                    epot = red[6, 0]
+                    # the lab frame's potential energy (record_sample): the bed raised with the container
+                    gd = gvx * dvx + gvy * dvy + gvz * dvz
+                    if abs(gd) > 1e-12 * math.sqrt(gvx ** 2 + gvy ** 2 + gvz ** 2):
+                        epot -= rec.bed_mass[c] * gd * xc
+                    rec.energy[c, kk, 0] = red[4, 0]
+                    rec.energy[c, kk, 1] = red[5, 0]
+                    rec.energy[c, kk, 2] = epot
+                    rec.energy[c, kk, 3] = red[7, 0]
+                    rec.energy[c, kk, 4] = red[1, 0]
+                    rec.energy[c, kk, 5] = red[2, 0]
+                    rec.energy[c, kk, 6] = red[3, 0]
+            every = rec.frame_every[c]
+            if every > 0 and (kk + 1) % every == 0:
+                f = (kk + 1) // every - 1
+                if f < rec.frame_rows[c]:
+                    i = tid
+                    while i < n:
+                        for k in range(3):
+                            rec.frames[c, f, i, k] = pos[c, i, k]
+                            rec.frames[c, f, i, 3 + k] = vel[c, i, k]
+                            rec.frames[c, f, i, 6 + k] = omg[c, i, k]
+                        i += bd
+            cuda.syncthreads()
+    # ---- leave the clock, the flags and the running sums for the next launch
+    ct.partials[c, tid, 0] = s_w
+    ct.partials[c, tid, 1] = s_n
+    ct.partials[c, tid, 2] = s_f
+    ct.partials[c, tid, 3] = s_i
+    cuda.syncthreads()
+    if tid == 0:
+        ct.step[c] = g
+        ct.flags[c, FLAG_MOVED] = flags[1 + (g + 1) % 2]
+        ct.flags[c, FLAG_STARTED] = flags[5]
+        ct.flags[c, FLAG_PRIMED] = flags[4]
+        if flags[0] != STATUS_OK:
+            ct.status[c] = flags[0]
+            ct.culprit[c] = flags[3]
+            ct.fail_step[c] = g
 
-    return kernel
