@@ -417,7 +417,8 @@ def part_ptx():
 
 
 def markdown(data):
-    p = data["parts"]
+    p = {k: v for k, v in data["parts"].items() if isinstance(v, dict) and "error" not in v and "skipped" not in v}
+    failed = {k: v for k, v in data["parts"].items() if isinstance(v, dict) and ("error" in v or "skipped" in v)}
     lines = [f"GPU benchmark ({data['started']}): {p.get('env', {}).get('gpu', '?')}", ""]
     if "compile" in p:
         c = p["compile"]
@@ -437,6 +438,8 @@ def markdown(data):
         q = p["paper"]
         lines.append(f"- the paper's {q['curves']} curves: {q['finished']} of {q['cases']} cases in {q['wall_s']:.0f} s "
                      f"(target {TARGET_PAPER_S:g} s); {q['failed']} failed, {q['stopped_by_budget']} stopped by the budget")
+    for k, v in failed.items():
+        lines.append(f"- {k}: {v.get('error') or v.get('skipped')}")
     return "\n".join(lines)
 
 

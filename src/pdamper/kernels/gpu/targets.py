@@ -26,9 +26,20 @@ __all__ = ["SIMULATOR"]
 #: was first imported): its ``cuda.jit`` is the simulator's.
 SIMULATOR = cuda.jit.__module__.startswith("numba.cuda.simulator")
 
-if not SIMULATOR:
-    from numba.cuda.extending import overload as _cuda_overload
 
+def _cuda_overload(func):
+    """numba-cuda's overload for its own target (numba-cuda >= 0.21), else numba's with
+    ``target="cuda"`` (older numba-cuda)."""
+    try:
+        from numba.cuda.extending import overload
+    except ImportError:
+        from numba.extending import overload as _generic
+
+        return _generic(func, target="cuda")
+    return overload(func)
+
+
+if not SIMULATOR:
     @_cuda_overload(law_touch)
     def _law_touch_cuda(law, coefficient, v_in, k, m_star):
         touch = _law_of(law).touch
