@@ -364,6 +364,7 @@ def part_ptx():
     import shutil
 
     import numba
+    import numpy as np
     from numba import types
 
     import numba.cuda.dispatcher as dispatcher
@@ -385,6 +386,8 @@ def part_ptx():
         sim = Simulation(gpu_case(case))
     job, _ = sim._gpu_job()
     sp, li, wl, tb, mo, ct, rec, nmat, row0, _ = _pack([job], None)
+    # the output arrays as the GPU has them (C-contiguous; _pack leaves only their shapes off the simulator)
+    rec = rec._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)), frames=np.zeros((1, 1, 1, 9)))
     sig = tuple(numba.typeof(a) for a in (sp, li, wl, tb, sim.engine.table.law, mo, ct, rec, nmat, row0)) \
         + (types.int64,)
     t = time.perf_counter()

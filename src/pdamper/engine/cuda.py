@@ -136,23 +136,134 @@ def _group_key(job):
 def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
              progress=None, compile_only: bool = False) -> list[GpuOutcome]:
     """Run every job to its end on the GPU (or numba-cuda's simulator); fill its samples and leave
-    its final state in its engine's bodies. Jobs that share a kernel run as one batch.
+    its final state in its engine's bodies.
 
-    ``threads`` per block (default :func:`threads_for` the largest bed); ``launch_seconds``: a
-    launch's target length (the steps per launch adapt to it; between launches ``progress(done,
-    total)`` is called with the steps done, and returning False stops the batch: its unfinished
-    cases end with :data:`STATUS_STOPPED`); ``max_launch_steps`` caps the steps of a launch.
-    ``compile_only``: launch once with no steps (compiles the kernel) and return.
+    The jobs are grouped by what one launch can take together (the damping law and the contact
+    table's constants, and the block size: a 36-sphere bed does not wait in a block sized for 176
+    spheres); each group is one batch on its own CUDA stream, and the groups' launches run side by
+    side. ``threads`` per block (default :func:`threads_for` each group's largest bed);
+    ``launch_seconds``: a round of launches' target length (the steps per launch adapt to it; after
+    each round ``progress(done, total)`` is called with the steps done, and returning False stops:
+    the unfinished cases end with :data:`STATUS_STOPPED`); ``max_launch_steps`` caps the steps of a
+    launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
     """
     groups = {}
     for k, job in enumerate(jobs):
-        groups.setdefault(_group_key(job), []).append(k)
+        key = _group_key(job) + (threads or threads_for(job.engine.n),)
+        groups.setdefault(key, []).append(k)
+    batches = [_Batch([jobs[k] for k in idx], threads or key[-1]) for key, idx in groups.items()]
+    t_start = time.perf_counter()
+    if compile_only:
+        for b in batches:
+            b.launch(0)
+        _sync()
+        return [GpuOutcome(steps=0, status=0, culprit=-1, t_fail=math.nan, wall_time_s=time.perf_counter() - t_start,
+                           batch=len(jobs)) for _ in jobs]
+    chunk = 200
+    while True:
+        t0 = time.perf_counter()
+        live = [b for b in batches if not b.finished]
+        for b in live:
+            b.launch(chunk)
+        _sync()
+        dt = time.perf_counter() - t0
+        for b in live:
+            b.poll()
+        if all(b.finished for b in batches):
+            break
+        if progress is not None:
+            done = sum(int(np.minimum(b.done, b.total).sum()) for b in batches)
+            if progress(done, sum(int(b.total.sum()) for b in batches)) is False:
+                break  # the caller stops the batch: the unfinished cases say so
+        # aim each round at about launch_seconds
+        chunk = int(min(max_launch_steps, max(chunk, chunk * min(8.0, launch_seconds / max(dt, 1e-6)))))
+    wall = time.perf_counter() - t_start
     out = [None] * len(jobs)
-    for idx in groups.values():
-        res = _run_group([jobs[k] for k in idx], threads, launch_seconds, max_launch_steps, progress, compile_only)
-        for k, r in zip(idx, res):
+    for b, idx in zip(batches, groups.values()):
+        for k, r in zip(idx, b.unpack(wall, len(jobs))):
             out[k] = r
     return out
+
+
+class _Batch:
+    """One group of jobs packed for one kernel: its bundles on the GPU, its stream, its progress."""
+
+    def __init__(self, jobs, threads):
+        from ..kernels.gpu.targets import SIMULATOR
+        from ..kernels.gpu.verlet import verlet_kernel
+
+        self.jobs = jobs
+        sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
+        self.types = (type(sp), type(ct), type(rec))
+        self.bd = bd
+        self.total = ct.total_steps.copy()
+        self.done = np.zeros_like(self.total)
+        self.status = np.zeros_like(self.total)
+        self.finished = False
+        self.stream = None if SIMULATOR else _stream()
+        self.args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), jobs[0].engine.table.law,
+                     _device(mo), _device(ct), _device_record(rec), _device_array(nmat), _device_array(row0)]
+        self.kernel = verlet_kernel()
+
+    def launch(self, steps):
+        C = len(self.jobs)
+        if self.stream is None:
+            self.kernel[C, self.bd](*self.args, int(steps))
+        else:
+            self.kernel[C, self.bd, self.stream](*self.args, int(steps))
+
+    def poll(self):
+        ct = self.args[6]
+        self.done = _host(ct.step)
+        self.status = _host(ct.status)
+        self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
+
+    def unpack(self, wall, batch):
+        """Each job's channels, final state and outcome."""
+        sp_t, ct_t, rec_t = self.types
+        rec_h = rec_t(*[_host(a) for a in self.args[7]])
+        sp_h = sp_t(*[_host(a) for a in self.args[0]])
+        ct_h = ct_t(*[_host(a) for a in self.args[6]])
+        out = []
+        for c, job in enumerate(self.jobs):
+            e = job.engine
+            n = e.n
+            s = job.samples
+            s.wall_force[:] = rec_h.wall_force[c, : s.wall_force.shape[0]]
+            s.energy[:] = rec_h.energy[c, : s.energy.shape[0]]
+            if s.frames.shape[0]:
+                s.frames[:] = rec_h.frames[c, : s.frames.shape[0], :n]
+            for name in ("position", "velocity", "spin"):
+                getattr(e.bodies, name)[:] = getattr(sp_h, name)[c, :n]
+            sums = ct_h.partials[c].sum(axis=0)
+            s.sums[:3] = sums[:3]
+            fail = int(ct_h.fail_step[c])
+            status = int(ct_h.status[c])
+            if status == 0 and ct_h.step[c] < self.total[c]:
+                status, fail = STATUS_STOPPED, int(ct_h.step[c])
+            out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
+                                  t_fail=_time_of(job, fail), wall_time_s=wall, batch=batch, sums=sums[:3]))
+        return out
+
+
+def _stream():
+    from numba import cuda
+
+    return cuda.stream()
+
+
+def _device_record(rec):
+    """The record bundle on the GPU: its large output arrays allocated there, not copied (every row a
+    case records is written before it is read; the rows beyond are never read)."""
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return rec
+    from numba import cuda
+
+    big = ("wall_force", "energy", "frames")
+    return type(rec)(*[cuda.device_array(a.shape, dtype=a.dtype) if name in big else cuda.to_device(a)
+                       for name, a in zip(rec._fields, rec)])
 
 
 def _device(bundle):
@@ -240,7 +351,11 @@ def _pack(jobs, threads):
                  flags=np.zeros((C, CONTROL_FLAGS), dtype=np.int64), partials=np.zeros((C, bd, PARTIALS)))
     S = max(1, max(max(j.samples.wall_force.shape[0], j.samples.energy.shape[0]) for j in jobs))
     F = max(1, max(j.samples.frames.shape[0] for j in jobs))
-    rec = Record(wall_force=np.zeros((C, S)), energy=np.zeros((C, S, 7)), frames=np.zeros((C, F, N, 9)),
+    from ..kernels.gpu.targets import SIMULATOR
+
+    # on the GPU the output arrays are allocated there (_device_record): here only their shapes
+    alloc = np.zeros if SIMULATOR else (lambda shape: np.lib.stride_tricks.as_strided(np.zeros(1), shape, [0] * len(shape)))
+    rec = Record(wall_force=alloc((C, S)), energy=alloc((C, S, 7)), frames=alloc((C, F, N, 9)),
                  wall_force_rows=np.array([j.samples.wall_force.shape[0] for j in jobs], dtype=np.int64),
                  energy_rows=np.array([j.samples.energy.shape[0] for j in jobs], dtype=np.int64),
                  frame_rows=np.array([j.samples.frames.shape[0] for j in jobs], dtype=np.int64),
@@ -248,64 +363,6 @@ def _pack(jobs, threads):
                  settle_samples=np.array([j.settle_samples for j in jobs], dtype=np.int64),
                  bed_mass=np.array([float(np.sum(e.bodies.mass)) for e in engines]))
     return sp, li, wl, tb, mo, ct, rec, np.array(nmat, dtype=np.int64), np.array(rows0, dtype=np.int64), bd
-
-
-def _run_group(jobs, threads, launch_seconds, max_launch_steps, progress, compile_only):
-    from ..kernels.gpu.verlet import verlet_kernel
-
-    sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
-    total = ct.total_steps.copy()
-    args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), jobs[0].engine.table.law, _device(mo),
-            _device(ct), _device(rec), _device_array(nmat), _device_array(row0)]
-    d_ct = args[6]
-    kernel = verlet_kernel()
-    C = len(jobs)
-    t_start = time.perf_counter()
-    steps = 0
-    chunk = 200
-    if compile_only:
-        kernel[C, bd](*args, 0)
-        _sync()
-        return [GpuOutcome(steps=0, status=0, culprit=-1, t_fail=math.nan, wall_time_s=time.perf_counter() - t_start,
-                           batch=C) for _ in jobs]
-    while True:
-        t0 = time.perf_counter()
-        kernel[C, bd](*args, int(chunk))
-        _sync()
-        dt = time.perf_counter() - t0
-        done = _host(d_ct.step)
-        status = _host(d_ct.status)
-        if np.all((done >= total) | (status != 0)):
-            break
-        if progress is not None and progress(int(np.minimum(done, total).sum()), int(total.sum())) is False:
-            break  # the caller stops the batch: the unfinished cases say so
-        steps += chunk
-        # aim each launch at about launch_seconds
-        chunk = int(min(max_launch_steps, max(chunk, chunk * min(8.0, launch_seconds / max(dt, 1e-6)))))
-    wall = time.perf_counter() - t_start
-    rec_h = type(rec)(*[_host(a) for a in args[7]])
-    sp_h = type(sp)(*[_host(a) for a in args[0]])
-    ct_h = type(ct)(*[_host(a) for a in d_ct])
-    out = []
-    for c, job in enumerate(jobs):
-        e = job.engine
-        n = e.n
-        s = job.samples
-        s.wall_force[:] = rec_h.wall_force[c, : s.wall_force.shape[0]]
-        s.energy[:] = rec_h.energy[c, : s.energy.shape[0]]
-        if s.frames.shape[0]:
-            s.frames[:] = rec_h.frames[c, : s.frames.shape[0], :n]
-        for name in ("position", "velocity", "spin"):
-            getattr(e.bodies, name)[:] = getattr(sp_h, name)[c, :n]
-        sums = ct_h.partials[c].sum(axis=0)
-        s.sums[:3] = sums[:3]
-        fail = int(ct_h.fail_step[c])
-        status = int(ct_h.status[c])
-        if status == 0 and ct_h.step[c] < total[c]:
-            status, fail = STATUS_STOPPED, int(ct_h.step[c])
-        out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
-                              t_fail=_time_of(job, fail), wall_time_s=wall, batch=C, sums=sums[:3]))
-    return out
 
 
 def _time_of(job, g):
