@@ -129,7 +129,8 @@ def env_info():
 # ---------------------------------------------------------------------------------------------- cases
 def _soft(case):
     """A tiny stand-in of ``case`` for the simulator: at most 4 soft spheres (long contacts, a 1 ms
-    step), a 2 mm stroke at 5 Hz, 2 cycles sampled at 100 Hz: about 400 steps."""
+    step), a 2 mm stroke at 5 Hz, 2 cycles sampled at 100 Hz, with Verlet (the simulator's barriers
+    are slow, and Gear's step has more of them): about 400 steps."""
     from pdamper.materials import Material
     from pdamper.schema import replace
 
@@ -171,13 +172,13 @@ def read_reference():
 # ---------------------------------------------------------------------------------------------- parts
 def part_compile(tiny):
     """The first launch (compiling) and the compiled kernel's resources."""
-    from pdamper.run import gpu_case
+    from pdamper.run import on_device
     from pdamper.simulation import Simulation, run_on_gpu
 
     label, x, case = fig4_cases(tiny)[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        sim = Simulation(gpu_case(case))
+        sim = Simulation(on_device(case, "cuda"))
     t = time.perf_counter()
     run_on_gpu([sim], compile_only=True)
     out = {"first_launch_s": time.perf_counter() - t, "target_s": TARGET_COMPILE_S}
@@ -279,7 +280,7 @@ def part_fig4(tiny, workdir):
 
 def part_bed(tiny, seconds):
     """The 5,000-sphere bed for about ``seconds``: the cost of a step."""
-    from pdamper.run import gpu_case
+    from pdamper.run import on_device
     from pdamper.simulation import Simulation, run_on_gpu
 
     sys.path.insert(0, str(BENCH))
@@ -291,7 +292,7 @@ def part_bed(tiny, seconds):
         case = _soft(case)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        sim = Simulation(gpu_case(case))
+        sim = Simulation(on_device(case, "cuda"))
     t0 = time.perf_counter()
     seen = {}
 
@@ -358,8 +359,10 @@ def part_paper(tiny, deadline):
 
 
 def part_ptx():
-    """The kernel compiled to PTX for sm_90 without a GPU (the local CUDA toolkit's NVVM), and
-    ``ptxas -v``'s registers, spills and shared memory (when ptxas is on PATH)."""
+    """Both kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
+    local CUDA toolkit's NVVM), and ``ptxas -v``'s registers, spills and shared memory (when ptxas
+    is on PATH)."""
+    import dataclasses as dc
     import re
     import shutil
 
@@ -375,47 +378,54 @@ def part_ptx():
     dispatcher.get_current_device = lambda: _Hopper()
     from numba import cuda
 
-    from pdamper.engine.cuda import _pack
+    from pdamper.engine.cuda import _pack, _pack_gear
+    from pdamper.kernels.gpu.gear import batch_gear
     from pdamper.kernels.gpu.verlet import batch_verlet
-    from pdamper.run import gpu_case
+    from pdamper.run import on_device
     from pdamper.simulation import Simulation
 
     _, _, case = fig4_cases(False)[0]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        sim = Simulation(gpu_case(case))
-    job, _ = sim._gpu_job()
-    sp, li, wl, tb, mo, ct, rec, nmat, row0, _ = _pack([job], None)
-    # the output arrays as the GPU has them (C-contiguous; _pack leaves only their shapes off the simulator)
-    rec = rec._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)), frames=np.zeros((1, 1, 1, 9)))
-    sig = tuple(numba.typeof(a) for a in (sp, li, wl, tb, sim.engine.table.law, mo, ct, rec, nmat, row0)) \
-        + (types.int64,)
-    t = time.perf_counter()
-    try:
-        ptx, _ = cuda.compile_ptx(batch_verlet, sig, cc=(9, 0))
-    except Exception as exc:  # noqa: BLE001  (no NVVM / NVRTC here)
-        if "NVVM" in str(exc) or "nvrtc" in str(exc).lower() or "DynamicLibNotFound" in type(exc).__name__:
-            out = {"skipped": f"no CUDA toolkit's NVVM here ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"}
-            print("ptx:", json.dumps(out), flush=True)
-            return out
-        raise
-    out = {"ptx_compile_s": time.perf_counter() - t, "ptx_bytes": len(ptx), "entry": ".entry" in ptx}
-    if shutil.which("ptxas"):
-        with tempfile.TemporaryDirectory() as d:
-            p = Path(d) / "k.ptx"
-            p.write_text(ptx)
-            r = subprocess.run(["ptxas", "--gpu-name", "sm_90", "-v", str(p), "-o", str(Path(d) / "k.cubin")],
-                               capture_output=True, text=True, timeout=300)
-        text = r.stdout + r.stderr
-        m = re.findall(r"Used (\d+) registers.*?(\d+) bytes smem", text)
-        sp = re.findall(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads", text)
-        if m:
-            out.update(registers_per_thread=int(m[-1][0]), shared_bytes_per_block=int(m[-1][1]))
-        if sp:
-            out.update(stack_bytes=max(int(s[0]) for s in sp), spill_store_bytes=max(int(s[1]) for s in sp),
-                       spill_load_bytes=max(int(s[2]) for s in sp))
-        out["ptxas_ok"] = r.returncode == 0
-    print("ptx:", json.dumps(out), flush=True)
+    out = {}
+    for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet")):
+        c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sim = Simulation(on_device(c, "cuda"))
+        job, _ = sim._gpu_job()
+        sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack([job], None)
+        # the output arrays as the GPU has them (C-contiguous; _pack leaves only their shapes off the simulator)
+        rec = rec._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)), frames=np.zeros((1, 1, 1, 9)))
+        args = [sp, li, wl, tb, sim.engine.table.law, mo, ct, rec, nmat, row0]
+        if integrator == "gear":
+            args += list(_pack_gear([job], sp, li, wl, bd))
+        sig = tuple(numba.typeof(a) for a in args) + (types.int64,)
+        t = time.perf_counter()
+        try:
+            ptx, _ = cuda.compile_ptx(kernel, sig, cc=(9, 0))
+        except Exception as exc:  # noqa: BLE001  (no NVVM / NVRTC here)
+            if "NVVM" in str(exc) or "nvrtc" in str(exc).lower() or "DynamicLibNotFound" in type(exc).__name__:
+                out = {"skipped": f"no CUDA toolkit's NVVM here ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"}
+                print("ptx:", json.dumps(out), flush=True)
+                return out
+            raise
+        k = {"ptx_compile_s": time.perf_counter() - t, "ptx_bytes": len(ptx), "entry": ".entry" in ptx}
+        if shutil.which("ptxas"):
+            with tempfile.TemporaryDirectory() as d:
+                p = Path(d) / "k.ptx"
+                p.write_text(ptx)
+                r = subprocess.run(["ptxas", "--gpu-name", "sm_90", "-v", str(p), "-o", str(Path(d) / "k.cubin")],
+                                   capture_output=True, text=True, timeout=600)
+            text = r.stdout + r.stderr
+            m = re.findall(r"Used (\d+) registers.*?(\d+) bytes smem", text)
+            sp_ = re.findall(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads", text)
+            if m:
+                k.update(registers_per_thread=int(m[-1][0]), shared_bytes_per_block=int(m[-1][1]))
+            if sp_:
+                k.update(stack_bytes=max(int(x[0]) for x in sp_), spill_store_bytes=max(int(x[1]) for x in sp_),
+                         spill_load_bytes=max(int(x[2]) for x in sp_))
+            k["ptxas_ok"] = r.returncode == 0
+        out[name] = k
+        print(f"ptx ({name}):", json.dumps(k), flush=True)
     return out
 
 

@@ -233,7 +233,7 @@ class Numerics:
     skin : Verlet-list skin [m]; None: 0.2 r_max.
     overlap_limit : a run stops when an overlap exceeds this fraction of the radius (default 0.05).
     device : "cpu" (default) or "cuda": the GPU engine (:mod:`pdamper.engine.cuda`), which runs the
-        cases of a batch together on one NVIDIA GPU with velocity Verlet (docs/engine.md, "The GPU
+        cases of a batch together on one NVIDIA GPU, each with its integrator (docs/engine.md, "The GPU
         engine"); it needs numba-cuda (``pip install -e ".[gpu]"``).
     """
 

@@ -22,7 +22,7 @@ from .params import Case
 from .simulation import Simulation, default_recorders
 from .recorders.trajectory import TrajectoryRecorder
 
-__all__ = ["run_case", "run_cases", "on_gpu", "check_device", "on_device", "gpu_case", "GpuVerletWarning", "RunResult", "analyze_signals", "analyse_signals",
+__all__ = ["run_case", "run_cases", "on_gpu", "check_device", "on_device", "RunResult", "analyze_signals", "analyse_signals",
            "MODE_FPS", "MIN_STEADY_CYCLES"]
 
 #: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
@@ -229,26 +229,11 @@ def check_device(device: str) -> None:
         require()
 
 
-class GpuVerletWarning(UserWarning):
-    """Cases set to Gear run on the GPU engine with velocity Verlet (Gear is not on the GPU yet)."""
-
-
-def gpu_case(case: Case) -> Case:
-    """``case`` as the GPU engine runs it: on ``device = "cuda"``, with velocity Verlet (the GPU
-    engine's integrator; Gear is not on the GPU yet) at the case's ``numerics`` step settings."""
-    import dataclasses
-
-    num = dataclasses.replace(case.numerics, device="cuda", integrator="verlet")
-    return dataclasses.replace(case, numerics=num)
-
-
 def on_device(case: Case, device: str) -> Case:
-    """``case`` set to run on ``device`` ("cpu" or "cuda"); on "cuda" as the GPU engine runs it
-    (:func:`gpu_case`: velocity Verlet), so that what a store keeps is what ran."""
+    """``case`` set to run on ``device`` ("cpu" or "cuda")."""
     from .schema import replace
 
-    case = replace(case, {"numerics.device": device})
-    return gpu_case(case) if on_gpu(case) else case
+    return replace(case, {"numerics.device": device})
 
 
 def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float | None = None,
@@ -257,15 +242,12 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
     :class:`RunResult` or the :class:`~pdamper.errors.SimulationError` of its failed step.
 
     The cases with ``numerics.device = "cuda"`` run together on one GPU (the GPU engine,
-    :mod:`pdamper.engine.cuda`: velocity Verlet, every case of the batch advanced at once; a case
-    set to Gear runs with Verlet, :class:`GpuVerletWarning`); the others one after another on the
-    CPU. ``recorders`` are the extra recorders of every case (a list of them per case: give
+    :mod:`pdamper.engine.cuda`: every case of the batch advanced at once, each with its own
+    integrator, Gear's adaptive step or Verlet's); the others one after another on the CPU. ``recorders`` are the extra recorders of every case (a list of them per case: give
     ``[[...], ...]``; kernel-channel recorders only on the GPU). ``progress(done, total)``: the
     GPU's steps done between its launches. A GPU that runs out of memory or faults raises: the
     caller keeps what finished before (the studies run a GPU study in chunks for that).
     """
-    import warnings
-
     from .errors import SimulationError
     from .simulation import run_on_gpu
 
@@ -285,13 +267,9 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
     if until_steady is not None:
         raise InputError("until_steady: the GPU engine runs every case for its whole cycles; leave --until-steady "
                          "out or run on the CPU")
-    gears = sum(cases[k].numerics.integrator == "gear" for k in gpu)
-    if gears:
-        warnings.warn(f"{gears} case(s) set to integrator = 'gear' run on the GPU with velocity Verlet at "
-                      "numerics.steps_per_contact (Gear is not on the GPU yet)", GpuVerletWarning, stacklevel=2)
     sims = []
     for k in gpu:
-        case = gpu_case(cases[k])
+        case = cases[k]
         sim, recs, classify = _simulation(case, per_case[k], analyze)
         sims.append((k, case, sim, recs, classify))
     records = run_on_gpu([s for _, _, s, _, _ in sims], progress=progress)

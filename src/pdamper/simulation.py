@@ -284,8 +284,6 @@ class Simulation:
         if self._settled or self.sample:
             raise InputError("a simulation that has started on the CPU cannot go on on the GPU")
         why = refusal(self.engine, any(r.every > 0 for r in self.recorders))
-        if why is None and self.stepper.name != "verlet":
-            why = "the GPU engine integrates with velocity Verlet: set numerics.integrator = 'verlet'"
         if why is not None:
             return None, why
         if self.n_samples < 2:
@@ -296,10 +294,15 @@ class Simulation:
         e = self.engine
         _, v0, _ = self.case.drive.motion(np.array([0.0]))
         st = self.stepper
-        return GpuJob(engine=e, samples=self.samples, dt=st.dt, sub=st.sub, settle_samples=self.settle_samples,
-                      n_samples=self.n_samples, interval=self.interval,
-                      segment_samples=max(1, int(SEGMENT * self.case.recording.sample_rate)),
-                      jump=float(v0[0]) * e.drive.direction), None
+        num = self.case.numerics
+        clock = dict(samples=self.samples, settle_samples=self.settle_samples, n_samples=self.n_samples,
+                     interval=self.interval, segment_samples=max(1, int(SEGMENT * self.case.recording.sample_rate)),
+                     jump=float(v0[0]) * e.drive.direction)
+        if st.rejected is not None:  # Gear
+            return GpuJob(engine=e, dt=st.h_next, sub=1, integrator="gear", h0=st.h_next,
+                          tolerance=float(num.gear_tolerance), h_min=GEAR_MIN_STEP, h_max=float(num.gear_max_step),
+                          **clock), None
+        return GpuJob(engine=e, dt=st.dt, sub=st.sub, **clock), None
 
     def _gpu_done(self, outcome):
         """Take a finished GPU job's outcome: the run is done (or raise its failure)."""
@@ -311,6 +314,9 @@ class Simulation:
         self._settled = True
         self.stepper.primed = True
         self.stepper.steps = outcome.steps
+        if self.stepper.rejected is not None:
+            self.stepper.rejected = outcome.rejected
+            self.stepper.h_next = outcome.h_next
         self._wall = outcome.wall_time_s / max(outcome.batch, 1)
         if outcome.status == STATUS_STOPPED:
             raise SimulationError(f"the GPU batch was stopped at t = {outcome.t_fail:.6f} s, before this case's end")
@@ -318,8 +324,8 @@ class Simulation:
             raise SimulationError(f"sphere {outcome.culprit} has more neighbours than the GPU engine's rows hold "
                                   f"(at t = {outcome.t_fail:.6f} s); run this case on the CPU (device = \"cpu\")")
         if outcome.status != STATUS_OK:
-            raise SimulationError(failure_message(self.case, outcome.status, outcome.culprit, outcome.t_fail,
-                                                  self.stepper.dt))
+            step = self.stepper.dt if self.stepper.rejected is None else self.stepper.h_next
+            raise SimulationError(failure_message(self.case, outcome.status, outcome.culprit, outcome.t_fail, step))
         self.sample = self.n_samples
 
 

@@ -207,7 +207,7 @@ def device_option(func):
     return click.option(
         "--device", type=click.Choice(["cpu", "cuda"]), default=None,
         help="Where the DEM runs: cpu (default) or cuda, the GPU engine: every case of the batch advanced together "
-             "on one NVIDIA GPU with velocity Verlet (needs numba-cuda: pip install -e \".[gpu]\"; docs/engine.md).")(func)
+             "on one NVIDIA GPU, each with its own adaptive Gear step (or Verlet's) (needs numba-cuda: pip install -e \".[gpu]\"; docs/engine.md).")(func)
 
 
 def renamed(new_value, old_value, *, new: str, old: str):

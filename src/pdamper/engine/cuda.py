@@ -51,6 +51,12 @@ class GpuJob:
     interval: float
     segment_samples: int
     jump: np.ndarray
+    #: "verlet" or "gear"; Gear's first step, tolerance, shortest and longest step [s, m, s, s]
+    integrator: str = "verlet"
+    h0: float = 0.0
+    tolerance: float = 0.0
+    h_min: float = 0.0
+    h_max: float = 0.0
 
 
 @dataclass
@@ -65,6 +71,8 @@ class GpuOutcome:
     wall_time_s: float
     batch: int
     sums: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rejected: int = 0
+    h_next: float = math.nan
 
 
 def unavailable() -> str | None:
@@ -129,7 +137,7 @@ def threads_for(n: int) -> int:
 
 def _group_key(job):
     t = job.engine.table
-    return (type(t.law), t.coefficient.shape[1], float(t.log_speed0), float(t.dlog_speed), float(t.tau),
+    return (job.integrator, type(t.law), t.coefficient.shape[1], float(t.log_speed0), float(t.dlog_speed), float(t.tau),
             float(t.v_floor), float(t.overlap_limit))
 
 
@@ -203,7 +211,17 @@ class _Batch:
         self.stream = None if SIMULATOR else _stream()
         self.args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), jobs[0].engine.table.law,
                      _device(mo), _device(ct), _device_record(rec), _device_array(nmat), _device_array(row0)]
-        self.kernel = verlet_kernel()
+        self.gear = jobs[0].integrator == "gear"
+        if self.gear:
+            from ..kernels.gpu.gear import gear_kernel
+
+            gs, gc = _pack_gear(jobs, sp, li, wl, bd)
+            self.gear_types = (type(gc),)
+            self.args += [_device(gs), _device(gc)]
+            self.total = gc.spans.copy()
+            self.kernel = gear_kernel()
+        else:
+            self.kernel = verlet_kernel()
 
     def launch(self, steps):
         C = len(self.jobs)
@@ -214,7 +232,7 @@ class _Batch:
 
     def poll(self):
         ct = self.args[6]
-        self.done = _host(ct.step)
+        self.done = _host(self.args[11].span) if self.gear else _host(ct.step)
         self.status = _host(ct.status)
         self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
 
@@ -224,6 +242,7 @@ class _Batch:
         rec_h = rec_t(*[_host(a) for a in self.args[7]])
         sp_h = sp_t(*[_host(a) for a in self.args[0]])
         ct_h = ct_t(*[_host(a) for a in self.args[6]])
+        gc_h = self.gear_types[0](*[_host(a) for a in self.args[11]]) if self.gear else None
         out = []
         for c, job in enumerate(self.jobs):
             e = job.engine
@@ -237,13 +256,47 @@ class _Batch:
                 getattr(e.bodies, name)[:] = getattr(sp_h, name)[c, :n]
             sums = ct_h.partials[c].sum(axis=0)
             s.sums[:3] = sums[:3]
-            fail = int(ct_h.fail_step[c])
             status = int(ct_h.status[c])
+            if self.gear:
+                if status == 0 and gc_h.span[c] < self.total[c]:
+                    status = STATUS_STOPPED
+                out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
+                                      t_fail=float(gc_h.t[c]), wall_time_s=wall, batch=batch, sums=sums[:3],
+                                      rejected=int(gc_h.rejected[c]), h_next=float(gc_h.h[c])))
+                continue
+            fail = int(ct_h.fail_step[c])
             if status == 0 and ct_h.step[c] < self.total[c]:
                 status, fail = STATUS_STOPPED, int(ct_h.step[c])
             out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
                                   t_fail=_time_of(job, fail), wall_time_s=wall, batch=batch, sums=sums[:3]))
         return out
+
+
+def _pack_gear(jobs, sp, li, wl, bd):
+    """Gear's state and clock of every job: the Nordsieck vectors (filled by the kernel's priming),
+    the saved history, the clock at the start of the first span."""
+    from ..kernels.gpu.batch import GearClock, GearState
+
+    C, N = sp.position.shape[:2]
+    K = li.partner.shape[3]
+    W = wl.kind.shape[1]
+    gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), predicted=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
+                   saved_pair=np.zeros((C, 2, N, K)), saved_wall=np.zeros((C, 2, N, W)),
+                   integrands=np.zeros((C, bd, 4)))
+    settle = np.array([j.settle_samples for j in jobs], dtype=np.int64)
+    n = np.array([j.n_samples for j in jobs], dtype=np.int64)
+    seg = np.array([j.segment_samples for j in jobs], dtype=np.int64)
+    interval = np.array([j.interval for j in jobs])
+    spans = (settle > 0).astype(np.int64) + -(-n // seg)
+    # the first span's start: the settling's, (-S) x interval, or the drive's, 0
+    t0 = np.array([float(-j.settle_samples) * j.interval if j.settle_samples > 0 else 0.0 for j in jobs])
+    h0 = np.array([j.h0 for j in jobs])
+    gc = GearClock(interval=interval, tolerance=np.array([j.tolerance for j in jobs]),
+                   h_min=np.array([j.h_min for j in jobs]), h_max=np.array([j.h_max for j in jobs]),
+                   settle_samples=settle, n_samples=n, segment_samples=seg, spans=spans,
+                   span=np.zeros(C, dtype=np.int64), t=t0, h=h0.copy(), hs=h0.copy(),
+                   rejected=np.zeros(C, dtype=np.int64))
+    return gs, gc
 
 
 def _stream():
@@ -285,8 +338,8 @@ def _host(a):
 
 
 def _pack(jobs, threads):
-    from ..kernels.gpu.batch import (CONTROL_FLAGS, PAIR_RESULT, PARTIALS, Control, Lists, Motion, Record, Spheres,
-                                     Walls)
+    from ..kernels.gpu.batch import (CONTROL_FLAGS, PAIR_RESULT, PARTIALS, WALL_ROW, Control, Lists, Motion, Record,
+                                     Spheres, Walls)
 
     C = len(jobs)
     engines = [j.engine for j in jobs]
@@ -304,7 +357,7 @@ def _pack(jobs, threads):
                count=np.array([e.walls.kind.shape[0] for e in engines], dtype=np.int64),
                floor=np.array([e.walls.floor for e in engines], dtype=np.int64), stiffness=np.zeros((C, N, W)),
                material_pair=np.zeros((C, N, W), dtype=np.int64), effective_radius=np.ones((C, N, W)),
-               approach_speed=np.zeros((C, N, W)), damping=np.zeros((C, N, W)))
+               approach_speed=np.zeros((C, N, W)), damping=np.zeros((C, N, W)), row=np.zeros((C, N, W, WALL_ROW)))
     li = Lists(partner=np.zeros((C, 2, N, K), dtype=np.int64), length=np.zeros((C, 2, N), dtype=np.int64),
                slot=np.zeros((C, N, K), dtype=np.int64), approach_speed=np.zeros((C, 2, N, K)),
                damping=np.zeros((C, 2, N, K)), stiffness=np.zeros((C, N, K)),

@@ -180,8 +180,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
     dimension. ``strokes`` replaces the study's stroke axis; ``only``: a list of setting labels
     to run (default: all); ``until_steady``: every case stops early at this error of eta*
     (:func:`pdamper.run.run_case`); ``device``: ``"cuda"`` runs every case of every setting
-    together on the GPU engine (:func:`pdamper.run.run_cases`), as velocity Verlet
-    (:func:`pdamper.run.gpu_case`; each setting's store then holds a Verlet case)."""
+    together on the GPU engine (:func:`pdamper.run.run_cases`)."""
     import functools
 
     import numpy as np

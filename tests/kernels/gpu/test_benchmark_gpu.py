@@ -46,7 +46,9 @@ def test_kernel_compiles_to_ptx_for_hopper(tmp_path):
     if "NVVM" in r.stdout + r.stderr and not out.exists() or "skipped" in (out.read_text() if out.exists() else ""):
         pytest.skip("no libNVVM here (the CUDA toolkit's NVVM): the PTX compile is not tested")
     assert r.returncode == 0, r.stderr[-2000:]
-    ptx = json.loads(out.read_text())["parts"]["ptx"]
-    assert ptx["entry"] and ptx["ptx_bytes"] > 10_000
-    if "ptxas_ok" in ptx:
-        assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["spill_store_bytes"] == 0
+    parts = json.loads(out.read_text())["parts"]["ptx"]
+    for name in ("gear", "verlet"):
+        ptx = parts[name]
+        assert ptx["entry"] and ptx["ptx_bytes"] > 10_000
+        if "ptxas_ok" in ptx:
+            assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["spill_store_bytes"] == 0

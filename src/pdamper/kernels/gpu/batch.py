@@ -26,11 +26,15 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["Spheres", "Lists", "Walls", "Motion", "Control", "Record", "PAIR_RESULT", "CONTROL_FLAGS",
-           "FLAG_STARTED", "FLAG_MOVED", "FLAG_PRIMED", "PARTIALS"]
+           "FLAG_STARTED", "FLAG_MOVED", "FLAG_PRIMED", "PARTIALS", "WALL_ROW", "GearState", "GearClock"]
 
 #: Values stored per owned pair after its contact law: the force on the owner (3), the unit normal
-#: from the owner to its partner (3), the friction force on the owner (3).
-PAIR_RESULT = 9
+#: from the owner to its partner (3), the friction force on the owner (3); then its friction row
+#: (Gear's implicit pass): the slip (3), the friction coefficient c and the Coulomb limit.
+PAIR_RESULT = 14
+#: Values stored per sphere-wall contact: its friction row, the unit normal (3), the slip (3), c and
+#: the Coulomb limit.
+WALL_ROW = 8
 #: Running sums each thread keeps (and saves between launches): work done by the container, loss
 #: by normal damping, loss by friction [J], impulse along the drive since the last sample [N s].
 PARTIALS = 4
@@ -89,6 +93,7 @@ class Walls(NamedTuple):
     effective_radius: np.ndarray  #: (C, N, W) [m]
     approach_speed: np.ndarray    #: (C, N, W) history
     damping: np.ndarray           #: (C, N, W) history
+    row: np.ndarray               #: (C, N, W, WALL_ROW) each contact's friction row (Gear's implicit pass)
 
 
 class Motion(NamedTuple):
@@ -133,3 +138,32 @@ class Record(NamedTuple):
     frame_every: np.ndarray       #: (C,) int: samples per frame (0: none)
     settle_samples: np.ndarray    #: (C,) int
     bed_mass: np.ndarray          #: (C,) [kg]
+
+
+class GearState(NamedTuple):
+    """Gear's Nordsieck vectors of every case and what a rejected step restores."""
+
+    nordsieck: np.ndarray         #: (C, 6, N, 6) scaled derivatives of position and angle
+    predicted: np.ndarray         #: (C, 6, N, 6) the prediction of the current step
+    increments: np.ndarray        #: (C, N, 6) the corrector's increments (position, angle)
+    saved_pair: np.ndarray        #: (C, 2, N, K) the rows' history before the step
+    saved_wall: np.ndarray        #: (C, 2, N, W) the walls' history before the step
+    integrands: np.ndarray        #: (C, threads, 4) each thread's ledger integrands at the last accepted step
+
+
+class GearClock(NamedTuple):
+    """Each case's Gear clock over the CPU stepper's spans (the settling, then the drive's segments)."""
+
+    interval: np.ndarray          #: (C,) 1 / sample rate [s]
+    tolerance: np.ndarray         #: (C,) local position error per step [m]
+    h_min: np.ndarray             #: (C,) [s]
+    h_max: np.ndarray             #: (C,) [s]
+    settle_samples: np.ndarray    #: (C,) int
+    n_samples: np.ndarray         #: (C,) int: samples of the drive
+    segment_samples: np.ndarray   #: (C,) int
+    spans: np.ndarray             #: (C,) int: spans of the run
+    span: np.ndarray              #: (C,) int: the span under way (spans: done)
+    t: np.ndarray                 #: (C,) time [s]
+    h: np.ndarray                 #: (C,) the next step to try [s]
+    hs: np.ndarray                #: (C,) the step the Nordsieck vector is scaled to [s]
+    rejected: np.ndarray          #: (C,) int: rejected steps

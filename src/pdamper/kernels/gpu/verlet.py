@@ -234,8 +234,26 @@ def _pair_laws(c, tid, bd, n, sp, li, table, dt):
             r[6] = ftx
             r[7] = fty
             r[8] = ftz
+            r[9] = tx
+            r[10] = ty
+            r[11] = tz
+            r[12] = ff
+            r[13] = lim
         i += bd
     return p_n, p_f, status, culprit
+
+
+@cuda.jit(device=True)
+def _note_wall(r, nx, ny, nz, tx, ty, tz, c, lim):
+    """A sphere-wall contact's friction row (the normal, the slip, c, the Coulomb limit)."""
+    r[0] = nx
+    r[1] = ny
+    r[2] = nz
+    r[3] = tx
+    r[4] = ty
+    r[5] = tz
+    r[6] = c
+    r[7] = lim
 
 
 @cuda.jit(device=True)
@@ -297,6 +315,7 @@ def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
             p_f += pf
             ftx = -ff * tx
             ftz = -ff * tz
+            _note_wall(wl.row[c, i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
             scatter(lin, ang, 0, -1, ftx, fn, ftz, 0.0, 1.0, 0.0, ftx, 0.0, ftz, 1.0, 0.0, -ri, 0.0)
             fwx += ftx
             fwy += fn
@@ -335,6 +354,7 @@ def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
         fx = fn * nx + ftx
         fy = fn * ny + fty
         fz = fn * nz + ftz
+        _note_wall(wl.row[c, i, w], nx, ny, nz, tx, ty, tz, ff, lim)
         scatter(lin, ang, 0, -1, fx, fy, fz, nx, ny, nz, ftx, fty, ftz, 1.0, 0.0, -ri, 0.0)
         fwx += fx
         fwy += fy
