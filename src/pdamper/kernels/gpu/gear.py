@@ -317,7 +317,7 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
             if flags[0] != STATUS_OK:
                 break
         # ---- the step: end on the next sample boundary or the span's end
-        kb = math.floor(t / ts + 1e-9) + 1
+        kb = int(math.floor(t / ts + 1e-9)) + 1
         tb = kb * ts
         hh = h
         if hh > tb - t or tb - t - hh < 1e-3 * hh:
