@@ -160,6 +160,27 @@ def fig4_cases(tiny):
     return out
 
 
+def make_reference(study_dir):
+    """``benchmarks/data/fig4_cpu_reference.csv`` from the study directory of
+    ``pdamper study fig4 --seeds 3 --out DIR`` (the CPU engine): per setting and stroke, η\* of each
+    seed, their mean, min and max."""
+    import numpy as np
+    import xarray as xr
+
+    ds = xr.load_dataset(Path(study_dir) / "study.nc", engine="h5netcdf")
+    seeds = [int(s) for s in ds.seed.values]
+    REFERENCE.parent.mkdir(parents=True, exist_ok=True)
+    with REFERENCE.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["setting", "stroke_m", "eta_mean", "eta_min", "eta_max", "seeds"] + [f"eta_seed{s}" for s in seeds])
+        for k, label in enumerate(ds.setting.values.tolist()):
+            for j, x in enumerate(ds.stroke.values.tolist()):
+                e = np.asarray(ds.eta_star.values[k, j, :], dtype=float)
+                w.writerow([label, repr(float(x)), f"{np.nanmean(e):.6f}", f"{np.nanmin(e):.6f}", f"{np.nanmax(e):.6f}",
+                            int(np.sum(np.isfinite(e)))] + [f"{v:.6f}" for v in e])
+    print(f"wrote {REFERENCE} ({ds.sizes['setting']} settings x {ds.sizes['stroke']} strokes x {len(seeds)} seeds)")
+
+
 def read_reference():
     """The CPU engine's fig4: ``{(setting, stroke rounded): row}``."""
     if not REFERENCE.exists():
@@ -358,8 +379,8 @@ def part_paper(tiny, deadline):
     return out
 
 
-def part_ptx():
-    """Both kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
+def part_ptx(kernels=("gear", "verlet")):
+    """The kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
     local CUDA toolkit's NVVM), and ``ptxas -v``'s registers, spills and shared memory (when ptxas
     is on PATH)."""
     import dataclasses as dc
@@ -387,6 +408,8 @@ def part_ptx():
     _, _, case = fig4_cases(False)[0]
     out = {}
     for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet")):
+        if name not in kernels:
+            continue
         c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -463,12 +486,18 @@ def main(argv=None):
     ap.add_argument("--only", nargs="+", choices=PARTS, help="run only these parts")
     ap.add_argument("--tiny", action="store_true", help="tiny cases (numba-cuda's simulator: the test suite)")
     ap.add_argument("--ptx", action="store_true", help="compile to PTX for sm_90 without a GPU; ptxas -v")
+    ap.add_argument("--ptx-kernels", default="gear,verlet", help="the kernels --ptx compiles (gear, verlet)")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
+    ap.add_argument("--make-reference", metavar="STUDY_DIR",
+                    help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
     args = ap.parse_args(argv)
+    if args.make_reference:
+        make_reference(args.make_reference)
+        return 0
     t0 = time.perf_counter()
     report = Report(args.out)
     if args.ptx:
-        report.put("ptx", part_ptx())
+        report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(","))))
         return 0
     parts = args.only or PARTS
     report.put("env", env_info())
