@@ -579,14 +579,16 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                             rec.frames[c, f, i, 6 + k] = omg[c, i, k]
                         i += bd
             cuda.syncthreads()
-    # ---- the state in the bodies; the clock, the flags and the running sums for the next launch
-    i = tid
-    while i < n:
-        for k in range(3):
-            pos[c, i, k] = nord[c, 0, i, k]
-            vel[c, i, k] = nord[c, 1, i, k] * (1.0 / hs)
-            omg[c, i, k] = nord[c, 1, i, 3 + k] * (1.0 / hs)
-        i += bd
+    # ---- the state in the bodies (once there is a Nordsieck vector); the clock, the flags and the
+    #      running sums for the next launch
+    if flags[4] != 0:
+        i = tid
+        while i < n:
+            for k in range(3):
+                pos[c, i, k] = nord[c, 0, i, k]
+                vel[c, i, k] = nord[c, 1, i, k] * (1.0 / hs)
+                omg[c, i, k] = nord[c, 1, i, 3 + k] * (1.0 / hs)
+            i += bd
     ct.partials[c, tid, 0] = s_w
     ct.partials[c, tid, 1] = s_n
     ct.partials[c, tid, 2] = s_f
