@@ -6,9 +6,10 @@ The step is :func:`pdamper.kernels.gear.run_gear`'s: the Nordsieck vector rescal
 (each thread its spheres' degrees of freedom), the neighbour rows rebuilt when a sphere moved more
 than half the skin, the contact forces at the predicted state (:mod:`.verlet`'s pair and sphere
 functions, with no friction cap), the corrector's increments, the friction of every touching
-contact evaluated again at the corrected slip (the CPU's Gauss-Seidel sweep, in its order: pairs,
-the floor, the other walls; one thread of the block walks it, calling the CPU kernels'
-``corrected_friction``, kinematics and ``scatter``), the block's largest increment as the error, a
+contact evaluated again at the corrected slip (the CPU's Gauss-Seidel sweep, in its order: the pairs,
+walked by one thread of the block, then the floor and the other walls, each sphere's by its own
+thread, which gives the same increments since a wall row changes its own sphere alone; calling the
+CPU kernels' ``corrected_friction``, kinematics and ``scatter``), the block's largest increment as the error, a
 rejected step retried shorter with the contact history restored, an accepted one corrected, its
 ledger summed by the trapezoid, a sample written where it ends on a sample boundary. The clock
 follows the CPU stepper's spans (the settling, then segments of the drive, each starting at its
@@ -59,10 +60,11 @@ def _span(k, settle, n_samples, seg, interval):
 
 
 @cuda.jit(device=True)
-def _implicit_friction(c, n, sp, li, wl, dlt, hs):
-    """The friction of every recorded contact at its corrected slip (the CPU's
-    :func:`pdamper.kernels.gear._implicit_friction`, the same rows in the same order, one thread).
-    Returns ``(dfx, dfy, dfz, dp_f)``."""
+def _implicit_pairs(c, n, sp, li, dlt, hs):
+    """The friction of every touching sphere pair at its corrected slip: the first part of the CPU's
+    :func:`pdamper.kernels.gear._implicit_friction`, the same rows in the same order, walked by one
+    thread (a pair's row changes the increments of two spheres, which the next rows read).
+    Returns the change of the friction power [W]."""
     rad = sp.radius
     inv_m = sp.inv_mass
     inv_i = sp.inv_inertia
@@ -72,9 +74,6 @@ def _implicit_friction(c, n, sp, li, wl, dlt, hs):
     g = _C1 / hs
     a = 0.5 * _C1 * hs
     hh = 0.5 * hs * hs
-    dfx = 0.0
-    dfy = 0.0
-    dfz = 0.0
     dpf = 0.0
     for i in range(n):
         ri = rad[c, i]
@@ -105,16 +104,34 @@ def _implicit_friction(c, n, sp, li, wl, dlt, hs):
                      + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
             scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], hh * inv_m[c, j],
                     hh * inv_i[c, i] * ri, hh * inv_i[c, j] * rj)
+    return dpf
+
+
+@cuda.jit(device=True)
+def _implicit_walls(c, i, sp, wl, dlt, hs):
+    """The friction of sphere ``i``'s floor and other walls at their corrected slip: the rest of the
+    CPU's :func:`pdamper.kernels.gear._implicit_friction`. A wall row changes its own sphere's
+    increments alone, so each thread takes its spheres after all pair rows, in the CPU's order for
+    each sphere (the floor, then the walls): the same increments as the CPU's one sweep. Returns
+    ``(dfx, dfy, dfz, dp_f)`` of this sphere's rows."""
+    rad = sp.radius
+    inv_m = sp.inv_mass
+    inv_i = sp.inv_inertia
+    dv = dlt[c, :, 0:3]
+    dw = dlt[c, :, 3:6]
+    g = _C1 / hs
+    a = 0.5 * _C1 * hs
+    hh = 0.5 * hs * hs
+    dfx = 0.0
+    dfy = 0.0
+    dfz = 0.0
+    dpf = 0.0
+    ri = rad[c, i]
     floor = wl.floor[c]
-    if floor >= 0:
-        for i in range(n):
-            if wl.approach_speed[c, i, floor] == 0.0:
-                continue
-            r = wl.row[c, i, floor]
-            cf = r[6]
-            if not (cf > 0.0):
-                continue
-            ri = rad[c, i]
+    if floor >= 0 and wl.approach_speed[c, i, floor] != 0.0:
+        r = wl.row[c, i, floor]
+        cf = r[6]
+        if cf > 0.0:
             tx = r[3]
             tz = r[5]
             vt = math.sqrt(tx * tx + tz * tz)
@@ -132,36 +149,34 @@ def _implicit_friction(c, n, sp, li, wl, dlt, hs):
                     -(hh * inv_i[c, i] * ri), 0.0)
             dfx += gx
             dfz += gz
-    for i in range(n):
-        ri = rad[c, i]
-        for w in range(wl.count[c]):
-            if w == floor or wl.approach_speed[c, i, w] == 0.0:
-                continue
-            r = wl.row[c, i, w]
-            cf = r[6]
-            if not (cf > 0.0):
-                continue
-            nx = r[0]
-            ny = r[1]
-            nz = r[2]
-            tx = r[3]
-            ty = r[4]
-            tz = r[5]
-            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-            dcx, dcy, dcz, dcn = wall_point_velocity(g * dv[i, 0], g * dv[i, 1], g * dv[i, 2], g * dw[i, 0],
-                                                     g * dw[i, 1], g * dw[i, 2], ri, nx, ny, nz)
-            dcx -= dcn * nx
-            dcy -= dcn * ny
-            dcz -= dcn * nz
-            kk = inv_m[c, i] + ri * ri * inv_i[c, i]
-            gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[7], kk, a, tx, ty, tz, dcx, dcy, dcz)
-            dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
-                - cf * vt * vt
-            scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], 0.0,
-                    -(hh * inv_i[c, i] * ri), 0.0)
-            dfx += gx
-            dfy += gy
-            dfz += gz
+    for w in range(wl.count[c]):
+        if w == floor or wl.approach_speed[c, i, w] == 0.0:
+            continue
+        r = wl.row[c, i, w]
+        cf = r[6]
+        if not (cf > 0.0):
+            continue
+        nx = r[0]
+        ny = r[1]
+        nz = r[2]
+        tx = r[3]
+        ty = r[4]
+        tz = r[5]
+        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        dcx, dcy, dcz, dcn = wall_point_velocity(g * dv[i, 0], g * dv[i, 1], g * dv[i, 2], g * dw[i, 0],
+                                                 g * dw[i, 1], g * dw[i, 2], ri, nx, ny, nz)
+        dcx -= dcn * nx
+        dcy -= dcn * ny
+        dcz -= dcn * nz
+        kk = inv_m[c, i] + ri * ri * inv_i[c, i]
+        gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[7], kk, a, tx, ty, tz, dcx, dcy, dcz)
+        dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
+            - cf * vt * vt
+        scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], 0.0, -(hh * inv_i[c, i] * ri),
+                0.0)
+        dfx += gx
+        dfy += gy
+        dfz += gz
     return dfx, dfy, dfz, dpf
 
 
@@ -415,13 +430,19 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                 dlt[c, i, 3 + k] = half_h2 * ang[0, k] * ii - pred[c, 2, i, 3 + k]
             i += bd
         cuda.syncthreads()
-        # ---- the friction at the corrected slip: one thread walks the contacts in the CPU's order
+        # ---- the friction at the corrected slip, in the CPU's order: the pairs walked by one
+        #      thread, then each sphere's floor and walls by its own thread
         if tid == 0:
-            dfx, dfy, dfz, dpf = _implicit_friction(c, n, sp, li, wl, dlt, hs)
+            p_f += _implicit_pairs(c, n, sp, li, dlt, hs)
+        cuda.syncthreads()
+        i = tid
+        while i < n:
+            dfx, dfy, dfz, dpf = _implicit_walls(c, i, sp, wl, dlt, hs)
             fwx += dfx
             fwy += dfy
             fwz += dfz
             p_f += dpf
+            i += bd
         cuda.syncthreads()
         # ---- the error: the block's largest increment
         err = 0.0
