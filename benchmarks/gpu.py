@@ -162,7 +162,7 @@ def fig4_cases(tiny):
 
 def make_reference(study_dir):
     """``benchmarks/data/fig4_cpu_reference.csv`` from the study directory of
-    ``pdamper study fig4 --seeds 3 --out DIR`` (the CPU engine): per setting and stroke, η\* of each
+    ``pdamper study fig4 --seeds 3 --out DIR`` (the CPU engine): per setting and stroke, eta* of each
     seed, their mean, min and max."""
     import numpy as np
     import xarray as xr

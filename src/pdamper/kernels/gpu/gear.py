@@ -28,7 +28,7 @@ from ..forces import STATUS_NAN, STATUS_OK
 from ..gear import GEAR_C
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_PRIMED, FLAG_STARTED
-from .verlet import MAX_THREADS, REDUCED, _elastic, _motion, _pair_laws, _rebuild, _sphere_force
+from .verlet import MAX_THREADS, REDUCED, _motion, _pair_laws, _rebuild, _record_sample, _sphere_force
 
 __all__ = ["gear_kernel", "batch_gear", "NO_CAP"]
 
@@ -528,11 +528,6 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
         # ---- a sample ends on this step: the block's sums, the energies, a frame
         if recording and math.fabs(t - tb) <= 1e-9 * ts:
             kk = kb - 1
-            ekin = 0.0
-            erot = 0.0
-            epot = 0.0
-            eel = 0.0
-            erec = kk < rec.energy_rows[c]
             i = tid
             while i < n:
                 for k in range(3):
@@ -541,65 +536,8 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                     omg[c, i, k] = nord[c, 1, i, 3 + k] * inv_h
                 i += bd
             cuda.syncthreads()
-            if erec:
-                i = tid
-                while i < n:
-                    mi = sp.mass[c, i]
-                    ux = vel[c, i, 0] + vc * dvx
-                    uy = vel[c, i, 1] + vc * dvy
-                    uz = vel[c, i, 2] + vc * dvz
-                    ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
-                    erot += 0.5 / inv_i[c, i] * (omg[c, i, 0] ** 2 + omg[c, i, 1] ** 2 + omg[c, i, 2] ** 2)
-                    epot -= mi * (gvx * pos[c, i, 0] + gvy * pos[c, i, 1] + gvz * pos[c, i, 2])
-                    eel += _elastic(c, i, sp, li, wl)
-                    i += bd
-            red[0, tid] = s_i
-            red[1, tid] = s_w
-            red[2, tid] = s_n
-            red[3, tid] = s_f
-            red[4, tid] = ekin
-            red[5, tid] = erot
-            red[6, tid] = epot
-            red[7, tid] = eel
+            _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc)
             s_i = 0.0
-            cuda.syncthreads()
-            hr = 1
-            while hr < bd:
-                hr *= 2
-            hr //= 2
-            while hr > 0:
-                if tid < hr and tid + hr < bd:
-                    for q in range(REDUCED):
-                        red[q, tid] += red[q, tid + hr]
-                cuda.syncthreads()
-                hr //= 2
-            if tid == 0:
-                if kk < rec.wall_force_rows[c]:
-                    rec.wall_force[c, kk] = red[0, 0] / ct.sample_interval[c]
-                if erec:
-                    ep = red[6, 0]
-                    gd = gvx * dvx + gvy * dvy + gvz * dvz
-                    if abs(gd) > 1e-12 * math.sqrt(gvx ** 2 + gvy ** 2 + gvz ** 2):
-                        ep -= rec.bed_mass[c] * gd * xc
-                    rec.energy[c, kk, 0] = red[4, 0]
-                    rec.energy[c, kk, 1] = red[5, 0]
-                    rec.energy[c, kk, 2] = ep
-                    rec.energy[c, kk, 3] = red[7, 0]
-                    rec.energy[c, kk, 4] = red[1, 0]
-                    rec.energy[c, kk, 5] = red[2, 0]
-                    rec.energy[c, kk, 6] = red[3, 0]
-            every = rec.frame_every[c]
-            if every > 0 and (kk + 1) % every == 0:
-                f = (kk + 1) // every - 1
-                if f < rec.frame_rows[c]:
-                    i = tid
-                    while i < n:
-                        for k in range(3):
-                            rec.frames[c, f, i, k] = pos[c, i, k]
-                            rec.frames[c, f, i, 3 + k] = vel[c, i, k]
-                            rec.frames[c, f, i, 6 + k] = omg[c, i, k]
-                        i += bd
-            cuda.syncthreads()
     # ---- the state in the bodies (once there is a Nordsieck vector); the clock, the flags and the
     #      running sums for the next launch
     if flags[4] != 0:

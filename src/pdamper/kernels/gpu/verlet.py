@@ -392,6 +392,87 @@ def _elastic(c, i, sp, li, wl):
     return e_el
 
 
+@cuda.jit(device=True)
+def _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc):
+    """Sample ``kk`` of case ``c`` (:func:`pdamper.kernels.record.record_sample`): the block's sums of the
+    threads' impulse and ledger (``s_i``, ``s_w``, ``s_n``, ``s_f``), the energies, a frame; every thread
+    of the block calls it (the container at ``xc`` [m], moving at ``vc`` [m/s])."""
+    pos = sp.position
+    vel = sp.velocity
+    omg = sp.spin
+    inv_i = sp.inv_inertia
+    gvx = mo.gravity[c, 0]
+    gvy = mo.gravity[c, 1]
+    gvz = mo.gravity[c, 2]
+    dvx = mo.direction[c, 0]
+    dvy = mo.direction[c, 1]
+    dvz = mo.direction[c, 2]
+    ekin = 0.0
+    erot = 0.0
+    epot = 0.0
+    eel = 0.0
+    erec = kk < rec.energy_rows[c]
+    if erec:
+        i = tid
+        while i < n:
+            mi = sp.mass[c, i]
+            ux = vel[c, i, 0] + vc * dvx
+            uy = vel[c, i, 1] + vc * dvy
+            uz = vel[c, i, 2] + vc * dvz
+            ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
+            erot += 0.5 / inv_i[c, i] * (omg[c, i, 0] ** 2 + omg[c, i, 1] ** 2 + omg[c, i, 2] ** 2)
+            epot -= mi * (gvx * pos[c, i, 0] + gvy * pos[c, i, 1] + gvz * pos[c, i, 2])
+            eel += _elastic(c, i, sp, li, wl)
+            i += bd
+    red[0, tid] = s_i
+    red[1, tid] = s_w
+    red[2, tid] = s_n
+    red[3, tid] = s_f
+    red[4, tid] = ekin
+    red[5, tid] = erot
+    red[6, tid] = epot
+    red[7, tid] = eel
+    cuda.syncthreads()
+    h = 1
+    while h < bd:
+        h *= 2
+    h //= 2
+    while h > 0:
+        if tid < h and tid + h < bd:
+            for q in range(REDUCED):
+                red[q, tid] += red[q, tid + h]
+        cuda.syncthreads()
+        h //= 2
+    if tid == 0:
+        if kk < rec.wall_force_rows[c]:
+            rec.wall_force[c, kk] = red[0, 0] / ct.sample_interval[c]
+        if erec:
+            epot = red[6, 0]
+            # the lab frame's potential energy (record_sample): the bed raised with the container
+            gd = gvx * dvx + gvy * dvy + gvz * dvz
+            if abs(gd) > 1e-12 * math.sqrt(gvx ** 2 + gvy ** 2 + gvz ** 2):
+                epot -= rec.bed_mass[c] * gd * xc
+            rec.energy[c, kk, 0] = red[4, 0]
+            rec.energy[c, kk, 1] = red[5, 0]
+            rec.energy[c, kk, 2] = epot
+            rec.energy[c, kk, 3] = red[7, 0]
+            rec.energy[c, kk, 4] = red[1, 0]
+            rec.energy[c, kk, 5] = red[2, 0]
+            rec.energy[c, kk, 6] = red[3, 0]
+    every = rec.frame_every[c]
+    if every > 0 and (kk + 1) % every == 0:
+        f = (kk + 1) // every - 1
+        if f < rec.frame_rows[c]:
+            i = tid
+            while i < n:
+                for k in range(3):
+                    rec.frames[c, f, i, k] = pos[c, i, k]
+                    rec.frames[c, f, i, 3 + k] = vel[c, i, k]
+                    rec.frames[c, f, i, 6 + k] = omg[c, i, k]
+                i += bd
+    cuda.syncthreads()
+
+
 def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
     """Advance every case of the batch by at most ``max_steps`` steps: block ``c`` is case ``c``.
 
@@ -594,71 +675,8 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
         # ---- a sample ends: the block's sums, the energies, a frame
         if g > settle and g % sub == 0:
             kk = g // sub - 1 - rec.settle_samples[c]
-            ekin = 0.0
-            erot = 0.0
-            epot = 0.0
-            eel = 0.0
-            erec = kk < rec.energy_rows[c]
-            if erec:
-                i = tid
-                while i < n:
-                    mi = sp.mass[c, i]
-                    ux = vel[c, i, 0] + vc * dvx
-                    uy = vel[c, i, 1] + vc * dvy
-                    uz = vel[c, i, 2] + vc * dvz
-                    ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
-                    erot += 0.5 / inv_i[c, i] * (omg[c, i, 0] ** 2 + omg[c, i, 1] ** 2 + omg[c, i, 2] ** 2)
-                    epot -= mi * (gvx * pos[c, i, 0] + gvy * pos[c, i, 1] + gvz * pos[c, i, 2])
-                    eel += _elastic(c, i, sp, li, wl)
-                    i += bd
-            red[0, tid] = s_i
-            red[1, tid] = s_w
-            red[2, tid] = s_n
-            red[3, tid] = s_f
-            red[4, tid] = ekin
-            red[5, tid] = erot
-            red[6, tid] = epot
-            red[7, tid] = eel
+            _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc)
             s_i = 0.0
-            cuda.syncthreads()
-            h = 1
-            while h < bd:
-                h *= 2
-            h //= 2
-            while h > 0:
-                if tid < h and tid + h < bd:
-                    for q in range(REDUCED):
-                        red[q, tid] += red[q, tid + h]
-                cuda.syncthreads()
-                h //= 2
-            if tid == 0:
-                if kk < rec.wall_force_rows[c]:
-                    rec.wall_force[c, kk] = red[0, 0] / ct.sample_interval[c]
-                if erec:
-                    epot = red[6, 0]
-                    # the lab frame's potential energy (record_sample): the bed raised with the container
-                    gd = gvx * dvx + gvy * dvy + gvz * dvz
-                    if abs(gd) > 1e-12 * math.sqrt(gvx ** 2 + gvy ** 2 + gvz ** 2):
-                        epot -= rec.bed_mass[c] * gd * xc
-                    rec.energy[c, kk, 0] = red[4, 0]
-                    rec.energy[c, kk, 1] = red[5, 0]
-                    rec.energy[c, kk, 2] = epot
-                    rec.energy[c, kk, 3] = red[7, 0]
-                    rec.energy[c, kk, 4] = red[1, 0]
-                    rec.energy[c, kk, 5] = red[2, 0]
-                    rec.energy[c, kk, 6] = red[3, 0]
-            every = rec.frame_every[c]
-            if every > 0 and (kk + 1) % every == 0:
-                f = (kk + 1) // every - 1
-                if f < rec.frame_rows[c]:
-                    i = tid
-                    while i < n:
-                        for k in range(3):
-                            rec.frames[c, f, i, k] = pos[c, i, k]
-                            rec.frames[c, f, i, 3 + k] = vel[c, i, k]
-                            rec.frames[c, f, i, 6 + k] = omg[c, i, k]
-                        i += bd
-            cuda.syncthreads()
     # ---- leave the clock, the flags and the running sums for the next launch
     ct.partials[c, tid, 0] = s_w
     ct.partials[c, tid, 1] = s_n
