@@ -4,9 +4,10 @@
 A :class:`GpuJob` is one case as the CPU engine has built it (:func:`pdamper.engine.build.build`:
 the same initial positions, contact table and walls), with its output arrays
 (:class:`~pdamper.kernels.bundles.Samples`) and its clock. :func:`run_jobs` groups the jobs that one
-kernel can take together (the same damping law and the same contact-table constants), packs each
-group into the batch bundles (:mod:`pdamper.kernels.gpu.batch`), launches the kernel until every
-case is done, and copies each case's channels and final state back into its own arrays.
+launch can take together (the same integrator, damping law, contact-table constants and block size),
+packs each group into the batch bundles (:mod:`pdamper.kernels.gpu.batch`), launches the groups'
+kernels side by side (:mod:`pdamper.kernels.gpu.gear`, :mod:`pdamper.kernels.gpu.verlet`) until
+every case is done, and copies each case's channels and final state back into its own arrays.
 
 numba-cuda is imported here only when a batch runs: ``import pdamper`` never needs it.
 :func:`unavailable` says why no GPU can run (no numba-cuda, no driver, no device).
