@@ -214,11 +214,12 @@ def kernel_resources(sim):
     ``threads`` an SM holds by each limit (H100: 65,536 registers, 228 KiB shared memory, 2,048
     threads, 32 blocks per SM)."""
     from pdamper.engine.cuda import threads_for
+    from pdamper.kernels.gpu.gear import gear_kernel
     from pdamper.kernels.gpu.verlet import verlet_kernel
 
-    out = {}
+    out = {"kernel": "gear" if sim.stepper.rejected is not None else "verlet"}
     try:
-        k = verlet_kernel()
+        k = gear_kernel() if out["kernel"] == "gear" else verlet_kernel()
         regs = k.get_regs_per_thread()
         smem = k.get_shared_mem_per_block()
         local = k.get_local_mem_per_thread()
