@@ -44,7 +44,7 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
     [numerics]                  # integrator, time_step ("auto" or a time), steps_per_contact,
                                 # max_impact_speed ("auto" or a speed), max_time_step,
                                 # gear_tolerance, neighbour_search, skin ("auto" or a length),
-                                # overlap_limit
+                                # overlap_limit, device ("cpu" or "cuda": the GPU engine)
     [recording]                 # sample_rate, trajectory_fps
     [initial]                   # arrangement, jitter, seed, settle_time, layers, and optional
                                 # per-sphere rows [x, y, z]: positions, velocities, spins [rad/s]
@@ -544,6 +544,10 @@ def _law_to(law):
 _fields_to = write_fields
 
 
+#: The default of ``numerics.device``: a config that says nothing else runs on the CPU.
+_DEFAULT_DEVICE = next(f.default for f in dataclasses.fields(Numerics) if f.name == "device")
+
+
 def case_to_dict(case: Case) -> dict:
     """The full config of ``case`` as a TOML-ready dict, every quantity in plain SI units.
 
@@ -581,7 +585,10 @@ def case_to_dict(case: Case) -> dict:
     d = case.drive
     if type(d) is not DRIVES.get(d.kind):
         raise InputError(f"cannot write drive {type(d).__name__} to a config file")
-    out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
+    numerics = _fields_to(case.numerics)
+    if case.numerics.device == _DEFAULT_DEVICE:
+        del numerics["device"]  # where a case runs is not what it is: a CPU case's text (a store's fingerprint) stays
+    out.update({"contact": contact, "numerics": numerics, "recording": _fields_to(case.recording),
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
     # the drive's table after the section it names ([drive] after [particles], [structure] last):
     # the order of the text a store's fingerprint was taken of

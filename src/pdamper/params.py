@@ -241,6 +241,9 @@ class Numerics:
     neighbour_search : "auto", "direct" (all pairs) or "cells" (link cells) for building the Verlet list.
     skin : Verlet-list skin [m]; None: 0.2 r_max.
     overlap_limit : a run stops when an overlap exceeds this fraction of the radius (default 0.05).
+    device : "cpu" (default) or "cuda": the GPU engine (:mod:`pdamper.engine.cuda`), which runs the
+        cases of a batch together on one NVIDIA GPU, each with its integrator (docs/engine.md, "The GPU
+        engine"); it needs numba-cuda (``pip install -e ".[gpu]"``).
     """
 
     integrator: str = param("gear", choices=("verlet", "gear"))
@@ -253,10 +256,12 @@ class Numerics:
     neighbour_search: str = param("auto", choices=("auto", "direct", "cells"))
     skin: float | None = param(None, dimension="length", auto=True)
     overlap_limit: float = 0.05
+    device: str = param("cpu", choices=("cpu", "cuda"))
 
     def __post_init__(self):
         convert_fields(self, "numerics")
         check_choice(self, "integrator", "numerics")
+        check_choice(self, "device", "numerics")
         check_choice(self, "neighbour_search", "numerics")
         if self.time_step is not None:
             _positive(self, "time_step", "> 0 s (or omit it for the automatic step)")

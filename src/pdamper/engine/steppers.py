@@ -18,10 +18,27 @@ from ..kernels import forces as kf
 from ..kernels.bundles import FrictionRecord, GearSpan, GearState, VerletSpan, VerletState
 from .build import Engine, auto_time_step, grow_pairs, grow_walls
 
-__all__ = ["VerletStepper", "GearStepper", "stepper_for", "GEAR_MIN_STEP"]
+__all__ = ["VerletStepper", "GearStepper", "stepper_for", "failure_message", "GEAR_MIN_STEP"]
 
 #: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
 GEAR_MIN_STEP = 1e-9
+
+
+def failure_message(case, status, culprit, t_fail, step) -> str:
+    """What a failed step (``status``: an overlap or a non-finite velocity) says: when, which
+    sphere, what happened, what to change (the CPU steppers and the GPU engine alike)."""
+    what = "an overlap beyond " + f"{100 * case.numerics.overlap_limit:g} % of the radius" \
+        if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
+    when = f"t = {t_fail:.6f} s" if t_fail >= 0 else f"t = {t_fail:.6f} s (during settling, before the drive)"
+    if case.numerics.integrator == "gear":
+        fix = "a smaller numerics.gear_tolerance or numerics.gear_max_step"
+    else:
+        suggest = min(step, auto_time_step(dataclasses.replace(
+            case, numerics=dataclasses.replace(case.numerics, time_step=None)))) / 2
+        fix = (f"a smaller numerics.time_step (e.g. {suggest * 1e6:.3g} us), more numerics.steps_per_contact, "
+               "a larger numerics.max_impact_speed, or integrator = 'gear'")
+    return (f"the run became unstable at {when}: particle {culprit} reached {what} with time step "
+            f"{step * 1e6:.3g} us; use {fix}")
 
 
 class _Stepper:
@@ -57,20 +74,7 @@ class _Stepper:
         if status in (kf.STATUS_LIST_OVERFLOW, kf.STATUS_WALL_OVERFLOW):
             self._grow(status)
             return
-        case = self.engine.case
-        what = "an overlap beyond " + f"{100 * case.numerics.overlap_limit:g} % of the radius" \
-            if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
-        when = f"t = {t_fail:.6f} s" if t_fail >= 0 else f"t = {t_fail:.6f} s (during settling, before the drive)"
-        if case.numerics.integrator == "gear":
-            fix = "a smaller numerics.gear_tolerance or numerics.gear_max_step"
-        else:
-            suggest = min(step, auto_time_step(dataclasses.replace(
-                case, numerics=dataclasses.replace(case.numerics, time_step=None)))) / 2
-            fix = (f"a smaller numerics.time_step (e.g. {suggest * 1e6:.3g} us), more numerics.steps_per_contact, "
-                   "a larger numerics.max_impact_speed, or integrator = 'gear'")
-        raise SimulationError(
-            f"the run became unstable at {when}: particle {culprit} reached {what} with time step "
-            f"{step * 1e6:.3g} us; use {fix}")
+        raise SimulationError(failure_message(self.engine.case, status, culprit, t_fail, step))
 
 
 class VerletStepper(_Stepper):
