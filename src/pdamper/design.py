@@ -596,8 +596,9 @@ def _candidates(container, lengths, radius: float, m_sphere: float, cap: float, 
     return out
 
 
-#: The screening's slack: a candidate is screened on the solver's grid (refine=False) within this
-#: relative slack of the margin, the target and lift-off, then decided on the refined solution.
+#: The screening's slack: a design to a target screens a candidate on the solver's grid
+#: (refine=False) with its margin and the lift-off bound loosened by this fraction, then decides it
+#: (margin, lift-off, target) on the refined solution.
 _SCREEN = 1e-3
 
 
@@ -693,8 +694,8 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     ``length_range``) for ``mode`` of ``structure`` under ``force`` [N] at its resonance, from the
     closed-form fields (:func:`closed_form_fields`) and the energy balance (:func:`required_force`),
     with the operating stroke at least a margin times X_opt (``margin``; by default, None, the
-    measured :func:`auto_margin` of each filling's fraction N_p / N_p,max): the one that minimises the resonant
-    amplitude, or with ``target_ratio`` the **lightest** one whose ratio (the resonant amplitude
+    measured :func:`auto_margin` of each filling's fraction N_p / N_p,max): the one that minimises
+    the resonant amplitude, or with ``target_ratio`` the **lightest** one whose ratio (the resonant amplitude
     with the damper over the bare structure's, :attr:`StructureDesign.reduction`) is at most the
     target (among the lightest that do, the smallest ratio).
 
@@ -780,10 +781,10 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
         if best is None:
             raise InputError(
                 f"no filling within the bounds keeps the operating stroke at or above {_margin_words(margin)} on the "
-                f"rolling branch without lift-off (A = X Omega^2 < g; {count} fillings tried): the force {f0:g} N puts the "
-                "damper below the margin for the clearances of these containers (a shorter container or more spheres "
-                "lower X_opt; a larger --max-bed-mass allows more spheres) or, with a large force, lifts the bed off "
-                "(a longer container); see docs/structure.md, \"Design for a structure\"")
+                f"rolling branch without lift-off (A = X Omega^2 < g; {count} fillings tried): the force {f0:g} N "
+                "puts the damper below the margin for the clearances of these containers (a shorter container or more "
+                "spheres lower X_opt; a larger --max-bed-mass allows more spheres) or, with a large force, lifts the "
+                "bed off (a longer container); see docs/structure.md, \"Design for a structure\"")
         chosen = best[1]
     else:
         found = _lightest(md, f0, cands, target=target_ratio, x_bare=pd * q_bare, kappa=kappa, margin=margin,
