@@ -7,6 +7,7 @@ A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case, 
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 import warnings
@@ -360,6 +361,10 @@ class Case:
     cycles: float = param(20, kind="number", paper="20", section="run")
     drop_cycles: int = param(2, paper="2", section="run")
     gravity: float = param(9.81, dimension="acceleration", section="run")
+    #: the damper's own drive beside a structure (a ``[drive]`` in a file whose ``[structure]`` is
+    #: the case's drive): how the damper alone is driven on its test rig, for what characterises the
+    #: damper (a sweep, the fields made of it; :attr:`on_rig`). None: ``drive`` is the only drive
+    rig: DriveBase | None = param(None, kind="custom", section="drive")
 
     def __post_init__(self):
         convert_fields(self, "run")
@@ -378,6 +383,9 @@ class Case:
             raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles:g} cycles "
                              "(run.drop_cycles); "
                              "run more cycles or drop fewer")
+        if self.rig is not None and (self.rig.coupled or not self.drive.coupled):
+            raise InputError("case.rig: the damper's rig drive stands beside a structure only (a [drive] with a "
+                             "[structure]); a case with a prescribed [drive] has no second drive")
         if not (0 <= self.gravity <= MAX_GRAVITY):
             raise InputError(f"run.gravity = {self.gravity!r} m/s^2; must be in [0, {MAX_GRAVITY:g}] m/s^2: 0 for "
                              f"no gravity, 9.81 on Earth; above {MAX_GRAVITY:g} (ten g) no damper is tested and the "
@@ -404,6 +412,15 @@ class Case:
     def duration(self) -> float:
         """Driven time [s] (after settling)."""
         return self.drive.duration(self.cycles)
+
+    @property
+    def on_rig(self) -> "Case":
+        """The damper alone on its rig: this case with ``drive`` = ``rig`` (itself when it has no
+        rig). A sweep runs this case: it characterises the damper (eta*, its fields), which a
+        prescribed motion does and a structure does not."""
+        if self.rig is None:
+            return self
+        return dataclasses.replace(self, drive=self.rig, rig=None)
 
     @property
     def running_drive(self):

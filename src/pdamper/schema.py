@@ -347,9 +347,10 @@ def _is_param(obj) -> bool:
 
 
 def _section_of(f: dataclasses.Field, value) -> str | None:
-    """The config section field ``f`` of the root holds (its value's own ``config_section`` first)."""
+    """The config section field ``f`` of the root holds (its value's own ``config_section`` first; an
+    optional object that is None, such as a case's ``rig``, holds none)."""
     s = spec_of(f).section
-    if s is None:
+    if s is None or value is None:
         return None
     items = value if isinstance(value, tuple) and value and all(_is_param(v) for v in value) else (value,)
     if _is_param(items[0]):

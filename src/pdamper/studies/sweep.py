@@ -206,6 +206,9 @@ class SweepSpec:
         SweepSpec(base=case, strokes=[0.005, 0.012], seeds=[0, 1])
         SweepSpec(base=case, axes=[Axis(key="drive.stroke", values=[0.005, 0.012]),
                                    Axis(key="drive.frequency", values=[1.0, 2.0])], seeds=[0])
+
+    A base case with a rig drive beside its structure (:attr:`pdamper.params.Case.rig`) is swept
+    on its rig (:attr:`~pdamper.params.Case.on_rig`): a sweep characterises the damper.
     """
 
     base: Case
@@ -214,6 +217,7 @@ class SweepSpec:
     strokes: tuple | None = None
 
     def __post_init__(self):
+        object.__setattr__(self, "base", self.base.on_rig)
         axes = list(self.axes)
         if self.strokes is not None:
             strokes = tuple(float(x) for x in np.atleast_1d(_si_values(self.strokes, "length", "strokes")))
