@@ -652,9 +652,13 @@ def _fields_to(obj) -> dict:
     for f, s in plain_fields(type(obj)):
         v = getattr(obj, f.name)
         key = s.key or f.name
+        if not s.write_default and v == f.default:
+            continue
         if v is None:
             if s.auto:
                 out[key] = "auto"
+        elif s.kind == "flag":
+            out[key] = bool(v)
         elif s.kind == "text":
             out[key] = v
         elif s.kind == "whole":

@@ -8,7 +8,9 @@ The container's acceleration enters as the pseudo-force ``-m a_c(t) d``.
 
 The loop also accumulates what the recorders need: the impulse of the wall forces along the
 drive over each sample interval, and the energy ledger (work of the container, dissipation by
-normal damping and by friction), in ``samples.sums``.
+normal damping and by friction -- the tanh law's power times the step, a tangential spring's
+loss of the step as it is), in ``samples.sums``. The priming evaluation does not advance a
+tangential spring (step 0).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
+from .contact import keeps_history
 from .drive import drive_motion, is_coupled
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
@@ -67,7 +70,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
             return STATUS_LIST_OVERFLOW, 0, -1
         if r == -2:
             return STATUS_WALL_OVERFLOW, 0, -1
-        compute_forces(bodies, pairs, walls, table, dt, no_record)
+        compute_forces(bodies, pairs, walls, table, dt, 0.0, no_record)
         xc, vc, ac = drive_motion(drive, t0)
         for i in range(n):
             for c in range(3):
@@ -111,7 +114,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
             disp = max(disp, dd * dd)
         # a component moved more than skin/(2 sqrt 3) in some direction: rebuild next step
         moved = 3.0 * disp > skin2
-        fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(bodies, pairs, walls, table, dt, no_record)
+        fwx, fwy, fwz, p_n, p_f, e_f, status, culprit = compute_forces(bodies, pairs, walls, table, dt, dt, no_record)
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         if coupled:
             advance_structure(drive, t, dt, fd)
@@ -144,6 +147,8 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         sums[0] += vc * fd * dt
         sums[1] += p_n * dt
         sums[2] += p_f * dt
+        if keeps_history(table.tangential):
+            sums[2] += e_f
         sums[3] += fd * dt
         if bad:
             return STATUS_NAN, s + 1, culprit
