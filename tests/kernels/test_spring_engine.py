@@ -183,10 +183,13 @@ def test_the_tanh_law_stops_the_contact_point_where_the_spring_reverses_it():
 
 # ------------------------------------------------------------------ a sticking contact, energy
 
-def test_a_sticking_contact_gives_back_what_it_stored():
+@pytest.mark.parametrize("integrator", ["verlet", "gear"])
+def test_a_sticking_contact_gives_back_what_it_stored(integrator):
     """A sphere resting on the floor, given a small tangential speed v0 (no spin): the spring takes
     the contact point's motion without slipping and rings at omega = sqrt(k_t / m_t), 1/m_t =
-    1/m + r^2/I; undamped, it gives back all it stored, period after period."""
+    1/m + r^2/I; undamped, it gives back all it stored, period after period (measured: 0.9998 / 0.9992
+    of the amplitude after ten periods, Verlet / Gear; with the slip at the end of the step as the
+    increment instead of the trapezoid, 0.72 / 0.11, a loss the ledger would not see)."""
     k = hertz_stiffness(ES, R)
     delta = (M * G / k) ** (2 / 3)  # the static overlap
     kt = spring_stiffness(GS, R, delta)
@@ -195,7 +198,7 @@ def test_a_sticking_contact_gives_back_what_it_stored():
     periods = 10
     T = periods * 2 * math.pi / omega
     case = still_case([[0.0, R - delta, 0.0]], [[v0, 0.0, 0.0]], duration=T, mu=0.1, gravity=G, eps=0.9,
-                      sample_rate=40 * omega / (2 * math.pi))
+                      sample_rate=40 * omega / (2 * math.pi), integrator=integrator)
     case = dataclasses.replace(_law(case, tangential_damping=False),
                                recording=Recording(sample_rate=40 * omega / (2 * math.pi),
                                                    trajectory_fps=40 * omega / (2 * math.pi)))
@@ -258,3 +261,26 @@ def test_the_history_is_dropped_when_a_contact_opens(integrator):
     # the ledger (what the dropped springs held counted as dissipated) closes as with tanh: measured
     # 8.2e-3 / 3.6e-3 (Verlet / Gear; tanh 1.1e-2 / 2.1e-3), the impacts' resolution at the default step
     assert res.energy.friction[-1] > 0 and res.energy.balance_error() < 0.015
+
+
+@pytest.mark.parametrize("integrator", ["verlet", "gear"])
+@pytest.mark.parametrize("where", ["curved", "baffle 1", "x_min"])
+def test_the_spring_holds_on_the_curved_wall_a_baffle_and_a_coated_wall(where, integrator):
+    # a sphere leaning (gravity tilted 20 deg towards -x) on the cylinder's curved wall, on a
+    # baffle's face, on a TPU-coated end wall, set sliding along z: a spring on that wall and the floor
+    from pdamper.geometry import Cylinder
+    from pdamper.geometry.baffles import Baffle
+    from pdamper.materials import TPU
+
+    setup = {"curved": (dict(container=Cylinder()), -(0.039 - R)),
+             "baffle 1": (dict(baffles=(Baffle(position=0.0),)), 0.001 + R),
+             "x_min": (dict(wall_materials={"x_min": TPU}), -0.1 + R)}
+    kw, x0 = setup[where]
+    case = still_case([[x0 + 1e-7, R, 0.0]], [[0.0, 0.0, 0.05]], duration=0.05, mu=0.1, gravity=G,
+                      tilt=(0.0, 0.0, math.radians(20)), integrator=integrator, **kw)
+    sim = Simulation(_law(case))
+    res = sim.run()
+    names = sim.engine.wall_names
+    kt = sim.walls.tangential[0, :, 3]
+    assert kt[names.index(where)] > 0 and kt[names.index("floor")] > 0  # both springs live at the end
+    assert res.energy.friction[-1] > 0 and res.energy.balance_error() < 5e-3
