@@ -234,13 +234,9 @@ def _spring_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, t
     fx, fy, fz, sx, sy, sz, loss = spring_force(kt, spring_damping(hist[row, 4], kt, m_star), lim, hist[row, 0],
                                                 hist[row, 1], hist[row, 2], hist[row, 3], hist[row, 5], hist[row, 6],
                                                 hist[row, 7], nx, ny, nz, tx, ty, tz, step)
-    hist[row, 0] = sx
-    hist[row, 1] = sy
-    hist[row, 2] = sz
-    hist[row, 3] = kt
-    hist[row, 5] = tx
-    hist[row, 6] = ty
-    hist[row, 7] = tz
+    # what the next step starts from: the spring, the stiffness it is held at, the slip now
+    hist[row, 0], hist[row, 1], hist[row, 2], hist[row, 3] = sx, sy, sz, kt
+    hist[row, 5], hist[row, 6], hist[row, 7] = tx, ty, tz
     return fx, fy, fz, 0.0, lim, 0.0, loss
 
 
