@@ -64,16 +64,16 @@ def test_friction_follows_only_the_pushing_part_of_the_force(tangential):
     k, m = 4 / 3 * 2.9e9 * math.sqrt(0.005), 4.1e-3
     c = touch(float(damping_ratio(0.5)), 0.3, k, m)
     # a spring that holds a force along x from the steps before (the tanh law ignores it)
-    hist = np.zeros((1, 8))
+    hist = np.zeros((1, 5))
     hist[0, :4] = (-0.01, 0.0, 0.0, 1e5)
     # separating fast at a tiny overlap: the damping pulls, F_N < 0, and there is no friction
     fn, ftx, fty, ftz, ff, lim, v_in, d, p_n, p_f, e_f = contact(table, hist, 0, 0, 0.5, k, 0.005, m, 1.0, 1e-9, -0.3,
-                                                                 0.3, c, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0, 0.01, 1e-6,
-                                                                 1e-6)
+                                                                 0.3, c, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0, 0.01, 1e-8,
+                                                                 0.0, 0.0, 1e-6, 1e-6)
     assert fn < 0 and ff == 0.0 and p_f == 0.0 and (ftx, fty, ftz) == (0.0, 0.0, 0.0)
     assert p_n > 0  # the pulling damping still dissipates: F_damp delta_dot > 0
     # approaching: it pushes, and friction acts against the slip
     hist[0, :4] = (-0.01, 0.0, 0.0, 1e5)
     fn, ftx, *_ = contact(table, hist, 0, 0, 0.5, k, 0.005, m, 1.0, 1e-9, 0.3, 0.3, c, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0,
-                          0.01, 1e-6, 1e-6)
+                          0.01, 1e-8, 0.0, 0.0, 1e-6, 1e-6)
     assert fn > 0 and ftx < 0

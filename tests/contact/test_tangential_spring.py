@@ -22,10 +22,12 @@ N = (0.0, 1.0, 0.0)  # the floor's normal
 
 
 def _step(state, kt, lim, slip, dt, gt=0.0, normal=N):
-    """Advance ``state = (F_s, kt_old, slip_old)`` by one step; returns (force, new state, loss)."""
-    (sx, sy, sz), kt_old, (ux, uy, uz) = state
-    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, sx, sy, sz, kt_old, ux, uy, uz, *normal, *slip, dt)
-    return np.array([fx, fy, fz]), ((sx, sy, sz), kt, tuple(slip)), loss
+    """Advance ``state = (F_s, kt_old)`` by one step of ``dt`` at the slip ``slip`` (the contact
+    point moving by slip dt); returns (force, new state, loss)."""
+    (sx, sy, sz), kt_old = state
+    ds = np.array(slip) * dt
+    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, sx, sy, sz, kt_old, *normal, *ds, *slip, dt)
+    return np.array([fx, fy, fz]), ((sx, sy, sz), kt), loss
 
 
 def test_the_registry_names_both_laws_with_the_papers_first():
@@ -57,17 +59,16 @@ def test_the_damping_ratio_is_liggghts_gamma_t():
 
 
 def test_a_sticking_spring_returns_what_it_stored_to_round_off():
-    # load along x, then along z, then back along the same path, below the cap, at constant
-    # stiffness; the slip starts and ends at rest, so the displacement (the slip's trapezoid) returns to 0
+    # load along x, then along z, then back along the same path, below the cap, at constant stiffness
     lim, dt = 1.0, 1e-6
     path = [(2e-3, 0.0, 0.0)] * 200 + [(0.0, 0.0, -1e-3)] * 100
-    path = [Z] + path + [tuple(-v for v in s) for s in reversed(path)] + [Z]
-    state, work, loss, peak, off = (Z, 0.0, Z), 0.0, 0.0, 0.0, 0.0
+    path = path + [tuple(-v for v in s) for s in reversed(path)]
+    state, work, loss, peak, off = (Z, 0.0), 0.0, 0.0, 0.0, 0.0
     for slip in path:
-        f_old, u = np.array(state[0]), np.array(state[2] if state[1] > 0 else slip)
+        f_old = np.array(state[0])
         f, state, q = _step(state, KT, lim, slip, dt)
         # the work the bodies do on the spring: the step's mean spring force over its displacement
-        work -= 0.5 * (f_old + f) @ (0.5 * (u + np.array(slip)) * dt)
+        work -= 0.5 * (f_old + f) @ (np.array(slip) * dt)
         loss += q
         stored = spring_energy(*f, KT)
         peak = max(peak, stored)
@@ -80,7 +81,7 @@ def test_a_sticking_spring_returns_what_it_stored_to_round_off():
 
 def test_unloading_scales_the_force_down_and_creates_no_energy():
     lim, dt = 10.0, 1e-6
-    state = (Z, 0.0, Z)
+    state = (Z, 0.0)
     for _ in range(100):
         _, state, _ = _step(state, KT, lim, (1e-3, 0.0, 0.0), dt)  # load to 0.02 N
     held = state[0][0]
@@ -99,7 +100,7 @@ def test_unloading_scales_the_force_down_and_creates_no_energy():
 
 def test_gross_slip_holds_the_cap_and_dissipates_mu_fn_times_the_slip():
     lim, dt, v = 0.05, 1e-6, 0.1
-    state, loss = (Z, 0.0, Z), 0.0
+    state, loss = (Z, 0.0), 0.0
     for k in range(2000):
         f, state, q = _step(state, KT, lim, (v, 0.0, 0.0), dt)
         if k >= 100:  # sliding on the cap since k_t v dt k > lim
@@ -110,7 +111,7 @@ def test_gross_slip_holds_the_cap_and_dissipates_mu_fn_times_the_slip():
 
 def test_a_falling_normal_force_lets_the_spring_slip_back_onto_the_cap():
     dt = 1e-6
-    state = (Z, 0.0, Z)
+    state = (Z, 0.0)
     for _ in range(100):
         _, state, _ = _step(state, KT, 1.0, (1e-3, 0.0, 0.0), dt)
     e0 = spring_energy(*state[0], KT)
@@ -124,7 +125,7 @@ def test_a_falling_normal_force_lets_the_spring_slip_back_onto_the_cap():
 
 def test_the_stored_force_turns_with_the_contact_and_keeps_its_magnitude():
     dt = 1e-6
-    state = (Z, 0.0, Z)
+    state = (Z, 0.0)
     for _ in range(100):
         _, state, _ = _step(state, KT, 1.0, (1e-3, 0.0, 0.0), dt)
     held = np.array(state[0])
@@ -139,11 +140,11 @@ def test_damping_acts_on_the_slip_and_never_lifts_the_total_over_the_cap():
     dt, m = 1e-6, 4.1e-3
     gt = spring_damping(float(damping_ratio(0.5)), KT, m)
     # below the cap: spring plus -gt v, the damping power gt v^2 dissipated
-    f, state, q = _step((Z, 0.0, Z), KT, 1.0, (1e-2, 0.0, 0.0), dt, gt=gt)
+    f, state, q = _step((Z, 0.0), KT, 1.0, (1e-2, 0.0, 0.0), dt, gt=gt)
     assert f[0] == pytest.approx(-KT * 1e-2 * dt - gt * 1e-2, rel=1e-12)
     assert q == pytest.approx(gt * 1e-4 * dt, rel=1e-12)
     # near the cap the damping gives way: |F| = lim exactly
-    f, state, q = _step((Z, 0.0, Z), KT, 0.01, (0.1, 0.0, 0.0), dt, gt=gt)
+    f, state, q = _step((Z, 0.0), KT, 0.01, (0.1, 0.0, 0.0), dt, gt=gt)
     assert np.linalg.norm(f) == pytest.approx(0.01, rel=1e-12)
 
 
@@ -159,11 +160,11 @@ def test_the_force_never_exceeds_the_cap_and_no_step_creates_energy(x, lim, gt):
     slip = np.array(x[3:6]) * 0.5
     slip -= (slip @ normal) * normal
     stored = np.array(x[6:9]) * lim
-    kt_old = KT * (1.0 + x[9])
-    kt = KT * (1.0 + x[10])
-    u = np.array(x[11:14]) * 0.5
+    kt_old = KT * (1.5 + x[9])
+    kt = KT * (1.5 + x[10])
+    ds = np.array(x[11:14]) * 1e-6
     dt = 1e-6 * (1.0 + x[14])
-    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, *stored, kt_old, *u, *normal, *slip, dt)
+    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, *stored, kt_old, *normal, *ds, *slip, dt)
     assert math.hypot(fx, fy, fz) <= lim * (1 + 1e-12) + 1e-300
     assert math.hypot(sx, sy, sz) <= lim * (1 + 1e-12) + 1e-300
     assert loss >= -1e-12 * (spring_energy(*stored, kt_old) + lim * lim / kt + gt * (slip @ slip) * dt)

@@ -35,14 +35,15 @@ point relative to *j*'s, spins included):
    current Coulomb limit (the normal force fell) slips back onto it, and the energy it loses is
    dissipated too.
 
-4. *Increment* by the slip's trapezoid over the step, on the current tangent plane:
-   :math:`\Delta\mathbf s = \tfrac12(\mathbf v_t^\text{old} + \mathbf v_t)\,\Delta t`,
-   :math:`\mathbf F_\text{tr} = \mathbf F_s - k_t\,\Delta\mathbf s`, with
-   :math:`\mathbf v_t^\text{old}` the slip of the evaluation that stored the force. The trapezoid
-   follows the contact point's displacement as the integrator moves the positions (velocity
-   Verlet's drift is the mean of its full-step velocities); the slip at the end of the step alone
-   (:math:`\mathbf v_t\,\Delta t`) would lead it by half a step and act as a numerical damping
-   :math:`k_t\Delta t/2` -- about 9 % of critical at pdamper's Verlet step.
+4. *Increment* by the displacement of the contact point over the step, on the current tangent
+   plane: :math:`\mathbf F_\text{tr} = \mathbf F_s - k_t\,\Delta\mathbf s`, with
+   :math:`\Delta\mathbf s` the motion of *i*'s contact point relative to *j*'s that the integrator
+   gave the bodies since the spring was last advanced (their displacements and rotations, the
+   kernels' ``moved``: velocity Verlet's drift; Gear's predicted state against the one the springs
+   were last advanced at). The spring then follows the positions exactly; a slip times the step
+   (:math:`\mathbf v_t\,\Delta t` at the end of the step, as the integrator's velocity) would lead
+   them by half a step and act as a numerical damping :math:`k_t\Delta t/2` that no ledger sees,
+   and under Gear would not follow its predicted positions either.
 
 5. *Coulomb cap* on the pushing part of the normal force: if :math:`|\mathbf F_\text{tr}| >
    \mu\max(F_N, 0) = L` the spring is scaled back onto the cap (gross slip), and the slip beyond the
@@ -97,9 +98,8 @@ for cross-code comparisons:
 - LIGGGHTS reads :math:`\beta` from one restitution per type pair; here from the contact's COR
   law at its approach speed (the same for a constant COR).
 - LIGGGHTS' velocity Verlet advances the displacement by the slip at the half-step velocity times
-  the step (the drift's own displacement); pdamper by the trapezoid of the slips at the ends of the
-  step (step 4: the same to second order under Verlet, and the form that serves Gear too, whose
-  forces are evaluated at its predicted state).
+  the step, which is its drift's displacement; pdamper by the drift's displacement too (Verlet), or
+  by Gear's predicted motion (step 4).
 
 **Scalar functions, one law for every target.** :func:`spring_force` and the small functions
 beside it take and return plain floats, use the ``math`` module only and raise nothing, so the CPU
@@ -174,61 +174,50 @@ def spring_energy(fx, fy, fz, kt):
 
 
 @njit
-def spring_force(kt, gt, lim, sx, sy, sz, kt_old, ux, uy, uz, nx, ny, nz, tx, ty, tz, dt):
+def spring_force(kt, gt, lim, sx, sy, sz, kt_old, nx, ny, nz, dx, dy, dz, tx, ty, tz, dt):
     """One step of the tangential spring at one contact (the module docstring's steps 2-6).
 
     Parameters (all floats): the contact's stiffness ``kt`` [N/m] (:func:`spring_stiffness`) and
     damping coefficient ``gt`` [N s/m] (:func:`spring_damping`) now; the Coulomb limit
-    ``lim = mu max(F_N, 0)`` [N]; the stored spring force ``(sx, sy, sz)`` [N] on body *i*, the
-    stiffness ``kt_old`` [N/m] it was stored with and the slip ``(ux, uy, uz)`` [m/s] of the
-    evaluation that stored it (all 0 for a new contact); the unit normal ``(nx, ny, nz)``; the slip
-    ``(tx, ty, tz)`` [m/s] now (tangential velocity of *i*'s contact point relative to *j*'s,
-    without normal part); the step ``dt`` [s] since the stored evaluation (0: the force at the
-    current state, the spring not advanced).
+    ``lim = mu max(F_N, 0)`` [N]; the stored spring force ``(sx, sy, sz)`` [N] on body *i* and the
+    stiffness ``kt_old`` [N/m] it was stored with (both 0 for a new contact); the unit normal
+    ``(nx, ny, nz)``; the displacement ``(dx, dy, dz)`` [m] of *i*'s contact point relative to
+    *j*'s since the spring was stored (its normal part is removed here; zeros: the force at the
+    current state, the spring not advanced); the slip ``(tx, ty, tz)`` [m/s] now (tangential
+    velocity of *i*'s contact point relative to *j*'s, without normal part) and the step ``dt``
+    [s], for the damping.
 
     Returns ``(fx, fy, fz, sx, sy, sz, loss)``: the tangential force on body *i* [N] (spring plus
-    damping, ``|F| <= lim``), the new stored spring force [N] (store it with ``kt`` and the slip
-    ``t``), and the energy [J] the step dissipated (change of stiffness, slip, damping; >= 0 up to
-    round-off).
+    damping, ``|F| <= lim``), the new stored spring force [N] (store it with ``kt``), and the
+    energy [J] the step dissipated (change of stiffness, slip, damping; >= 0 up to round-off).
     """
     if not lim > 0.0:
         # the contact does not push: no friction, and what the spring held is dissipated
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, spring_energy(sx, sy, sz, kt_old)
     loss = 0.0
     s2 = sx * sx + sy * sy + sz * sz
-    if kt_old > 0.0:
-        if s2 > 0.0:
-            # onto the current tangent plane, keeping the magnitude
-            sn = sx * nx + sy * ny + sz * nz
-            sx -= sn * nx
-            sy -= sn * ny
-            sz -= sn * nz
-            p2 = sx * sx + sy * sy + sz * sz
-            f = math.sqrt(s2 / p2) if p2 > 0.0 else 0.0
-            if kt < kt_old:
-                # unloading: the force follows the stiffness (Mindlin-Deresiewicz)
-                f *= kt / kt_old
-            # a normal force that fell below what the spring holds: it slips back to the cap
-            p2 *= f * f
-            if p2 > lim * lim:
-                f *= lim / math.sqrt(p2)
-            sx *= f
-            sy *= f
-            sz *= f
-            e0 = 0.5 * s2 / kt_old
-            s2 = sx * sx + sy * sy + sz * sz
-            loss = e0 - 0.5 * s2 / kt
-    else:
-        # a new contact: the slip has been what it is now
-        ux = tx
-        uy = ty
-        uz = tz
-    # the increment over the step: the slip's trapezoid, on the current tangent plane (so that the
-    # spring follows the contact point's displacement, as the positions do, and stores no
-    # numerical damping)
-    dx = 0.5 * (ux + tx) * dt
-    dy = 0.5 * (uy + ty) * dt
-    dz = 0.5 * (uz + tz) * dt
+    if s2 > 0.0 and kt_old > 0.0:
+        # onto the current tangent plane, keeping the magnitude
+        sn = sx * nx + sy * ny + sz * nz
+        sx -= sn * nx
+        sy -= sn * ny
+        sz -= sn * nz
+        p2 = sx * sx + sy * sy + sz * sz
+        f = math.sqrt(s2 / p2) if p2 > 0.0 else 0.0
+        if kt < kt_old:
+            # unloading: the force follows the stiffness (Mindlin-Deresiewicz)
+            f *= kt / kt_old
+        # a normal force that fell below what the spring holds: it slips back to the cap
+        p2 *= f * f
+        if p2 > lim * lim:
+            f *= lim / math.sqrt(p2)
+        sx *= f
+        sy *= f
+        sz *= f
+        e0 = 0.5 * s2 / kt_old
+        s2 = sx * sx + sy * sy + sz * sz
+        loss = e0 - 0.5 * s2 / kt
+    # the increment by the contact point's displacement on the current tangent plane
     dn = dx * nx + dy * ny + dz * nz
     ex = sx - kt * (dx - dn * nx)
     ey = sy - kt * (dy - dn * ny)

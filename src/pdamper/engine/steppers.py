@@ -84,7 +84,8 @@ class VerletStepper(_Stepper):
         #: steps per sample interval, and the step [s] that divides the interval exactly
         self.sub = max(1, int(np.ceil(interval / engine.dt - 1e-9)))
         self.dt = interval / self.sub
-        self.state = VerletState(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+        self.state = VerletState(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)),
+                                 np.zeros((n, 6)))
 
     @property
     def sample_interval(self) -> float:
@@ -136,7 +137,7 @@ class VerletStepper(_Stepper):
         span = VerletSpan(steps=0, dt=1.0, t0=0.0, step0=0, sub=1, record=False, skip_samples=0, prime=False)
         return [(run_verlet, (span, b, self.state, e.pairs, e.walls, e.search, e.table, e.drive, samples)),
                 (record_sample, (0, samples, b, e.pairs, e.walls, e.drive, 0.0, 0.0)),
-                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, no_friction_record())),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, self.state.moved, no_friction_record())),
                 (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
 
     def start_drive(self, jump, a0) -> None:
@@ -166,7 +167,8 @@ class GearStepper(_Stepper):
                                integrands=np.zeros(4),
                                saved_pair_history=np.zeros((SAVED_HISTORY_ROWS, engine.pairs.second.shape[0])),
                                saved_wall_history=np.zeros((SAVED_HISTORY_ROWS,) + engine.walls.approach_speed.shape),
-                               saved_structure=np.zeros_like(engine.drive.state), friction=self._record(None))
+                               saved_structure=np.zeros_like(engine.drive.state), friction=self._record(None),
+                               anchor=np.zeros((n, 6)), moved=np.zeros((n, 6)))
 
     def _record(self, old):
         """The friction record, sized for every listed pair, every sphere on the floor and every
@@ -231,7 +233,7 @@ class GearStepper(_Stepper):
                 # one-sphere view would be typed 'C')
                 (_implicit_friction, (b, view, view, 1.0, s.friction)),
                 (_predict, (s.nordsieck, s.predicted, 1.0, 1.0, b)),
-                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, s.friction)),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, s.moved, s.friction)),
                 (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
 
     def start_drive(self, jump, a0) -> None:

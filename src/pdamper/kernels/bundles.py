@@ -57,10 +57,9 @@ FRAME_COLUMNS = 9
 #: Columns of a contact's tangential history (:attr:`PairList.tangential`, :attr:`WallList.tangential`),
 #: kept by a tangential law with history (the spring, :mod:`pdamper.contact.tangential_spring`): the
 #: stored spring force on body i (x, y, z) [N], the stiffness it was stored with [N/m] (0: no
-#: spring), the tangential damping ratio fixed when the contact started [-], the slip of the
-#: evaluation that stored it (x, y, z) [m/s]. All 0 for a contact that is not touching, and for
-#: every contact under a law without history.
-TANGENTIAL_COLUMNS = ("force_x", "force_y", "force_z", "stiffness", "damping_ratio", "slip_x", "slip_y", "slip_z")
+#: spring), the tangential damping ratio fixed when the contact started [-]. All 0 for a contact
+#: that is not touching, and for every contact under a law without history.
+TANGENTIAL_COLUMNS = ("force_x", "force_y", "force_z", "stiffness", "damping_ratio")
 #: Rows of :attr:`GearState.saved_pair_history` (and of ``saved_wall_history``): the approach
 #: speed, the damping parameter, then the tangential history's columns.
 SAVED_HISTORY_ROWS = 2 + len(TANGENTIAL_COLUMNS)
@@ -95,12 +94,12 @@ class PairList(NamedTuple):
     stiffness: np.ndarray        #: (capacity,) Hertz k = 4/3 E* sqrt(R*) [N/m^1.5]
     material_pair: np.ndarray    #: (capacity,) int: row of the pair in the contact table
     friction_cap: np.ndarray     #: (capacity,) FRICTION_CAP x reduced mass m* [kg] (Verlet's friction guard)
-    tangential: np.ndarray       #: (capacity, 8) history: the tangential law's, columns TANGENTIAL_COLUMNS
+    tangential: np.ndarray       #: (capacity, 5) history: the tangential law's, columns TANGENTIAL_COLUMNS
     next_row: np.ndarray         #: (N + 1,) int, scratch of the rebuild
     next_second: np.ndarray      #: (capacity,) int, scratch
     next_approach_speed: np.ndarray  #: (capacity,) scratch
     next_damping: np.ndarray     #: (capacity,) scratch
-    next_tangential: np.ndarray  #: (capacity, 8) scratch
+    next_tangential: np.ndarray  #: (capacity, 5) scratch
 
 
 class WallList(NamedTuple):
@@ -121,7 +120,7 @@ class WallList(NamedTuple):
     approach_speed: np.ndarray   #: (N, W) history: v_in [m/s]; 0 = not touching
     damping: np.ndarray          #: (N, W) history: the damping law's parameter
     effective_radius: np.ndarray  #: (N, W) R* [m] (flat wall r; concave wall 1/(1/r - 1/R))
-    tangential: np.ndarray       #: (N, W, 8) history: the tangential law's, columns TANGENTIAL_COLUMNS
+    tangential: np.ndarray       #: (N, W, 5) history: the tangential law's, columns TANGENTIAL_COLUMNS
 
 
 class DirectSearch(NamedTuple):
@@ -219,12 +218,15 @@ class FrictionRecord(NamedTuple):
 
 
 class VerletState(NamedTuple):
-    """Velocity Verlet's accelerations, now and one step back (for the velocity prediction)."""
+    """Velocity Verlet's accelerations, now and one step back (for the velocity prediction), and
+    what the last drift moved each sphere by."""
 
     acceleration: np.ndarray
     angular_acceleration: np.ndarray
     previous_acceleration: np.ndarray
     previous_angular_acceleration: np.ndarray
+    moved: np.ndarray            #: (N, 6) the last drift's displacement [m] and rotation [rad] (a
+                                 #: tangential law with history advances its springs by it; else unused)
 
 
 class GearState(NamedTuple):
@@ -239,6 +241,9 @@ class GearState(NamedTuple):
     saved_wall_history: np.ndarray   #: (SAVED_HISTORY_ROWS, N, W) wall history before the step
     saved_structure: np.ndarray  #: the coupled structure's state before the step (the shape of Drive.state)
     friction: FrictionRecord
+    anchor: np.ndarray           #: (N, 6) the predicted position and angle the springs were last advanced at
+    moved: np.ndarray            #: (N, 6) the prediction of the step less ``anchor``: what the springs advance by
+                                 #: (both used by a tangential law with history only)
 
 
 class VerletSpan(NamedTuple):

@@ -163,7 +163,7 @@ def tabulated(table, tab, v, mp, r_star, m_star):
 
 @njit(inline="always")
 def contact(table, hist, row, mp, mu, k, r_star, m_star, cap, delta, delta_dot, v_in, d, nx, ny, nz, tx, ty, tz, vt,
-            dt, step):
+            dx, dy, dz, dt, step):
     """The contact law at one contact.
 
     Parameters: the contact table and the contact's row ``row`` of the tangential history ``hist``
@@ -173,9 +173,10 @@ def contact(table, hist, row, mp, mu, k, r_star, m_star, cap, delta, delta_dot, 
     (:data:`FRICTION_CAP` x m*); its overlap ``delta`` [m] and approach rate ``delta_dot`` [m/s]
     (> 0 approaching); its history ``(v_in, d)`` (``v_in = 0``: a new contact); the unit normal
     ``n`` (from i to j; at a wall into the container) and the tangential slip ``t`` [m/s] at the
-    contact point with its length ``vt`` (the caller's: the floor's slip has no y part); the step
-    ``dt`` [s] of the tanh law's friction guard (Gear passes a vanishing step: no guard) and the
-    step ``step`` [s] a spring advances over (0: none, the evaluation that primes a run).
+    contact point with its length ``vt`` (the caller's: the floor's slip has no y part); the
+    displacement ``(dx, dy, dz)`` [m] of i's contact point relative to j's since a spring was last
+    advanced (only a law with history reads it); the step ``dt`` [s] of the tanh law's friction
+    guard (Gear passes a vanishing step: no guard) and the step ``step`` [s] of the spring's damping.
 
     Returns ``(F_N, ft_x, ft_y, ft_z, c, lim, v_in, d, P_damp, P_friction, E_friction)``: the normal
     force [N] (pushing the bodies apart when positive), the tangential force on body i [N], the
@@ -193,12 +194,12 @@ def contact(table, hist, row, mp, mu, k, r_star, m_star, cap, delta, delta_dot, 
         d = damping_at_touch(table, delta_dot, mp, k, r_star, m_star)
     fn, fdamp = law_force(table.law, k, delta, delta_dot, d)
     ftx, fty, ftz, c, lim, p_f, e_f = friction(table.tangential, table, hist, row, mp, mu, r_star, m_star, cap, fn,
-                                               delta, touched, v_in, nx, ny, nz, tx, ty, tz, vt, dt, step)
+                                               delta, touched, v_in, nx, ny, nz, tx, ty, tz, vt, dx, dy, dz, dt, step)
     return fn, ftx, fty, ftz, c, lim, v_in, d, fdamp * delta_dot, p_f, e_f
 
 
 def friction(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-             vt, dt, step):
+             vt, dx, dy, dz, dt, step):
     """The tangential law of marker ``law`` at one contact (compiled kernels only: resolved by the
     type of ``law``). Returns ``(ft_x, ft_y, ft_z, c, lim, P_friction, E_friction)`` as
     :func:`contact` describes them."""
@@ -211,9 +212,9 @@ def keeps_history(law):
     raise NotImplementedError("keeps_history is compiled into the kernels")
 
 
-@njit(inline="always")
+@njit
 def _tanh_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-                   vt, dt, step):
+                   vt, dx, dy, dz, dt, step):
     """The tanh law (:mod:`pdamper.contact.friction_tanh`), with Verlet's friction guard."""
     ff = friction_factor(mu, table.tau, vt) * max(fn, 0.0)
     if ff * dt > cap:
@@ -221,22 +222,21 @@ def _tanh_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, tou
     return -ff * tx, -ff * ty, -ff * tz, ff, mu * fn, ff * vt * vt, 0.0
 
 
-@njit(inline="always")
+@njit
 def _spring_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty,
-                     tz, vt, dt, step):
+                     tz, vt, dx, dy, dz, dt, step):
     """The tangential spring (:mod:`pdamper.contact.tangential_spring`) on the contact's row of
     ``hist``: its damping ratio fixed when the contact starts (or is struck harder), the stored
-    force advanced by ``step``."""
+    force advanced by the contact point's displacement ``d``."""
     kt = spring_stiffness(table.shear_modulus[mp], r_star, delta)
     if touched:
         hist[row, 4] = tabulated(table, table.tangential_damping, v_in, mp, r_star, m_star)
     lim = mu * max(fn, 0.0)
     fx, fy, fz, sx, sy, sz, loss = spring_force(kt, spring_damping(hist[row, 4], kt, m_star), lim, hist[row, 0],
-                                                hist[row, 1], hist[row, 2], hist[row, 3], hist[row, 5], hist[row, 6],
-                                                hist[row, 7], nx, ny, nz, tx, ty, tz, step)
-    # what the next step starts from: the spring, the stiffness it is held at, the slip now
+                                                hist[row, 1], hist[row, 2], hist[row, 3], nx, ny, nz, dx, dy, dz, tx, ty,
+                                                tz, step)
+    # what the next step starts from: the spring and the stiffness it is held at
     hist[row, 0], hist[row, 1], hist[row, 2], hist[row, 3] = sx, sy, sz, kt
-    hist[row, 5], hist[row, 6], hist[row, 7] = tx, ty, tz
     return fx, fy, fz, 0.0, lim, 0.0, loss
 
 
@@ -246,13 +246,13 @@ _FRICTION_KERNELS = {TanhFriction: _tanh_friction, SpringFriction: _spring_frict
 
 @overload(friction, inline="always", jit_options=JIT)
 def _friction(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-              vt, dt, step):
+              vt, dx, dy, dz, dt, step):
     kernel = _FRICTION_KERNELS[_tangential_law_of(law).marker]
 
     def impl(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-             vt, dt, step):
+             vt, dx, dy, dz, dt, step):
         return kernel(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty,
-                      tz, vt, dt, step)
+                      tz, vt, dx, dy, dz, dt, step)
 
     return impl
 

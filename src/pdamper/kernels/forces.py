@@ -24,8 +24,8 @@ from ..geometry.walls import wall_distance
 from ..jit import njit
 from .bundles import FrictionRecord
 from ..contact.tangential_spring import spring_energy
-from .contact import (FRICTION_CAP, contact, drop_history, floor_slip, note_friction_row, pair_point_velocity, scatter,
-                      wall_point_velocity)
+from .contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, note_friction_row,
+                      pair_point_velocity, scatter, wall_point_velocity)
 
 __all__ = ["compute_forces", "elastic_energy", "no_friction_record", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN",
            "STATUS_LIST_OVERFLOW", "STATUS_WALL_OVERFLOW"]
@@ -45,14 +45,16 @@ def no_friction_record():
 
 
 @njit
-def compute_forces(bodies, pairs, walls, table, dt, step, record):
+def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
     """Zero and fill ``bodies.force`` [N] and ``bodies.torque`` [N m]; update the contact history
     in ``pairs`` and ``walls`` in place.
 
     ``dt`` [s] is the current step of the tanh law's friction guard
     (:data:`~pdamper.kernels.contact.FRICTION_CAP`; Gear passes a vanishing step), ``step`` [s] the
-    step a tangential law with history (the spring) advances its contacts over (the step being
-    taken; 0 for the evaluation that primes a run). Every touching friction contact is written into ``record``
+    step being taken (a spring's damping), ``moved`` (N, 6) what each sphere moved [m] and turned
+    [rad] since a tangential law with history last advanced its springs (the contact points'
+    displacements follow from it; zeros for the evaluation that primes a run; read by such a law
+    only). Every touching friction contact is written into ``record``
     (:class:`~pdamper.kernels.bundles.FrictionRecord`; pairs, then the floor, then the other walls,
     ``record.ends`` their end rows) while it has room: its capacity (listed pairs + spheres + wall
     candidates) is enough by construction, and a record of no rows (Verlet) takes none.
@@ -83,6 +85,8 @@ def compute_forces(bodies, pairs, walls, table, dt, step, record):
     pcap = pairs.friction_cap
     pth = pairs.tangential
     tlaw = table.tangential
+    spring = keeps_history(tlaw)
+    mv = moved
     wall_kind = walls.kind
     wall_data = walls.data
     wvin = walls.approach_speed
@@ -149,11 +153,17 @@ def compute_forces(bodies, pairs, walls, table, dt, step, record):
         ty = cvy - cn * ny
         tz = cvz - cn * nz
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        dsx = dsy = dsz = 0.0
+        if spring:
+            # the contact points' relative displacement, from the spheres' (the slip's kinematics)
+            dsx, dsy, dsz, dsn = pair_point_velocity(
+                mv[i, 0] - mv[j, 0], mv[i, 1] - mv[j, 1], mv[i, 2] - mv[j, 2], ri * mv[i, 3] + rj * mv[j, 3],
+                ri * mv[i, 4] + rj * mv[j, 4], ri * mv[i, 5] + rj * mv[j, 5], nx, ny, nz)
         cap = pcap[a]
         mp = pmp[a]
         fn, ftx, fty, ftz, ff, lim, pvin[a], pd[a], pn, pf, ef = contact(
             table, pth, a, mp, friction[mp], pk[a], ri * rj / cut, cap / FRICTION_CAP, cap, delta, ddot, pvin[a], pd[a],
-            nx, ny, nz, tx, ty, tz, vt, dt, step)
+            nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         p_n += pn
         p_f += pf
         e_f += ef
@@ -190,11 +200,14 @@ def compute_forces(bodies, pairs, walls, table, dt, step, record):
             wx = omg[i, 0]
             tx, tz = floor_slip(vx, vz, wx, wz, ri)
             vt = math.sqrt(tx * tx + tz * tz)
+            dsx = dsz = 0.0
+            if spring:
+                dsx, dsz = floor_slip(mv[i, 0], mv[i, 2], mv[i, 3], mv[i, 5], ri)
             mi = mass[i]
             mp = wmp[i, floor]
             fn, ftx, fty, ftz, ff, lim, wvin[i, floor], wd[i, floor], pn, pf, ef = contact(
                 table, wth, i * nw + floor, mp, friction[mp], wk[i, floor], wrs[i, floor], mi, FRICTION_CAP * mi, delta,
-                ddot, wvin[i, floor], wd[i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, vt, dt, step)
+                ddot, wvin[i, floor], wd[i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, vt, dsx, 0.0, dsz, dt, step)
             p_n += pn
             p_f += pf
             e_f += ef
@@ -236,11 +249,15 @@ def compute_forces(bodies, pairs, walls, table, dt, step, record):
         ty = cvy - cn * ny
         tz = cvz - cn * nz
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        dsx = dsy = dsz = 0.0
+        if spring:
+            dsx, dsy, dsz, dsn = wall_point_velocity(mv[i, 0], mv[i, 1], mv[i, 2], mv[i, 3], mv[i, 4], mv[i, 5], ri,
+                                                     nx, ny, nz)
         mi = mass[i]
         mp = wmp[i, w]
         fn, ftx, fty, ftz, ff, lim, wvin[i, w], wd[i, w], pn, pf, ef = contact(
             table, wth, i * nw + w, mp, friction[mp], wk[i, w], wrs[i, w], mi, FRICTION_CAP * mi, delta, ddot,
-            wvin[i, w], wd[i, w], nx, ny, nz, tx, ty, tz, vt, dt, step)
+            wvin[i, w], wd[i, w], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         p_n += pn
         p_f += pf
         e_f += ef

@@ -35,10 +35,11 @@ docs/integrators.md). The explicit step's friction cap
 **The tangential spring** (``contact.tangential = "spring"``, :mod:`pdamper.contact.tangential_spring`)
 records no friction rows, so the implicit pass does nothing: the spring is not the stiff slope
 ``mu F_N tau`` that pass exists for, but a stiffness like the normal one, which the error control
-resolves as it resolves the Hertz spring. Each force evaluation advances the springs by the step
-being tried (from the predicted state); a rejected step restores them with the rest of the contact
-history, and the energy a spring dissipates in a step is added to the ledger as it is (not by the
-trapezoid of the powers).
+resolves as it resolves the Hertz spring. Each force evaluation advances the springs by the
+contact points' displacement from the predicted state they were last advanced at to the step's
+prediction (``gear.anchor``, ``gear.moved``), so the springs follow the positions the forces are
+evaluated at; a rejected step restores them with the rest of the contact history, and the energy a
+spring dissipates in a step is added to the ledger as it is (not by the trapezoid of the powers).
 
 **Error control.** ``|Delta|`` estimates the local error of a step [m] (spin DOFs are scaled by
 the radius). A step whose error exceeds 4x the tolerance is rejected and retried shorter; after
@@ -340,6 +341,9 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
     gvec = drive.gravity
     dvec = drive.direction
     coupled = is_coupled(drive)
+    spring = keeps_history(table.tangential)
+    anchor = gear.anchor.reshape(-1)
+    mvf = gear.moved.reshape(-1)
     sums = samples.sums
     ts = span.interval
     tol = span.tolerance
@@ -360,7 +364,9 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         r = rebuild_lists(bodies, pairs, walls, search, table)
         if r < 0:
             return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), 0, -1, t, h, 0
-        compute_forces(bodies, pairs, walls, table, h, 0.0, no_friction_record())
+        for m in range(mvf.shape[0]):
+            mvf[m] = 0.0
+        compute_forces(bodies, pairs, walls, table, h, 0.0, gear.moved, no_friction_record())
         xc, vc, ac = drive_motion(drive, t)
         hs = h
         for i in range(n):
@@ -374,6 +380,10 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
                 for k in range(3, 6):
                     nord[k, i, c] = 0.0
                     nord[k, i, 3 + c] = 0.0
+        if spring:
+            a0 = nord[0].reshape(-1)
+            for m in range(anchor.shape[0]):
+                anchor[m] = a0[m]
     while t < t_end - 1e-12 * ts and steps < span.max_steps:
         # step length: end on the next sample boundary or t_end
         # (a step that would stop just short of the boundary is stretched onto it, so no
@@ -403,6 +413,11 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         # it was, so a rejected step has nothing to restore) and unpack the prediction
         inv_h = 1.0 / hs
         _predict(nord, pred, ratio, inv_h, bodies)
+        if spring:
+            # what the springs advance by: this prediction against the one they were last advanced at
+            p0 = pred[0].reshape(-1)
+            for m in range(mvf.shape[0]):
+                mvf[m] = p0[m] - anchor[m]
         # contact history as it was, in case the step is rejected
         npair = pairs.row[n]
         pvin = pairs.approach_speed
@@ -415,7 +430,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             _copy_tangential(hist_p, hist_w, npair, pairs, walls, True)
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, e_f, status, culprit = compute_forces(bodies, pairs, walls, table, _NO_CAP, hs,
-                                                                       record)
+                                                                       gear.moved, record)
         if coupled:
             _copy_structure(drive.state, gear.saved_structure)
             advance_structure(drive, tn, hs, fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2])
@@ -470,6 +485,10 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             continue
         # accept: correct the prediction into the Nordsieck vector
         _correct(nord, pred, dlt)
+        if spring:
+            p0 = pred[0].reshape(-1)
+            for m in range(anchor.shape[0]):
+                anchor[m] = p0[m]
         t = tn
         steps += 1
         # trapezoidal sums over the (variable) steps: with unequal steps the end-point rule
