@@ -189,11 +189,25 @@ def spring_force(kt, gt, lim, sx, sy, sz, kt_old, nx, ny, nz, dx, dy, dz, tx, ty
 
     Returns ``(fx, fy, fz, sx, sy, sz, loss)``: the tangential force on body *i* [N] (spring plus
     damping, ``|F| <= lim``), the new stored spring force [N] (store it with ``kt``), and the
-    energy [J] the step dissipated (change of stiffness, slip, damping; >= 0 up to round-off).
+    energy [J] the step dissipated (change of stiffness and cap, slip, damping), counted so that
+    the spring's balance over the step is exact with the mean of its forces at the step's ends:
+    ``U(F_new) - U(F_old) + loss = -(F_old + F_new)/2 . ds + (damping loss)``, the work velocity
+    Verlet (and Gear's trapezoidal ledger) does with them. It is the law's own dissipation (each
+    part >= 0) plus the work of the change of the stored force at the step's start over half the
+    step, a term of the order of the step that may be negative.
     """
+    # the displacement on the current tangent plane
+    dn = dx * nx + dy * ny + dz * nz
+    qx = dx - dn * nx
+    qy = dy - dn * ny
+    qz = dz - dn * nz
     if not lim > 0.0:
-        # the contact does not push: no friction, and what the spring held is dissipated
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, spring_energy(sx, sy, sz, kt_old)
+        # the contact does not push: no friction, and what the spring held is dissipated (less the
+        # work it does over the first half of the step, as everywhere below)
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, spring_energy(sx, sy, sz, kt_old) - 0.5 * (sx * qx + sy * qy + sz * qz)
+    ox = sx
+    oy = sy
+    oz = sz
     loss = 0.0
     s2 = sx * sx + sy * sy + sz * sz
     if s2 > 0.0 and kt_old > 0.0:
@@ -217,21 +231,23 @@ def spring_force(kt, gt, lim, sx, sy, sz, kt_old, nx, ny, nz, dx, dy, dz, tx, ty
         e0 = 0.5 * s2 / kt_old
         s2 = sx * sx + sy * sy + sz * sz
         loss = e0 - 0.5 * s2 / kt
-    # the increment by the contact point's displacement on the current tangent plane
-    dn = dx * nx + dy * ny + dz * nz
-    ex = sx - kt * (dx - dn * nx)
-    ey = sy - kt * (dy - dn * ny)
-    ez = sz - kt * (dz - dn * nz)
+        # the stored force changed at the start of the step and the bodies felt the old one over
+        # its first half: the step's energy balance is the mean of the forces at its two ends
+        loss += 0.5 * ((sx - ox) * qx + (sy - oy) * qy + (sz - oz) * qz)
+    # the increment
+    ex = sx - kt * qx
+    ey = sy - kt * qy
+    ez = sz - kt * qz
     e2 = ex * ex + ey * ey + ez * ez
     lim2 = lim * lim
     if e2 > lim2:
-        # gross slip: back onto the cap; the slip beyond the elastic part does the work lim |ds_p|
-        em = math.sqrt(e2)
-        f = lim / em
+        # gross slip: back onto the cap; the slip beyond the elastic part, (F_tr - F_s) / k_t, does
+        # work at the mean of the spring forces before and after the step (lim |ds| when sliding on)
+        f = lim / math.sqrt(e2)
+        loss += 0.5 * (1.0 - f) * ((sx + f * ex) * ex + (sy + f * ey) * ey + (sz + f * ez) * ez) / kt
         sx = ex * f
         sy = ey * f
         sz = ez * f
-        loss += lim * (em - lim) / kt
         s2 = lim2
     else:
         sx = ex
