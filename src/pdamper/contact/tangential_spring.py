@@ -70,14 +70,23 @@ contact point. The history is dropped when the contact opens (the energy still s
 dissipated; the next touch starts from a relaxed spring) and carried over when the neighbour list
 is rebuilt.
 
-**Energy.** The spring's stored energy :math:`|\mathbf F_s|^2/(2k_t)` is part of the ledger's
+**Energy.** The spring's stored energy :math:`U = |\mathbf F_s|^2/(2k_t)` is part of the ledger's
 ``elastic`` column; steps 3, 5 and 6 (and a spring dropped when its contact opens) are its
 ``friction`` column, so the ledger closes as with the default law. The elastic part of the
 increment is conservative: :math:`U(\mathbf F_\text{tr}) - U(\mathbf F_s)` is exactly the work of
 the mean force, :math:`-\tfrac12(\mathbf F_s + \mathbf F_\text{tr})\cdot\Delta\mathbf s`, so a
 contact loaded and unloaded below the cap at constant stiffness returns what it stored, to
-round-off, and under velocity Verlet the spring's energy plus the bodies' kinetic energy telescope
-over the steps as they do for the Hertz spring.
+round-off. The loss of a step is counted so that the balance over the step is exact with the mean
+of the spring forces at its two ends, :math:`U_\text{new} - U_\text{old} + \text{loss} =
+-\tfrac12(\mathbf F_\text{old} + \mathbf F_\text{new})\cdot\Delta\mathbf s` (undamped), which is
+the work velocity Verlet does with them (its kinetic energy and the springs' then telescope over
+the steps, as for the Hertz spring) and what Gear's trapezoidal ledger assumes: the slip at the cap
+works at the mean of the forces before and after the step (exactly :math:`L|\Delta\mathbf s|` when
+sliding on), and a change of the stored force at the step's start (step 3) also does the work of
+the change over half the step. That last term is of the order of the step and may be negative; the
+law's own losses (step 3 alone, with no displacement) never are. Counted at the end-of-step force
+instead, the ledger of a 36-sphere bed was 3-5x worse than with the tanh law at the same step
+(docs/engine.md section 5).
 
 **Where this differs from LIGGGHTS 3.8** (``tangential_model_history.h``, ``normal_model_hertz.h``),
 for cross-code comparisons:
