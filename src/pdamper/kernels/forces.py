@@ -20,10 +20,10 @@ import math
 import numpy as np
 
 from ..contact.hertz import hertz_energy
+from ..contact.tangential_spring import spring_energy
 from ..geometry.walls import wall_distance
 from ..jit import njit
 from .bundles import FrictionRecord
-from ..contact.tangential_spring import spring_energy
 from .contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, note_friction_row,
                       pair_point_velocity, scatter, wall_point_velocity)
 

@@ -426,7 +426,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             hist_p[0, a] = pvin[a]
             hist_p[1, a] = pd[a]
         _copy_wall_history(walls.approach_speed, walls.damping, hist_w[0], hist_w[1], walls)
-        if keeps_history(table.tangential):
+        if spring:
             _copy_tangential(hist_p, hist_w, npair, pairs, walls, True)
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, e_f, status, culprit = compute_forces(bodies, pairs, walls, table, _NO_CAP, hs,
@@ -471,7 +471,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
                 pvin[a] = hist_p[0, a]
                 pd[a] = hist_p[1, a]
             _copy_wall_history(hist_w[0], hist_w[1], walls.approach_speed, walls.damping, walls)
-            if keeps_history(table.tangential):
+            if spring:
                 _copy_tangential(hist_p, hist_w, npair, pairs, walls, False)
             if coupled:
                 _copy_structure(gear.saved_structure, drive.state)
@@ -497,7 +497,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         sums[0] += 0.5 * (vc * fd + q_w) * hs
         sums[1] += 0.5 * (p_n + q_n) * hs
         sums[2] += 0.5 * (p_f + q_f) * hs
-        if keeps_history(table.tangential):
+        if spring:
             sums[2] += e_f
         sums[3] += 0.5 * (fd + q_i) * hs
         q_w = vc * fd

@@ -160,7 +160,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         sums[0] += vc * fd * dt
         sums[1] += p_n * dt
         sums[2] += p_f * dt
-        if keeps_history(table.tangential):
+        if spring:
             sums[2] += e_f
         sums[3] += fd * dt
         if bad:
