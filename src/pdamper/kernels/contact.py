@@ -222,7 +222,7 @@ def _tanh_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, tou
     return -ff * tx, -ff * ty, -ff * tz, ff, mu * fn, ff * vt * vt, 0.0
 
 
-@njit
+@njit(inline="always")
 def _spring_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty,
                      tz, vt, dx, dy, dz, dt, step):
     """The tangential spring (:mod:`pdamper.contact.tangential_spring`) on the contact's row of
