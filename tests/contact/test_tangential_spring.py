@@ -35,6 +35,21 @@ def test_the_registry_names_both_laws_with_the_papers_first():
     assert not TANGENTIAL_LAWS["tanh"].history and TANGENTIAL_LAWS["spring"].history
 
 
+def test_an_unregistered_tangential_marker_is_refused_when_the_kernels_compile():
+    from typing import NamedTuple
+
+    from numba import typeof
+
+    from pdamper.kernels.contact import _tangential_law_of
+
+    class NotALaw(NamedTuple):
+        pass
+
+    with pytest.raises(TypeError, match="no tangential law is registered.*TANGENTIAL_LAWS"):
+        _tangential_law_of(typeof(NotALaw()))
+    assert _tangential_law_of(typeof(TANGENTIAL_LAWS["spring"].marker())) is TANGENTIAL_LAWS["spring"]
+
+
 def test_mindlins_stiffness_is_two_one_minus_nu_over_two_minus_nu_of_the_normal_one():
     # for like materials k_t / (dF_N/d delta) = 8 G* / (2 E*) = 2 (1 - nu) / (2 - nu)
     nu = STEEL_S235.poisson_ratio

@@ -75,20 +75,21 @@ _BY_MARKER = {law.marker: law for law in DAMPING_LAWS.values()}
 _TANGENTIAL_BY_MARKER = {law.marker: law for law in TANGENTIAL_LAWS.values()}
 
 
-def _law_of(marker_type):
+def _registered(marker_type, by_marker, kind, registry):
+    """The law a marker's numba type stands for, or a TypeError naming the registry to add it to."""
     try:
-        return _BY_MARKER[marker_type.instance_class]
+        return by_marker[marker_type.instance_class]
     except (AttributeError, KeyError):
-        raise TypeError(f"no damping law is registered for {marker_type}; register it in "
-                        "pdamper.contact.DAMPING_LAWS") from None
+        raise TypeError(f"no {kind} law is registered for {marker_type}; register it in "
+                        f"pdamper.contact.{registry}") from None
+
+
+def _law_of(marker_type):
+    return _registered(marker_type, _BY_MARKER, "damping", "DAMPING_LAWS")
 
 
 def _tangential_law_of(marker_type):
-    try:
-        return _TANGENTIAL_BY_MARKER[marker_type.instance_class]
-    except (AttributeError, KeyError):
-        raise TypeError(f"no tangential law is registered for {marker_type}; register it in "
-                        "pdamper.contact.TANGENTIAL_LAWS") from None
+    return _registered(marker_type, _TANGENTIAL_BY_MARKER, "tangential", "TANGENTIAL_LAWS")
 
 
 def law_touch(law, coefficient, v_in, k, m_star):
