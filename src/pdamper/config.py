@@ -73,10 +73,7 @@ section builds, keys that are not fields, the restitution-law tables).
 
 from __future__ import annotations
 
-import csv
-import dataclasses
 import difflib
-import math
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -560,8 +557,6 @@ def _law_to(law):
 _fields_to = write_fields
 
 
-#: The default of ``numerics.device``: a config that says nothing else runs on the CPU.
-_DEFAULT_DEVICE = next(f.default for f in dataclasses.fields(Numerics) if f.name == "device")
 
 
 def case_to_dict(case: Case) -> dict:
@@ -598,10 +593,7 @@ def case_to_dict(case: Case) -> dict:
                                 for b in c.baffles]
     if c.wall_materials:
         container["wall_materials"] = {w: _material_to(m) for w, m in c.wall_materials.items()}
-    numerics = _fields_to(case.numerics)
-    if case.numerics.device == _DEFAULT_DEVICE:
-        del numerics["device"]  # where a case runs is not what it is: a CPU case's text (a store's fingerprint) stays
-    out.update({"contact": contact, "numerics": numerics, "recording": _fields_to(case.recording),
+    out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
     # each drive's table after the section it names ([drive] after [particles], [structure] last):
     # the order of the text a store's fingerprint was taken of; the damper's rig ([drive]) beside

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
-from .contact import DAMPING_CHOICES, read_restitution
+from .contact import DAMPING_CHOICES, TANGENTIAL_CHOICES, read_restitution
 from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError
 from .excitation import DriveBase, HarmonicDrive
@@ -193,6 +193,13 @@ class ContactModel:
         "gonthier" (the paper's ``d = (1 - eps^2)/(eps v_in)`` as written, which rebounds up to
         4 % lower; see :mod:`pdamper.contact.hertz_gonthier`) or "tsuji" (Hertz with Tsuji's
         viscoelastic damping, as LIGGGHTS' ``model hertz``; :mod:`pdamper.contact.hertz_tsuji`).
+    tangential : the tangential law, a name of :data:`pdamper.contact.TANGENTIAL_LAWS`: "tanh"
+        (default: the paper's regularised Coulomb friction, eq. (2),
+        :mod:`pdamper.contact.friction_tanh`) or "spring" (an incremental tangential spring with
+        Mindlin's stiffness 8 G* sqrt(R* delta) and a Coulomb cap, as LIGGGHTS' ``tangential
+        history``; :mod:`pdamper.contact.tangential_spring`).
+    tangential_damping : bool, with the spring: LIGGGHTS' tangential damping on the slip
+        (default True, as in LIGGGHTS); no effect on "tanh".
     pair_friction, pair_restitution : dict mapping ``(material_a, material_b)`` names (e.g.
         ``("steel", "pvc")``) to a friction coefficient / a COR law; order does not matter.
     """
@@ -202,6 +209,8 @@ class ContactModel:
     tau: float = param(DEFAULT_TAU, unit="s/m")
     v_in_floor: float = param(V_IN_FLOOR, dimension="velocity")
     damping: str = param("calibrated", choices=DAMPING_CHOICES)
+    tangential: str = param("tanh", choices=TANGENTIAL_CHOICES, write_default=False)
+    tangential_damping: bool = param(True, write_default=False)
     pair_friction: dict = param(default_factory=dict, kind="custom")
     pair_restitution: dict = param(default_factory=dict, kind="custom")
 
@@ -213,6 +222,10 @@ class ContactModel:
         _positive(self, "tau", "> 0 s/m (default 1000)")
         _positive(self, "v_in_floor", "> 0 m/s (default 1e-3)")
         check_choice(self, "damping", "contact")
+        check_choice(self, "tangential", "contact")
+        if not isinstance(self.tangential_damping, bool):
+            raise InputError(f"contact.tangential_damping = {self.tangential_damping!r}; must be true or false "
+                             "(default true)")
 
     def friction_for(self, a: str, b: str) -> float:
         """mu [-] for the material pair (a, b)."""
@@ -257,7 +270,8 @@ class Numerics:
     neighbour_search: str = param("auto", choices=("auto", "direct", "cells"))
     skin: float | None = param(None, dimension="length", auto=True)
     overlap_limit: float = 0.05
-    device: str = param("cpu", choices=("cpu", "cuda"))
+    # where a case runs is not what it is: "cpu" is left out of a written config (a store's fingerprint stays)
+    device: str = param("cpu", choices=("cpu", "cuda"), write_default=False)
 
     def __post_init__(self):
         convert_fields(self, "numerics")
