@@ -445,7 +445,7 @@ def part_ptx(kernels=("gear", "verlet")):
     dispatcher.get_current_device = lambda: _Hopper()
     from numba import cuda
 
-    from pdamper.engine.cuda import _pack, _pack_gear
+    from pdamper.engine.cuda import kernel_arguments
     from pdamper.kernels.gpu.gear import batch_gear
     from pdamper.kernels.gpu.verlet import batch_verlet
     from pdamper.run import on_device
@@ -461,12 +461,10 @@ def part_ptx(kernels=("gear", "verlet")):
             warnings.simplefilter("ignore")
             sim = Simulation(on_device(c, "cuda"))
         job, _ = sim._gpu_job()
-        sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack([job], None)
-        # the output arrays as the GPU has them (C-contiguous; _pack leaves only their shapes off the simulator)
-        rec = rec._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)), frames=np.zeros((1, 1, 1, 9)))
-        args = [sp, li, wl, tb, sim.engine.table.law, mo, ct, rec, nmat, row0]
-        if integrator == "gear":
-            args += list(_pack_gear([job], sp, li, wl, bd))
+        args, _ = kernel_arguments([job])
+        # the output arrays as the GPU has them (C-contiguous; off the simulator the packing leaves only their shapes)
+        args[8] = args[8]._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)),
+                                   frames=np.zeros((1, 1, 1, 9)))
         sig = tuple(numba.typeof(a) for a in args) + (types.int64,)
         t = time.perf_counter()
         try:

@@ -97,7 +97,7 @@ def step_to_boundary(t, ts, h, t_end):
     ``t_end`` -- a step that would stop just short of the boundary is stretched onto it, so no
     boundary is ever passed over or approached by a sliver of a step. Returns ``(kb, tb, step)``:
     the boundary's number and time [s] and the step [s]."""
-    kb = math.floor(t / ts + 1e-9) + 1
+    kb = int(math.floor(t / ts + 1e-9)) + 1  # (an integer on every target: CUDA's floor is a float)
     tb = kb * ts
     hh = h
     if hh > tb - t or tb - t - hh < 1e-3 * hh:

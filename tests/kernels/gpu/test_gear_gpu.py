@@ -47,16 +47,16 @@ def test_gear_step_by_step_as_the_cpu():
     status, steps, _, t, _, rejected = run_gear(span, e.bodies, st.state, e.pairs, e.walls, e.search, e.table, e.drive,
                                                cpu.samples)
     batch = _Batch([gpu._gpu_job()[0]], 2)
-    while int(batch.args[6].step[0]) < k:
+    while int(batch.ct.step[0]) < k:
         batch.launch(1)
-    clock = batch.args[11]
+    clock = batch.gc
     assert status == 0 and steps == k and int(clock.rejected[0]) == rejected >= 1
     assert abs(float(clock.t[0]) - t) <= 1e-12 * t
     # the derivatives the Nordsieck vectors stand for (r_q = h^q / q! x^(q)): each engine's own step
     # has moved by rounding through the step control, the derivatives hardly
     hs_gpu, hs_cpu = float(clock.hs[0]), float(st.state.step[0])
     assert abs(hs_gpu - hs_cpu) <= 1e-9 * hs_cpu
-    ours, ref = batch.args[10].nordsieck[0], st.state.nordsieck
+    ours, ref = batch.gs.nordsieck[0], st.state.nordsieck
     for q, fact in ((0, 1.0), (1, 1.0), (2, 2.0)):
         a = fact * ours[q] / hs_gpu ** q
         b = fact * ref[q] / hs_cpu ** q
