@@ -23,7 +23,8 @@ summary at the end (also ``--out`` with ``.md``):
 ``--tiny`` runs the same parts on tiny cases (a few soft spheres, a few hundred steps) in
 numba-cuda's simulator (``NUMBA_ENABLE_CUDASIM=1``): the test suite's check that this script works
 (tests/kernels/gpu/test_benchmark_gpu.py). ``--ptx`` needs no GPU: it compiles the kernel to PTX for
-sm_90 with the local CUDA toolkit's NVVM and reads ``ptxas -v`` (registers, spills, shared memory).
+sm_90 with the local CUDA toolkit's NVVM and reads ``ptxas -v`` (registers, spills, shared memory);
+``--ptx-tangential spring`` compiles the kernels for the tangential spring instead of the tanh law.
 
 **On the project's GPU machines** (numba, numba-cuda, numpy, scipy, xarray, pandas, matplotlib, h5py
 there; no package registry), the rest of pdamper's dependencies travel as wheels in the git-ignored
@@ -425,10 +426,10 @@ def part_paper(tiny, deadline):
     return out
 
 
-def part_ptx(kernels=("gear", "verlet")):
+def part_ptx(kernels=("gear", "verlet"), tangential="tanh"):
     """The kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
     local CUDA toolkit's NVVM), and ``ptxas -v``'s registers, spills and shared memory (when ptxas
-    is on PATH)."""
+    is on PATH); ``tangential``: the tangential law they are compiled for (``contact.tangential``)."""
     import dataclasses as dc
     import re
     import shutil
@@ -456,7 +457,8 @@ def part_ptx(kernels=("gear", "verlet")):
     for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet")):
         if name not in kernels:
             continue
-        c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator))
+        c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator),
+                       contact=dc.replace(case.contact, tangential=tangential))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sim = Simulation(on_device(c, "cuda"))
@@ -491,8 +493,9 @@ def part_ptx(kernels=("gear", "verlet")):
                 k.update(stack_bytes=max(int(x[0]) for x in sp_), spill_store_bytes=max(int(x[1]) for x in sp_),
                          spill_load_bytes=max(int(x[2]) for x in sp_))
             k["ptxas_ok"] = r.returncode == 0
+        k["tangential"] = tangential
         out[name] = k
-        print(f"ptx ({name}):", json.dumps(k), flush=True)
+        print(f"ptx ({name}, {tangential}):", json.dumps(k), flush=True)
     return out
 
 
@@ -532,6 +535,8 @@ def main(argv=None):
     ap.add_argument("--tiny", action="store_true", help="tiny cases (numba-cuda's simulator: the test suite)")
     ap.add_argument("--ptx", action="store_true", help="compile to PTX for sm_90 without a GPU; ptxas -v")
     ap.add_argument("--ptx-kernels", default="gear,verlet", help="the kernels --ptx compiles (gear, verlet)")
+    ap.add_argument("--ptx-tangential", default="tanh", choices=("tanh", "spring"),
+                    help="the tangential law --ptx compiles the kernels for (contact.tangential)")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
     ap.add_argument("--make-reference", metavar="STUDY_DIR",
                     help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
@@ -542,7 +547,7 @@ def main(argv=None):
     t0 = time.perf_counter()
     report = Report(args.out)
     if args.ptx:
-        report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(","))))
+        report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(",")), args.ptx_tangential))
         return 0
     parts = args.only or PARTS
     report.put("env", env_info())

@@ -28,7 +28,8 @@ from ..forces import STATUS_NAN, STATUS_OK
 from ..gear import GEAR_C, next_step, predict_dof, shorter_step, step_to_boundary
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_PRIMED, FLAG_STARTED
-from .verlet import MAX_THREADS, REDUCED, _motion, _pair_laws, _rebuild, _record_sample, _sphere_force
+from .verlet import (MAX_THREADS, REDUCED, _motion, _pair_laws, _prime_contacts, _rebuild, _record_sample,
+                     _sphere_force)
 
 __all__ = ["gear_kernel", "batch_gear", "NO_CAP"]
 
@@ -300,18 +301,10 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             cuda.syncthreads()
         # ---- the Nordsieck vector at the start (run_gear's priming), forces with the capped friction
         if flags[4] == 0:
-            # (the springs not advanced: nothing moved)
-            i = tid
-            while i < n:
-                for k in range(6):
-                    mv[c, i, k] = 0.0
-                i += bd
-            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c], tlaw)
+            st, cu = _prime_contacts(c, tid, bd, n, sp, li, table, nmat[c], row0[c], h)
             if st != STATUS_OK:
                 status = st
                 culprit = cu
-            _pair_laws(c, tid, bd, n, sp, li, table, h, 0.0)
-            cuda.syncthreads()
             xc, vc, ac = _motion(mo, c, t)
             hs = h
             i = tid

@@ -169,6 +169,24 @@ def _rebuild(c, tid, bd, n, sp, li, modulus, nmat, row0, tlaw):
 
 
 @cuda.jit(device=True)
+def _prime_contacts(c, tid, bd, n, sp, li, table, nmat, row0, dt):
+    """The contacts at the start of a run (the CPU's priming evaluation): the lists built, the owned
+    pairs' law evaluated with the springs not advanced (nothing moved; ``dt``: the tanh law's friction
+    guard's step), then a barrier. Every thread of the block calls it. Returns ``(status, culprit)``
+    of the rebuild."""
+    mv = sp.moved
+    i = tid
+    while i < n:
+        for k in range(6):
+            mv[c, i, k] = 0.0
+        i += bd
+    st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat, row0, table.tangential)
+    _pair_laws(c, tid, bd, n, sp, li, table, dt, 0.0)
+    cuda.syncthreads()
+    return st, cu
+
+
+@cuda.jit(device=True)
 def _pair_laws(c, tid, bd, n, sp, li, table, dt, step):
     """The contact law of every pair this thread's spheres own (the CPU pair loop's arithmetic:
     :func:`~pdamper.kernels.forces.pair_geometry`, the contact points' displacement for a law with
@@ -593,18 +611,10 @@ def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps):
             cuda.syncthreads()
         # ---- the initial accelerations (run_verlet's priming): lists and forces at the start
         if flags[4] == 0:
-            # (the springs not advanced: nothing moved)
-            i = tid
-            while i < n:
-                for k in range(6):
-                    mv[c, i, k] = 0.0
-                i += bd
-            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c], tlaw)
+            st, cu = _prime_contacts(c, tid, bd, n, sp, li, table, nmat[c], row0[c], dt)
             if st != STATUS_OK:
                 status = st
                 culprit = cu
-            _pair_laws(c, tid, bd, n, sp, li, table, dt, 0.0)
-            cuda.syncthreads()
             xc, vc, ac = _motion(mo, c, _case_time(g, dt, settle, seg_steps, seg_samples, interval))
             i = tid
             while i < n:
