@@ -2,19 +2,20 @@
 
     PYTHONUNBUFFERED=1 python benchmarks/gpu.py --out gpu.json [--budget-s 450] [--only PART ...]
 
-What it runs, the most important first, writing ``--out`` (JSON) after every part and a markdown
-summary at the end (also ``--out`` with ``.md``):
+What it runs, the bounded parts first (a part that overruns the device call's limit then loses only
+what follows it), writing ``--out`` (JSON) after every part and a markdown summary at the end (also
+``--out`` with ``.md``):
 
 1. ``env``: the GPU, numba and numba-cuda, the commit.
 2. ``compile``: the first GPU launch of the kernel (numba-cuda typing, NVVM, the driver's PTX JIT;
    a launch with no steps) and the compiled kernel's registers per thread, shared and local memory
    per block, the blocks an SM can hold.
-3. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
+3. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
+   threads) for ``--bed-seconds`` (20): microseconds per step and per particle-step.
+4. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
    (40 strokes x 20 cycles, 36 and 44 spheres, one seed, from an empty store): wall time, the
    longest case's steps and the per-step cost of a block, and eta* of every stroke against the CPU
-   engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``).
-4. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
-   threads) for a few seconds: microseconds per step and per particle-step.
+   engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``). It runs to its end (no budget).
 5. ``paper``: every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at
    the paper's 40 strokes, 20 cycles, one seed, as one GPU batch: wall time, cases finished and
    failed. Stopped at the budget (``--budget-s``, counted from the start): then what was done is
@@ -57,7 +58,7 @@ from pathlib import Path
 BENCH = Path(__file__).resolve().parent
 ROOT = BENCH.parent
 REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
-PARTS = ("env", "compile", "fig4", "bed", "paper")
+PARTS = ("env", "compile", "bed", "fig4", "paper")
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
 #: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
 #: still measures something, and says so).
