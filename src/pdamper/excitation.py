@@ -12,10 +12,12 @@ config keys                    its dataclass fields, declared with :func:`pdampe
                                ``config_extra_keys`` (a samples file, a natural frequency)
 ``from_config(table, ...)``    the drive of a config table (its own keys, read and checked)
 ``config_table()``             the config table it is written as (the inverse)
+``config_sections()``          sections written after its own (a structure's ``[load]``)
 ``config_marks``               keys that make a table without ``kind`` this kind's
 ``config_default``             the kind a section's table is when no key marks another
 ``kernel_drive()``             ``(kernel kind, par, table, state)`` for the kernels; the kernel kind
                                is the name of a compiled motion (:data:`pdamper.kernels.drive.DRIVE_KINDS`)
+``kernel_load()``              the kernels' table of a load given in time (a structure's; none else)
 ``speed_bound()``              the container's largest speed [m/s] (the automatic time step)
 ``duration(cycles)``           the driven time [s]
 ``motion(t)``                  ``(x, v, a)`` at times t, as prescribed (without the bed)
@@ -158,6 +160,11 @@ class DriveBase:
         """Config keys beyond the plain fields (a modal structure's ``modes``); none by default."""
         return {}
 
+    def config_sections(self) -> dict:
+        """Sections written after the drive's own (a structure's ``[load]``): section -> table;
+        none by default."""
+        return {}
+
     # ---- motion
     def _prepare(self) -> None:
         """First in ``__post_init__``: a direction given as a word becomes its vector, then the
@@ -219,6 +226,12 @@ class DriveBase:
         is the name of a compiled motion (:data:`pdamper.kernels.drive.DRIVE_KINDS`)."""
         kind, par, tab = self.kernel_args()
         return kind, par, tab, np.zeros((2, 5))
+
+    def kernel_load(self):
+        """The kernels' load table (:attr:`pdamper.kernels.bundles.Drive.load`, rows (t_j, ...) of a
+        load given in time, :mod:`pdamper.kernels.structure`): none for a prescribed motion (one
+        row of zeros, never read)."""
+        return np.zeros((1, 4))
 
     def carrying(self, mass: float):
         """The drive with the empty container's ``mass`` [kg] on it: a prescribed motion moves the
