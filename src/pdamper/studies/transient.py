@@ -27,7 +27,7 @@ from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
 
 __all__ = ["TransientResult", "SweepResult", "run_transient", "run_stepped_sine", "parse_dofs", "select_dofs",
-           "fit_sine", "SWEEPS"]
+           "fit_sine", "SWEEPS", "structure_numbers"]
 
 #: The directions of a stepped sine.
 SWEEPS = ("up", "down")
@@ -91,6 +91,15 @@ def select_dofs(structure, wanted) -> tuple[list, np.ndarray]:
             raise InputError(f"--dofs: {w!r} is not a dof of this structure ({shown})")
         idx.append(labels.index(w))
     return [labels[i] for i in idx], np.array(idx, dtype=int)
+
+
+def structure_numbers(s) -> dict:
+    """The structure's plain numbers for a summary (:meth:`~pdamper.structure.StructureBase.structure_summary`),
+    its number of dofs as ``dof_count`` (``dofs`` is the list of the dofs reported)."""
+    out = dict(s.structure_summary())
+    if "dofs" in out:
+        out["dof_count"] = out.pop("dofs")
+    return out
 
 
 def _peak_rms(x: np.ndarray):
@@ -164,7 +173,7 @@ def run_transient(case: Case, *, dofs=None, progress=None) -> TransientResult:
         # the ledger of the bed is kept in the ground's frame without the ground's inertial force on it
         "energy_balance_error": None if ground else rec.balance_error(res.energy),
         "steps": res.steps, "time_step_s": res.time_step_s, "wall_time_s": res.wall_time_s,
-        "method": "dem", **s.structure_summary(),
+        "method": "dem", **structure_numbers(s),
     }
     if ground:
         summary["energy_balance_note"] = ("not closed under a ground acceleration: the bed's ledger is kept in the "
@@ -311,6 +320,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
         "damper_amplitude_m": damped.tolist(), "amplitude_damped_m": damped.tolist(),
         "phase_damped_rad": phase, "dofs": list(labels),
         "response_amplitude_m": np.array(dof_amp).T.tolist(),
+        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
         "amplitude_bare_m": bare.tolist(), "amplitude_bare_sweep_m": bare_sweep.tolist(),
         "bare_sweep_vs_closed_form_max_error": float(np.max(np.abs(bare_sweep / bare - 1.0))),
         "amplitude_solid_mass_m": solid.tolist(), "steady_tolerance": STEADY_TOLERANCE,
@@ -318,7 +328,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
         "peak_damped_m": float(damped[k]), "peak_damped_frequency_hz": float(freqs[k]),
         "peak_bare_m": float(np.max(bare)), **_resonance(s, force_amplitude, float(freqs[k])),
         "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps, "wall_time_s": res.wall_time_s,
-        "duration_s": load.duration, **s.structure_summary(),
+        "duration_s": load.duration, **structure_numbers(s),
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
     return SweepResult(case=case, force_amplitude=float(force_amplitude), direction=direction, frequencies=freqs,
