@@ -576,7 +576,7 @@ def _signal_of_text(lines, path: Path, role: str, columns: dict) -> Signal:
         header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
         last_header = data[0][0]
         data = data[1:]
-    used = {r: _find_column(source, header, names, r, columns.get(r, r)) for r in ("time", role)}
+    used = {r: _find_column(source, header, names, r, columns.get(r, r), role) for r in ("time", role)}
     if not data:
         raise InputError(f"{source}: the file has a header but no data rows")
     sample = [c for _, ln in data[:50] for c in _fields(ln, delimiter)]
@@ -589,7 +589,8 @@ def _signal_of_text(lines, path: Path, role: str, columns: dict) -> Signal:
     return _checked_signal(source, values["time"], values[role], role, header[used[role]])
 
 
-def _find_column(source, header, names, role, target) -> int:
+def _find_column(source, header, names, role, target, signal) -> int:
+    """The index of the column of ``role`` (named ``target``) of a file of time and ``signal``."""
     key = target.strip().casefold()
     hits = [i for i, (h, n) in enumerate(zip(header, names)) if n.casefold() == key or h.casefold() == key]
     if len(hits) > 1:
@@ -598,7 +599,7 @@ def _find_column(source, header, names, role, target) -> int:
     if not hits:
         raise InputError(f"{source}: no {role} column ({target!r}); the header has "
                          f"{', '.join(_short(h) for h in header)}; name the columns 'time [s]' and "
-                         f"'{role} [unit]'" + (" (or name the column with column = ...)" if role != "time" else ""))
+                         f"'{signal} [unit]'" + (" (or name the column with column = ...)" if role != "time" else ""))
     return hits[0]
 
 
@@ -609,7 +610,7 @@ def _signal_of_channels(path: Path, channels: dict, role: str, columns: dict) ->
     names = [h.rsplit("/", 1)[-1] for h in header]
     out = {}
     for r in ("time", role):
-        i = _find_column(str(path), header, names, r, columns.get(r, r))
+        i = _find_column(str(path), header, names, r, columns.get(r, r), role)
         arr, unit = channels[header[i]]
         arr = np.asarray(arr, dtype=float).ravel()
         out[r] = arr * (_factor(str(path), header[i], unit, _DIMENSION[r]) if unit else 1.0)

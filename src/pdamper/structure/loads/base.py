@@ -208,7 +208,7 @@ class SampledLoad(LoadBase):
             raise InputError(f"load.{name}: time and {name} must be finite numbers (found NaN or inf){where}")
         if np.any(np.diff(t) <= 0):
             k = int(np.argmax(np.diff(t) <= 0))
-            raise InputError(f"load.time: must increase strictly; it does not at sample {k + 1} (t = {t[k + 1]!r} s)"
+            raise InputError(f"load.time: must increase strictly; it does not at sample {k + 1} (t = {float(t[k + 1])!r} s)"
                              f"{where}")
         object.__setattr__(self, "time", tuple((t - t[0]).tolist()))
         object.__setattr__(self, name, tuple(f.tolist()))
