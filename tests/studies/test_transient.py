@@ -19,39 +19,10 @@ import math
 import numpy as np
 import pytest
 
-from pdamper.config import loads_case
 from pdamper.structure.linear import damper_motion, dof_response, frequency_response
 from pdamper.structure.loads import RandomLoad
 
-ROW = 6  # spheres in the row
-
-
-def locked_case(load: str, *, structure: str = 'mass = "2kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.02'):
-    length = 2 * 0.005 * ROW
-    pos = [[-length / 2 + 0.005 + 0.01 * i, 0.005, 0.0] for i in range(ROW)]
-    return loads_case(f"""
-[container]
-shape = "cuboid"
-length = {length!r}
-width = 0.0101
-height = 0.011
-material = "pvc"
-tilt = 0.0
-[particles]
-count = {ROW}
-radius = "5mm"
-material = "steel"
-[contact]
-friction = 0.5
-[initial]
-positions = {pos!r}
-settle_time = 0.05
-jitter = 0
-[structure]
-{structure}
-[load]
-{load}
-""")
+from dem_fixtures import locked_case
 
 
 @pytest.mark.parametrize("load", [

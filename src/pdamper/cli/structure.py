@@ -28,13 +28,16 @@ def _load(config, settings, cycles, seed, force=None):
     if seed is not None:
         overrides["initial.seed"] = seed
     if force is not None and force > 0 and "structure.force_amplitude" not in overrides:
-        # the file as it stands may have nothing that moves it: read it once with a nominal start
+        # the file as it stands may have nothing that moves it, or a [load] in time: read it with a
+        # nominal start, then force it (each forced run sets its own start)
+        import dataclasses
+
         probe = load_case(config, {**overrides, "structure.displacement": "1mm", "structure.force_amplitude": 0.0})
         if not probe.drive.coupled:
             return probe  # not a structure: the command says so
-        overrides["structure.force_amplitude"] = force
-        overrides.setdefault("structure.force_frequency",
-                             probe.drive.force_frequency or probe.drive.natural_frequency)
+        drive = dataclasses.replace(probe.drive, load=None, force_amplitude=force,
+                                    force_frequency=probe.drive.force_frequency or probe.drive.natural_frequency)
+        return dataclasses.replace(probe, drive=drive)
     return load_case(config, overrides)
 
 

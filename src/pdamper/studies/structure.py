@@ -170,7 +170,7 @@ def response_case(case: Case, frequency: float, force_amplitude: float, phasor: 
     _structure(case)
     x0, v0 = (0.0, 0.0) if phasor == 0 else (float(phasor.imag), float(2.0 * math.pi * frequency * phasor.real))
     drive = dataclasses.replace(case.drive, force_amplitude=force_amplitude, force_frequency=frequency,
-                                displacement=x0, velocity=v0)
+                                displacement=x0, velocity=v0, load=None)
     return dataclasses.replace(case, drive=drive)
 
 
