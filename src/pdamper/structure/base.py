@@ -159,11 +159,12 @@ class StructureBase(DriveBase):
                                  f"{thousandth_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
         if self.load is not None:
             peak = self.bare_peaks()[0]
-            if peak > 2 * length:
+            if not peak <= 2 * length:
                 raise InputError(f"[load] {self.load.describe()} would swing the structure's damper point by "
                                  f"{peak:.3g} m without the damper (its exact linear response), beyond twice the "
-                                 f"container's length {length:g} m; scale the load down or check its units (a number "
-                                 "without a unit is SI)")
+                                 f"container's length {length:g} m; check [load] {', '.join(self.load.size_keys)} and "
+                                 "[structure] mass, stiffness or natural_frequency and damping_ratio (a number without "
+                                 "a unit is SI)")
             return
         resonant = self.force_amplitude / self.stiffness / max(2.0 * self.modal_damping_ratio, 0.02)
         if resonant > 2 * length:

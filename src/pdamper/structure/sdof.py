@@ -70,6 +70,9 @@ class CoupledStructure(StructureBase, _OneMode):
         z = self.damping_ratio
         if isinstance(z, bool) or not isinstance(z, (int, float)) or not (0.0 <= z < 1.0):
             raise InputError(f"structure.damping_ratio = {z!r}; must be in [0, 1), e.g. 0.005 (0.5 %)")
+        if not math.isfinite(self.stiffness * self.mass):
+            raise InputError(f"structure.mass = {self.mass:g} kg with stiffness {self.stiffness:g} N/m is beyond what "
+                             "a number holds (their product overflows); give the mode's mass, e.g. '7kg'")
         self._check_motion()
 
     @classmethod

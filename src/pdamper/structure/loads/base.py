@@ -114,6 +114,8 @@ class LoadBase:
     config_label = ""
     config_required: tuple = ()
     config_hint = ""
+    #: the keys that set its size (named where a load swings a structure too far)
+    size_keys: tuple = ("scale",)
 
     # ---- reading and writing its own table
     @classmethod

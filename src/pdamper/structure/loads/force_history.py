@@ -47,6 +47,7 @@ class ForceHistory(SampledLoad):
     signal_role = "force"
     samples_field = "force"
     unit = "N"
+    size_keys = ("scale", "force", "file")
     config_label = "a force history"
     config_required = ("time", "force")
     config_hint = "give file = 'hammer.csv' (columns time [s], force [N]) or time = [...] and force = [...]"

@@ -94,6 +94,7 @@ class GroundAcceleration(GroundMixin, SampledLoad):
     signal_role = "acceleration"
     samples_field = "acceleration"
     unit = "m/s^2"
+    size_keys = ("scale", "acceleration", "file", "influence", "participation")
     config_label = "a ground acceleration"
     config_required = ("time", "acceleration")
     config_hint = ("give file = 'quake.csv' (columns time [s], acceleration [m/s^2] or [g]) or a PEER .AT2 file, "

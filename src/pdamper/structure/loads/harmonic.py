@@ -31,6 +31,7 @@ class HarmonicLoad(LoadBase):
     frequency: float = param(dimension="frequency")
     kind: str = param("harmonic", kind="tag")
     in_time = False
+    size_keys = ("amplitude",)
     config_label = "a harmonic load"
     config_required = ("amplitude", "frequency")
     config_hint = "give amplitude = '0.4N' and frequency = '2Hz'"

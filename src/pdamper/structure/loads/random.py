@@ -80,6 +80,7 @@ class RandomLoad(GroundMixin, LoadBase):
     participation: tuple | None = param(None, kind="list")
     kind: str = param("random", kind="tag")
     stationary = True
+    size_keys = ("level", "band")
     config_label = "a random load"
     config_required = ("level", "duration_s")
     config_hint = "give level (the one-sided PSD, e.g. 0.01 for 0.01 N^2/Hz), band = ['0.5Hz', '10Hz'] and duration"
@@ -116,6 +117,9 @@ class RandomLoad(GroundMixin, LoadBase):
             raise InputError(f"load.time_step = {self.time_step:g} s samples up to {0.5 / self.time_step:g} Hz, below "
                              f"the band's top {self.band[1]:g} Hz; give a time_step of at most "
                              f"{0.5 / self.band[1]:.3g} s (or leave it out)")
+        if self.samples_count < 4:
+            raise InputError(f"load.duration = {self.duration_s:g} s is shorter than 4 samples of {self.step:g} s; give "
+                             "a longer duration, e.g. '60s'")
         if self.samples_count > 20_000_000:
             raise InputError(f"load.duration = {self.duration_s:g} s at a time_step of {self.step:g} s is "
                              f"{self.samples_count:,} samples; shorten it or sample coarser")

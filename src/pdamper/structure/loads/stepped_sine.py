@@ -40,6 +40,7 @@ class SteppedSine(LoadBase):
     cycles: float = param(40.0, kind="number")
     kind: str = param("stepped_sine", kind="tag")
     stepped = True
+    size_keys = ("amplitude",)
     config_label = "a stepped sine"
     config_required = ("amplitude", "frequencies")
     config_hint = "give amplitude = '0.4N' and frequencies = ['1.9Hz', '1.95Hz', '2Hz']"
