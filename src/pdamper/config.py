@@ -56,6 +56,10 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
     damping_ratio = 0.005
     displacement = "12mm"       # initial; and/or force_amplitude = "0.5N", force_frequency = "2Hz"
 
+    [load]                      # with [structure]: a load in time (pdamper transient), its own keys
+    kind = "ground_acceleration"  # or harmonic, force_history, random, stepped_sine
+    file = "quake.csv"          # time [s], acceleration [g]; or a PEER .AT2 file
+
 :func:`load_case` reads a file (with optional overrides such as ``{"drive.stroke": "3mm"}``, the
 command line's ``--set``, applied to the file's tables before they are read);
 :func:`case_to_dict` / :func:`dump_case` write a case back in plain SI numbers, so that

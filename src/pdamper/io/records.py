@@ -291,25 +291,12 @@ def _read_text(lines, source, columns, motion, delimiter, decimal, path) -> Reco
         pos, delimiter = _find_header(source, content, columns)
     else:
         pos = next((k for k, (_, ln) in enumerate(content) if delimiter in ln), 0)
-    header_no, header_line = content[pos]
     meta = {}
     for _, line in content[:pos]:  # a logger's preamble: keep its "key: value" lines
         key, sep, value = line.partition(":")
         if sep and key.strip():
             meta[key.strip()] = value.strip()
-    header = [h.strip() for h in _fields(header_line, delimiter)]
-    names, units = (list(x) for x in zip(*(_split_header(h) for h in header)))
-    data = content[pos + 1:]
-    last_header = header_no
-    if data and not any(_is_number(c, ",") for c in _fields(data[0][1], delimiter)):
-        # a second header row of units ("s;N;mm" or "[s];[N];[mm]")
-        row = [c.strip().strip("[]()").strip() for c in _fields(data[0][1], delimiter)]
-        for i, u in enumerate(row[:len(units)]):
-            if u and not units[i]:
-                units[i] = u
-        header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
-        last_header = data[0][0]
-        data = data[1:]
+    header, names, units, data, last_header = _header(content, pos, delimiter)
     used = _choose(source, header, names, columns, motion)
     if not data:
         raise InputError(f"{source}: the file has a header but no data rows")
@@ -323,6 +310,26 @@ def _read_text(lines, source, columns, motion, delimiter, decimal, path) -> Reco
     motion_role = next(r for r in used if r in MOTIONS)
     return Record(time=values["time"], force=values["force"], **{motion_role: values[motion_role]}, source=source,
                   headers={role: header[i] for role, i in used.items()}, meta=meta)
+
+
+def _header(content, pos: int, delimiter: str):
+    """(header texts, names, units, data lines, line number of the last header row) of a text file
+    whose header is ``content[pos]``; a second header row of units (``s;N;mm`` or ``[s];[N];[mm]``)
+    fills the units the first leaves out."""
+    header_no, header_line = content[pos]
+    header = [h.strip() for h in _fields(header_line, delimiter)]
+    names, units = (list(x) for x in zip(*(_split_header(h) for h in header)))
+    data = content[pos + 1:]
+    last_header = header_no
+    if data and not any(_is_number(c, ",") for c in _fields(data[0][1], delimiter)):
+        row = [c.strip().strip("[]()").strip() for c in _fields(data[0][1], delimiter)]
+        for i, u in enumerate(row[:len(units)]):
+            if u and not units[i]:
+                units[i] = u
+        header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
+        last_header = data[0][0]
+        data = data[1:]
+    return header, names, units, data, last_header
 
 
 def _parse_columns(source, lines, last_header, header, used, delimiter, decimal, path) -> dict:
@@ -563,19 +570,7 @@ def _signal_of_text(lines, path: Path, role: str, columns: dict) -> Signal:
         raise InputError(f"{source}: the file is empty; expected a header row (time, {role}) and data rows, e.g. "
                          f"'time [s],{role} [{'N' if role == 'force' else 'm/s^2'}]'")
     pos, delimiter = _find_header(source, content, columns, ("time", role))
-    header_no, header_line = content[pos]
-    header = [h.strip() for h in _fields(header_line, delimiter)]
-    names, units = (list(x) for x in zip(*(_split_header(h) for h in header)))
-    data = content[pos + 1:]
-    last_header = header_no
-    if data and not any(_is_number(c, ",") for c in _fields(data[0][1], delimiter)):
-        row = [c.strip().strip("[]()").strip() for c in _fields(data[0][1], delimiter)]
-        for i, u in enumerate(row[:len(units)]):
-            if u and not units[i]:
-                units[i] = u
-        header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
-        last_header = data[0][0]
-        data = data[1:]
+    header, names, units, data, last_header = _header(content, pos, delimiter)
     used = {r: _find_column(source, header, names, r, columns.get(r, r), role) for r in ("time", role)}
     if not data:
         raise InputError(f"{source}: the file has a header but no data rows")

@@ -124,10 +124,44 @@ def modal_step(drive, t, dt, fw):
     then the damper point's (x, v, a), the force point's velocity, the response point's
     displacement, the external work (trapezoidal, ``F v_force``) and the modal damping loss."""
     par = drive.par
+    _modes_step(drive, dt, fw, par[0] * math.sin(par[1] * t), 4)
+
+
+@njit
+def load_value(load, form, t):
+    """f(t) of the load table ``load`` of ``form`` (:data:`LOAD_LINEAR`, :data:`LOAD_SINE`; the
+    module docstring): the last row with ``t_j <= t``, 0 before the first row."""
+    if t < load[0, 0]:
+        return 0.0
+    j = np.searchsorted(load[:, 0], t, side="right") - 1
+    s = t - load[j, 0]
+    if form == LOAD_SINE:
+        return load[j, 1] * math.sin(load[j, 2] * s + load[j, 3])
+    return load[j, 1] + load[j, 2] * s
+
+
+@njit
+def loaded_step(drive, t, dt, fw):
+    """Advance the N modes of a modal structure under a load in time (kind 5) from ``t - dt`` to
+    ``t`` [s]: :func:`modal_step` with the generalised force ``b_k f(t) - phi_k(damper) fw``
+    (module docstring; the power ``f sum_k b_k q_k'``); the ground acceleration (``par[1]`` f) in
+    ``state[1, 3]``."""
+    par = drive.par
+    fe = load_value(drive.load, par[0], t)
+    _modes_step(drive, dt, fw, fe, 6)
+    drive.state[1, 3] = par[1] * fe
+
+
+@njit
+def _modes_step(drive, dt, fw, fe, col):
+    """The modes' step under the force ``fe`` on each mode by the table's column ``col`` (4: the
+    force point's shape, 6: the load's b_k) and the wall force ``fw`` at the damper: each mode by
+    the step of :func:`structure_step`; then the damper point's (x, v, a), the loaded point's
+    velocity ``sum_k tab[k, col] q_k'``, the response point's displacement, the external work
+    (trapezoidal) and the modal damping loss."""
     tab = drive.table
     st = drive.state
     h = 0.5 * dt
-    fe = par[0] * math.sin(par[1] * t)
     x = 0.0
     v = 0.0
     a = 0.0
@@ -136,7 +170,7 @@ def modal_step(drive, t, dt, fw):
     loss = 0.0
     for j in range(tab.shape[0]):
         m, k, c = tab[j, 0], tab[j, 1], tab[j, 2]
-        pd, pf, pr = tab[j, 3], tab[j, 4], tab[j, 5]
+        pd, pf, pr = tab[j, 3], tab[j, col], tab[j, 5]
         q, qd, qdd = st[2 + j, 0], st[2 + j, 1], st[2 + j, 2]
         g = pf * fe - pd * fw
         qn = q + dt * (qd + h * qdd)
@@ -159,63 +193,6 @@ def modal_step(drive, t, dt, fw):
     st[0, 2] = a
     st[0, 3] = fe
     st[0, 4] = vf
-
-
-@njit
-def load_value(load, form, t):
-    """f(t) of the load table ``load`` of ``form`` (:data:`LOAD_LINEAR`, :data:`LOAD_SINE`; the
-    module docstring): the last row with ``t_j <= t``, 0 before the first row."""
-    if t < load[0, 0]:
-        return 0.0
-    j = np.searchsorted(load[:, 0], t, side="right") - 1
-    s = t - load[j, 0]
-    if form == LOAD_SINE:
-        return load[j, 1] * math.sin(load[j, 2] * s + load[j, 3])
-    return load[j, 1] + load[j, 2] * s
-
-
-@njit
-def loaded_step(drive, t, dt, fw):
-    """Advance the N modes of a modal structure under a load in time (kind 5) from ``t - dt`` to
-    ``t`` [s]: :func:`modal_step` with the generalised force ``b_k f(t) - phi_k(damper) fw``
-    (module docstring); the ground acceleration (``par[1]`` f) in ``state[1, 3]``."""
-    par = drive.par
-    tab = drive.table
-    st = drive.state
-    h = 0.5 * dt
-    fe = load_value(drive.load, par[0], t)
-    x = 0.0
-    v = 0.0
-    a = 0.0
-    vb = 0.0
-    xr = 0.0
-    loss = 0.0
-    for j in range(tab.shape[0]):
-        m, k, c = tab[j, 0], tab[j, 1], tab[j, 2]
-        pd, pr, b = tab[j, 3], tab[j, 5], tab[j, 6]
-        q, qd, qdd = st[2 + j, 0], st[2 + j, 1], st[2 + j, 2]
-        g = b * fe - pd * fw
-        qn = q + dt * (qd + h * qdd)
-        qdn = (qd + h * qdd + h * (g - k * qn) / m) / (1.0 + h * c / m)
-        qddn = (g - c * qdn - k * qn) / m
-        loss += h * c * (qd * qd + qdn * qdn)
-        st[2 + j, 0] = qn
-        st[2 + j, 1] = qdn
-        st[2 + j, 2] = qddn
-        x += pd * qn
-        v += pd * qdn
-        a += pd * qddn
-        vb += b * qdn
-        xr += pr * qn
-    st[1, 0] += h * (st[0, 3] * st[0, 4] + fe * vb)
-    st[1, 1] += loss
-    st[1, 2] = xr
-    st[1, 3] = par[1] * fe
-    st[0, 0] = x
-    st[0, 1] = v
-    st[0, 2] = a
-    st[0, 3] = fe
-    st[0, 4] = vb
 
 
 @njit

@@ -7,7 +7,7 @@
 * :func:`sweep_figure` -- stepped sines up and down (the steady amplitude of each step) over the
   fields' branches, the bare structure's closed form and its stepped sine, the bed as a solid mass.
 
-Built on :class:`matplotlib.figure.Figure` (no pyplot); saved to png, svg or pdf.
+The colours are :mod:`.structure`'s (with the damper red, without blue, the bed as a solid mass grey).
 """
 
 from __future__ import annotations
@@ -15,12 +15,9 @@ from __future__ import annotations
 import numpy as np
 
 from .figure import MM, check_path, save
+from .structure import _C_BARE, _C_DAMPED, _C_SOLID, _draw_fields, legend_entries
 
 __all__ = ["transient_figure", "sweep_figure"]
-
-_C_DAMPED = "tab:red"
-_C_BARE = "tab:blue"
-_C_SOLID = "tab:gray"
 
 
 def transient_figure(result, path=None, *, title: str | None = None, dpi: int = 150):
@@ -100,8 +97,6 @@ def sweep_figure(sweeps, path=None, *, fields=None, title: str | None = None, dp
     its stepped sine: squares) and the bed as a solid mass."""
     from matplotlib.figure import Figure
 
-    from .structure import _draw_fields
-
     target = check_path(path)
     sweeps = list(sweeps) if isinstance(sweeps, (list, tuple)) else [sweeps]
     fig = Figure(figsize=(9.0, 6.5), layout="constrained")
@@ -131,12 +126,7 @@ def sweep_figure(sweeps, path=None, *, fields=None, title: str | None = None, dp
     ax.grid(True, alpha=0.3)
     ax.set_title(f"stepped sine, F$_0$ = {F0:.3g} N: M = {st.mass:.3g} kg at the damper, f$_n$ = "
                  f"{st.natural_frequency:.4g} Hz, ζ = {100 * st.modal_damping_ratio:.3g} %", fontsize=10)
-    handles, labels = [], []
-    for h, lab in zip(*ax.get_legend_handles_labels()):
-        if lab not in labels:
-            handles.append(h)
-            labels.append(lab)
-    fig.legend(handles, labels, loc="outside lower center", ncols=2, fontsize=7.5, frameon=False)
+    fig.legend(*legend_entries(ax), loc="outside lower center", ncols=2, fontsize=7.5, frameon=False)
     if title:
         fig.suptitle(title, fontsize=11)
     if target is not None:

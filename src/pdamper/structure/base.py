@@ -215,15 +215,20 @@ class StructureBase(DriveBase):
     def bare_peaks(self) -> tuple[float, float]:
         """(largest |x| [m], largest |v| [m/s] with the ground's speed under a ground acceleration) of
         the damper point without the bed under the load (exact linear response, sampled at 20 points
-        a period of the highest mode or the load's top frequency; cached)."""
+        a period of the highest mode or the load's top frequency, up to 5 periods of the lowest mode
+        after the load's end; cached)."""
         cached = self.__dict__.get("_bare_peaks")
         if cached is not None:
             return cached
         from .linear import ground_velocity, modal_response
 
         fmax = max(float(np.max(self.mode_frequencies)), self.load.highest_frequency)
-        n = int(min(2_000_000, max(2, math.ceil(self.load.duration * 20.0 * fmax))))
-        t = np.linspace(0.0, self.load.duration, n + 1)
+        # after the load's last row the structure rings down: its largest swing comes within a few
+        # periods of the lowest mode (a duration far beyond them adds nothing)
+        end = self.load.kernel_table()[1][-1, 0] + 5.0 / float(np.min(self.mode_frequencies))
+        span = min(self.load.duration, end)
+        n = int(min(2_000_000, max(2, math.ceil(span * 20.0 * fmax))))
+        t = np.linspace(0.0, span, n + 1)
         q, qd = modal_response(self, t)
         pd = self.modal_arrays()[3]
         x, v = q @ pd, qd @ pd
@@ -246,12 +251,17 @@ class StructureBase(DriveBase):
         form, _ = self.load.kernel_table()
         par = np.array([float(form), 1.0 if self.load.ground else 0.0])
         tab = np.ascontiguousarray(np.column_stack([mass, k, c, pd, pf, pr, b]))
+        return "modal_load", par, tab, self._held_state(pd, pr)
+
+    def _held_state(self, pd, pr) -> np.ndarray:
+        """The kernels' state of the modes (2 + N rows) at rest at the initial shape, held during
+        settling: q_k(0), the damper point's and the response point's displacement."""
         st = np.zeros((2 + self.n_modes, 5))
         q0, _ = self.initial_modal_state()
         st[2:, 0] = q0
         st[0, 0] = float(np.dot(pd, q0))
         st[1, 2] = float(np.dot(pr, q0))
-        return "modal_load", par, tab, st
+        return st
 
     def kernel_load(self):
         """The kernels' rows of the load in time (:attr:`pdamper.kernels.bundles.Drive.load`);

@@ -331,12 +331,7 @@ class ModalStructure(StructureBase, _Modes):
         om = 2.0 * math.pi * (self.force_frequency or 0.0)
         par = np.array([self.force_amplitude, om])
         tab = np.ascontiguousarray(np.column_stack([mass, k, c, pd, pf, pr]))
-        st = np.zeros((2 + self.n_modes, 5))
-        q0, _ = self.initial_modes()
-        st[2:, 0] = q0
-        st[0, 0] = float(np.dot(pd, q0))
-        st[1, 2] = float(np.dot(pr, q0))
-        return "modal", par, tab, st
+        return "modal", par, tab, self._held_state(pd, pr)
 
     def start_state(self, st, wall_force: float = 0.0) -> float:
         """Release at t = 0: the modes at (q0, q0'), accelerations from the modal equations with

@@ -102,6 +102,16 @@ def structure_numbers(s) -> dict:
     return out
 
 
+def _dem(case: Case, s, dofs, progress):
+    """(labels, indices, the run, displacements [samples, dofs]) of the dofs ``dofs`` of the
+    structure ``s`` (the case's as it runs) in the coupled DEM of ``case``."""
+    from ..simulation import Simulation
+
+    labels, idx = select_dofs(s, dofs)
+    res = Simulation(case).run(progress=progress)
+    return labels, idx, res, res.structure.dof_displacements(s.dof_shapes()[1][idx])
+
+
 def _peak_rms(x: np.ndarray):
     return np.max(np.abs(x), axis=0), np.sqrt(np.mean(x * x, axis=0))
 
@@ -139,15 +149,10 @@ def run_transient(case: Case, *, dofs=None, progress=None) -> TransientResult:
     every dof's (or ``dofs``': labels) peak and RMS over the run with and without the damper, and
     their ratios (damped / bare: < 1 is a reduction); a random load's PSDs and H1 (module
     docstring). ``progress(fraction)`` is passed to the DEM run."""
-    from ..simulation import Simulation
-
     s = _loaded(case)
-    labels, idx = select_dofs(s, dofs)
-    _, shapes = s.dof_shapes()
-    res = Simulation(case).run(progress=progress)
+    labels, idx, res, damped = _dem(case, s, dofs, progress)
     rec = res.structure
     t = rec.time
-    damped = rec.dof_displacements(shapes[idx])
     _, bare_all = dof_response(s, t)
     bare = bare_all[:, idx]
     pd = s.modal_arrays()[3]
@@ -270,8 +275,6 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     """The stepped sine of ``force_amplitude`` [N] over ``frequencies`` [Hz] in ``direction`` (each
     step ``case.cycles`` periods, the last ``measure_cycles`` fitted; one DEM run, the state carried
     from step to step), with the bare structure's exact stepped sine and steady closed form."""
-    from ..simulation import Simulation
-
     if not case.drive.coupled:
         raise InputError("the stepped sine needs a [structure] section (the container riding on a structure)")
     if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
@@ -284,12 +287,9 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     drive = dataclasses.replace(case.drive, force_amplitude=0.0, load=load, displacement=0.0, velocity=0.0)
     run = dataclasses.replace(case, drive=drive)
     s = run.running_drive
-    labels, idx = select_dofs(s, dofs)
-    _, shapes = s.dof_shapes()
-    res = Simulation(run).run(progress=progress)
+    labels, idx, res, X = _dem(run, s, dofs, progress)
     rec = res.structure
     t = rec.time
-    X = rec.dof_displacements(shapes[idx])
     starts = load.step_times()
     psi = load.force_phases()
     damped, phase, dof_amp, bare_sweep, steady = [], [], [], [], []

@@ -39,14 +39,15 @@ and what it answers:
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ...errors import InputError
-from ...schema import config_keys, read_fields, register_tagged, write_fields
+from ...schema import config_keys, param, read_fields, register_tagged, write_fields
 
-__all__ = ["LoadBase", "SampledLoad", "LOADS", "register_load", "FORM_LINEAR", "FORM_SINE", "linear_rows", "table_values"]
+__all__ = ["LoadBase", "SampledLoad", "SampledFields", "LOADS", "register_load", "FORM_LINEAR", "FORM_SINE", "linear_rows", "table_values"]
 
 #: Registered load kinds by tag (``[load] kind``).
 LOADS: dict[str, type] = {}
@@ -184,12 +185,23 @@ class LoadBase:
         return self.label()
 
 
+@dataclass(frozen=True, kw_only=True)
+class SampledFields:
+    """The fields a sampled load has beside its samples (listed last among its bases, so they come
+    first): the file it was read from (custom: written by :meth:`SampledLoad.config_table`), the
+    samples' column there, their times, a scale and the run's length (key ``duration``)."""
+
+    file: str | None = param(None, kind="custom")
+    column: str | None = param(None, kind="custom")
+    time: tuple = param((), kind="list", dimension="time")
+    scale: float = 1.0
+    duration_s: float | None = param(None, dimension="time", key="duration")
+
+
 class SampledLoad(LoadBase):
     """A load given as samples in time (a file or inline lists): piecewise linear through them,
     zero after the last; ``scale`` multiplies them; ``duration`` is the run's length (default: the
-    record's). A kind has the fields ``file``, ``column`` (custom: read here, written by
-    :meth:`config_table`), ``time``, its samples (:attr:`samples_field`), ``scale`` and
-    ``duration_s`` (key ``duration``)."""
+    record's). A kind has the fields of :class:`SampledFields` and its samples (:attr:`samples_field`)."""
 
     #: the dataclass field holding the samples (``force``, ``acceleration``)
     samples_field = ""

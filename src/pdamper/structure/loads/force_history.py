@@ -8,14 +8,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...schema import param
-from .base import SampledLoad, register_load
+from .base import SampledFields, SampledLoad, register_load
 
 __all__ = ["ForceHistory"]
 
 
 @register_load
 @dataclass(frozen=True, kw_only=True)
-class ForceHistory(SampledLoad):
+class ForceHistory(SampledLoad, SampledFields):
     """A force F(t) [N] at the structure's force point (``force_dof``; one mode: the structure),
     the samples' time moved to start at 0.
 
@@ -37,12 +37,7 @@ class ForceHistory(SampledLoad):
         after a short blow.
     """
 
-    file: str | None = param(None, kind="custom")
-    column: str | None = param(None, kind="custom")
-    time: tuple = param((), kind="list", dimension="time")
     force: tuple = param((), kind="list", dimension="force")
-    scale: float = 1.0
-    duration_s: float | None = param(None, dimension="time", key="duration")
     kind: str = param("force_history", kind="tag")
     signal_role = "force"
     samples_field = "force"

@@ -18,7 +18,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...schema import param
-from .base import SampledLoad, register_load
+from .base import SampledFields, SampledLoad, register_load
 
 __all__ = ["GroundAcceleration", "GroundMixin"]
 
@@ -55,7 +55,7 @@ class GroundMixin:
 
 @register_load
 @dataclass(frozen=True, kw_only=True)
-class GroundAcceleration(GroundMixin, SampledLoad):
+class GroundAcceleration(GroundMixin, SampledLoad, SampledFields):
     """A ground acceleration a_g(t) [m/s^2] along the drive direction (module docstring).
 
     Parameters
@@ -81,12 +81,7 @@ class GroundAcceleration(GroundMixin, SampledLoad):
         Gamma_k of each mode, instead of ``influence`` (needed for modes given as data).
     """
 
-    file: str | None = param(None, kind="custom")
-    column: str | None = param(None, kind="custom")
-    time: tuple = param((), kind="list", dimension="time")
     acceleration: tuple = param((), kind="list", dimension="acceleration")
-    scale: float = 1.0
-    duration_s: float | None = param(None, dimension="time", key="duration")
     influence: tuple | None = param(None, kind="list")
     participation: tuple | None = param(None, kind="list")
     kind: str = param("ground_acceleration", kind="tag")
