@@ -79,8 +79,8 @@ def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = Fal
     from ..simulation import Simulation, run_bare_structure
 
     s = _structure(case)
-    if s.force_amplitude > 0:
-        case = dataclasses.replace(case, drive=dataclasses.replace(case.drive, force_amplitude=0.0))
+    if s.force_amplitude > 0 or s.load is not None:  # a free decay: no force, no load in time
+        case = dataclasses.replace(case, drive=dataclasses.replace(case.drive, force_amplitude=0.0, load=None))
         s = _structure(case)
     res = Simulation(case).run(progress=progress)
     rec = res.structure

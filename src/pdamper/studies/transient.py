@@ -318,7 +318,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
         "method": "dem", "sweep": direction, "force_amplitude_N": float(force_amplitude),
         "particles": case.n_particles, "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
         "cycles": case.cycles, "measure_cycles": measure_cycles, "frequencies_hz": freqs.tolist(),
-        "damper_amplitude_m": damped.tolist(), "amplitude_damped_m": damped.tolist(),
+        "damper_amplitude_m": damped.tolist(),
         "phase_damped_rad": phase, "dofs": list(labels),
         "response_amplitude_m": np.array(dof_amp).T.tolist(),
         "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
