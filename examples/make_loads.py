@@ -13,10 +13,12 @@ ground comes to rest. It is no PEER record: the ``.AT2`` file only has that file
 line says so), so that pdamper's reader of PEER files can be tried on a file anyone may share.
 
     python examples/make_loads.py          # rewrites the three files beside this script
+    python examples/make_loads.py DIR      # writes them into DIR instead
 """
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -48,11 +50,11 @@ def quake(seed: int = 7, dt: float = 0.01, duration: float = 12.0, peak_g: float
     return t, a / np.max(np.abs(a)) * peak_g
 
 
-def main() -> None:
+def main(out: Path = HERE) -> None:
     t, f = hammer()
-    (HERE / "hammer.csv").write_text("time [ms],force [N]\n" + "".join(f"{1e3 * a:.1f},{b:.4f}\n" for a, b in zip(t, f)))
+    (out / "hammer.csv").write_text("time [ms],force [N]\n" + "".join(f"{1e3 * a:.1f},{b:.4f}\n" for a, b in zip(t, f)))
     t, a = quake()
-    (HERE / "quake_synthetic.csv").write_text(
+    (out / "quake_synthetic.csv").write_text(
         "# a synthetic ground acceleration (examples/make_loads.py), not a recorded one\n"
         "time [s],acceleration [g]\n" + "".join(f"{x:.2f},{y:.6f}\n" for x, y in zip(t, a)))
     lines = ["SYNTHETIC GROUND MOTION WRITTEN BY PDAMPER EXAMPLES/MAKE_LOADS.PY (NOT A PEER RECORD)",
@@ -60,8 +62,8 @@ def main() -> None:
              "ACCELERATION TIME SERIES IN UNITS OF G",
              f"NPTS= {t.size:5d}, DT= {t[1] - t[0]:.4f} SEC"]
     rows = [" ".join(f"{v:14.7E}" for v in a[k:k + 5]) for k in range(0, a.size, 5)]
-    (HERE / "quake_synthetic.AT2").write_text("\n".join(lines + rows) + "\n")
+    (out / "quake_synthetic.AT2").write_text("\n".join(lines + rows) + "\n")
 
 
 if __name__ == "__main__":
-    main()
+    main(Path(sys.argv[1]) if len(sys.argv) > 1 else HERE)
