@@ -60,7 +60,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .schema import config_keys, convert_fields, param, read_fields, register_tagged, write_fields
+from .schema import OwnTable, config_keys, convert_fields, param, read_fields, register_tagged, write_fields
 from .units import thousandth_hint, unit_factor
 
 __all__ = ["HarmonicDrive", "SampledDrive", "Still", "DriveBase", "DRIVES", "register_drive", "read_motion_csv"]
@@ -79,7 +79,7 @@ def register_drive(cls):
     return register_tagged(DRIVES, cls, "kind", "drive", needs=("kernel_drive", "motion", "duration", "from_config"))
 
 
-class DriveBase:
+class DriveBase(OwnTable):
     """The answers of the drive protocol that most drives share (see the module docstring)."""
 
     #: the config section the drive is read from (:func:`pdamper.schema.replace` reads it too)
@@ -110,17 +110,7 @@ class DriveBase:
     config_writes_kind = True
     config_after = "particles"
 
-    # ---- reading and writing its own config table
-    @classmethod
-    def label(cls) -> str:
-        """The kind in words, for messages."""
-        return cls.config_label or f"a {cls.__dataclass_fields__['kind'].default!r} {cls.config_section}"
-
-    @classmethod
-    def table_keys(cls) -> tuple:
-        """Every key a config table of this kind may hold (``kind`` aside)."""
-        return config_keys(cls) + tuple(cls.config_extra_keys)
-
+    # ---- reading and writing its own config table (label, table_keys: schema.OwnTable)
     @classmethod
     def from_config(cls, table: dict, *, base_dir=None):
         """The drive of the config ``table`` of its section (``base_dir`` resolves files named in

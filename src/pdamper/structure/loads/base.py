@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import InputError
-from ...schema import config_keys, param, read_fields, register_tagged, write_fields
+from ...schema import OwnTable, param, read_fields, register_tagged, write_fields
 
 __all__ = ["LoadBase", "SampledLoad", "SampledFields", "LOADS", "register_load", "FORM_LINEAR", "FORM_SINE", "linear_rows", "table_values"]
 
@@ -100,7 +100,7 @@ def _positive(value, label: str, unit: str, example: str, *, allow_none: bool = 
         raise InputError(f"{label} = {value!r}{' ' + unit if unit else ''}; must be > 0, e.g. {example}")
 
 
-class LoadBase:
+class LoadBase(OwnTable):
     """The answers of the load protocol that most loads share (see the module docstring)."""
 
     config_section = "load"
@@ -118,17 +118,7 @@ class LoadBase:
     #: the keys that set its size (named where a load swings a structure too far)
     size_keys: tuple = ("scale",)
 
-    # ---- reading and writing its own table
-    @classmethod
-    def label(cls) -> str:
-        """The kind in words, for messages."""
-        return cls.config_label or f"a {cls.__dataclass_fields__['kind'].default!r} load"
-
-    @classmethod
-    def table_keys(cls) -> tuple:
-        """Every key a ``[load]`` table of this kind may hold (``kind`` aside)."""
-        return config_keys(cls) + tuple(cls.config_extra_keys)
-
+    # ---- reading and writing its own table (label, table_keys: schema.OwnTable)
     @classmethod
     def from_config(cls, table: dict, *, base_dir=None, read_signal=None):
         """The load of the ``[load]`` ``table`` (``base_dir`` resolves a file named in it,
