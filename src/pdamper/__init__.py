@@ -26,7 +26,8 @@ Run it:
 - :func:`load_case` -- a TOML config file to a :class:`Case`.
 - :func:`run_case` -> :class:`RunResult` (signals, energies, eta*, motion mode);
   :class:`Simulation` -- a case advanced in time, feeding recorders (:mod:`pdamper.recorders`),
-  without analysis.
+  without analysis; :func:`run_cases` -- many cases, those with ``numerics.device = "cuda"``
+  together on one GPU.
 - :class:`SweepSpec`, :func:`run_sweep` -- a stroke sweep over seeds on all cores or a Dask
   cluster, written to a resumable store; :func:`open_results` -- its labelled dataset.
 
@@ -95,6 +96,7 @@ _LAZY = {
     "Simulation": "simulation",
     "RunResult": "run",
     "run_case": "run",
+    "run_cases": "run",
     "load_case": "config",
     "complex_power": "analysis",
     "analyze_record": "analysis",
@@ -113,7 +115,7 @@ __all__ = [
     "Material", "STEEL_S235", "PVC",
     "ConstantRestitution", "TabulatedRestitution", "ThorntonRestitution",
     # run it
-    "load_case", "Simulation", "RunResult", "run_case",
+    "load_case", "Simulation", "RunResult", "run_case", "run_cases",
     # sweep it
     "SweepSpec", "run_sweep", "open_results",
     # evaluate and design
@@ -154,5 +156,5 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .materials import PVC, STEEL_S235, Material
     from .params import (Case, ContactModel, Container, InitialState, Numerics, ParticleSet,
                          Recording)
-    from .run import RunResult, run_case
+    from .run import RunResult, run_case, run_cases
     from .simulation import Simulation

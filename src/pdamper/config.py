@@ -44,17 +44,19 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
     [numerics]                  # integrator, time_step ("auto" or a time), steps_per_contact,
                                 # max_impact_speed ("auto" or a speed), max_time_step,
                                 # gear_tolerance, neighbour_search, skin ("auto" or a length),
-                                # overlap_limit
+                                # overlap_limit, device ("cpu" or "cuda": the GPU engine)
     [recording]                 # sample_rate, trajectory_fps
     [initial]                   # arrangement, jitter, seed, settle_time, layers, and optional
                                 # per-sphere rows [x, y, z]: positions, velocities, spins [rad/s]
     [run]                       # cycles, drop_cycles, gravity
 
-    [structure]                 # instead of [drive]: the container rides on a structure
+    [structure]                 # the container rides on a structure: the case's drive
     mass = "7kg"                # modal mass without the damper ([container] mass is added)
     natural_frequency = "2Hz"   # or stiffness = 1105 (N/m)
     damping_ratio = 0.005
     displacement = "12mm"       # initial; and/or force_amplitude = "0.5N", force_frequency = "2Hz"
+    # A [drive] beside a [structure] is the damper's rig drive (Case.rig): a sweep runs the
+    # damper on it (Case.on_rig), the structure's commands (decay, response) run the structure.
 
     [load]                      # with [structure]: a load in time (pdamper transient), its own keys
     kind = "ground_acceleration"  # or harmonic, force_history, random, stepped_sine
@@ -75,10 +77,7 @@ section builds, keys that are not fields, the restitution-law tables).
 
 from __future__ import annotations
 
-import csv
-import dataclasses
 import difflib
-import math
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -321,6 +320,12 @@ def _apply_overrides(data: dict, overrides: dict) -> dict:
         if key not in SECTIONS[section]:
             raise InputError(f"override {dotted!r}: unknown key {key!r} in [{section}]; "
                              + _quoted(key, SECTIONS[section]))
+        if section in _drive_sections() and section not in data:
+            there = next((sec for sec in _drive_sections() if sec in data), None)
+            if there is not None:
+                raise InputError(f"override {dotted!r}: this file's drive is its [{there}]; a [{section}] beside it "
+                                 f"(the damper's rig beside a structure) is written in the file, not made by an "
+                                 f"override; give [{there}] keys")
         table = data.setdefault(section, {})
         if isinstance(table, list):
             if len(table) != 1:
@@ -379,7 +384,7 @@ class _Reader:
             container = self.container(self._table(data, "container"))
         with _context("particles"):
             particles = self.particles(data.get("particles"))
-        drive = self.drive(data)
+        drive, rig = self.drive(data)
         mats = [p.material for p in particles] + [container.material]
         for m in mats:
             if any(o.name == m.name and o != m for o in mats):
@@ -396,7 +401,7 @@ class _Reader:
             run = self._table(data, "run")
             check_keys(run, "run", SECTIONS["run"])
             return Case(particles=particles, container=container, drive=drive, contact=contact, **sections,
-                        **read_fields(run, "run", Case))
+                        **read_fields(run, "run", Case), **({"rig": rig} if rig is not None else {}))
 
     def container(self, t) -> Container:
         check_keys(t, "container", SECTIONS["container"])
@@ -435,19 +440,27 @@ class _Reader:
                                           hint="; give the number of spheres, e.g. count = 36"))
         return tuple(out)
 
-    def drive(self, data: dict):
-        """The case's drive from the one drive section the file has (``[drive]``, or the
-        ``[structure]`` the container rides on), read by its kind (:func:`_kind_of`,
+    def drive(self, data: dict) -> tuple:
+        """The case's drive and the damper's rig drive (:attr:`pdamper.params.Case.rig`, or None):
+        the last drive section the file has (``[drive]``, or the ``[structure]`` the container rides
+        on) is the case's drive; an earlier one beside a coupled drive (a ``[drive]`` beside a
+        ``[structure]``) is the damper's rig; each read by its kind (:func:`_kind_of`,
         :meth:`pdamper.excitation.DriveBase.from_config`); none: the default ``[drive]``."""
         sections = _drive_sections()
         present = [sec for sec in sections if sec in data]
         section = present[-1] if present else sections[0]
         others = [sec for sec in present[:-1] if self._table(data, sec)]
-        if others:
+        drive = self._drive(data, section, self.load(data))
+        rig = self._drive(data, others[0]) if others else None
+        if len(others) > 1 or (rig is not None and (rig.coupled or not drive.coupled)):
             raise InputError(f"[{others[0]}] {', '.join(self._table(data, others[0]))} cannot be combined with "
                              f"[{section}]: a case has one drive (the [{section}] moves the container); remove "
                              f"[{others[0]}] (the direction is [{section}] angle)")
-        load = self.load(data)
+        return drive, rig
+
+    def _drive(self, data: dict, section: str, load=None):
+        """The drive of the table of drive ``section``, loaded by ``load`` (the ``[load]`` section's,
+        which only a coupled drive takes) where one is given."""
         with _context(section):
             t = self._table(data, section)
             check_keys(t, section, SECTIONS[section])
@@ -584,6 +597,8 @@ def _law_to(law):
 _fields_to = write_fields
 
 
+
+
 def case_to_dict(case: Case) -> dict:
     """The full config of ``case`` as a TOML-ready dict, every quantity in plain SI units.
 
@@ -618,17 +633,20 @@ def case_to_dict(case: Case) -> dict:
                                 for b in c.baffles]
     if c.wall_materials:
         container["wall_materials"] = {w: _material_to(m) for w, m in c.wall_materials.items()}
-    d = case.drive
-    if type(d) is not DRIVES.get(d.kind):
-        raise InputError(f"cannot write drive {type(d).__name__} to a config file")
     out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
-    # the drive's table after the section it names ([drive] after [particles], [structure] last):
-    # the order of the text a store's fingerprint was taken of
-    at = list(out).index(d.config_after) + 1
-    items = list(out.items())
-    # and the sections it writes after its own (a structure's [load])
-    return dict(items[:at] + [(d.config_section, d.config_table()), *d.config_sections().items()] + items[at:])
+    # each drive's table after the section it names ([drive] after [particles], [structure] last):
+    # the order of the text a store's fingerprint was taken of; the damper's rig ([drive]) beside
+    # a structure the same way; and the sections a drive writes after its own (a structure's [load])
+    for d in (case.rig, case.drive):
+        if d is None:
+            continue
+        if type(d) is not DRIVES.get(d.kind):
+            raise InputError(f"cannot write drive {type(d).__name__} to a config file")
+        at = list(out).index(d.config_after) + 1
+        items = list(out.items())
+        out = dict(items[:at] + [(d.config_section, d.config_table()), *d.config_sections().items()] + items[at:])
+    return out
 
 
 _HEADER = ("# pdamper case configuration (written by pdamper {version}).\n"

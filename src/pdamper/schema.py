@@ -43,9 +43,9 @@ __all__ = ["Spec", "param", "spec_of", "plain_fields", "config_keys", "check_cho
            "replace", "OwnTable"]
 
 #: Kinds of field value: a real number, a whole number, a text, a list of numbers, a list of
-#: [x, y, z] rows, a constant type tag (``kind`` / ``shape``, written but not read as a value),
-#: or custom (read by the section's own code).
-KINDS = ("number", "whole", "text", "list", "rows", "tag", "custom")
+#: [x, y, z] rows, a switch (true or false), a constant type tag (``kind`` / ``shape``, written
+#: but not read as a value), or custom (read by the section's own code).
+KINDS = ("number", "whole", "text", "list", "rows", "flag", "tag", "custom")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -54,8 +54,8 @@ class Spec:
 
     Parameters
     ----------
-    kind : one of :data:`KINDS`; by default inferred from the field's default (int: "whole",
-        str: "text", otherwise "number").
+    kind : one of :data:`KINDS`; by default inferred from the field's default (bool: "flag",
+        int: "whole", str: "text", otherwise "number").
     dimension : a dimension of :data:`pdamper.units.DIMENSIONS` ("length", "time", ...); the value
         is held in its SI unit and a config may give it with any unit of that dimension. None: a
         plain number.
@@ -74,6 +74,10 @@ class Spec:
         (the container's geometry: ``container.length``).
     read : for a custom field, ``read(value, section)`` turns a config value (a material name, a
         restitution number, ...) into the field's value; objects already built pass through.
+    write_default : False: the key is written to a config file only when its value differs from
+        the field's default, so that the configs of cases that leave it alone -- and the
+        fingerprints of the result stores made of them -- stay what they were before the key
+        existed (a key added to an established section).
     """
 
     kind: str | None = None
@@ -87,6 +91,7 @@ class Spec:
     section: str | None = None
     inline: bool = False
     read: Callable | None = None
+    write_default: bool = True
 
     def __post_init__(self):
         if self.kind is not None and self.kind not in KINDS:
@@ -104,7 +109,7 @@ def spec_of(f: dataclasses.Field) -> Spec:
     if s.kind is not None:
         return s
     d = f.default
-    kind = ("whole" if isinstance(d, int) and not isinstance(d, bool)
+    kind = ("flag" if isinstance(d, bool) else "whole" if isinstance(d, int)
             else "text" if isinstance(d, str) else "number")
     return dataclasses.replace(s, kind=kind)
 
@@ -260,6 +265,10 @@ def read_value(v, s: Spec, section: str, key: str):
             if not isinstance(v, str):
                 raise InputError(f"{label} = {v!r} must be a string")
             return v
+        if s.kind == "flag":
+            if not isinstance(v, bool):
+                raise InputError(f"{label} = {v!r} must be true or false")
+            return v
         if s.kind == "whole":
             if isinstance(v, float) and v.is_integer():
                 return int(v)
@@ -309,9 +318,13 @@ def write_fields(obj) -> dict:
     for f, s in plain_fields(type(obj)):
         v = getattr(obj, f.name)
         key = s.key or f.name
+        if not s.write_default and v == f.default:
+            continue
         if v is None:
             if s.auto:
                 out[key] = "auto"
+        elif s.kind == "flag":
+            out[key] = bool(v)
         elif s.kind == "text":
             out[key] = v
         elif s.kind == "whole":
@@ -347,9 +360,10 @@ def _is_param(obj) -> bool:
 
 
 def _section_of(f: dataclasses.Field, value) -> str | None:
-    """The config section field ``f`` of the root holds (its value's own ``config_section`` first)."""
+    """The config section field ``f`` of the root holds (its value's own ``config_section`` first; an
+    optional object that is None, such as a case's ``rig``, holds none)."""
     s = spec_of(f).section
-    if s is None:
+    if s is None or value is None:
         return None
     items = value if isinstance(value, tuple) and value and all(_is_param(v) for v in value) else (value,)
     if _is_param(items[0]):

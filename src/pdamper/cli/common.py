@@ -26,7 +26,7 @@ from ..errors import InputError, SimulationError
 from ..units import parse_quantity
 
 __all__ = ["main", "OneLineCommand", "Quantity", "ShapeChoice", "parse_sizes", "user_errors", "echo_json", "fail",
-           "renamed", "until_steady_option"]
+           "renamed", "until_steady_option", "device_option"]
 
 # Raised when a group is called without arguments (click >= 8.2): it carries the help text,
 # which must be shown as it is, not squeezed into one error line.
@@ -232,6 +232,14 @@ def until_steady_option(func):
         help="Stop a case early once its record is steady and eta*'s standard error over the analysed cycles is "
              f"at most TOL (e.g. 0.01), after at least {MIN_STEADY_CYCLES} analysed cycles; never beyond the "
              "configured cycles. Default: the paper's protocol, all cycles.")(func)
+
+
+def device_option(func):
+    """``--device cpu|cuda`` of run, sweep, study and calibrate (``numerics.device``)."""
+    return click.option(
+        "--device", type=click.Choice(["cpu", "cuda"]), default=None,
+        help="Where the DEM runs: cpu (default) or cuda, the GPU engine: every case of the batch advanced together "
+             "on one NVIDIA GPU, each with its own adaptive Gear step (or Verlet's) (needs numba-cuda: pip install -e \".[gpu]\"; docs/engine.md).")(func)
 
 
 def renamed(new_value, old_value, *, new: str, old: str):

@@ -479,6 +479,38 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
     return lines
 
 
+class _LengthOrRange(Quantity):
+    """A length, or a range of them written LOW:HIGH (a tuple of two SI floats)."""
+
+    def __init__(self):
+        super().__init__("length")
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and ":" in value:
+            parts = value.split(":")
+            if len(parts) != 2:
+                raise click.UsageError(f"--{param.name} {value!r}: write one length or LOW:HIGH, e.g. 80mm:160mm", ctx)
+            return tuple(super(_LengthOrRange, self).convert(p, param, ctx) for p in parts)
+        return super().convert(value, param, ctx)
+
+    def get_metavar(self, param, ctx=None):  # noqa: D401 - click API
+        return "LENGTH|LOW:HIGH"
+
+
+def _particles_option(text):
+    """``--particles N`` or ``LOW:HIGH`` as an int or a (LOW, HIGH) pair."""
+    from ..errors import InputError
+
+    parts = str(text).split(":")
+    try:
+        values = [int(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(parts) > 2 or not values:
+        raise InputError(f"--particles {text!r}: give a number of spheres or LOW:HIGH, e.g. 36 or 20:60")
+    return values[0] if len(values) == 1 else tuple(values)
+
+
 @main.command("design")
 @click.option("--structure", "structure_file", type=click.Path(dir_okay=False), metavar="STRUCT.toml",
               help="Design for a structure: a config whose [structure] section gives the mode(s) "
@@ -492,9 +524,10 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
               help="Stroke (amplitude) of the structure where the damper sits, e.g. 10mm (without --structure).")
 @click.option("--shape", type=ShapeChoice(),
               help="Container shape (any registered shape) [default: cuboid; with --structure the file's container].")
-@click.option("--length", type=Quantity("length"), help="Cuboid: inner length along the motion, e.g. 120mm.")
+@click.option("--length", type=_LengthOrRange(), help="Cuboid: inner length along the motion, e.g. 120mm; with "
+              "--structure also a range to choose from, LOW:HIGH, e.g. 80mm:160mm (1 mm steps, at most 121).")
 @click.option("--length-range", metavar="LOW:HIGH",
-              help="With --structure: container lengths to choose from, e.g. 80mm:200mm (1 mm steps, at most 121).")
+              help="With --structure: the same as --length LOW:HIGH.")
 @click.option("--width", type=Quantity("length"), help="Cuboid: inner width, e.g. 40.4mm.")
 @click.option("--container-radius", type=Quantity("length"), help="Cylinder: inner radius R, e.g. 39mm.")
 @click.option("--size", "sizes", multiple=True, metavar="KEY=VALUE",
@@ -506,11 +539,21 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
               help="Sphere density [kg/m^3] (default: 7900, steel; with --structure the config's spheres).")
 @click.option("--max-particles", type=click.IntRange(min=2),
               help="Spheres covering the floor in one layer (default: the floor packing of the container).")
+@click.option("--particles", "particles", metavar="N|LOW:HIGH",
+              help="With --structure: the fillings to choose from, e.g. 20:60 (default: every filling of the floor).")
 @click.option("--max-bed-mass", type=Quantity("mass"), help="With --structure: largest bed mass, e.g. 200g.")
 @click.option("--max-mass-ratio", type=click.FloatRange(min=0, min_open=True),
               help="With --structure: largest bed mass over the mode's mass at the damper, e.g. 0.01.")
-@click.option("--margin", type=click.FloatRange(min=1.0), default=1.2, show_default=True,
-              help="With --structure: the operating stroke is kept at least this factor above X_opt.")
+@click.option("--target-ratio", type=click.FloatRange(min=0, max=1, min_open=True, max_open=True),
+              help="With --structure: the lightest filling whose resonant amplitude is at most this fraction of the "
+                   "bare structure's, e.g. 0.5 (default: the filling with the smallest amplitude).")
+@click.option("--margin", type=click.FloatRange(min=1.0),
+              help="With --structure: keep the operating stroke at least this factor above X_opt [default: by the "
+                   "filling fraction N_p/N_p,max, 1.2 up to 75 % filled to 1.75 at 91 %, above the strokes at which "
+                   "the DEM checks saw such beds sway; docs/structure.md, \"The margin\"].")
+@click.option("--write-case", type=click.Path(dir_okay=False), metavar="OUT.toml",
+              help="With --structure: write one runnable case of the design: the damper, its rig drive [drive] and "
+                   "the structure forced at the design's resonance [structure] (for sweep, fields, response).")
 @click.option("--tilt", type=Quantity("angle"), help="Expected mounting tilt, e.g. 1deg.")
 @click.option("--verify", is_flag=True, help="Run a short DEM sweep around the stroke with the proposed filling.")
 @click.option("--verify-cycles", type=click.IntRange(min=3), default=8, show_default=True,
@@ -523,8 +566,9 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @user_errors
 def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
-                   container_radius, sizes, sphere_radius, radius, density, max_particles, max_bed_mass,
-                   max_mass_ratio, margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+                   container_radius, sizes, sphere_radius, radius, density, max_particles, particles, max_bed_mass,
+                   max_mass_ratio, target_ratio, margin, write_case, tilt, verify, verify_cycles, verify_strokes, seeds,
+                   workers, as_json):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
     With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
@@ -533,14 +577,20 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     about lift-off, tilt sensitivity and thin beds.
 
     With a structure (--structure STRUCT.toml --mode 1 --force 1.5N): the stroke is the
-    unknown. Sizes the filling (and the container's length within --length-range, the bed
-    within --max-bed-mass / --max-mass-ratio) that minimises the mode's resonant amplitude,
-    from the energy balance at resonance with the paper's laws, keeping the operating stroke
-    >= 1.2 X_opt; --verify checks it with a short DEM sweep and gives a verdict.
+    unknown. Sizes the filling (and the container's length within --length LOW:HIGH, the bed
+    within --particles, --max-bed-mass / --max-mass-ratio) that minimises the mode's resonant
+    amplitude, or with --target-ratio R the lightest one whose resonant amplitude is at most R
+    times the bare structure's, from the energy balance at resonance with the paper's laws,
+    keeping the operating stroke >= --margin X_opt; --verify checks it with a short DEM sweep
+    and gives a verdict (against the target, with one); --write-case OUT.toml writes the design
+    as one case that sweep, fields and response run.
 
     Example: pdamper design --frequency 2Hz --stroke 10mm --length 120mm --width 40.4mm --sphere-radius 5mm
 
     Example: pdamper design --structure examples/frame_3hz.toml --mode 1 --force 1.5N
+
+    Example: pdamper design --structure examples/frame_3hz.toml --force 1.5N --target-ratio 0.5 --length 80mm:160mm
+    --write-case frame_design.toml
     """
     from ..design import design_filling
     from ..errors import InputError
@@ -549,14 +599,21 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
     sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
     if structure_file is not None:
-        return _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range,
-                                 sizes, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
-                                 verify, verify_cycles, verify_strokes, seeds, workers, as_json)
+        return _design_structure(structure_file, dict(
+            mode=mode_number, force=force, frequency=frequency, stroke=stroke, shape=shape, length=length,
+            length_range=length_range, sizes=sizes, radius=radius, density=density, max_particles=max_particles,
+            particles=particles, max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio, target_ratio=target_ratio,
+            margin=margin, write_case=write_case, tilt=tilt), verify, verify_cycles, verify_strokes, seeds, workers,
+            as_json)
     for name, value in (("--force", force), ("--length-range", length_range), ("--max-bed-mass", max_bed_mass),
-                        ("--max-mass-ratio", max_mass_ratio)):
+                        ("--max-mass-ratio", max_mass_ratio), ("--particles", particles),
+                        ("--target-ratio", target_ratio), ("--write-case", write_case)):
         if value is not None:
             raise InputError(f"{name} belongs to the design for a structure: give --structure STRUCT.toml with it "
                              "(or --frequency and --stroke without it)")
+    if isinstance(length, tuple):
+        raise InputError("--length LOW:HIGH (a range) belongs to the design for a structure: give --structure "
+                         "STRUCT.toml with it, or one length, e.g. --length 120mm")
     for name, value in (("--frequency", frequency), ("--stroke", stroke)):
         if value is None:
             raise InputError(f"Missing option '{name}' (or give --structure STRUCT.toml --force F).")
@@ -626,39 +683,100 @@ def _verify(d, cycles, workers, quiet):
             "eta_theory": [float(th.eta_theory(x, d.clearance_m)) for x in xs]}
 
 
-def _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, sizes,
-                      radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt, verify,
-                      verify_cycles, verify_strokes, seeds, workers, as_json):
-    """``pdamper design --structure``: the filling for a structure mode, its report and the DEM check."""
-    from ..design import design_container, design_for_structure, load_structure
+def _design_structure(structure_file, o: dict, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+    """``pdamper design --structure``: the filling for a structure mode (the options ``o``), its
+    report, the DEM check and the written case."""
+    from ..design import design_case, design_case_text, design_container, design_for_structure, load_structure
     from ..errors import InputError
+    from ..io.files import atomic_write
 
-    for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--max-particles", max_particles),
-                        ("--tilt", tilt)):
-        if value is not None:
+    for name, key in (("--frequency", "frequency"), ("--stroke", "stroke"), ("--max-particles", "max_particles"),
+                      ("--tilt", "tilt")):
+        if o[key] is not None:
             raise InputError(f"{name} does not apply with --structure: the design finds the stroke at the mode's "
                              "resonance and sizes the container's length along the drive (give --length or "
-                             "--length-range, the other sizes, --sphere-radius)")
+                             "--length LOW:HIGH, the other sizes, --sphere-radius)")
+    force = o["force"]
     if force is None or not force > 0:
         raise InputError(f"--force{'' if force is None else f' = {force:g} N'}: give the force amplitude on the "
                          "structure at the mode's resonance, > 0, e.g. --force 1.5N")
+    length, rng = o["length"], _length_range(o["length_range"]) if o["length_range"] is not None else None
+    if isinstance(length, tuple):
+        if rng is not None:
+            raise InputError("give --length LOW:HIGH or --length-range LOW:HIGH, not both")
+        length, rng = None, length
+    if o["write_case"] is not None:
+        _check_case_path(o["write_case"])
     case = load_structure(structure_file)
-    geo = design_container(case, shape=shape, sizes=sizes)
+    geo = design_container(case, shape=o["shape"], sizes=o["sizes"])
     sphere = case.particles[0]
-    rng = _length_range(length_range) if length_range is not None else None
-    sd = design_for_structure(case.drive, force=force, mode=mode_number,
-                              sphere_radius=radius if radius is not None else sphere.radius,
+    sd = design_for_structure(case.drive, force=force, mode=o["mode"],
+                              sphere_radius=o["radius"] if o["radius"] is not None else sphere.radius,
                               length=length, length_range=rng, container=geo, container_mass=case.container.mass,
-                              max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio,
-                              density=density if density is not None else sphere.material.density, margin=margin)
+                              particles=_particles_option(o["particles"]) if o["particles"] is not None else None,
+                              max_bed_mass=o["max_bed_mass"], max_mass_ratio=o["max_mass_ratio"],
+                              target_ratio=o["target_ratio"],
+                              density=o["density"] if o["density"] is not None else sphere.material.density,
+                              margin=o["margin"])
     out = sd.to_dict()
     out["structure_file"] = str(structure_file)
     if verify:
         out["verify"] = _verify_structure(sd, case, verify_cycles, verify_strokes, seeds, workers, quiet=as_json)
+    if o["write_case"] is not None:
+        from pathlib import Path
+
+        path = Path(o["write_case"])
+        text = design_case_text(sd, design_case(sd, case), command=_command_line(structure_file, o), name=path.name,
+                                verify=out.get("verify"))
+        atomic_write(path, text)
+        out["case_file"] = str(path)
     if as_json:
         echo_json(out)
         return
     click.echo("\n".join(_design_structure_lines(sd, out, structure_file)))
+
+
+def _check_case_path(path) -> None:
+    """``--write-case`` names a .toml file in a folder that exists."""
+    from pathlib import Path
+
+    from ..errors import InputError
+
+    p = Path(path)
+    if p.suffix.lower() != ".toml":
+        raise InputError(f"--write-case {path}: give a .toml file name, e.g. frame_design.toml")
+    if not p.parent.is_dir():
+        raise InputError(f"--write-case {path}: folder {str(p.parent)!r} does not exist; create it or choose another "
+                         "path")
+
+
+def _command_line(structure_file, o: dict) -> str:
+    """The design's command with the options given (for the written case's header), quantities in
+    the units a person types."""
+    import shlex
+
+    mm = lambda x: f"{x * 1e3:.6g}mm"  # noqa: E731
+    length = o["length"] if o["length"] is not None else o["length_range"]
+    words = ["pdamper design --structure", shlex.quote(str(structure_file)), f"--mode {o['mode']}",
+             f"--force {o['force']:.6g}N"]
+    given = [("--target-ratio", o["target_ratio"], "{:g}"), ("--shape", o["shape"], "{}"),
+             ("--sphere-radius", o["radius"], None), ("--density", o["density"], "{:g}kg/m^3"),
+             ("--particles", o["particles"], "{}"), ("--max-bed-mass", o["max_bed_mass"], None),
+             ("--max-mass-ratio", o["max_mass_ratio"], "{:g}")]
+    for name, value, fmt in given:
+        if value is None:
+            continue
+        words.append(f"{name} " + (fmt.format(value) if fmt else (f"{value * 1e3:.6g}g" if "mass" in name
+                                                                    else mm(value))))
+    if length is not None:
+        words.append("--length " + (":".join(mm(v) for v in length) if isinstance(length, tuple)
+                                    else length if isinstance(length, str) else mm(length)))
+    for key, value in o["sizes"].items():
+        if value is not None:
+            words.append(f"--size {key}={value if isinstance(value, str) else mm(value)}")
+    if o["margin"] is not None:
+        words.append(f"--margin {o['margin']:g}")
+    return " ".join(words)
 
 
 def _length_range(text: str):
@@ -687,13 +805,22 @@ def _design_structure_lines(sd, out, structure_file) -> list:
              "resonance" + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response "
                             f"{sd.phi_response:.4g})" if shaped else ""),
              "  masses are physical, at the damper (the mode's own normalisation only where it says so)"]
+    if sd.target_ratio is not None:
+        b = sd.search
+        lines.append(f"  target: ratio <= {sd.target_ratio:g} (resonant amplitude with the damper over without); the "
+                     f"lightest filling that meets it among lengths {b['lengths_m'][0] * 1e3:.4g}-"
+                     f"{b['lengths_m'][1] * 1e3:.4g} mm" + (f", fillings {b['particles'][0]}-{b['particles'][1]}"
+                                                            if b["particles"][1] is not None else "")
+                     + "".join(f", {k} {v * 1e3:.4g} g" for k, v in b["max_bed_mass_kg"].items())
+                     + (f"; one sphere fewer: at best ratio {sd.lighter_ratio:.3g}" if sd.lighter_ratio is not None
+                        else "; no lighter filling keeps the margin"))
     rows = [
         ("container", d.describe_container(), f"{sd.candidates} fillings tried"),
         ("filling", f"{d.particles} of {d.max_particles}", f"spheres r = {mm(d.sphere_radius_m)}, {d.rows} rows"),
         ("bed mass", f"{1e3 * d.bed_mass_kg:.4g} g", f"{pct(sd.mass_ratio)} of the mode's mass at the damper"),
         ("clearance h", mm(d.clearance_m), "eq. (6)"),
         ("X_opt", mm(d.x_opt_m), "eq. (17)"),
-        ("damper stroke X", mm(sd.damper_stroke_m), f"X/X_opt = {sd.stroke_over_x_opt:.3f} (kept >= {sd.margin:g}: "
+        ("damper stroke X", mm(sd.damper_stroke_m), f"X/X_opt = {sd.stroke_over_x_opt:.3f} (kept >= {sd.margin:.3g}: "
          "rolling collect-and-collide)"),
         ("eta*", f"{sd.eta_star:.3f}", "rolling law, eq. (14)"),
         ("energy per cycle", f"{1e3 * sd.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2"),
@@ -714,7 +841,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
                  f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"))
     wv = max(16, *(len(value) + 2 for _, value, _ in rows))
     lines += [f"  {name:<20}{value:<{wv}}{note}" for name, value, note in rows]
-    lines.append(f"  {margin_note(sd.margin)}")
+    lines.append(f"  {margin_note(sd.margin, sd.margin_given, d.particles / d.max_particles)}")
     lines += [f"warning: {w}" for w in sd.warnings]
     if "verify" in out:
         v = out["verify"]
@@ -723,9 +850,10 @@ def _design_structure_lines(sd, out, structure_file) -> list:
                                      v["modes"], v["force_required_N"]):
             lines.append(f"    X = {mm(x):>9} ({s:.3g} X_opt)  eta* DEM {e:.3f}  law {t:.3f}  force needed "
                          f"{fr:.3g} N  {m or 'mode n/a'}")
-        dem = v["amplitude_damper_dem_m"]
-        lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else "")
-                     + (f" (DEM amplitude {mm(dem)})" if dem is not None and v["verdict"] == "pass" else ""))
+        lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else ""))
+    if "case_file" in out:
+        lines.append(f"  wrote {out['case_file']} (the damper, its rig [drive] and the [structure]: pdamper sweep, "
+                     "fields, response run it)")
     return lines
 
 

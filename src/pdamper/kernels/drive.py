@@ -27,8 +27,8 @@ from numba.extending import overload
 from ..jit import JIT, njit
 from .bundles import CoupledMotion, marker_class
 
-__all__ = ["drive_motion", "is_coupled", "is_modal", "is_loaded", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED",
-           "DRIVE_STRUCTURE", "DRIVE_MODAL", "DRIVE_MODAL_LOAD", "DRIVE_KINDS"]
+__all__ = ["drive_motion", "harmonic_motion", "is_coupled", "is_modal", "is_loaded", "DRIVE_STILL", "DRIVE_HARMONIC",
+           "DRIVE_SAMPLED", "DRIVE_STRUCTURE", "DRIVE_MODAL", "DRIVE_MODAL_LOAD", "DRIVE_KINDS"]
 
 #: Drive kind of a container at rest.
 DRIVE_STILL = 0
@@ -78,17 +78,26 @@ def is_loaded(drive):
     return drive.kind == DRIVE_MODAL_LOAD
 
 
+@njit(inline="always")
+def harmonic_motion(x, omega, phase, t):
+    """The harmonic container motion ``x = X sin(Omega t + phase)`` at time ``t`` [s]: (position [m],
+    velocity [m/s], acceleration [m/s^2]); before ``t = 0`` at rest at ``x(0)``. Scalars only, so
+    the CPU kernels (:func:`drive_motion`) and the GPU engine (:mod:`pdamper.kernels.gpu`) compile
+    the same function."""
+    if t < 0.0:
+        return x * math.sin(phase), 0.0, 0.0
+    ph = omega * t + phase
+    s = math.sin(ph)
+    return x * s, x * omega * math.cos(ph), -x * omega * omega * s
+
+
 @njit
 def drive_motion(drive, t):
     """Container (position [m], velocity [m/s], acceleration [m/s^2]) along the drive at time t [s]."""
     kind = drive.kind
     par = drive.par
     if kind == DRIVE_HARMONIC:
-        if t < 0.0:
-            return par[0] * math.sin(par[2]), 0.0, 0.0
-        ph = par[1] * t + par[2]
-        s = math.sin(ph)
-        return par[0] * s, par[0] * par[1] * math.cos(ph), -par[0] * par[1] * par[1] * s
+        return harmonic_motion(par[0], par[1], par[2], t)
     if kind == DRIVE_SAMPLED:
         tab = drive.table
         n = tab.shape[0]
