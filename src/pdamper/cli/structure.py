@@ -727,7 +727,7 @@ def _design_structure(structure_file, o: dict, verify, verify_cycles, verify_str
 
         path = Path(o["write_case"])
         text = design_case_text(sd, design_case(sd, case), command=_command_line(structure_file, o), name=path.name,
-                                verify=out.get("verify"))
+                                verify=out.get("verify"), dropped_load=case.drive.load)
         atomic_write(path, text)
         out["case_file"] = str(path)
     if as_json:
@@ -853,7 +853,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
         lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else ""))
     if "case_file" in out:
         lines.append(f"  wrote {out['case_file']} (the damper, its rig [drive] and the [structure]: pdamper sweep, "
-                     "fields, response run it)")
+                     "fields, response, transient run it)")
     return lines
 
 

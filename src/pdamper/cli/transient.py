@@ -28,7 +28,8 @@ def transient_command(config, dofs, seed, settings, plot, as_json):
     """The structure of CONFIG.toml under its [load] in time, with and without the damper.
 
     Runs the coupled DEM for the load's duration (a force history, a ground acceleration, a
-    random load, a stepped sine) and the structure without the bed by its exact linear response
+    random load, a stepped sine; without a [load], the [structure]'s harmonic force from rest
+    for [run] cycles periods, as in a case written by pdamper design --write-case) and the structure without the bed by its exact linear response
     (modal superposition, piecewise-exact in the load); prints each dof's peak and RMS with and
     without the damper and their ratios (damped / bare). Under a ground acceleration the
     displacements are relative to the ground. For a random load also the response PSD and the

@@ -2,7 +2,8 @@
 damper and without it, and the stepped sine.
 
 - :func:`run_transient` -- the coupled DEM under the case's load in time (a force history, a
-  ground acceleration, a random load, a stepped sine) and the structure without the bed by its
+  ground acceleration, a random load, a stepped sine; or the structure's harmonic force from
+  rest, :func:`in_time`) and the structure without the bed by its
   exact linear response (:mod:`pdamper.structure.linear`): every dof's peak and RMS and their
   ratios (damped / bare); for a random load the response PSD and the FRF estimate H1 (Welch,
   :func:`scipy.signal.csd`) against the exact FRF.
@@ -26,23 +27,31 @@ from ..params import Case
 from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
 
-__all__ = ["TransientResult", "SweepResult", "run_transient", "run_stepped_sine", "parse_dofs", "select_dofs",
+__all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs", "select_dofs",
            "fit_sine", "SWEEPS", "structure_numbers"]
 
 #: The directions of a stepped sine.
 SWEEPS = ("up", "down")
 
 
-def _loaded(case: Case):
-    """The case's structure as it runs, with a load in time."""
+def in_time(case: Case) -> Case:
+    """``case`` with its structure's load in time: its ``[load]``; or, a structure forced by its
+    harmonic force (``force_amplitude``, ``force_frequency``) and no ``[load]``, that force from the
+    start as a stepped sine of one step of ``[run] cycles`` periods (the same force and run length,
+    as a load table: a case written by ``pdamper design --write-case`` runs so)."""
     if not case.drive.coupled:
         raise InputError("this study needs a [structure] section (the container riding on a structure) and a "
                          "[load]; see examples/frame_quake.toml")
-    s = case.running_drive
+    s = case.drive
+    if s.load is None and s.force_amplitude > 0:
+        force = SteppedSine(amplitude=float(s.force_amplitude), frequencies=(float(s.force_frequency),),
+                            cycles=float(case.cycles))
+        return dataclasses.replace(case, drive=dataclasses.replace(s, force_amplitude=0.0, load=force))
     if s.load is None:
         raise InputError("pdamper transient needs a load in time: a [load] section with kind = 'force_history', "
-                         "'ground_acceleration', 'random' or 'stepped_sine' (the harmonic force is pdamper response's)")
-    return s
+                         "'ground_acceleration', 'random' or 'stepped_sine', or the [structure]'s force_amplitude "
+                         "and force_frequency (that force from rest)")
+    return case
 
 
 def parse_dofs(text) -> list:
@@ -148,8 +157,10 @@ def run_transient(case: Case, *, dofs=None, progress=None) -> TransientResult:
     """The coupled DEM of ``case`` under its load in time and the bare structure's exact response:
     every dof's (or ``dofs``': labels) peak and RMS over the run with and without the damper, and
     their ratios (damped / bare: < 1 is a reduction); a random load's PSDs and H1 (module
-    docstring). ``progress(fraction)`` is passed to the DEM run."""
-    s = _loaded(case)
+    docstring). A structure forced harmonically without a ``[load]`` runs under that force from
+    rest (:func:`in_time`). ``progress(fraction)`` is passed to the DEM run."""
+    case = in_time(case)
+    s = case.running_drive
     labels, idx, res, damped = _dem(case, s, dofs, progress)
     rec = res.structure
     t = rec.time

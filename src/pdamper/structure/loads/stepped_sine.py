@@ -98,5 +98,7 @@ class SteppedSine(LoadBase):
 
     def describe(self) -> str:
         f = self.frequencies
+        if len(f) == 1:
+            return f"sine {self.amplitude:g} N at {f[0]:.5g} Hz from rest, {self.cycles:g} cycles, {self.duration:.4g} s"
         return (f"stepped sine {self.amplitude:g} N, {len(f)} steps {f[0]:.5g} -> {f[-1]:.5g} Hz ({self.direction}), "
                 f"{self.cycles:g} cycles each, {self.duration:.4g} s")
