@@ -102,6 +102,18 @@ def test_a_load_needs_a_structure():
                    'time = [0, 1]\nforce = [0, 1]\n')
 
 
+def test_a_load_beside_the_rig_drive_loads_the_structure():
+    """A [drive] beside a [structure] is the damper's rig (pdamper design --write-case): a [load] then
+    loads the structure, not the rig, and the three sections are written back as read."""
+    text = SDOF + '[drive]\nstroke = "10mm"\nfrequency = "2Hz"\n[load]\nkind = "force_history"\ntime = [0, 1]\n' \
+                  'force = [0, 1]\n'
+    case = loads_case(text)
+    assert case.drive.load == ForceHistory(time=(0.0, 1.0), force=(0.0, 1.0)) and case.rig.stroke == 0.01
+    written = dumps_case(case)
+    assert written.index("[drive]") < written.index("[structure]") < written.index("[load]")
+    assert loads_case(written) == case
+
+
 def test_pdamper_transient_needs_a_load_in_time():
     from pdamper.studies.transient import run_transient
 
