@@ -12,6 +12,7 @@ from pdamper.geometry import Cuboid
 from pdamper.materials import PVC, STEEL_S235
 from pdamper.params import Case, ContactModel, Container, InitialState, Numerics, ParticleSet, Recording
 from pdamper.simulation import Simulation
+from pdamper.config import loads_case
 
 R = 0.005
 BOX = Cuboid(length=0.2, width=0.1, height=0.1)
@@ -64,3 +65,39 @@ settle_time = "50ms"
 cycles = 3
 drop_cycles = 1
 """
+
+
+ROW = 6  # spheres in the row
+
+
+def locked_case(load: str, *, structure: str = 'mass = "2kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.02',
+                text: bool = False):
+    """A locked bed on a structure under ``load`` (the lines of a ``[load]`` table): a row of ROW
+    spheres wall to wall along the drive, touching at rest (tests/studies/test_transient.py); the
+    case, or with ``text`` its config text."""
+    length = 2 * 0.005 * ROW
+    pos = [[-length / 2 + 0.005 + 0.01 * i, 0.005, 0.0] for i in range(ROW)]
+    toml = f"""
+[container]
+shape = "cuboid"
+length = {length!r}
+width = 0.0101
+height = 0.011
+material = "pvc"
+tilt = 0.0
+[particles]
+count = {ROW}
+radius = "5mm"
+material = "steel"
+[contact]
+friction = 0.5
+[initial]
+positions = {pos!r}
+settle_time = 0.05
+jitter = 0
+[structure]
+{structure}
+[load]
+{load}
+"""
+    return toml if text else loads_case(toml)

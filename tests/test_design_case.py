@@ -3,6 +3,7 @@ rig drive (``Case.rig``); ``pdamper design --write-case`` writes the design as o
 reads back as the same Case and on which sweep, fields and response run unchanged."""
 
 import json
+import math
 
 import pytest
 from click.testing import CliRunner
@@ -109,3 +110,35 @@ def test_sweep_fields_and_response_run_on_the_written_case(tmp_path):
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert s["frequencies_hz"] == [pytest.approx(f)] and s["amplitude_damped_m"][0] > 0
+
+
+def test_transient_runs_on_the_written_case(tmp_path):
+    """``pdamper transient`` takes the written case as it is: the design's force from rest (one
+    cycle here); the bare structure's swing grows as the undamped resonance's, pi n F / K after n
+    cycles (to 2 %: the structure's damping and the design's resonance 0.1 % off the bare one)."""
+    out, r = _design(tmp_path, "--json")
+    d = json.loads(r.stdout)
+    head = out.read_text(encoding="utf-8").split("\n\n# pdamper case configuration")[0]
+    assert "pdamper transient frame_design.toml" in head and "Left out" not in head
+    r = CliRunner().invoke(main, ["transient", str(out), "--set", "run.cycles=1", "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    f, k = d["frequency_hz"], load_structure(FRAME).drive.stiffness
+    assert s["duration_s"] == pytest.approx(1 / f, rel=1e-4) and s["load_peak"] == pytest.approx(1.5, rel=1e-3)
+    assert s["damper_peak_bare_m"] == pytest.approx(math.pi * 1.5 / k, rel=0.02)
+    assert s["dofs"] == [0] and s["peak_m"][0] == pytest.approx(s["damper_peak_m"], rel=1e-9)
+
+
+def test_a_load_in_time_of_the_structure_file_is_left_out_and_said(tmp_path):
+    """A structure file with a [load] (an accelerogram) designs as the same structure; the case is
+    forced by the design's force, its [load] left out, which the header says."""
+    quake = FRAME.parent / "frame_quake.toml"
+    assert load_structure(quake).drive.load.ground  # the file's load: an accelerogram
+    out = tmp_path / "q.toml"
+    r = CliRunner().invoke(main, ["design", "--structure", str(quake), "--force", "1.5N", "--target-ratio", "0.6",
+                                  "--length", "100mm:130mm", "--write-case", str(out)])
+    assert r.exit_code == 0, r.output
+    case = load_case(out)
+    head, config = out.read_text(encoding="utf-8").split("\n\n# pdamper case configuration")
+    assert case.drive.load is None and case.drive.force_amplitude == 1.5 and "\n[load]" not in config
+    assert "Left out:     the structure file's [load] (ground acceleration" in head

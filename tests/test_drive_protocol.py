@@ -16,6 +16,7 @@ from pdamper.excitation import DRIVES, DriveBase, HarmonicDrive, SampledDrive, S
 from pdamper.kernels import drive as kdrive
 from pdamper.schema import param
 from pdamper.structure import CoupledStructure, ModalStructure
+from pdamper.structure.loads import ForceHistory
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -122,10 +123,12 @@ def test_every_kernel_drive_names_a_compiled_motion_and_the_numbers_are_named():
               SampledDrive(time=(0.0, 0.1, 0.2, 0.3), position=(0.0, 0.001, 0.0, -0.001)),
               CoupledStructure(mass=7.0, stiffness=1105.0, displacement=0.01),
               ModalStructure(modes=({"frequency": 2.0, "damping_ratio": 0.005, "modal_mass": 7.0, "damper": 1.0},),
-                             displacement=0.01)]
+                             displacement=0.01),
+              CoupledStructure(mass=7.0, stiffness=1105.0,
+                               load=ForceHistory(time=(0.0, 0.01, 0.02), force=(0.0, 10.0, 0.0)))]
     kinds = {drive_bundle(d).kind for d in drives}
     assert kinds == {kdrive.DRIVE_STILL, kdrive.DRIVE_HARMONIC, kdrive.DRIVE_SAMPLED, kdrive.DRIVE_STRUCTURE,
-                     kdrive.DRIVE_MODAL}
+                     kdrive.DRIVE_MODAL, kdrive.DRIVE_MODAL_LOAD}
     assert {drive_bundle(d).coupling.__class__.__name__ for d in drives[3:]} == {"CoupledMotion"}
     assert set(kdrive.DRIVE_KINDS.values()) == kinds  # one name for each compiled motion
 

@@ -43,3 +43,14 @@ def test_kinetic_energy_recorder_example():
     assert 0.3 < eta < 1.2 and 0 < mean < peak and n == 200
     # the bed moves with the container to first order: 1/2 m_bed (X Omega)^2 / 2 on average ~ 1.4 mJ
     assert mean == pytest.approx(1e3 * 0.5 * 0.1489 * (0.014 * 4 * math.pi) ** 2 / 2, rel=0.5)
+
+
+def test_make_loads_writes_the_examples_load_files(tmp_path):
+    """examples/make_loads.py writes the committed hammer.csv, quake_synthetic.csv and .AT2, byte for
+    byte (the accelerogram is synthetic, seeded)."""
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "make_loads.py"), str(tmp_path)], capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    for name in ("hammer.csv", "quake_synthetic.csv", "quake_synthetic.AT2"):
+        assert (tmp_path / name).read_bytes() == (EXAMPLES / name).read_bytes(), name
+

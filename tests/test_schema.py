@@ -53,6 +53,8 @@ def test_every_section_key_comes_from_a_field_or_is_named_structure():
     from pdamper.geometry.cylinder import Cylinder
     fields |= (set(config_keys(SampledDrive)) | set(config_keys(Still)) | set(config_keys(Cylinder))
                | set(config_keys(ModalStructure)))
+    from pdamper.structure.loads import LOADS
+    fields |= {k for cls in LOADS.values() for k in cls.table_keys()}
     for section, keys in SECTIONS.items():
         for key in keys:
             assert key in fields or key in structural, f"[{section}] {key} is neither a field nor structure"

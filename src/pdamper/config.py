@@ -58,6 +58,10 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
     # A [drive] beside a [structure] is the damper's rig drive (Case.rig): a sweep runs the
     # damper on it (Case.on_rig), the structure's commands (decay, response) run the structure.
 
+    [load]                      # with [structure]: a load in time (pdamper transient), its own keys
+    kind = "ground_acceleration"  # or harmonic, force_history, random, stepped_sine
+    file = "quake.csv"          # time [s], acceleration [g]; or a PEER .AT2 file
+
 :func:`load_case` reads a file (with optional overrides such as ``{"drive.stroke": "3mm"}``, the
 command line's ``--set``, applied to the file's tables before they are read);
 :func:`case_to_dict` / :func:`dump_case` write a case back in plain SI numbers, so that
@@ -86,12 +90,14 @@ from .errors import InputError
 from .io.files import atomic_write
 from . import structure as _structures  # noqa: F401  (registers the structure models as drives)
 from .excitation import DRIVES, read_motion_csv
+from .io.records import read_signal
+from .structure.loads import LOADS
 from .geometry import SHAPES
 from .materials import LIBRARY, Material, read_material
 from .params import (Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording, read_baffles,
                      read_tilt, read_wall_materials, read_with_material)
 from .schema import (Spec, _choice, _grammar, _num, _quoted, check_keys, config_keys, plain_fields, read_fields,
-                     read_number, replace, suggest, write_fields)
+                     read_number, read_quantity, replace, suggest, write_fields)
 
 __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
            "with_overrides", "key_spec", "SECTIONS"]
@@ -131,6 +137,12 @@ def _own_keys(section: str) -> dict:
             for kind, cls in kinds.items()}
 
 
+def _load_keys() -> tuple:
+    """The keys a ``[load]`` section may hold: ``kind`` and every key of the registered load kinds
+    (read when asked: a load kind may register later)."""
+    return _union(("kind",), *(cls.table_keys() for cls in LOADS.values()))
+
+
 def _section_keys(section: str) -> tuple:
     """The keys a drive section may hold: every key of its kinds (and ``kind`` where written)."""
     kinds = _kinds(section).values()
@@ -168,6 +180,8 @@ class _Sections(Mapping):
     def __getitem__(self, section):
         if section == "container":
             return self._container()
+        if section == "load":
+            return _load_keys()
         if section in self._fixed:
             return self._fixed[section]
         if section in _drive_sections():
@@ -177,10 +191,10 @@ class _Sections(Mapping):
     def __iter__(self):
         fixed = list(self._fixed)
         drives = [s for s in _drive_sections() if s not in self._fixed]
-        return iter(("container", fixed[0], *drives[:1], *fixed[1:], *drives[1:]))
+        return iter(("container", fixed[0], *drives[:1], *fixed[1:], *drives[1:], "load"))
 
     def __len__(self):
-        return len(self._fixed) + 1 + len([s for s in _drive_sections() if s not in self._fixed])
+        return len(self._fixed) + 2 + len([s for s in _drive_sections() if s not in self._fixed])
 
 
 #: Allowed keys of each section, derived from the dataclasses' fields.
@@ -436,7 +450,7 @@ class _Reader:
         present = [sec for sec in sections if sec in data]
         section = present[-1] if present else sections[0]
         others = [sec for sec in present[:-1] if self._table(data, sec)]
-        drive = self._drive(data, section)
+        drive = self._drive(data, section, self.load(data))
         rig = self._drive(data, others[0]) if others else None
         if len(others) > 1 or (rig is not None and (rig.coupled or not drive.coupled)):
             raise InputError(f"[{others[0]}] {', '.join(self._table(data, others[0]))} cannot be combined with "
@@ -444,12 +458,24 @@ class _Reader:
                              f"[{others[0]}] (the direction is [{section}] angle)")
         return drive, rig
 
-    def _drive(self, data: dict, section: str):
-        """The drive of the table of drive ``section``."""
+    def _drive(self, data: dict, section: str, load=None):
+        """The drive of the table of drive ``section``, loaded by ``load`` (the ``[load]`` section's,
+        which only a coupled drive takes) where one is given."""
         with _context(section):
             t = self._table(data, section)
             check_keys(t, section, SECTIONS[section])
             cls = _kind_of(t, section)
+            if load is not None:
+                if not cls.coupled:
+                    raise InputError(f"[load] loads a structure; this case's [{section}] is {cls.label()}: give a "
+                                     "[structure] section (the container riding on it) or remove [load]")
+                # the [structure]'s own force may be there, 0 (a file made for free decay and response)
+                forced = ("force_amplitude" in t and
+                          read_quantity(t["force_amplitude"], f"[{section}] force_amplitude", "force") != 0)
+                if forced or "load" in t:
+                    raise InputError(f"[load] and [{section}] {'force_amplitude' if forced else 'load'} both load the "
+                                     f"structure; give the load in one place (force_amplitude = 0 with a [load])")
+                t = {**t, **load.structure_keys()}
             for other, keys in _own_keys(section).items():
                 found = [k for k in keys if k in t]
                 if found and _kinds(section)[other] is not cls:
@@ -458,6 +484,20 @@ class _Reader:
                                      "give " + " or ".join(c.config_summary for c in _kinds(section).values())
                                      + ", not a mix")
             return cls.from_config(t, base_dir=self.base_dir)
+
+    def load(self, data: dict):
+        """The ``[load]`` section's load (:mod:`pdamper.structure.loads`), read by its ``kind``
+        (a file named in it relative to the config file, read by
+        :func:`pdamper.io.records.read_signal`), or None without one."""
+        if "load" not in data:
+            return None
+        with _context("load"):
+            t = self._table(data, "load")
+            check_keys(t, "load", SECTIONS["load"])
+            if "kind" not in t:
+                raise InputError("[load] kind is missing: give one of " + ", ".join(repr(k) for k in LOADS))
+            cls = LOADS[_choice(t["kind"], "[load] kind", tuple(LOADS))]
+            return cls.from_config(t, base_dir=self.base_dir, read_signal=read_signal)
 
     def contact(self, t, material_names) -> ContactModel:
         check_keys(t, "contact", SECTIONS["contact"])
@@ -597,7 +637,7 @@ def case_to_dict(case: Case) -> dict:
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
     # each drive's table after the section it names ([drive] after [particles], [structure] last):
     # the order of the text a store's fingerprint was taken of; the damper's rig ([drive]) beside
-    # a structure the same way
+    # a structure the same way; and the sections a drive writes after its own (a structure's [load])
     for d in (case.rig, case.drive):
         if d is None:
             continue
@@ -605,7 +645,7 @@ def case_to_dict(case: Case) -> dict:
             raise InputError(f"cannot write drive {type(d).__name__} to a config file")
         at = list(out).index(d.config_after) + 1
         items = list(out.items())
-        out = dict(items[:at] + [(d.config_section, d.config_table())] + items[at:])
+        out = dict(items[:at] + [(d.config_section, d.config_table()), *d.config_sections().items()] + items[at:])
     return out
 
 

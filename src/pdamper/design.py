@@ -1087,7 +1087,10 @@ def design_case(sd: StructureDesign, case, *, cycles: float | None = None):
     filling and sphere density; its drive the structure forced by the design's force at the
     design's resonance, from rest; and the damper's rig drive beside it
     (:attr:`~pdamper.params.Case.rig`): the operating stroke at that frequency, along the
-    structure's direction, which a sweep (and the fields made of it) runs.
+    structure's direction, which a sweep (and the fields made of it) runs. A load in time of the
+    structure file (``[load]``) is dropped: the case is forced by the design's force, the load it
+    was designed for (``pdamper transient`` runs that force from rest; :func:`design_case_text`
+    says the ``[load]`` was left out).
 
     ``cycles`` (``[run] cycles``): forcing periods of a run; default five decay times of the
     damped mode, 5 / (2 pi zeta_total) rounded up to tens, so a response from rest is steady;
@@ -1104,7 +1107,8 @@ def design_case(sd: StructureDesign, case, *, cycles: float | None = None):
         mat = dataclasses.replace(mat, density=d.density_kg_m3)
     f = round(sd.frequency_hz, 4)
     s = case.drive
-    structure = dataclasses.replace(s, force_amplitude=sd.force_N, force_frequency=f, displacement=0.0, velocity=0.0)
+    structure = dataclasses.replace(s, force_amplitude=sd.force_N, force_frequency=f, displacement=0.0, velocity=0.0,
+                                    load=None)
     rig = HarmonicDrive(stroke=round(sd.damper_stroke_m, 7), frequency=f, angle=s.angle, direction=s.direction)
     if cycles is None:
         cycles = 10 * math.ceil(5.0 / (2 * math.pi * sd.zeta_total) / 10)
@@ -1115,10 +1119,11 @@ def design_case(sd: StructureDesign, case, *, cycles: float | None = None):
 
 
 def design_case_text(sd: StructureDesign, case, *, command: str, name: str = "design.toml",
-                     verify: dict | None = None) -> str:
+                     verify: dict | None = None, dropped_load=None) -> str:
     """The TOML text of :func:`design_case` (``case``: that case) with a header that says how it
     was designed (``command``), the target, the predicted ratio, the margin, the DEM check's
-    verdict (``verify``, if run) and the commands it is meant for."""
+    verdict (``verify``, if run), the structure file's load in time left out (``dropped_load``,
+    if it had one) and the commands it is meant for."""
     from ._version import __version__
     from .config import dumps_case
 
@@ -1149,6 +1154,10 @@ def design_case_text(sd: StructureDesign, case, *, command: str, name: str = "de
         lines.append(f"DEM check:    {verify['verdict']}: {verify['reason']}")
     else:
         lines.append("DEM check:    not run (pdamper design ... --verify)")
+    if dropped_load is not None:
+        lines += [f"Left out:     the structure file's [load] ({dropped_load.describe()}): this case is forced by F, the "
+                  "load it was designed for;", "              to run `pdamper transient` under that load, set "
+                  "[structure] force_amplitude = 0 and add the [load] back"]
     lo, hi = 0.4 * sd.damper_stroke_m, 1.6 * sd.damper_stroke_m
     f = case.drive.force_frequency
     stem = name[:-5] if name.endswith(".toml") else name
@@ -1156,10 +1165,12 @@ def design_case_text(sd: StructureDesign, case, *, command: str, name: str = "de
         "",
         "[drive] is the damper alone on its rig, at the operating stroke and the resonance: `pdamper sweep` runs",
         "it (the damper's eta* and fields). [structure] is the structure forced by F at the design's resonance,",
-        "from rest: `pdamper response` runs it (and `pdamper decay` with --set structure.displacement=...). [run]",
-        "cycles are forcing periods, about five decay times of the damped mode (a sweep takes --cycles of its own):",
+        "from rest: `pdamper response` and `pdamper transient` run it (and `pdamper decay` with --set",
+        "structure.displacement=...). [run] cycles are forcing periods, about five decay times of the damped mode",
+        "(a sweep takes --cycles of its own):",
         "",
         f"  pdamper response {name} --frequencies {f:.5g}Hz",
+        f"  pdamper transient {name} --plot {stem}_transient.png",
         f"  pdamper sweep {name} --vary drive.stroke={lo * 1e3:.3g}mm:{hi * 1e3:.3g}mm:6 "
         f"--vary drive.frequency={0.97 * f:.4g}Hz,{f:.4g}Hz,{1.03 * f:.4g}Hz --seeds 2 --cycles 12 --out {stem}_sweep",
         f"  pdamper fields {stem}_sweep --out {stem}_fields.nc",

@@ -12,10 +12,12 @@ config keys                    its dataclass fields, declared with :func:`pdampe
                                ``config_extra_keys`` (a samples file, a natural frequency)
 ``from_config(table, ...)``    the drive of a config table (its own keys, read and checked)
 ``config_table()``             the config table it is written as (the inverse)
+``config_sections()``          sections written after its own (a structure's ``[load]``)
 ``config_marks``               keys that make a table without ``kind`` this kind's
 ``config_default``             the kind a section's table is when no key marks another
 ``kernel_drive()``             ``(kernel kind, par, table, state)`` for the kernels; the kernel kind
                                is the name of a compiled motion (:data:`pdamper.kernels.drive.DRIVE_KINDS`)
+``kernel_load()``              the kernels' table of a load given in time (a structure's; none else)
 ``speed_bound()``              the container's largest speed [m/s] (the automatic time step)
 ``duration(cycles)``           the driven time [s]
 ``motion(t)``                  ``(x, v, a)`` at times t, as prescribed (without the bed)
@@ -58,7 +60,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .schema import config_keys, convert_fields, param, read_fields, register_tagged, write_fields
+from .schema import OwnTable, config_keys, convert_fields, param, read_fields, register_tagged, write_fields
 from .units import thousandth_hint, unit_factor
 
 __all__ = ["HarmonicDrive", "SampledDrive", "Still", "DriveBase", "DRIVES", "register_drive", "read_motion_csv"]
@@ -77,7 +79,7 @@ def register_drive(cls):
     return register_tagged(DRIVES, cls, "kind", "drive", needs=("kernel_drive", "motion", "duration", "from_config"))
 
 
-class DriveBase:
+class DriveBase(OwnTable):
     """The answers of the drive protocol that most drives share (see the module docstring)."""
 
     #: the config section the drive is read from (:func:`pdamper.schema.replace` reads it too)
@@ -108,17 +110,7 @@ class DriveBase:
     config_writes_kind = True
     config_after = "particles"
 
-    # ---- reading and writing its own config table
-    @classmethod
-    def label(cls) -> str:
-        """The kind in words, for messages."""
-        return cls.config_label or f"a {cls.__dataclass_fields__['kind'].default!r} {cls.config_section}"
-
-    @classmethod
-    def table_keys(cls) -> tuple:
-        """Every key a config table of this kind may hold (``kind`` aside)."""
-        return config_keys(cls) + tuple(cls.config_extra_keys)
-
+    # ---- reading and writing its own config table (label, table_keys: schema.OwnTable)
     @classmethod
     def from_config(cls, table: dict, *, base_dir=None):
         """The drive of the config ``table`` of its section (``base_dir`` resolves files named in
@@ -156,6 +148,11 @@ class DriveBase:
 
     def config_extra(self) -> dict:
         """Config keys beyond the plain fields (a modal structure's ``modes``); none by default."""
+        return {}
+
+    def config_sections(self) -> dict:
+        """Sections written after the drive's own (a structure's ``[load]``): section -> table;
+        none by default."""
         return {}
 
     # ---- motion
@@ -219,6 +216,12 @@ class DriveBase:
         is the name of a compiled motion (:data:`pdamper.kernels.drive.DRIVE_KINDS`)."""
         kind, par, tab = self.kernel_args()
         return kind, par, tab, np.zeros((2, 5))
+
+    def kernel_load(self):
+        """The kernels' load table (:attr:`pdamper.kernels.bundles.Drive.load`, rows (t_j, ...) of a
+        load given in time, :mod:`pdamper.kernels.structure`): none for a prescribed motion (one
+        row of zeros, never read)."""
+        return np.zeros((1, 4))
 
     def carrying(self, mass: float):
         """The drive with the empty container's ``mass`` [kg] on it: a prescribed motion moves the

@@ -40,7 +40,7 @@ from .units import _example, _needs_conversion, is_quantity, parse_quantity, to_
 
 __all__ = ["Spec", "param", "spec_of", "plain_fields", "config_keys", "check_choice", "convert_fields",
            "read_value", "read_fields", "write_fields", "read_quantity", "read_number", "check_keys", "suggest",
-           "replace"]
+           "replace", "OwnTable"]
 
 #: Kinds of field value: a real number, a whole number, a text, a list of numbers, a list of
 #: [x, y, z] rows, a switch (true or false), a constant type tag (``kind`` / ``shape``, written
@@ -487,6 +487,27 @@ def _change_section(obj, fields: list, items: dict, section: str) -> dict:
     else:
         kw[holder.name] = _change(value, rest, section)
     return kw
+
+
+class OwnTable:
+    """What a kind that reads its own config table answers about it (a drive of
+    :mod:`pdamper.excitation`, a load of :mod:`pdamper.structure.loads`): its words for messages and
+    the keys its table may hold (its fields' and ``config_extra_keys``)."""
+
+    #: the config section the kind is read from; the kind in words; keys beyond the fields
+    config_section = ""
+    config_label = ""
+    config_extra_keys: tuple = ()
+
+    @classmethod
+    def label(cls) -> str:
+        """The kind in words, for messages (``"a 'samples' drive"``)."""
+        return cls.config_label or f"a {cls.__dataclass_fields__['kind'].default!r} {cls.config_section}"
+
+    @classmethod
+    def table_keys(cls) -> tuple:
+        """Every key a config table of this kind may hold (``kind`` aside)."""
+        return config_keys(cls) + tuple(cls.config_extra_keys)
 
 
 def register_tagged(registry: dict, cls, tag_field: str, what: str, needs: tuple = (), has: tuple = ()):

@@ -175,10 +175,12 @@ class Simulation:
         rows = {c: (n if c in channels else 0) for c in ("wall_force", "energy", "structure")}
         frames = n // frame_every if "frames" in channels and frame_every else 0
         interval = self.stepper.sample_interval
+        # a structure's record: its columns, then its modal coordinates (every dof's motion follows)
+        modes = self.drive.n_modes if self.case.drive.coupled else 0
         return Samples(interval=float(interval), wall_force=np.zeros(rows["wall_force"]),
                        energy=np.zeros((rows["energy"], len(ENERGY_COLUMNS))),
                        frames=np.zeros((frames, self.n, FRAME_COLUMNS)), frame_every=int(frame_every),
-                       structure=np.zeros((rows["structure"], len(STRUCTURE_COLUMNS))), sums=np.zeros(4))
+                       structure=np.zeros((rows["structure"], len(STRUCTURE_COLUMNS) + modes)), sums=np.zeros(4))
 
     # ------------------------------------------------------------------ running
     def settle(self) -> None:
@@ -389,7 +391,7 @@ def run_bare_structure(structure, duration: float, *, sample_rate: float = 1000.
     n = int(math.floor(duration * sample_rate + 1e-9))
     drive = drive_bundle(structure)
     structure.start_state(drive.state)
-    out = np.zeros((n, len(STRUCTURE_COLUMNS)))
+    out = np.zeros((n, len(STRUCTURE_COLUMNS) + structure.n_modes))
     run_structure_alone(n * sub, dt, 0.0, sub, drive, out)
     return StructureRecord.from_array(structure, (np.arange(n) + 1) * ts, out)
 

@@ -111,6 +111,11 @@ BAD = {
         (["case.toml", "--measure-cycles", "0"], "0 is not in the range"),
         ([], "Missing argument 'CONFIG.toml'"),
     ],
+    "transient": [
+        (["case.toml", "--seed", "-1"], "is not in the range"),
+        (["case.toml", "--bogus"], "No such option"),
+        ([], "Missing argument 'CONFIG.toml'"),
+    ],
     "design": [
         (["--frequency", "2Hz", "--stroke", "10kg", "--sphere-radius", "5mm"], "'10kg' is not a length"),
         (["--stroke", "10mm", "--sphere-radius", "5mm"], "Missing option '--frequency'"),

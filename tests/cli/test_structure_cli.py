@@ -107,7 +107,14 @@ def test_decay_and_response_on_a_two_mode_structure():
     k1 = m1 * (2 * math.pi * 2.0146) ** 2
     c1 = 2 * 0.005 * math.sqrt(k1 * m1)
     assert s["amplitude_solid_mass_m"][1] == pytest.approx(0.4 / abs(k1 - (m1 + ma) * w * w + 1j * c1 * w), rel=1e-3)
-    assert all(a > 0 for a in s["amplitude_damped_m"]) and s["energy_balance_error_max"] < 5e-3
+    assert all(a > 0 for a in s["damper_amplitude_m"]) and s["energy_balance_error_max"] < 5e-3
+    assert s["amplitude_damped_m"] == s["damper_amplitude_m"]  # the old key, one release
+    # every dof of the modes given as data, the same keys as the fields' response: the damper point's is the
+    # damper's amplitude, the response point's the run's response column
+    assert s["method"] == "dem" and s["dofs"] == ["damper", "force", "response"]
+    assert s["response_amplitude_m"][0] == pytest.approx(s["damper_amplitude_m"], rel=1e-9)
+    assert s["response_amplitude_m"][2] == pytest.approx(s["response_point_amplitude_m"], rel=1e-9)
+    assert s["response_amplitude_bare_m"][0] == pytest.approx(s["amplitude_bare_m"], rel=1e-9)
 
 
 def _step_fields_file(tmp_path):
@@ -128,7 +135,11 @@ def test_response_from_fields_json_table_plot_and_refusal(tmp_path):
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert s["method"] == "fields" and len(s["frequencies_hz"]) == 21
-    assert any(isinstance(v, list) and len(v) == 2 for v in s["response_amplitude_m"])
+    assert any(isinstance(v, list) and len(v) == 2 for v in s["response_point_amplitude_m"])
+    # every dof (one mode: the structure itself, the damper point), as the DEM's keys
+    flat = lambda vs: [x for v in vs for x in (v if isinstance(v, list) else [v])]  # noqa: E731
+    assert s["dofs"] == [0] and flat(s["response_amplitude_m"][0]) == pytest.approx(flat(s["damper_amplitude_m"]),
+                                                                                    rel=1e-12)
     assert len(s["jump_frequencies_hz"]) == 2
     png = tmp_path / "fields.png"
     r = run(["response", EXAMPLE, "--fields", nc, "--force", "0.2N", "--frequencies", "1.9Hz:2.1Hz:21",

@@ -25,5 +25,6 @@ from . import reanalyze as _reanalyze  # noqa: F401,E402
 from . import campaign as _campaign  # noqa: F401,E402
 from . import calibrate as _calibrate  # noqa: F401,E402
 from . import fields as _fields  # noqa: F401,E402
+from . import transient as _transient  # noqa: F401,E402
 
 __all__ = ["main"]

@@ -28,13 +28,16 @@ def _load(config, settings, cycles, seed, force=None):
     if seed is not None:
         overrides["initial.seed"] = seed
     if force is not None and force > 0 and "structure.force_amplitude" not in overrides:
-        # the file as it stands may have nothing that moves it: read it once with a nominal start
+        # the file as it stands may have nothing that moves it, or a [load] in time: read it with a
+        # nominal start, then force it (each forced run sets its own start)
+        import dataclasses
+
         probe = load_case(config, {**overrides, "structure.displacement": "1mm", "structure.force_amplitude": 0.0})
         if not probe.drive.coupled:
             return probe  # not a structure: the command says so
-        overrides["structure.force_amplitude"] = force
-        overrides.setdefault("structure.force_frequency",
-                             probe.drive.force_frequency or probe.drive.natural_frequency)
+        drive = dataclasses.replace(probe.drive, load=None, force_amplitude=force,
+                                    force_frequency=probe.drive.force_frequency or probe.drive.natural_frequency)
+        return dataclasses.replace(probe, drive=drive)
     return load_case(config, overrides)
 
 
@@ -165,9 +168,15 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
 @click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
               help="Local worker processes (>1: the sweep executor, Dask).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
+@click.option("--sweep", type=click.Choice(["up", "down", "both"]),
+              help="A stepped sine over the frequencies instead of a run per frequency: one DEM run, --cycles "
+                   "periods a step, the state carried from step to step (both: up, then down from rest); with "
+                   "--fields drawn over the fields' branches.")
+@click.option("--dofs", help="The dofs whose amplitudes to report: labels and ranges START:STOP[:STEP] (0-based, "
+              "STOP excluded), e.g. 0,18,38 or 0:40:2 (default: every dof, in the JSON).")
 @user_errors
 def response_command(config, cycles, seed, settings, plot, as_json, frequencies, mode, force, fields_path,
-                     extrapolate, start, measure_cycles, workers, scheduler):
+                     extrapolate, start, measure_cycles, workers, scheduler, sweep, dofs):
     """Frequency response of the structure of CONFIG.toml with and without the damper.
 
     DEM (default): at each frequency the structure runs under F0 sin(2 pi f t) for the config's
@@ -181,8 +190,17 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     its fields' mass and dashpot at its node, every solution branch per frequency with its
     stability and the jump frequencies (docs/structure.md).
 
+    With --sweep up|down|both: the stepped sine (one DEM run over the frequencies in the sweep's
+    order, [run] cycles a step, the last --measure-cycles fitted), with the bare structure's own
+    stepped sine (exact) and its steady closed form; with --fields drawn over the fields'
+    branches, so a jump is seen to follow one branch.
+
+    Every dof's amplitude is in the JSON (``dofs``, ``response_amplitude_m`` per dof); --dofs
+    chooses and prints them.
+
     Examples: pdamper response examples/structure_36.toml --force 0.4N --plot response.png;
-    pdamper response examples/mast_modal.toml --force 0.3N --fields fields_36.nc --plot r.png
+    pdamper response examples/mast_modal.toml --force 0.3N --fields fields_36.nc --plot r.png;
+    pdamper response examples/structure_36.toml --force 0.4N --sweep both --fields fields_36.nc --plot sweep.png
     """
     import numpy as np
 
@@ -215,35 +233,45 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
         raise InputError("--start fields needs the damper's fields: --fields F.nc")
     elif extrapolate:
         raise InputError("--extrapolate belongs to --fields F.nc")
+    from ..studies.transient import parse_dofs
+
+    wanted = parse_dofs(dofs)
     if not as_json:
         for w in warnings:
             click.echo(f"warning: {w}", err=True)
+    if sweep is not None:
+        return _sweep(case, config, freqs, forces, sweep, fields, extrapolate, measure_cycles, start, workers,
+                      scheduler, wanted, plot, as_json, warnings)
     results, beside, text = [], [], []
     x_opt = _x_opt(case)
     for f0 in forces:
         if fields is not None and start is None:
-            res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+            res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate, dofs=wanted)
             res.summary.update(warnings=warnings, x_opt_m=x_opt)
             results.append(res)
             beside.append(None)
             text += _fields_lines(dict(res.summary, config=str(config)), config, f0, fields_path, None)
+            if wanted is not None:
+                text += _dof_lines(res.summary)
             continue
         res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
                            scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
-                           fields=fields, extrapolate=extrapolate)
+                           fields=fields, extrapolate=extrapolate, dofs=wanted)
         res.summary.update(warnings=warnings, x_opt_m=x_opt)
         prediction = curve = None
         if fields is not None:
             prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
             res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
-                "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
-                "peak_damped_frequency_hz", "solve_time_median_s")}
+                "damper_amplitude_m", "dofs", "response_amplitude_m", "response_point_amplitude_m",
+                "jump_frequencies_hz", "peak_damped_m", "peak_damped_frequency_hz", "solve_time_median_s")}
             if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
                 curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields,
                                             force_amplitude=f0, extrapolate=extrapolate)
         results.append(res)
         beside.append(curve or prediction)
         text += _dem_lines(res.summary, config, f0, prediction is not None)
+        if wanted is not None:
+            text += _dof_lines(res.summary)
     if plot:
         response_figure(results if len(results) > 1 else results[0], plot,
                         fields=(beside if len(beside) > 1 else beside[0]) if any(b is not None for b in beside)
@@ -272,7 +300,7 @@ def _dem_lines(s: dict, config, f0: float, prediction: bool) -> list[str]:
              f"  {'f [Hz]':>8}  {'damper [mm]':>12}  {'bare [mm]':>10}  {'bare run [mm]':>13}  {'solid mass [mm]':>15}"
              + ("  fields [mm]" if prediction else "")]
     for k, f in enumerate(s["frequencies_hz"]):
-        line = (f"  {hz(f):>8}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
+        line = (f"  {hz(f):>8}  {1e3 * s['damper_amplitude_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                 f"{1e3 * s['amplitude_bare_run_m'][k]:11.4g}{'' if s['bare_run_steady'][k] else ' *':2}  "
                 f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
         if prediction:
@@ -289,6 +317,117 @@ def _dem_lines(s: dict, config, f0: float, prediction: bool) -> list[str]:
                  f"DEM time {s['wall_time_s']:.3g} s")
     for f, msg in s["failed"].items():
         lines.append(f"  failed at {f} Hz: {msg}")
+    return lines
+
+
+def _dof_lines(s: dict) -> list[str]:
+    """Each dof asked for (--dofs): its largest amplitude over the frequencies with the damper (the
+    largest stable branch) and without, and where."""
+    import numpy as np
+
+    from ..studies.structure import frequency_format
+
+    hz = frequency_format(s["frequencies_hz"])
+    top = lambda v: max(v) if isinstance(v, list) and v else (v if not isinstance(v, list) else float("nan"))  # noqa: E731
+    lines = [f"  every dof asked for ({s['method']}): the largest amplitude over these frequencies",
+             f"  {'dof':>9}  {'damper [mm]':>11}  {'at f [Hz]':>9}  {'bare [mm]':>10}  {'at f [Hz]':>9}"]
+    for d, amp, bare in zip(s["dofs"], s["response_amplitude_m"], s["response_amplitude_bare_m"]):
+        a = [top(v) for v in amp]
+        k = int(np.nanargmax(a)) if np.any(np.isfinite(a)) else 0
+        kb = int(np.argmax(bare))
+        lines.append(f"  {str(d):>9}  {1e3 * a[k]:11.4g}  {hz(s['frequencies_hz'][k]):>9}  {1e3 * bare[kb]:10.4g}  "
+                     f"{hz(s['frequencies_hz'][kb]):>9}")
+    return lines
+
+
+def _sweep(case, config, freqs, forces, sweep, fields, extrapolate, measure_cycles, start, workers, scheduler,
+           wanted, plot, as_json, warnings):
+    """``pdamper response --sweep``: the stepped sines, their tables, the figure over the fields."""
+    import numpy as np
+
+    from ..errors import InputError
+    from ..studies.structure import run_response_fields
+    from ..studies.transient import SWEEPS, run_stepped_sine
+
+    if len(forces) != 1:
+        raise InputError("--sweep takes one force: give --force once")
+    for name, value in (("--start", start), ("--workers", workers if workers != 1 else None),
+                        ("--scheduler", scheduler)):
+        if value is not None:
+            raise InputError(f"{name} does not apply to --sweep (one run carries the state from step to step)")
+    if freqs.size < 2:
+        raise InputError("--sweep needs two or more frequencies, e.g. --frequencies 1.9Hz:2.1Hz:9")
+    f0 = forces[0]
+    directions = SWEEPS if sweep == "both" else (sweep,)
+    results = []
+    for d in directions:
+        res = run_stepped_sine(case, freqs, force_amplitude=f0, direction=d, measure_cycles=measure_cycles,
+                               dofs=wanted, progress=None)
+        res.summary.update(warnings=warnings, x_opt_m=_x_opt(case))
+        results.append(res)
+    curve = None
+    if fields is not None:
+        curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields, force_amplitude=f0,
+                                    extrapolate=extrapolate, dofs=wanted)
+        for r in results:
+            r.summary["fields_jump_frequencies_hz"] = curve.summary["jump_frequencies_hz"]
+    if plot:
+        from ..plotting.transient import sweep_figure
+
+        sweep_figure(results, plot, fields=curve)
+    if as_json:
+        out = [dict(r.summary) for r in results]
+        echo_json(dict(out[0], config=str(config), plot=plot) if len(out) == 1 else
+                  {"sweeps": out, "config": str(config), "plot": plot})
+        return
+    text = []
+    for r in results:
+        text += _sweep_lines(r.summary, config)
+        if wanted is not None:
+            text += _dof_lines(r.summary)
+    if len(results) == 2:  # up and down at the same frequencies: where they part, the branches differ
+        up, down = results
+        x_down = dict(zip(down.frequencies.tolist(), down.damped.tolist()))
+        apart = [(f, a, x_down[f]) for f, a in zip(up.frequencies.tolist(), up.damped.tolist())
+                 if abs(a - x_down[f]) > 0.05 * max(a, x_down[f])]
+        text.append("  up and down differ by more than 5 % at " + (", ".join(
+            f"{f:.5g} Hz ({1e3 * a:.4g} / {1e3 * b:.4g} mm)" for f, a, b in apart) if apart else "no frequency"))
+    if curve is not None and curve.summary["jump_frequencies_hz"]:
+        text.append("  the fields' jumps at " + ", ".join(f"{f:.5g} Hz" for f in curve.summary["jump_frequencies_hz"]))
+    if plot:
+        text.append(f"  wrote {plot}")
+    click.echo("\n".join(text))
+
+
+def _sweep_lines(s: dict, config) -> list[str]:
+    """The table of a stepped sine (``s``: its summary), in the sweep's order, and its jumps."""
+    from ..studies.structure import frequency_format
+    from ..plotting.structure import JUMP
+
+    hz = frequency_format(s["frequencies_hz"])
+    lines = [f"pdamper response {config} --sweep {s['sweep']}  (F0 = {s['force_amplitude_N']:.4g} N, "
+             f"{s['particles']} spheres, {100 * s['mass_ratio']:.3g} % of M; {s['cycles']:g} periods a step, the last "
+             f"{s['measure_cycles']} fitted; the state carried)",
+             f"  {'f [Hz]':>8}  {'damper [mm]':>12}  {'bare [mm]':>10}  {'bare sweep [mm]':>15}  {'solid mass [mm]':>15}"]
+    x = s["damper_amplitude_m"]
+    for k, f in enumerate(s["frequencies_hz"]):
+        lines.append(f"  {hz(f):>8}  {1e3 * x[k]:10.4g}{'' if s['steady'][k] else ' *':2}  "
+                     f"{1e3 * s['amplitude_bare_m'][k]:10.4g}  {1e3 * s['amplitude_bare_sweep_m'][k]:15.4g}  "
+                     f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
+    jumps = [(s["frequencies_hz"][k - 1], s["frequencies_hz"][k], x[k - 1], x[k]) for k in range(1, len(x))
+             if abs(x[k] - x[k - 1]) > JUMP * max(x[k], x[k - 1])]
+    for fa, fb, xa, xb in jumps:
+        lines.append(f"  a step of more than {100 * JUMP:g} % between {hz(fa)} and {hz(fb)} Hz: {1e3 * xa:.4g} -> "
+                     f"{1e3 * xb:.4g} mm (a jump, or a transient: see the bare sweep)")
+    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {hz(s['peak_damped_frequency_hz'])} Hz; "
+                 f"without {1e3 * s['resonance_bare_m']:.4g} mm at its resonance {s['resonance_bare_frequency_hz']:.5g} "
+                 f"Hz: ratio {s['peak_reduction']:.3g}; the bare stepped sine against its closed form: "
+                 f"{s['bare_sweep_vs_closed_form_max_error']:.2g}")
+    if not all(s["steady"]):
+        lines.append(f"  * not steady: the two halves of the measured periods differ by more than "
+                     f"{100 * s['steady_tolerance']:g} % (run more --cycles a step)")
+    lines.append(f"  energy balance error {s['energy_balance_error']:.2g}; DEM {s['duration_s']:.4g} s simulated in "
+                 f"{s['wall_time_s']:.3g} s")
     return lines
 
 
@@ -326,7 +465,7 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
     hz = frequency_format(s["frequencies_hz"])
     for k, f in enumerate(s["frequencies_hz"]):
         lines.append(f"  {hz(f):>8}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
-                     f"{_branches_mm(s['response_amplitude_m'][k]):>16}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
+                     f"{_branches_mm(s['response_point_amplitude_m'][k]):>16}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                      f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
     lines.append(_peak_line(s, hz) + f"ratio {s['peak_reduction']:.3g}")
     if s["jump_frequencies_hz"]:
@@ -588,7 +727,7 @@ def _design_structure(structure_file, o: dict, verify, verify_cycles, verify_str
 
         path = Path(o["write_case"])
         text = design_case_text(sd, design_case(sd, case), command=_command_line(structure_file, o), name=path.name,
-                                verify=out.get("verify"))
+                                verify=out.get("verify"), dropped_load=case.drive.load)
         atomic_write(path, text)
         out["case_file"] = str(path)
     if as_json:
@@ -714,7 +853,7 @@ def _design_structure_lines(sd, out, structure_file) -> list:
         lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else ""))
     if "case_file" in out:
         lines.append(f"  wrote {out['case_file']} (the damper, its rig [drive] and the [structure]: pdamper sweep, "
-                     "fields, response run it)")
+                     "fields, response, transient run it)")
     return lines
 
 

@@ -126,7 +126,7 @@ def drive_bundle(drive, gravity=None, direction=None) -> Drive:
     # the marker follows what the drive is: one the bed's force moves is read from the state
     coupling = CoupledMotion() if drive.coupled else PrescribedMotion()
     return Drive(kind=DRIVE_KINDS[name], coupling=coupling, par=par, table=tab, state=state, gravity=gravity,
-                 direction=direction)
+                 direction=direction, load=np.ascontiguousarray(drive.kernel_load(), dtype=float))
 
 
 def _initial_vectors(given, n, name):

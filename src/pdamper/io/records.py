@@ -28,6 +28,11 @@ there is no time channel; units from ``unit_string``).
 
 **pdamper's own run output** (a ``pdamper run --out`` directory or its ``signals.csv``) is read
 with its velocity (each sample the interval mean, what the run analysed).
+
+**One signal in time** (:func:`read_signal`: a structure's load, :mod:`pdamper.structure.loads`):
+the columns ``time`` and one other (``force``, ``acceleration``), from the same text and binary
+files, or a PEER NGA strong-motion file (``.AT2``: a four-line header naming the units (``G``) and
+``NPTS``, ``DT``, then the accelerations, several a line), returned as a :class:`Signal` in SI.
 """
 
 from __future__ import annotations
@@ -43,12 +48,14 @@ import numpy as np
 from ..errors import InputError
 from ..units import unit_factor
 
-__all__ = ["Record", "read_record", "ROLES", "MOTIONS"]
+__all__ = ["Record", "read_record", "ROLES", "MOTIONS", "Signal", "read_signal", "read_at2", "SIGNAL_ROLES"]
 
 #: The columns a record can have.
 ROLES = ("time", "force", "position", "velocity", "acceleration")
 #: The motion columns, of which a record uses exactly one.
 MOTIONS = ("position", "velocity", "acceleration")
+#: The signals :func:`read_signal` reads beside the time.
+SIGNAL_ROLES = ("force", "acceleration")
 _DIMENSION = {"time": "time", "force": "force", "position": "length",
               "velocity": "velocity", "acceleration": "acceleration"}
 _UNIT_EXAMPLES = {"time": "s, ms", "force": "N, kN", "length": "m, mm",
@@ -248,9 +255,10 @@ def _is_number(cell: str, decimal: str = ".") -> bool:
     return True
 
 
-def _find_header(source, content, columns):
-    """(position in content, delimiter) of the header: the first line naming time and force."""
-    wanted = [columns.get(r, r).strip().casefold() for r in ("time", "force")]
+def _find_header(source, content, columns, roles=("time", "force")):
+    """(position in content, delimiter) of the header: the first line naming the ``roles`` (time
+    and force)."""
+    wanted = [columns.get(r, r).strip().casefold() for r in roles]
     for pos, (no, line) in enumerate(content[:500]):
         for d in (",", ";", "\t"):
             if d not in line:
@@ -283,25 +291,12 @@ def _read_text(lines, source, columns, motion, delimiter, decimal, path) -> Reco
         pos, delimiter = _find_header(source, content, columns)
     else:
         pos = next((k for k, (_, ln) in enumerate(content) if delimiter in ln), 0)
-    header_no, header_line = content[pos]
     meta = {}
     for _, line in content[:pos]:  # a logger's preamble: keep its "key: value" lines
         key, sep, value = line.partition(":")
         if sep and key.strip():
             meta[key.strip()] = value.strip()
-    header = [h.strip() for h in _fields(header_line, delimiter)]
-    names, units = (list(x) for x in zip(*(_split_header(h) for h in header)))
-    data = content[pos + 1:]
-    last_header = header_no
-    if data and not any(_is_number(c, ",") for c in _fields(data[0][1], delimiter)):
-        # a second header row of units ("s;N;mm" or "[s];[N];[mm]")
-        row = [c.strip().strip("[]()").strip() for c in _fields(data[0][1], delimiter)]
-        for i, u in enumerate(row[:len(units)]):
-            if u and not units[i]:
-                units[i] = u
-        header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
-        last_header = data[0][0]
-        data = data[1:]
+    header, names, units, data, last_header = _header(content, pos, delimiter)
     used = _choose(source, header, names, columns, motion)
     if not data:
         raise InputError(f"{source}: the file has a header but no data rows")
@@ -315,6 +310,26 @@ def _read_text(lines, source, columns, motion, delimiter, decimal, path) -> Reco
     motion_role = next(r for r in used if r in MOTIONS)
     return Record(time=values["time"], force=values["force"], **{motion_role: values[motion_role]}, source=source,
                   headers={role: header[i] for role, i in used.items()}, meta=meta)
+
+
+def _header(content, pos: int, delimiter: str):
+    """(header texts, names, units, data lines, line number of the last header row) of a text file
+    whose header is ``content[pos]``; a second header row of units (``s;N;mm`` or ``[s];[N];[mm]``)
+    fills the units the first leaves out."""
+    header_no, header_line = content[pos]
+    header = [h.strip() for h in _fields(header_line, delimiter)]
+    names, units = (list(x) for x in zip(*(_split_header(h) for h in header)))
+    data = content[pos + 1:]
+    last_header = header_no
+    if data and not any(_is_number(c, ",") for c in _fields(data[0][1], delimiter)):
+        row = [c.strip().strip("[]()").strip() for c in _fields(data[0][1], delimiter)]
+        for i, u in enumerate(row[:len(units)]):
+            if u and not units[i]:
+                units[i] = u
+        header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
+        last_header = data[0][0]
+        data = data[1:]
+    return header, names, units, data, last_header
 
 
 def _parse_columns(source, lines, last_header, header, used, delimiter, decimal, path) -> dict:
@@ -502,3 +517,178 @@ def _column(path, header: str, cells: list[str], line_nos, decimal: str) -> np.n
                          f"a finite number ({bad.size} such cell{'s' if bad.size > 1 else ''}); "
                          "fill the gap or remove the row")
     return col
+
+
+# ----------------------------------------------------------------------------- one signal in time
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Signal:
+    """One signal in time, in SI: ``time`` [s], ``values`` (a force [N] or an acceleration
+    [m/s^2], :attr:`role`), where it came from (``source``) and the header of its column."""
+
+    time: np.ndarray
+    values: np.ndarray
+    role: str
+    source: str = ""
+    header: str = ""
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+
+def read_signal(path, role: str, *, column: str | None = None) -> Signal:
+    """Read one signal in time from a file: the ``time`` column and the ``role`` column (``"force"``
+    or ``"acceleration"``; ``column`` names it where the file calls it otherwise), units in the
+    header (``time [s]``, ``force [N]``, ``acceleration [g]``: ``g`` the standard gravity) or a row
+    of units, from a text file, HDF5, MATLAB or TDMS (as :func:`read_record`), or a PEER NGA
+    ``.AT2`` file (accelerations in g, :func:`read_at2`). Every problem raises
+    :class:`~pdamper.errors.InputError` naming the file and the line or column."""
+    if role not in SIGNAL_ROLES:
+        raise InputError(f"role {role!r}; read one of {', '.join(SIGNAL_ROLES)}")
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"file not found: {path}")
+    if path.is_dir():
+        raise InputError(f"{path} is a directory; give the {role} file")
+    suffix = path.suffix.lower()
+    if suffix == ".at2":
+        if role != "acceleration":
+            raise InputError(f"{path}: a PEER .AT2 file holds a ground acceleration, not a {role}")
+        return read_at2(path)
+    columns = {role: column} if column else {}
+    if suffix in (".h5", ".hdf5", ".hdf", ".mat", ".tdms"):
+        channels = (_hdf5_channels if suffix in (".h5", ".hdf5", ".hdf") else
+                    _mat_channels if suffix == ".mat" else _tdms_channels)(path)
+        return _signal_of_channels(path, channels, role, columns)
+    return _signal_of_text(_read_lines(path, head=600), path, role, columns)
+
+
+def _signal_of_text(lines, path: Path, role: str, columns: dict) -> Signal:
+    source = str(path)
+    content = [(no, line) for no, line in lines if line.strip() and not line.lstrip().startswith("#")]
+    if not content:
+        raise InputError(f"{source}: the file is empty; expected a header row (time, {role}) and data rows, e.g. "
+                         f"'time [s],{role} [{'N' if role == 'force' else 'm/s^2'}]'")
+    pos, delimiter = _find_header(source, content, columns, ("time", role))
+    header, names, units, data, last_header = _header(content, pos, delimiter)
+    used = {r: _find_column(source, header, names, r, columns.get(r, r), role) for r in ("time", role)}
+    if not data:
+        raise InputError(f"{source}: the file has a header but no data rows")
+    sample = [c for _, ln in data[:50] for c in _fields(ln, delimiter)]
+    decimal = "," if delimiter != "," and any("," in c for c in sample) else "."
+    values = _parse_columns(source, lines, last_header, header, used, delimiter, decimal, path)
+    dims = {"time": "time", role: _DIMENSION[role]}
+    for r, i in used.items():
+        if units[i]:
+            values[r] = values[r] * _factor(source, header[i], units[i], dims[r])
+    return _checked_signal(source, values["time"], values[role], role, header[used[role]])
+
+
+def _find_column(source, header, names, role, target, signal) -> int:
+    """The index of the column of ``role`` (named ``target``) of a file of time and ``signal``."""
+    key = target.strip().casefold()
+    hits = [i for i, (h, n) in enumerate(zip(header, names)) if n.casefold() == key or h.casefold() == key]
+    if len(hits) > 1:
+        raise InputError(f"{source}: {len(hits)} columns match {role} ({target!r}): "
+                         f"{', '.join(_short(header[i]) for i in hits)}; rename one")
+    if not hits:
+        raise InputError(f"{source}: no {role} column ({target!r}); the header has "
+                         f"{', '.join(_short(h) for h in header)}; name the columns 'time [s]' and "
+                         f"'{signal} [unit]'" + (" (or name the column with column = ...)" if role != "time" else ""))
+    return hits[0]
+
+
+def _signal_of_channels(path: Path, channels: dict, role: str, columns: dict) -> Signal:
+    if not channels:
+        raise InputError(f"{path}: no 1-D numeric channels found; is this a {role} file?")
+    header = list(channels)
+    names = [h.rsplit("/", 1)[-1] for h in header]
+    out = {}
+    for r in ("time", role):
+        i = _find_column(str(path), header, names, r, columns.get(r, r), role)
+        arr, unit = channels[header[i]]
+        arr = np.asarray(arr, dtype=float).ravel()
+        out[r] = arr * (_factor(str(path), header[i], unit, _DIMENSION[r]) if unit else 1.0)
+        out[r + "_header"] = header[i]
+    if out["time"].size != out[role].size:
+        raise InputError(f"{path}: channel {out[role + '_header']!r} has {out[role].size} samples, the time "
+                         f"{out['time'].size}; give channels of one length")
+    return _checked_signal(str(path), out["time"], out[role], role, out[role + "_header"])
+
+
+def _checked_signal(source: str, time, values, role: str, header: str) -> Signal:
+    """A :class:`Signal` once its samples are finite, at least two, at strictly increasing times."""
+    time = np.asarray(time, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if time.size < 2:
+        raise InputError(f"{source}: {time.size} sample{'s' if time.size != 1 else ''}; a {role} in time needs at "
+                         "least 2")
+    for what, arr in (("time", time), (role, values)):
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise InputError(f"{source}: {what} sample {int(bad[0])} is not a finite number ({bad.size} such); fill "
+                             "the gaps")
+    steps = np.diff(time)
+    if np.any(steps <= 0):
+        k = int(np.argmax(steps <= 0))
+        raise InputError(f"{source}: the time must increase strictly; it does not at sample {k + 1} "
+                         f"(t = {time[k + 1]!r} s after {time[k]!r} s)")
+    return Signal(time=time, values=values, role=role, source=source, header=header)
+
+
+_AT2_NPTS = re.compile(r"NPTS\s*=\s*([^\s,]+)", re.IGNORECASE)
+_AT2_DT = re.compile(r"DT\s*=\s*([^\s,]+)", re.IGNORECASE)
+_AT2_OLD = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
+#: Units of the third header line of an .AT2 file -> factor to m/s^2.
+_AT2_UNITS = {"G": 9.80665, "CM/S/S": 0.01, "CM/SEC/SEC": 0.01, "CM/S^2": 0.01, "CM/S2": 0.01, "M/S/S": 1.0,
+              "M/SEC/SEC": 1.0, "M/S^2": 1.0, "M/S2": 1.0}
+
+
+def read_at2(path) -> Signal:
+    """A ground acceleration [m/s^2] from a PEER NGA strong-motion file (``.AT2``): line 1 the
+    database, line 2 the event and station, line 3 ``ACCELERATION TIME SERIES IN UNITS OF G``,
+    line 4 ``NPTS= 4000, DT= .0100 SEC`` (or the older ``4000 .0100 NPTS, DT``), then the NPTS
+    accelerations, several a line; the samples at ``k DT``, k = 0 .. NPTS - 1."""
+    path = Path(path)
+    source = str(path)
+    lines = _read_lines(path)
+    if len(lines) < 5:
+        raise InputError(f"{source}: {len(lines)} lines; a PEER .AT2 file has 4 header lines (database, event, "
+                         "'ACCELERATION TIME SERIES IN UNITS OF G', 'NPTS= n, DT= dt SEC') and the accelerations")
+    units_line = lines[2][1]
+    m = re.search(r"UNITS\s+OF\s+(\S+)", units_line, re.IGNORECASE)
+    unit = m.group(1).strip(".,").upper() if m else ""
+    if unit not in _AT2_UNITS:
+        raise InputError(f"{source}, line 3: {_short(units_line.strip())} does not name the units (expected "
+                         f"'... IN UNITS OF G'; known: {', '.join(_AT2_UNITS)})")
+    head = lines[3][1]
+    old = _AT2_OLD.match(head)
+    n_text, dt_text = (old.group(1), old.group(2)) if old else (
+        (_AT2_NPTS.search(head) or [None, None])[1], (_AT2_DT.search(head) or [None, None])[1])
+    if n_text is None or dt_text is None:
+        raise InputError(f"{source}, line 4: {_short(head.strip())}; expected 'NPTS= 4000, DT= .0100 SEC'")
+    try:
+        npts = int(float(n_text))
+        dt = float(dt_text)
+    except ValueError:
+        raise InputError(f"{source}, line 4: cannot read NPTS = {_short(n_text)} and DT = {_short(dt_text)} as "
+                         "numbers") from None
+    if not (2 <= npts <= 10_000_000 and float(n_text) == npts):
+        raise InputError(f"{source}, line 4: NPTS = {n_text}; must be a whole number of samples >= 2")
+    if not (dt > 0 and np.isfinite(dt) and dt <= 10.0):
+        raise InputError(f"{source}, line 4: DT = {dt_text} s; must be a time step > 0 (and at most 10 s)")
+    values = []
+    for no, line in lines[4:]:
+        for cell in line.split():
+            try:
+                v = float(cell)
+            except ValueError:
+                raise InputError(f"{source}, line {no}: cannot read {_short(cell)} as an acceleration") from None
+            if not np.isfinite(v):
+                raise InputError(f"{source}, line {no}: {_short(cell)} is not a finite acceleration")
+            values.append(v)
+    if len(values) != npts:
+        raise InputError(f"{source}: the header says NPTS = {npts} but the file has {len(values)} accelerations; "
+                         "fix NPTS or the data")
+    return _checked_signal(source, dt * np.arange(npts), np.asarray(values) * _AT2_UNITS[unit], "acceleration",
+                           f"acceleration [{unit.lower()}]")

@@ -44,7 +44,7 @@ import numpy as np
 __all__ = ["Bodies", "PairList", "WallList", "Search", "DirectSearch", "CellSearch", "ContactTable", "Drive",
            "PrescribedMotion", "CoupledMotion", "marker_class", "Samples", "FrictionRecord",
            "VerletState", "GearState", "VerletSpan", "GearSpan", "ENERGY_COLUMNS", "STRUCTURE_COLUMNS",
-           "FRAME_COLUMNS", "TANGENTIAL_COLUMNS", "SAVED_HISTORY_ROWS"]
+           "FRAME_COLUMNS", "TANGENTIAL_COLUMNS", "SAVED_HISTORY_ROWS", "NO_LOAD"]
 
 #: Columns of :attr:`Samples.energy`: kinetic (lab frame), rotational, potential, elastic, work done
 #: by the container, dissipated by normal damping, dissipated by friction [J].
@@ -180,11 +180,17 @@ def marker_class(bundle_type, field):
     return bundle_type.types[bundle_type.fields.index(field)].instance_class
 
 
+#: :attr:`Drive.load` of a drive without a load table (one row, never read or written; writeable, so
+#: that a bundle holding it has the numba type of one holding a load).
+NO_LOAD = np.zeros((1, 4))
+
+
 class Drive(NamedTuple):
     """Gravity, the drive direction and the container's motion along it
     (:mod:`pdamper.kernels.drive`)."""
 
-    kind: int                    #: DRIVE_STILL, DRIVE_HARMONIC, DRIVE_SAMPLED, DRIVE_STRUCTURE, DRIVE_MODAL (drive.py)
+    kind: int                    #: DRIVE_STILL, DRIVE_HARMONIC, DRIVE_SAMPLED, DRIVE_STRUCTURE, DRIVE_MODAL,
+                                 #: DRIVE_MODAL_LOAD (drive.py)
     coupling: tuple              #: PrescribedMotion() or CoupledMotion(): a marker whose *type* decides, when a
                                  #: kernel is compiled, whether the structure's step is compiled into it
     par: np.ndarray              #: parameters of the kind (harmonic: X, Omega, phase; structure: M, K, c, F0, Omega)
@@ -192,6 +198,7 @@ class Drive(NamedTuple):
     state: np.ndarray            #: (2, 5) the coupled structure's state, (2 + N, 5) with N modes (kernels/structure.py)
     gravity: np.ndarray          #: (3,) gravity vector in the container frame [m/s^2]
     direction: np.ndarray        #: (3,) unit drive direction in the container frame
+    load: np.ndarray = NO_LOAD   #: (K, 4) a structure's load in time (DRIVE_MODAL_LOAD, kernels/structure.py)
 
 
 class Samples(NamedTuple):
@@ -203,7 +210,8 @@ class Samples(NamedTuple):
     energy: np.ndarray           #: (n, 7) energies [J], columns ENERGY_COLUMNS
     frames: np.ndarray           #: (F, N, 9) position, velocity, spin every ``frame_every`` samples
     frame_every: int             #: samples per frame (0: no frames)
-    structure: np.ndarray        #: (n, 6) the coupled structure, columns STRUCTURE_COLUMNS
+    structure: np.ndarray        #: (n, 6 + N) the coupled structure, columns STRUCTURE_COLUMNS, then the N modal
+                                 #: coordinates q_k (one mode: x_s) where the array has the columns
     sums: np.ndarray             #: (4,) running: work by the container, damping loss, friction loss [J],
                                  #: impulse along the drive since the last sample [N s]
 

@@ -9,8 +9,11 @@ phase)``. DRIVE_SAMPLED: piecewise cubic through samples, ``table`` rows ``(t_k,
 ``x = c0 + c1 s + c2 s^2 + c3 s^3`` with ``s = t - t_k`` on ``[t_k, t_{k+1})``.
 DRIVE_STRUCTURE: the coupled structure (:mod:`pdamper.kernels.structure`): ``(x, v, a)`` is read from
 ``state[0, 0:3]``, which the time loop advances. DRIVE_MODAL: the coupled modal structure of N modes (the
-same module; ``(x, v, a)`` of the damper point in ``state[0, 0:3]`` as for DRIVE_STRUCTURE). Before ``t = 0`` (the settling phase) the
-container is at rest at ``x(0)`` with zero speed.
+same module; ``(x, v, a)`` of the damper point in ``state[0, 0:3]`` as for DRIVE_STRUCTURE). DRIVE_MODAL_LOAD:
+the coupled modal structure under a load given in time (``drive.load``, :mod:`pdamper.kernels.structure`); the
+container's acceleration is the damper point's plus the ground's (``state[1, 3]``, 0 under a force), the
+damper point's displacement and velocity being relative to the ground. Before ``t = 0`` (the settling phase)
+the container is at rest at ``x(0)`` with zero speed.
 """
 
 from __future__ import annotations
@@ -24,8 +27,9 @@ from numba.extending import overload
 from ..jit import JIT, njit
 from .bundles import CoupledMotion, marker_class
 
-__all__ = ["drive_motion", "harmonic_motion", "parametric_motion", "is_parametric", "is_coupled", "is_modal", "DRIVE_STILL", "DRIVE_HARMONIC",
-           "DRIVE_SAMPLED", "DRIVE_STRUCTURE", "DRIVE_MODAL", "DRIVE_KINDS"]
+__all__ = ["drive_motion", "harmonic_motion", "parametric_motion", "is_parametric", "is_coupled", "is_modal",
+           "is_loaded", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED", "DRIVE_STRUCTURE", "DRIVE_MODAL",
+           "DRIVE_MODAL_LOAD", "DRIVE_KINDS"]
 
 #: Drive kind of a container at rest.
 DRIVE_STILL = 0
@@ -37,9 +41,11 @@ DRIVE_SAMPLED = 2
 DRIVE_STRUCTURE = 3
 #: Drive kind of the coupled modal structure of N modes (:mod:`pdamper.kernels.structure`).
 DRIVE_MODAL = 4
+#: Drive kind of the coupled modal structure under a load given in time (``drive.load``).
+DRIVE_MODAL_LOAD = 5
 #: The compiled motions by the name a drive's ``kernel_drive()`` gives them.
 DRIVE_KINDS = {"rest": DRIVE_STILL, "harmonic": DRIVE_HARMONIC, "spline": DRIVE_SAMPLED,
-               "structure": DRIVE_STRUCTURE, "modal": DRIVE_MODAL}
+               "structure": DRIVE_STRUCTURE, "modal": DRIVE_MODAL, "modal_load": DRIVE_MODAL_LOAD}
 
 
 def is_coupled(drive):
@@ -61,8 +67,16 @@ def _is_coupled(drive):
 
 @njit
 def is_modal(drive):
-    """True for the coupled structure of N modes (:func:`pdamper.kernels.structure.modal_step`)."""
-    return drive.kind == DRIVE_MODAL
+    """True for the coupled structure of N modes (:func:`pdamper.kernels.structure.modal_step`),
+    under a harmonic force or a load in time."""
+    return drive.kind == DRIVE_MODAL or drive.kind == DRIVE_MODAL_LOAD
+
+
+@njit
+def is_loaded(drive):
+    """True for the coupled modal structure under a load given in time (``drive.load``,
+    :func:`pdamper.kernels.structure.loaded_step`)."""
+    return drive.kind == DRIVE_MODAL_LOAD
 
 
 @njit(inline="always")
@@ -124,4 +138,7 @@ def drive_motion(drive, t):
     if kind == DRIVE_STRUCTURE or kind == DRIVE_MODAL:
         st = drive.state
         return st[0, 0], st[0, 1], st[0, 2]
+    if kind == DRIVE_MODAL_LOAD:
+        st = drive.state
+        return st[0, 0], st[0, 1], st[0, 2] + st[1, 3]
     return 0.0, 0.0, 0.0

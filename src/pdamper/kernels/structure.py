@@ -39,21 +39,52 @@ the same sums). Each mode takes the step above (:func:`modal_step`); for one mod
 
 ``drive.state`` (2 + N x 5): row 0 = (x_c, v_c, a_c, F_ext at the last step, velocity of the force
 point at the last step); row 1 = (external work [J], modal damping loss [J], displacement of the
-response point [m], -, -); row 2 + k = (q_k, q_k', q_k'', -, -).
+response point [m], ground acceleration now [m/s^2] (a load in time), -); row 2 + k = (q_k, q_k',
+q_k'', -, -).
+
+**A load in time** (drive kind :data:`~pdamper.kernels.drive.DRIVE_MODAL_LOAD`, 5; the loads of
+:mod:`pdamper.structure.loads`): the N modes of the modal structure (one mode for the
+single-degree-of-freedom structure, every shape 1) under one function of time f(t),
+
+    m_k q_k'' + c_k q_k' + k_k q_k = b_k f(t) - phi_k(damper) F_w,
+
+``b_k = phi_k(force)`` for a force at the force point, ``b_k = -L_k`` for a ground acceleration
+f = a_g (``L_k = phi_k^T M r``, the mode's participation; the displacements are then relative to
+the ground and the container's acceleration is the damper point's plus a_g: ``state[1, 3]``). Each
+mode takes the step of :func:`structure_step` (:func:`loaded_step`). ``drive.table`` (N x 7): the
+rows of the N modes above and ``b_k``; ``drive.par`` = (form, ground): ``form`` :data:`LOAD_LINEAR`
+or :data:`LOAD_SINE`, ``ground`` 1.0 for a ground acceleration, else 0.0. ``drive.load`` (K x 4),
+rows by increasing time t_j, f(t) given by the last row with ``t_j <= t`` (0 before the first):
+
+- :data:`LOAD_LINEAR`: rows (t_j, f_j, s_j, -), ``f = f_j + s_j (t - t_j)`` (piecewise linear
+  through samples; a last row of zeros ends it);
+- :data:`LOAD_SINE`: rows (t_j, A_j, Omega_j, phi_j), ``f = A_j sin(Omega_j (t - t_j) + phi_j)``
+  (a stepped sine: a frequency a row, each phase continuing the last).
+
+The external work is ``int f(t) sum_k b_k q_k' dt`` (trapezoidal), the power the load puts into
+the modes (a ground acceleration's on the structure alone: the bed's ledger is kept in the
+ground's frame without the ground's inertial force on it).
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba.extending import overload
 
 from ..jit import JIT, njit
 from .bundles import CoupledMotion, marker_class
-from .drive import is_modal
+from .drive import is_loaded, is_modal
 
-__all__ = ["structure_step", "modal_step", "record_structure", "run_structure_alone", "advance_structure",
+__all__ = ["structure_step", "modal_step", "loaded_step", "load_value", "LOAD_LINEAR", "LOAD_SINE", "record_structure", "run_structure_alone", "advance_structure",
            "record_coupled"]
+
+
+#: Form of a load table (``drive.par[0]`` of a load in time): piecewise linear through samples.
+LOAD_LINEAR = 0
+#: Form of a load table: a sine a row (a stepped sine).
+LOAD_SINE = 1
 
 
 @njit
@@ -62,6 +93,9 @@ def structure_step(drive, t, dt, fw):
     ``fw`` [N] on the spheres along the drive at ``t``; held (no change) during settling,
     ``t <= dt/2``."""
     if t <= 0.5 * dt:
+        return
+    if is_loaded(drive):
+        loaded_step(drive, t, dt, fw)
         return
     if is_modal(drive):
         modal_step(drive, t, dt, fw)
@@ -90,10 +124,44 @@ def modal_step(drive, t, dt, fw):
     then the damper point's (x, v, a), the force point's velocity, the response point's
     displacement, the external work (trapezoidal, ``F v_force``) and the modal damping loss."""
     par = drive.par
+    _modes_step(drive, dt, fw, par[0] * math.sin(par[1] * t), 4)
+
+
+@njit
+def load_value(load, form, t):
+    """f(t) of the load table ``load`` of ``form`` (:data:`LOAD_LINEAR`, :data:`LOAD_SINE`; the
+    module docstring): the last row with ``t_j <= t``, 0 before the first row."""
+    if t < load[0, 0]:
+        return 0.0
+    j = np.searchsorted(load[:, 0], t, side="right") - 1
+    s = t - load[j, 0]
+    if form == LOAD_SINE:
+        return load[j, 1] * math.sin(load[j, 2] * s + load[j, 3])
+    return load[j, 1] + load[j, 2] * s
+
+
+@njit
+def loaded_step(drive, t, dt, fw):
+    """Advance the N modes of a modal structure under a load in time (kind 5) from ``t - dt`` to
+    ``t`` [s]: :func:`modal_step` with the generalised force ``b_k f(t) - phi_k(damper) fw``
+    (module docstring; the power ``f sum_k b_k q_k'``); the ground acceleration (``par[1]`` f) in
+    ``state[1, 3]``."""
+    par = drive.par
+    fe = load_value(drive.load, par[0], t)
+    _modes_step(drive, dt, fw, fe, 6)
+    drive.state[1, 3] = par[1] * fe
+
+
+@njit
+def _modes_step(drive, dt, fw, fe, col):
+    """The modes' step under the force ``fe`` on each mode by the table's column ``col`` (4: the
+    force point's shape, 6: the load's b_k) and the wall force ``fw`` at the damper: each mode by
+    the step of :func:`structure_step`; then the damper point's (x, v, a), the loaded point's
+    velocity ``sum_k tab[k, col] q_k'``, the response point's displacement, the external work
+    (trapezoidal) and the modal damping loss."""
     tab = drive.table
     st = drive.state
     h = 0.5 * dt
-    fe = par[0] * math.sin(par[1] * t)
     x = 0.0
     v = 0.0
     a = 0.0
@@ -102,7 +170,7 @@ def modal_step(drive, t, dt, fw):
     loss = 0.0
     for j in range(tab.shape[0]):
         m, k, c = tab[j, 0], tab[j, 1], tab[j, 2]
-        pd, pf, pr = tab[j, 3], tab[j, 4], tab[j, 5]
+        pd, pf, pr = tab[j, 3], tab[j, col], tab[j, 5]
         q, qd, qdd = st[2 + j, 0], st[2 + j, 1], st[2 + j, 2]
         g = pf * fe - pd * fw
         qn = q + dt * (qd + h * qdd)
@@ -153,7 +221,8 @@ def response_displacement(drive):
 def record_structure(k, drive, out):
     """Write sample ``k``: (x_s, v_s, external work, damping loss, the structure's mechanical
     energy, the response point's displacement) at the interval end into ``out[k]``
-    (``Samples.structure``, columns ``STRUCTURE_COLUMNS``), when it has that row."""
+    (``Samples.structure``, columns ``STRUCTURE_COLUMNS``), then the modal coordinates q_k (one
+    mode: x_s) where ``out`` has more columns, when it has that row."""
     if k < 0 or k >= out.shape[0]:
         return
     state = drive.state
@@ -163,6 +232,12 @@ def record_structure(k, drive, out):
     out[k, 3] = state[1, 1]
     out[k, 4] = structure_energy(drive)
     out[k, 5] = response_displacement(drive)
+    # the modal coordinates, where the array has their columns (one mode: x_s)
+    if is_modal(drive):
+        for j in range(min(out.shape[1] - 6, state.shape[0] - 2)):
+            out[k, 6 + j] = state[2 + j, 0]
+    elif out.shape[1] > 6:
+        out[k, 6] = state[0, 0]
 
 
 @njit

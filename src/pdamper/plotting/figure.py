@@ -44,12 +44,28 @@ def check_path(path, *, create_folder: bool = False) -> Path | None:
 
 
 def save(fig, target: Path, dpi: int = 200) -> None:
-    """Write ``fig`` to ``target`` (a :func:`check_path` result) at ``dpi`` (raster formats)."""
+    """Write ``fig`` to ``target`` (a :func:`check_path` result) at ``dpi`` (raster formats), whole
+    or not at all: to a temporary file beside it, then renamed (a failure leaves no half figure)."""
+    import os
+    import tempfile
+
+    target = Path(target)
+    tmp = None
     try:
-        fig.savefig(target, dpi=dpi)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+        os.close(fd)
+        fig.savefig(tmp, dpi=dpi)
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)  # as a file written directly (mkstemp's is private)
+        os.replace(tmp, target)
+        tmp = None
     except OSError as exc:
         raise InputError(f"plot file {str(target)!r} cannot be written: "
                          f"{exc.strerror or exc}") from None
+    finally:
+        if tmp is not None and os.path.exists(tmp):
+            os.remove(tmp)
 
 
 def stroke_axis(ax, strokes_m) -> None:

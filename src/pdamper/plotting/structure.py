@@ -138,12 +138,7 @@ def response_figure(result, path=None, *, fields=None, title: str | None = None,
     forces = ", ".join(f"{r.force_amplitude:.3g}" for r in results)
     ax_a.set_title(f"frequency response, F$_0$ = {forces} N: M = {st.mass:.3g} kg at the damper, f$_n$ = "
                    f"{st.natural_frequency:.4g} Hz, ζ = {100 * st.modal_damping_ratio:.3g} %", fontsize=10)
-    handles, labels = [], []
-    for ax in (ax_a, ax_n, ax_p):
-        for h, lab in zip(*ax.get_legend_handles_labels()):
-            if lab not in labels:
-                handles.append(h)
-                labels.append(lab)
+    handles, labels = legend_entries(ax_a, ax_n, ax_p)
     if several:  # a line style per force
         from matplotlib.lines import Line2D
 
@@ -156,6 +151,17 @@ def response_figure(result, path=None, *, fields=None, title: str | None = None,
     if target is not None:
         save(fig, target, dpi)
     return fig
+
+
+def legend_entries(*axes) -> tuple[list, list]:
+    """(handles, labels) of the axes' curves, each label once (the first curve that has it)."""
+    handles, labels = [], []
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    return handles, labels
 
 
 #: A response's line style per force (the colours say what a curve is: bare, solid, DEM, a fields branch).

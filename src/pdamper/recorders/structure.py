@@ -52,6 +52,9 @@ class StructureRecord:
     #: one mode, whose energy is 1/2 M v^2 + 1/2 K x^2 of the recorded motion)
     mechanical_energy: np.ndarray | None = None
     initial_energy_J: float | None = None
+    #: the modal coordinates q_k [m or the modes' normalisation], (samples, modes) (one mode: x_s;
+    #: None: not recorded); every dof's motion is ``q @ shapes.T`` (:meth:`dof_displacements`)
+    modal_coordinates: np.ndarray | None = None
 
     mass = renamed("mass_kg")
     stiffness = renamed("stiffness_N_m")
@@ -70,9 +73,18 @@ class StructureRecord:
         (a structure of :mod:`pdamper.structure`)."""
         info = structure.record_info()
         energy = out[:, 4].copy() if info.get("initial_energy_J") is not None else None
+        q = out[:, 6:].copy() if out.shape[1] > 6 else None
         return cls(time=time, displacement=out[:, 0].copy(), velocity=out[:, 1].copy(),
                    external_work=out[:, 2].copy(), damping_loss=out[:, 3].copy(),
-                   response_displacement=out[:, 5].copy(), mechanical_energy=energy, **info)
+                   response_displacement=out[:, 5].copy(), mechanical_energy=energy, modal_coordinates=q, **info)
+
+    def dof_displacements(self, shapes) -> np.ndarray:
+        """Every dof's displacement [m] (samples, dofs) from the recorded modal coordinates and the
+        mode ``shapes`` (dofs, modes) of the structure as it ran (with the empty container's mass:
+        :meth:`pdamper.structure.StructureBase.dof_shapes` of ``case.running_drive``)."""
+        if self.modal_coordinates is None:
+            raise ValueError("this record has no modal coordinates (a run before pdamper recorded them)")
+        return self.modal_coordinates @ np.asarray(shapes, dtype=float).T
 
     def edges(self):
         """(x, v) at the n + 1 interval edges, t = 0 included."""

@@ -22,7 +22,18 @@ What a model adds to the drive protocol (:class:`StructureBase` derives the rest
 ``carrying(mass)``             the structure with the empty container's mass at the damper
 ``record_info()``              what the run's structure record keeps
 ``structure_summary()``        plain numbers for a run's summary
+``dof_shapes()``               (dof labels, the mode shapes at every dof): every dof's motion
+``ground_participation(...)``  L_k = phi_k^T M r of each mode (a ground acceleration's load)
 =============================  ==================================================================
+
+**Loads.** What moves a structure is its harmonic force (``force_amplitude``,
+``force_frequency``), its start (``displacement``, ``velocity``) or a load in time (``load``, a
+:mod:`pdamper.structure.loads` object read from a ``[load]`` section: a force history, a ground
+acceleration, a random load, a stepped sine). Under a load in time the kernels take the modal
+equations with the load's table (kernel kind ``"modal_load"``, :mod:`pdamper.kernels.structure`;
+one mode as a modal structure of one mode, every shape 1), the run lasts the load's
+:attr:`~pdamper.structure.loads.base.LoadBase.duration`, and the structure without the bed has its
+exact linear solution (:mod:`pdamper.structure.linear`).
 """
 
 from __future__ import annotations
@@ -68,17 +79,45 @@ class StructureBase(DriveBase):
     angle: float = param(0.0, dimension="angle")
     force_frequency: float | None = param(None, dimension="frequency")
     direction: tuple | None = param(None, kind="list")
+    load: object = param(None, kind="custom")
 
     config_section = "structure"
     coupled = True
-    counts_cycles = True
     config_writes_kind = False  # a [structure] tells its model by its keys
     config_after = "run"        # [structure] last
+
+    @property
+    def counts_cycles(self) -> bool:
+        """The run lasts ``[run] cycles`` periods of :attr:`frequency`, except under a load in time
+        (its own duration)."""
+        return self.load is None
+
+    @classmethod
+    def config_read_extra(cls, table: dict, base_dir) -> dict:
+        """The load of the case's ``[load]`` section (put in the table by :mod:`pdamper.config`)."""
+        return {"load": table["load"]} if "load" in table else {}
+
+    def config_sections(self) -> dict:
+        """The sections written after ``[structure]``: ``[load]`` of a load in time
+        (:meth:`~pdamper.structure.loads.base.LoadBase.config_table`)."""
+        return {} if self.load is None else {"load": self.load.config_table()}
 
     # ---- checks
     def _check_motion(self) -> None:
         """Validate what moves it (``force_amplitude``, ``force_frequency``, ``displacement``,
-        ``velocity``) and its direction; something must move it."""
+        ``velocity``, ``load``) and its direction; something must move it."""
+        from .loads import LoadBase
+
+        if self.load is not None:
+            if not isinstance(self.load, LoadBase):
+                raise InputError(f"structure.load = {self.load!r}; give the load in a [load] section, e.g. [load] "
+                                 "kind = 'force_history', file = 'hammer.csv'")
+            if not self.load.in_time:
+                raise InputError("structure.load: a harmonic load is the structure's force_amplitude and "
+                                 "force_frequency; give those")
+            if self.force_amplitude != 0:
+                raise InputError(f"structure.force_amplitude = {self.force_amplitude!r} N and a [load] both move the "
+                                 "structure; give one: force_amplitude = 0 with the [load], or no [load]")
         f0 = self.force_amplitude
         if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 >= 0 and math.isfinite(f0)):
             raise InputError(f"structure.force_amplitude = {f0!r} N; must be >= 0 (0: free motion)")
@@ -93,9 +132,9 @@ class StructureBase(DriveBase):
             if not (isinstance(v, (int, float)) and math.isfinite(v)):
                 raise InputError(f"structure.{name} = {v!r}; must be a finite number")
         self._check_direction()
-        if f0 == 0 and self.displacement == 0 and self.velocity == 0:
-            raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm') "
-                             "or a force_amplitude with force_frequency (forced response)")
+        if f0 == 0 and self.displacement == 0 and self.velocity == 0 and self.load is None:
+            raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm'), "
+                             "a force_amplitude with force_frequency (forced response) or a [load] section")
 
     def check_scale(self, length: float) -> None:
         """A start (``displacement``, ``velocity``) or resonant swing (F0 / K / 2 zeta of the first
@@ -118,6 +157,15 @@ class StructureBase(DriveBase):
                 raise InputError(f"structure.{key} = {getattr(self, key):g} {unit} moves the container {v / limit:.3g} "
                                  f"times further than twice its length {length:g} m (a number without a unit is SI)"
                                  f"{thousandth_hint(v, limit, 'mm' if key == 'displacement' else 'mm/s')}")
+        if self.load is not None:
+            peak = self.bare_peaks()[0]
+            if not peak <= 2 * length:
+                raise InputError(f"[load] {self.load.describe()} would swing the structure's damper point by "
+                                 f"{peak:.3g} m without the damper (its exact linear response), beyond twice the "
+                                 f"container's length {length:g} m; check [load] {', '.join(self.load.size_keys)} and "
+                                 "[structure] mass, stiffness or natural_frequency and damping_ratio (a number without "
+                                 "a unit is SI)")
+            return
         resonant = self.force_amplitude / self.stiffness / max(2.0 * self.modal_damping_ratio, 0.02)
         if resonant > 2 * length:
             raise InputError(f"structure.force_amplitude = {self.force_amplitude:g} N would swing the structure "
@@ -128,7 +176,8 @@ class StructureBase(DriveBase):
     # ---- what follows from the modes
     @property
     def frequency(self) -> float:
-        """The frequency [Hz] that counts the run's cycles: f_F when forced, else f_1."""
+        """The frequency [Hz] that counts the run's cycles: f_F when forced, else f_1 (under a load in
+        time too: the run lasts the load's duration)."""
         return self.force_frequency if self.force_amplitude > 0 else self.natural_frequency
 
     @property
@@ -139,7 +188,8 @@ class StructureBase(DriveBase):
     @property
     def highest_frequency(self) -> float:
         """The highest frequency of the structure's motion without the bed [Hz] (for time steps)."""
-        return float(max(np.max(self.mode_frequencies), self.force_frequency or 0.0))
+        load = self.load.highest_frequency if self.load is not None else 0.0
+        return float(max(np.max(self.mode_frequencies), self.force_frequency or 0.0, load))
 
     @property
     def modal_damping_ratio(self) -> float:
@@ -147,12 +197,124 @@ class StructureBase(DriveBase):
         return float(self.mode_damping_ratios[0])
 
     def duration(self, cycles: float) -> float:
-        """Time [s] of ``cycles`` periods of :attr:`frequency`."""
+        """Time [s] of ``cycles`` periods of :attr:`frequency`; under a load in time its duration."""
+        if self.load is not None:
+            return self.load.duration
         return cycles / self.frequency
 
     def speed_bound(self) -> float:
-        """An upper estimate [m/s] of the container's speed (``velocity_bound``)."""
+        """An upper estimate [m/s] of the container's speed (``velocity_bound``); under a load in
+        time the damper point's largest speed without the bed (its exact linear response), the
+        ground's speed added under a ground acceleration (the bed sees the container's absolute
+        motion)."""
+        if self.load is not None:
+            return self.bare_peaks()[1]
         return self.velocity_bound
+
+    # ---- under a load in time
+    def bare_peaks(self) -> tuple[float, float]:
+        """(largest |x| [m], largest |v| [m/s] with the ground's speed under a ground acceleration) of
+        the damper point without the bed under the load (exact linear response, sampled at 20 points
+        a period of the highest mode or the load's top frequency, up to 5 periods of the lowest mode
+        after the load's end; cached)."""
+        cached = self.__dict__.get("_bare_peaks")
+        if cached is not None:
+            return cached
+        from .linear import ground_velocity, modal_response
+
+        fmax = max(float(np.max(self.mode_frequencies)), self.load.highest_frequency)
+        # after the load's last row the structure rings down: its largest swing comes within a few
+        # periods of the lowest mode (a duration far beyond them adds nothing)
+        end = self.load.kernel_table()[1][-1, 0] + 5.0 / float(np.min(self.mode_frequencies))
+        span = min(self.load.duration, end)
+        n = int(min(2_000_000, max(2, math.ceil(span * 20.0 * fmax))))
+        t = np.linspace(0.0, span, n + 1)
+        q, qd = modal_response(self, t)
+        pd = self.modal_arrays()[3]
+        x, v = q @ pd, qd @ pd
+        vg = float(np.max(np.abs(ground_velocity(self.load, t)))) if self.load.ground else 0.0
+        out = (float(np.max(np.abs(x))), float(np.max(np.abs(v))) + vg)
+        object.__setattr__(self, "_bare_peaks", out)
+        return out
+
+    def initial_modal_state(self):
+        """(q_k(0), q_k'(0)) of the modes at the start (one mode: x0, v0)."""
+        return np.array([float(self.displacement)]), np.array([float(self.velocity)])
+
+    def load_kernel_drive(self):
+        """(``"modal_load"``, par, table, state) of the structure under its load in time
+        (:func:`pdamper.kernels.structure.loaded_step`): par = (form, ground), the table's rows
+        (m_k, k_k, c_k, phi_k(damper), phi_k(force), phi_k(response), b_k); the state at rest at
+        the initial shape (held during settling)."""
+        mass, k, c, pd, pf, pr = self.modal_arrays()
+        b = self.load.modal_coefficients(self)
+        form, _ = self.load.kernel_table()
+        par = np.array([float(form), 1.0 if self.load.ground else 0.0])
+        tab = np.ascontiguousarray(np.column_stack([mass, k, c, pd, pf, pr, b]))
+        return "modal_load", par, tab, self._held_state(pd, pr)
+
+    def _held_state(self, pd, pr) -> np.ndarray:
+        """The kernels' state of the modes (2 + N rows) at rest at the initial shape, held during
+        settling: q_k(0), the damper point's and the response point's displacement."""
+        st = np.zeros((2 + self.n_modes, 5))
+        q0, _ = self.initial_modal_state()
+        st[2:, 0] = q0
+        st[0, 0] = float(np.dot(pd, q0))
+        st[1, 2] = float(np.dot(pr, q0))
+        return st
+
+    def kernel_load(self):
+        """The kernels' rows of the load in time (:attr:`pdamper.kernels.bundles.Drive.load`);
+        none (one row of zeros) without one."""
+        if self.load is None:
+            return np.zeros((1, 4))
+        return np.ascontiguousarray(self.load.kernel_table()[1])
+
+    def load_start_state(self, st, wall_force: float = 0.0) -> float:
+        """Release under the load at t = 0: the modes at (q0, q0'), accelerations with the load's
+        f(0) and ``wall_force`` [N] at the damper; returns the damper point's a0 (relative to the
+        ground)."""
+        mass, k, c, pd, pf, pr = self.modal_arrays()
+        b = self.load.modal_coefficients(self)
+        f0 = float(self.load.values(np.array([0.0]))[0])
+        q0, v0 = self.initial_modal_state()
+        a = (b * f0 - c * v0 - k * q0 - pd * wall_force) / mass
+        st[:, :] = 0.0
+        st[2:, 0], st[2:, 1], st[2:, 2] = q0, v0, a
+        st[0, 0:5] = (float(np.dot(pd, q0)), float(np.dot(pd, v0)), float(np.dot(pd, a)), f0, float(np.dot(b, v0)))
+        st[1, 2] = float(np.dot(pr, q0))
+        st[1, 3] = f0 if self.load.ground else 0.0
+        return float(st[0, 2])
+
+    # ---- every dof
+    def dof_shapes(self):
+        """(labels, shapes): the dofs of the structure and the mode shapes there (dofs x modes),
+        in the modes as the structure runs (with the empty container's mass). One mode: its one
+        dof (label 0), shape 1."""
+        return [0], np.ones((1, 1))
+
+    def ground_participation(self, influence=None, participation=None) -> np.ndarray:
+        """L_k [kg] of each mode: the generalised force of a ground acceleration a_g is ``-L_k a_g``.
+        One mode: the whole mass, L = M (``participation`` = [Gamma]: Gamma M; ``influence`` = [r]:
+        r M)."""
+        for key, v in (("influence", influence), ("participation", participation)):
+            if v is not None and len(v) != 1:
+                raise InputError(f"load.{key} = {list(v)!r}: the structure has one mode and one dof; give one value")
+        g = participation[0] if participation is not None else (influence[0] if influence is not None else 1.0)
+        return np.array([g * float(self.modal_arrays()[0][0])])
+
+    def dof_phasors(self, frequencies, force_amplitude: float, added_mass: float = 0.0):
+        """Complex steady amplitudes [m] (frequencies x dofs) of every dof under ``force_amplitude``
+        sin(2 pi f t) at the force point, without the bed, ``added_mass`` [kg] rigidly at the damper
+        (as :meth:`steady_phasor`)."""
+        mass, k, c, pd, pf, pr = self.modal_arrays()
+        _, shapes = self.dof_shapes()
+        out = []
+        for f in np.atleast_1d(np.asarray(frequencies, dtype=float)):
+            w = 2.0 * math.pi * f
+            A = np.diag(k - w * w * mass + 1j * w * c) - w * w * added_mass * np.outer(pd, pd)
+            out.append(shapes @ np.linalg.solve(A, pf * force_amplitude))
+        return np.array(out)
 
     def container_motion(self, t: float, state):
         """The damper point's ``(x, v, a)`` now, from the kernels' state."""
@@ -174,5 +336,7 @@ class StructureBase(DriveBase):
         return np.array(out)
 
     def _forced_words(self) -> str:
+        if self.load is not None:
+            return self.load.describe()
         return (f"F0 = {self.force_amplitude:g} N at {self.force_frequency:g} Hz" if self.force_amplitude > 0
                 else f"free decay from {self.displacement * 1e3:g} mm")

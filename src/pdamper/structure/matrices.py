@@ -146,7 +146,8 @@ def modes_from_matrices(s) -> dict:
     """The modal data of the :class:`~pdamper.structure.ModalStructure` ``s`` from its
     ``matrices``: the lowest ``modes_kept`` modes (mass-normalised), their damping, the mode
     shapes at the damper, force and response dofs and the truncation error (see the module
-    docstring)."""
+    docstring); ``shapes`` (dofs x modes) every dof's, ``mass_shapes`` = Phi^T M (a ground
+    acceleration's participation)."""
     from scipy.linalg import eigh
 
     mats = read_structure_matrices(s.matrices)
@@ -219,4 +220,5 @@ def modes_from_matrices(s) -> dict:
     kept_c = float(np.sum(pd**2 / w2))
     return {"frequency": w / (2.0 * math.pi), "damping_ratio": zeta, "modal_mass": np.ones(kept),
             "damper": pd.copy(), "force": phi[f].copy(), "response": phi[r].copy(),
-            "truncation_error": (full - kept_c) / full, "dofs": n}
+            "truncation_error": (full - kept_c) / full, "dofs": n,
+            "shapes": phi.copy(), "mass_shapes": phi.T @ mats["M"]}

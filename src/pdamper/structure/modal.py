@@ -149,11 +149,16 @@ class ModalStructure(StructureBase, _Modes):
             object.__setattr__(self, "modes", modes)
             data = {key: np.array([m[key] for m in modes]) for key in _MODE_KEYS}
             data["truncation_error"] = math.nan
+            data["shapes"] = None
         else:
             if self.rayleigh_modes is not None:
                 object.__setattr__(self, "rayleigh_modes", tuple(int(v) if float(v).is_integer() else v
                                                                  for v in self.rayleigh_modes))
             data = modes_from_matrices(self)
+        # the modes as given (or computed): every dof's shape, a ground load's participation and
+        # the container's mass carried later are taken in them (carrying: basis)
+        data.update(basis=np.eye(data["frequency"].size), damper0=data["damper"].copy(),
+                    modal_mass0=data["modal_mass"].copy())
         object.__setattr__(self, "_modal", data)
         top = float(np.max(data["frequency"]))
         if top > MODE_LIMIT_HZ:
@@ -167,7 +172,7 @@ class ModalStructure(StructureBase, _Modes):
     def config_read_extra(cls, table: dict, base_dir) -> dict:
         """``modes`` as given (each entry read by the model), ``matrices`` with its file names made
         absolute (relative to the config file: a case written elsewhere still finds them)."""
-        kw = {}
+        kw = super().config_read_extra(table, base_dir)
         if "modes" in table:
             kw["modes"] = table["modes"]
         if "matrices" in table:
@@ -199,8 +204,10 @@ class ModalStructure(StructureBase, _Modes):
         w = np.sqrt(w2)
         c_new = np.einsum("ik,i,ik->k", psi, c, psi)
         data = dict(self._modal, frequency=w / (2.0 * math.pi), damping_ratio=c_new / (2.0 * w),
-                    modal_mass=np.ones(w.size), damper=pd @ psi, force=pf @ psi, response=pr @ psi)
+                    modal_mass=np.ones(w.size), damper=pd @ psi, force=pf @ psi, response=pr @ psi,
+                    basis=self._modal["basis"] @ psi)
         new = copy.copy(self)
+        new.__dict__.pop("_bare_peaks", None)
         object.__setattr__(new, "_modal", data)
         object.__setattr__(new, "_carried", self._carried + mass)
         return new
@@ -293,7 +300,12 @@ class ModalStructure(StructureBase, _Modes):
 
     def motion(self, t):
         """(x, v, a) of the damper point at times t [s] *without* the bed (modal superposition of
-        the closed forms); the coupled motion is recorded by the run."""
+        the closed forms; under a load in time the exact linear response,
+        :mod:`pdamper.structure.linear`); the coupled motion is recorded by the run."""
+        if self.load is not None:
+            from .linear import damper_motion
+
+            return damper_motion(self, t)
         pd = self._modal["damper"]
         return tuple(np.tensordot(pd, z, axes=1) for z in self.modal_motion(t))
 
@@ -311,21 +323,21 @@ class ModalStructure(StructureBase, _Modes):
 
     def kernel_drive(self):
         """(kernel kind, par, table, state) for the kernels (:func:`pdamper.kernels.structure.modal_step`);
-        the state starts at rest at the initial shape (held during settling)."""
+        the state starts at rest at the initial shape (held during settling); under a load in time
+        :meth:`load_kernel_drive`."""
+        if self.load is not None:
+            return self.load_kernel_drive()
         mass, k, c, pd, pf, pr = self._modal_arrays()
         om = 2.0 * math.pi * (self.force_frequency or 0.0)
         par = np.array([self.force_amplitude, om])
         tab = np.ascontiguousarray(np.column_stack([mass, k, c, pd, pf, pr]))
-        st = np.zeros((2 + self.n_modes, 5))
-        q0, _ = self.initial_modes()
-        st[2:, 0] = q0
-        st[0, 0] = float(np.dot(pd, q0))
-        st[1, 2] = float(np.dot(pr, q0))
-        return "modal", par, tab, st
+        return "modal", par, tab, self._held_state(pd, pr)
 
     def start_state(self, st, wall_force: float = 0.0) -> float:
         """Release at t = 0: the modes at (q0, q0'), accelerations from the modal equations with
         ``wall_force`` [N] at the damper; returns the damper point's a0."""
+        if self.load is not None:
+            return self.load_start_state(st, wall_force)
         mass, k, c, pd, pf, pr = self._modal_arrays()
         q0, v0 = self.initial_modes()
         a = (-c * v0 - k * q0 - pd * wall_force) / mass
@@ -334,6 +346,51 @@ class ModalStructure(StructureBase, _Modes):
         st[0, 0:5] = (float(np.dot(pd, q0)), float(np.dot(pd, v0)), float(np.dot(pd, a)), 0.0, float(np.dot(pf, v0)))
         st[1, 2] = float(np.dot(pr, q0))
         return float(st[0, 2])
+
+    def initial_modal_state(self):
+        """(q_k(0), q_k'(0)): :meth:`initial_modes`."""
+        return self.initial_modes()
+
+    def dof_shapes(self):
+        """(labels, shapes): matrices: every dof of the FE model (labels 0 .. n - 1, 0-based as
+        ``damper_dof``), its rows of the kept mode shapes; modes given as data: the damper, force and
+        response points (labels ``"damper"``, ``"force"``, ``"response"``). In the modes as the
+        structure runs (with the container's mass carried)."""
+        m = self._modal
+        if m["shapes"] is not None:
+            return list(range(m["shapes"].shape[0])), m["shapes"] @ m["basis"]
+        return ["damper", "force", "response"], np.vstack([m["damper"], m["force"], m["response"]])
+
+    def ground_participation(self, influence=None, participation=None) -> np.ndarray:
+        """L_k of each mode as the structure runs: matrices: ``phi_k^T M r`` with the influence
+        vector r (``influence``: per dof, or one node's pattern repeated over the nodes; default 1 at
+        every dof), or ``Gamma_k m_k`` with ``participation``; modes given as data need
+        ``participation``. The container's carried mass m_c at the damper adds ``m_c phi_k(d) r_d``
+        (r_d = 1 with ``participation``)."""
+        m = self._modal
+        n_modes = m["basis"].shape[0]
+        if participation is not None:
+            g = np.asarray(participation, dtype=float)
+            if g.shape != (n_modes,):
+                raise InputError(f"load.participation has {g.size} value{'s' if g.size != 1 else ''}; the structure "
+                                 f"has {n_modes} mode{'s' if n_modes != 1 else ''}: give one Gamma_k per mode")
+            L0, r_d = g * m["modal_mass0"], 1.0
+        else:
+            if m["shapes"] is None:
+                raise InputError("load.participation is missing: a structure of modes given as data needs each "
+                                 "mode's participation Gamma_k in a ground acceleration, e.g. participation = [1.3] "
+                                 "(FE matrices give it from the mass matrix)")
+            n = m["shapes"].shape[0]
+            r = np.ones(n)
+            if influence is not None:
+                pattern = np.asarray(influence, dtype=float)
+                if pattern.size == 0 or n % pattern.size:
+                    raise InputError(f"load.influence has {pattern.size} values; give one per dof ({n}) or the "
+                                     f"pattern of one node's dofs (a divisor of {n}, e.g. [1, 0])")
+                r = np.tile(pattern, n // pattern.size)
+            L0 = m["mass_shapes"] @ r
+            r_d = float(r[self.damper_dof])
+        return m["basis"].T @ (L0 + self._carried * m["damper0"] * r_d)
 
     @property
     def initial_energy(self) -> float:

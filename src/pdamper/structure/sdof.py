@@ -70,12 +70,16 @@ class CoupledStructure(StructureBase, _OneMode):
         z = self.damping_ratio
         if isinstance(z, bool) or not isinstance(z, (int, float)) or not (0.0 <= z < 1.0):
             raise InputError(f"structure.damping_ratio = {z!r}; must be in [0, 1), e.g. 0.005 (0.5 %)")
+        if not math.isfinite(self.stiffness * self.mass):
+            raise InputError(f"structure.mass = {self.mass:g} kg with stiffness {self.stiffness:g} N/m is beyond what "
+                             "a number holds (their product overflows); give the mode's mass, e.g. '7kg'")
         self._check_motion()
 
     @classmethod
     def config_read_extra(cls, table: dict, base_dir) -> dict:
         """``mass`` is needed, and exactly one of ``stiffness`` and ``natural_frequency`` (which
         gives the stiffness ``K = M (2 pi f_n)^2``)."""
+        extra = super().config_read_extra(table, base_dir)
         if "mass" not in table:
             raise InputError("[structure] mass is missing: give the structure's modal mass (without the damper; the "
                              "empty container is [container] mass), e.g. mass = '7kg'")
@@ -83,7 +87,7 @@ class CoupledStructure(StructureBase, _OneMode):
             raise InputError("[structure] give exactly one of stiffness (N/m, e.g. 1105) or natural_frequency "
                              "(e.g. '2Hz')")
         if "natural_frequency" not in table:
-            return {}
+            return extra
         mass = read_fields({"mass": table["mass"]}, "structure", cls)["mass"]
         fn = read_quantity(table["natural_frequency"], "[structure] natural_frequency", "frequency")
         if not (fn > 0 and math.isfinite(fn)):
@@ -96,7 +100,7 @@ class CoupledStructure(StructureBase, _OneMode):
             raise InputError(f"[structure] natural_frequency = {table['natural_frequency']!r} gives a stiffness of "
                              f"{stiffness:g} N/m with mass = {mass:g} kg; give a natural frequency a damper test can "
                              "have, e.g. '2Hz'")
-        return {"stiffness": stiffness}
+        return {**extra, "stiffness": stiffness}
 
     # ---- the one mode
     @property
@@ -136,9 +140,15 @@ class CoupledStructure(StructureBase, _OneMode):
         return free + 2.0 * forced
 
     def motion(self, t):
-        """(x, v, a) at times t [s] of the structure *without* the bed (closed form); the
-        coupled motion is recorded by the run."""
+        """(x, v, a) at times t [s] of the structure *without* the bed (closed form; under a load in
+        time its exact linear response, :mod:`pdamper.structure.linear`); the coupled motion is
+        recorded by the run."""
         from ..theory.oscillator import oscillator_response
+
+        if self.load is not None:
+            from .linear import damper_motion
+
+            return damper_motion(self, t)
 
         return oscillator_response(t, mass=self.mass, stiffness=self.stiffness, damping_ratio=self.damping_ratio,
                                    force_amplitude=self.force_amplitude, force_frequency=self.force_frequency or 0.0,
@@ -146,7 +156,10 @@ class CoupledStructure(StructureBase, _OneMode):
 
     def kernel_drive(self):
         """(kernel kind, par, table, state) for the kernels (:mod:`pdamper.kernels.structure`);
-        the state starts at rest at the initial displacement (held during settling)."""
+        the state starts at rest at the initial displacement (held during settling). Under a load
+        in time: the structure as a modal structure of one mode (:meth:`load_kernel_drive`)."""
+        if self.load is not None:
+            return self.load_kernel_drive()
         om = 2.0 * math.pi * (self.force_frequency or 0.0)
         par = np.array([self.mass, self.stiffness, self.damping, self.force_amplitude, om])
         st = np.zeros((2, 5))
@@ -201,6 +214,8 @@ class CoupledStructure(StructureBase, _OneMode):
     def start_state(self, st, wall_force: float = 0.0) -> float:
         """Release the structure at t = 0: set (x0, v0, a0) in the kernel state ``st``, with
         ``wall_force`` [N] the bed's wall force along the drive at that moment; returns a0."""
+        if self.load is not None:
+            return self.load_start_state(st, wall_force)
         a0 = (-self.damping * self.velocity - self.stiffness * self.displacement - wall_force) / self.mass
         st[0, 0:4] = (self.displacement, self.velocity, a0, 0.0)
         st[1, :] = 0.0

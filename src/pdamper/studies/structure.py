@@ -79,8 +79,8 @@ def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = Fal
     from ..simulation import Simulation, run_bare_structure
 
     s = _structure(case)
-    if s.force_amplitude > 0:
-        case = dataclasses.replace(case, drive=dataclasses.replace(case.drive, force_amplitude=0.0))
+    if s.force_amplitude > 0 or s.load is not None:  # a free decay: no force, no load in time
+        case = dataclasses.replace(case, drive=dataclasses.replace(case.drive, force_amplitude=0.0, load=None))
         s = _structure(case)
     res = Simulation(case).run(progress=progress)
     rec = res.structure
@@ -170,7 +170,7 @@ def response_case(case: Case, frequency: float, force_amplitude: float, phasor: 
     _structure(case)
     x0, v0 = (0.0, 0.0) if phasor == 0 else (float(phasor.imag), float(2.0 * math.pi * frequency * phasor.real))
     drive = dataclasses.replace(case.drive, force_amplitude=force_amplitude, force_frequency=frequency,
-                                displacement=x0, velocity=v0)
+                                displacement=x0, velocity=v0, load=None)
     return dataclasses.replace(case, drive=drive)
 
 
@@ -287,7 +287,13 @@ def response_point(case: Case, measure_cycles: int) -> dict:
         return {"failed": str(exc)}
     rec = res.structure
     f = case.drive.force_frequency
+    _, shapes = case.running_drive.dof_shapes()
+    dofs = rec.dof_displacements(shapes)
     return {"amplitude_m": harmonic_amplitude(rec.time, rec.displacement, f, cycles=measure_cycles),
+            "dof_amplitudes_m": [harmonic_amplitude(rec.time, dofs[:, i], f, cycles=measure_cycles)
+                                 for i in range(dofs.shape[1])],
+            "response_point_amplitude_m": harmonic_amplitude(rec.time, rec.response_displacement, f,
+                                                             cycles=measure_cycles),
             "phase_rad": float(np.angle(harmonic_phasor(rec.time, rec.displacement, f, cycles=measure_cycles))),
             "peak_m": float(np.max(np.abs(rec.displacement[-int(measure_cycles / f * case.recording.sample_rate):]))),
             "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps,
@@ -355,16 +361,19 @@ def _forced(case: Case, frequencies, force_amplitude: float):
 @quantities(frequencies="frequency", force_amplitude="force")
 def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cycles: int = 8,
                  workers: int | None = 1, scheduler: str | None = None, progress: bool | None = None,
-                 start: str = "rest", fields=None, extrapolate: bool = False) -> ResponseResult:
+                 start: str = "rest", fields=None, extrapolate: bool = False, dofs=None) -> ResponseResult:
     """Frequency response of the structure of ``case`` under ``force_amplitude`` [N] at each of
     ``frequencies`` [Hz]; each point runs ``case.cycles`` forcing cycles and measures the last
     ``measure_cycles``, started from rest or on an orbit (``start``, :func:`start_phasors`; the
     fields for ``"fields"``); each point says whether it is steady (:func:`steadiness`).
     ``workers`` > 1 or a ``scheduler`` run the points with the sweep executor (Dask);
-    ``workers = 1`` runs them one after another."""
+    ``workers = 1`` runs them one after another. Every dof's amplitude (or ``dofs``': labels,
+    :func:`pdamper.studies.transient.parse_dofs`) is measured too (``response_amplitude_m``)."""
     from ..simulation import run_bare_structure
+    from .transient import select_dofs
 
     s, freqs = _forced(case, frequencies, force_amplitude)
+    labels, idx = select_dofs(s, dofs)
     if case.cycles < measure_cycles + 2:
         fewer = int(math.floor(case.cycles + 1e-9)) - 2
         alt = (f", or measure at most {fewer} (--measure-cycles {fewer})" if fewer >= 1 else "")
@@ -399,10 +408,17 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     # the bed as a rigid mass at the damper: same stiffness and damping, the mass added
     solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
     k = int(np.nanargmax(damped)) if np.any(np.isfinite(damped)) else 0
+    nan_dofs = [math.nan] * len(s.dof_shapes()[0])
+    dof_amp = np.array([p.get("dof_amplitudes_m", nan_dofs) for p in points], dtype=float)[:, idx]
     summary = {
+        **_structure_numbers(s),
         "force_amplitude_N": force_amplitude, "particles": case.n_particles, "bed_mass_kg": case.bed_mass,
         "mass_ratio": case.bed_mass / s.mass, "cycles": case.cycles, "measure_cycles": measure_cycles,
-        "frequencies_hz": freqs.tolist(), "amplitude_damped_m": damped.tolist(),
+        "frequencies_hz": freqs.tolist(), "damper_amplitude_m": damped.tolist(),
+        "dofs": list(labels), "response_amplitude_m": dof_amp.T.tolist(),
+        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
+        "response_point_amplitude_m": [float(p.get("response_point_amplitude_m", math.nan)) for p in points],
+        "amplitude_damped_m": damped.tolist(),  # the old name of damper_amplitude_m (one release)
         "phase_damped_rad": [float(p.get("phase_rad", math.nan)) for p in points],
         "amplitude_bare_run_m": list(map(float, bare_run)), "amplitude_bare_m": bare.tolist(),
         "amplitude_solid_mass_m": solid.tolist(),
@@ -419,7 +435,6 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
                                               default=math.nan)),
         "failed": {f"{f:g}": p["failed"] for f, p in zip(freqs, points) if "failed" in p},
         "wall_time_s": float(sum(p.get("wall_time_s", 0.0) for p in points)),
-        **s.structure_summary(),
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
     summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
@@ -456,15 +471,17 @@ def _one_or_list(values: list):
 
 @quantities(frequencies="frequency", force_amplitude="force")
 def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: float, extrapolate: bool = False,
-                        points: int = 48) -> FieldsResponseResult:
+                        points: int = 48, dofs=None) -> FieldsResponseResult:
     """Frequency response of the structure of ``case`` with the damper as its ``fields`` (a
     :class:`~pdamper.analysis.fields.DamperFields`) at the damper node: every solution per
     frequency, stable or not, the jump frequencies, and the curves without the bed and with it
-    as a solid mass. Refuses (InputError) where the fields do not hold the solution, unless
-    ``extrapolate``."""
+    as a solid mass; every dof's amplitude (or ``dofs``') on each stable solution. Refuses
+    (InputError) where the fields do not hold the solution, unless ``extrapolate``."""
     from ..analysis.harmonic import solve_response
+    from .transient import select_dofs
 
     s, freqs = _forced(case, frequencies, force_amplitude)
+    labels, idx = select_dofs(s, dofs)
     bed = fields.bed_mass
     if math.isfinite(bed) and abs(bed - case.bed_mass) > 0.02 * case.bed_mass:
         raise InputError(f"the fields were built for a bed of {bed * 1e3:.4g} g, the config's bed is "
@@ -477,12 +494,17 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     xd, xr = sol.stable("damper_amplitude_m"), sol.stable("response_amplitude_m")
     flat = [(x, f) for f, xs in zip(freqs, xd) for x in xs]
     peak, f_peak = max(flat) if flat else (math.nan, math.nan)
+    phasors = _dof_phasors(s, sol, force_amplitude, idx)
+    dof_amp = [[_one_or_list([float(abs(z[i])) for z in zs]) for zs in phasors] for i in range(len(idx))]
     summary = {
+        **_structure_numbers(s),
         "method": "fields", "force_amplitude_N": force_amplitude, "particles": case.n_particles,
         "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
         "frequencies_hz": freqs.tolist(),
         "damper_amplitude_m": [_one_or_list(v) for v in xd],
-        "response_amplitude_m": [_one_or_list(v) for v in xr],
+        "dofs": list(labels), "response_amplitude_m": dof_amp,
+        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
+        "response_point_amplitude_m": [_one_or_list(v) for v in xr],
         "branches": [[x.to_dict() for x in sols] for sols in sol.solutions],
         "jump_frequencies_hz": [j["frequency_hz"] for j in sol.jumps], "jumps": sol.jumps,
         "stability": "slope criterion: stable where d(ln X - ln G(X))/d ln X > 0, G(X) = F0 |H_df| / "
@@ -496,12 +518,39 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
         "fields_box": fields.box(), "fields_source": str(fields.dataset.attrs.get("source", "")),
         "solve_time_per_frequency_s": sol.time_s.tolist(),
         "solve_time_median_s": float(np.median(sol.time_s)),
-        **s.structure_summary(),
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
     summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
                                 bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
+
+
+def _structure_numbers(s) -> dict:
+    from .transient import structure_numbers
+
+    return structure_numbers(s)
+
+
+def _dof_phasors(s, sol, force_amplitude: float, idx) -> list:
+    """Per frequency, per stable solution of the harmonic balance ``sol``, the complex amplitudes
+    of the dofs ``idx``: the structure under the force and the bed's force ``-Z x^_d`` at the damper
+    (:mod:`pdamper.analysis.harmonic`), ``q_k = (phi_k(f) F0 - phi_k(d) Z x^_d) / (k_k - m_k W^2 + i
+    c_k W)``, x = shapes q."""
+    mass, k, c, pd, pf, pr = s.modal_arrays()
+    _, shapes = s.dof_shapes()
+    out = []
+    for f, sols in zip(sol.frequencies, sol.solutions):
+        w = 2.0 * math.pi * float(f)
+        den = k - mass * w * w + 1j * c * w
+        per = []
+        for x in sols:
+            if not x.stable:
+                continue
+            Z = complex(-w * w * x.effective_mass_kg, w * x.equivalent_damping_N_s_per_m) \
+                if math.isfinite(x.effective_mass_kg) else 0j
+            per.append(shapes[idx] @ ((pf * force_amplitude - pd * Z * x.damper_phasor) / den))
+        out.append(per)
+    return out
 
 
 def fields_decay(case: Case, fields, *, duration: float | None = None, amplitude: float | None = None,

@@ -1,0 +1,348 @@
+"""The damper on a structure under a load in time (``[load]``): peaks and RMS at every dof with the
+damper and without it, and the stepped sine.
+
+- :func:`run_transient` -- the coupled DEM under the case's load in time (a force history, a
+  ground acceleration, a random load, a stepped sine; or the structure's harmonic force from
+  rest, :func:`in_time`) and the structure without the bed by its
+  exact linear response (:mod:`pdamper.structure.linear`): every dof's peak and RMS and their
+  ratios (damped / bare); for a random load the response PSD and the FRF estimate H1 (Welch,
+  :func:`scipy.signal.csd`) against the exact FRF.
+- :func:`run_stepped_sine` -- the stepped sine up or down (one DEM run, the state carried from one
+  frequency to the next): the steady amplitude of each step at the damper and at every dof, with
+  the bare structure's steady closed form and its stepped sine measured the same way.
+
+See docs/structure.md ("Loads in time") for the model and measured numbers.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..params import Case
+from ..structure.linear import dof_response, frequency_response, modal_response
+from ..structure.loads import SteppedSine
+
+__all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs", "select_dofs",
+           "fit_sine", "SWEEPS", "structure_numbers"]
+
+#: The directions of a stepped sine.
+SWEEPS = ("up", "down")
+
+
+def in_time(case: Case) -> Case:
+    """``case`` with its structure's load in time: its ``[load]``; or, a structure forced by its
+    harmonic force (``force_amplitude``, ``force_frequency``) and no ``[load]``, that force from the
+    start as a stepped sine of one step of ``[run] cycles`` periods (the same force and run length,
+    as a load table: a case written by ``pdamper design --write-case`` runs so)."""
+    if not case.drive.coupled:
+        raise InputError("this study needs a [structure] section (the container riding on a structure) and a "
+                         "[load]; see examples/frame_quake.toml")
+    s = case.drive
+    if s.load is None and s.force_amplitude > 0:
+        force = SteppedSine(amplitude=float(s.force_amplitude), frequencies=(float(s.force_frequency),),
+                            cycles=float(case.cycles))
+        return dataclasses.replace(case, drive=dataclasses.replace(s, force_amplitude=0.0, load=force))
+    if s.load is None:
+        raise InputError("pdamper transient needs a load in time: a [load] section with kind = 'force_history', "
+                         "'ground_acceleration', 'random' or 'stepped_sine', or the [structure]'s force_amplitude "
+                         "and force_frequency (that force from rest)")
+    return case
+
+
+def parse_dofs(text) -> list:
+    """The dofs asked for: ``None`` (every one), or a text of comma-separated dof labels and ranges
+    ``START:STOP[:STEP]`` (0-based, STOP excluded, as Python's), e.g. ``"0,18,38"``,
+    ``"0:40:2"``, ``"damper,response"``.
+
+    >>> parse_dofs("0:6:2,9")
+    [0, 2, 4, 9]
+    """
+    if text is None:
+        return None
+    out = []
+    for part in str(text).split(","):
+        part = part.strip()
+        if not part:
+            continue
+        if ":" in part:
+            bits = part.split(":")
+            try:
+                nums = [int(b) for b in bits]
+            except ValueError:
+                nums = []
+            if len(bits) not in (2, 3) or len(nums) != len(bits) or (len(nums) == 3 and nums[2] <= 0):
+                raise InputError(f"--dofs {text!r}: {part!r} is not a range START:STOP[:STEP] of whole numbers, "
+                                 "e.g. 0:40:2")
+            out += list(range(*nums))
+        else:
+            out.append(int(part) if part.lstrip("-").isdigit() else part)
+    if not out:
+        raise InputError(f"--dofs {text!r}: name some dofs, e.g. 0,18,38 or 0:40:2")
+    return out
+
+
+def select_dofs(structure, wanted) -> tuple[list, np.ndarray]:
+    """(labels, indices) of the dofs ``wanted`` (labels, :func:`parse_dofs`; None: every dof) of
+    ``structure`` (:meth:`~pdamper.structure.StructureBase.dof_shapes`)."""
+    labels, _ = structure.dof_shapes()
+    if wanted is None:
+        return list(labels), np.arange(len(labels))
+    idx = []
+    for w in wanted:
+        if w not in labels:
+            shown = (f"0 to {len(labels) - 1}" if all(isinstance(x, int) for x in labels)
+                     else ", ".join(map(str, labels)))
+            raise InputError(f"--dofs: {w!r} is not a dof of this structure ({shown})")
+        idx.append(labels.index(w))
+    return [labels[i] for i in idx], np.array(idx, dtype=int)
+
+
+def structure_numbers(s) -> dict:
+    """The structure's plain numbers for a summary (:meth:`~pdamper.structure.StructureBase.structure_summary`),
+    its number of dofs as ``dof_count`` (``dofs`` is the list of the dofs reported)."""
+    out = dict(s.structure_summary())
+    if "dofs" in out:
+        out["dof_count"] = out.pop("dofs")
+    return out
+
+
+def _dem(case: Case, s, dofs, progress):
+    """(labels, indices, the run, displacements [samples, dofs]) of the dofs ``dofs`` of the
+    structure ``s`` (the case's as it runs) in the coupled DEM of ``case``."""
+    from ..simulation import Simulation
+
+    labels, idx = select_dofs(s, dofs)
+    res = Simulation(case).run(progress=progress)
+    return labels, idx, res, res.structure.dof_displacements(s.dof_shapes()[1][idx])
+
+
+def _peak_rms(x: np.ndarray):
+    return np.max(np.abs(x), axis=0), np.sqrt(np.mean(x * x, axis=0))
+
+
+def _ratio(a, b):
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(b > 0, a / b, np.nan)
+
+
+@dataclass(frozen=True, kw_only=True)
+class TransientResult:
+    """A structure under a load in time with the damper (DEM) and without (exact).
+
+    Attributes: ``time`` [s] (the samples' ends); ``load`` f(t) there [N or m/s^2]; ``dofs`` the
+    labels; ``damped`` / ``bare`` [samples, dofs] displacements [m] (relative to the ground
+    under a ground acceleration); ``damper`` / ``damper_bare`` the damper point's; ``random``
+    the PSDs and FRFs of a random load (None else); ``summary`` plain numbers for JSON.
+    """
+
+    case: Case
+    time: np.ndarray
+    load: np.ndarray
+    dofs: list
+    damped: np.ndarray
+    bare: np.ndarray
+    damper: np.ndarray
+    damper_bare: np.ndarray
+    random: dict | None = None
+    summary: dict = field(default_factory=dict)
+
+
+def run_transient(case: Case, *, dofs=None, progress=None) -> TransientResult:
+    """The coupled DEM of ``case`` under its load in time and the bare structure's exact response:
+    every dof's (or ``dofs``': labels) peak and RMS over the run with and without the damper, and
+    their ratios (damped / bare: < 1 is a reduction); a random load's PSDs and H1 (module
+    docstring). A structure forced harmonically without a ``[load]`` runs under that force from
+    rest (:func:`in_time`). ``progress(fraction)`` is passed to the DEM run."""
+    case = in_time(case)
+    s = case.running_drive
+    labels, idx, res, damped = _dem(case, s, dofs, progress)
+    rec = res.structure
+    t = rec.time
+    _, bare_all = dof_response(s, t)
+    bare = bare_all[:, idx]
+    pd = s.modal_arrays()[3]
+    q_bare, _ = modal_response(s, t)
+    damper_bare = q_bare @ pd
+    f = s.load.values(t)
+    peak, rms = _peak_rms(damped)
+    peak_b, rms_b = _peak_rms(bare)
+    dpk, drms = _peak_rms(rec.displacement[:, None])
+    dpk_b, drms_b = _peak_rms(damper_bare[:, None])
+    ground = bool(s.load.ground)
+    summary = {
+        "load": s.load.describe(), "load_kind": s.load.kind, "ground": ground,
+        "relative_to_ground": ground, "duration_s": case.duration, "particles": case.n_particles,
+        "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
+        "dofs": list(labels), "peak_m": peak.tolist(), "rms_m": rms.tolist(), "peak_bare_m": peak_b.tolist(),
+        "rms_bare_m": rms_b.tolist(), "peak_reduction": _ratio(peak, peak_b).tolist(),
+        "rms_reduction": _ratio(rms, rms_b).tolist(),
+        "damper_peak_m": float(dpk[0]), "damper_rms_m": float(drms[0]), "damper_peak_bare_m": float(dpk_b[0]),
+        "damper_rms_bare_m": float(drms_b[0]), "damper_peak_reduction": float(_ratio(dpk, dpk_b)[0]),
+        "damper_rms_reduction": float(_ratio(drms, drms_b)[0]),
+        "load_peak": float(np.max(np.abs(f))), "load_rms": float(np.sqrt(np.mean(f * f))),
+        # the ledger of the bed is kept in the ground's frame without the ground's inertial force on it
+        "energy_balance_error": None if ground else rec.balance_error(res.energy),
+        "steps": res.steps, "time_step_s": res.time_step_s, "wall_time_s": res.wall_time_s,
+        "method": "dem", **structure_numbers(s),
+    }
+    if ground:
+        summary["energy_balance_note"] = ("not closed under a ground acceleration: the bed's ledger is kept in the "
+                                          "ground's frame without the ground's inertial force on the bed")
+    random = _random_spectra(s, t, f, damped, bare, idx) if s.load.stationary else None
+    if random is not None:
+        summary["random"] = random
+    return TransientResult(case=case, time=t, load=f, dofs=list(labels), damped=damped, bare=bare,
+                           damper=rec.displacement, damper_bare=damper_bare, random=random, summary=summary)
+
+
+def _random_spectra(s, t, f, damped, bare, idx) -> dict:
+    """Welch PSDs of the load and of each dof, and the FRF estimate H1 = G_fx / G_ff with and
+    without the damper against the exact FRF, over the load's band (segments of 2^k samples, a
+    quarter of the record or less: 7 averages with half overlap, Hann window). The resolution
+    fs / segment smears a resonance narrower than it (both H1 alike): a longer record narrows it."""
+    from scipy.signal import coherence, csd, welch
+
+    fs = 1.0 / (t[1] - t[0])
+    n = t.size
+    nper = int(2 ** math.floor(math.log2(max(n // 4, 16))))
+    kw = dict(fs=fs, nperseg=nper, window="hann", noverlap=nper // 2, detrend="constant")
+    fr, gff = welch(f, **kw)
+    lo, hi = s.load.band
+    keep = (fr >= lo) & (fr <= hi) & (fr > 0)
+    _, gxx = welch(damped, axis=0, **kw)
+    _, gbb = welch(bare, axis=0, **kw)
+    _, gfx = csd(f[:, None], damped, axis=0, **kw)
+    _, gfb = csd(f[:, None], bare, axis=0, **kw)
+    _, coh = coherence(f[:, None], damped, axis=0, **kw)
+    h1, h1b = gfx / gff[:, None], gfb / gff[:, None]
+    exact = frequency_response(s, fr)[:, idx]
+    ok = keep[:, None] & (np.abs(exact) > 0)
+    err = np.abs(np.abs(h1b[ok]) / np.abs(exact[ok]) - 1.0)
+    return {
+        "frequencies_hz": fr[keep].tolist(), "segment_samples": nper, "frequency_resolution_hz": float(fs / nper),
+        "load_psd": gff[keep].tolist(), "load_psd_target": s.load.psd(fr[keep]).tolist(),
+        "response_psd_m2_per_hz": gxx[keep].T.tolist(), "response_psd_bare_m2_per_hz": gbb[keep].T.tolist(),
+        "h1_abs": np.abs(h1[keep]).T.tolist(), "h1_phase_rad": np.angle(h1[keep]).T.tolist(),
+        "h1_bare_abs": np.abs(h1b[keep]).T.tolist(), "frf_exact_abs": np.abs(exact[keep]).T.tolist(),
+        "frf_exact_phase_rad": np.angle(exact[keep]).T.tolist(), "coherence": coh[keep].T.tolist(),
+        "h1_bare_vs_exact_median_error": float(np.median(err)) if err.size else math.nan,
+        "load_variance": float(np.var(f)), "load_variance_target": float(s.load.target_variance),
+    }
+
+
+# --------------------------------------------------------------------------- the stepped sine
+
+def fit_sine(time, x, frequency: float) -> complex:
+    """The complex amplitude x^ [m] of ``x(t) = Im(x^ e^{i Omega t}) + const`` fitted by least
+    squares over ``time`` [s] (exact for a sinusoid on any window, whole periods or not)."""
+    t = np.asarray(time, dtype=float)
+    w = 2.0 * math.pi * frequency
+    A = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones_like(t)])
+    (a, b, _), *_ = np.linalg.lstsq(A, np.asarray(x, dtype=float), rcond=None)
+    return complex(a, b)  # a sin + b cos = Im((a + i b) e^{i w t})
+
+
+@dataclass(frozen=True, kw_only=True)
+class SweepResult:
+    """A stepped sine with the damper (DEM) and without it, step by step in the sweep's order.
+
+    ``frequencies`` [Hz]; ``damped`` the steady amplitude at the damper of each step [m] (fitted
+    over its last ``measure_cycles``), ``phase`` its phase against the force [rad]; ``bare`` the
+    closed form, ``bare_sweep`` the bare structure's stepped sine measured the same way, ``solid``
+    the bed as a rigid mass; ``dof_amplitudes`` [steps, dofs]; ``time``/``displacement`` the run's
+    damper record; ``summary`` for JSON (the keys of a response)."""
+
+    case: Case
+    force_amplitude: float
+    direction: str
+    frequencies: np.ndarray
+    damped: np.ndarray
+    phase: np.ndarray
+    bare: np.ndarray
+    bare_sweep: np.ndarray
+    solid: np.ndarray
+    dof_amplitudes: np.ndarray
+    time: np.ndarray
+    displacement: np.ndarray
+    summary: dict = field(default_factory=dict)
+
+
+def sweep_order(frequencies, direction: str) -> np.ndarray:
+    """``frequencies`` [Hz] sorted for a sweep ``direction`` (``"up"``: rising, ``"down"``: falling)."""
+    if direction not in SWEEPS:
+        raise InputError(f"--sweep {direction!r}; choose one of {', '.join(SWEEPS)}")
+    f = np.sort(np.unique(np.asarray(frequencies, dtype=float)))
+    return f if direction == "up" else f[::-1]
+
+
+def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, direction: str = "up",
+                     measure_cycles: int = 8, dofs=None, progress=None) -> SweepResult:
+    """The stepped sine of ``force_amplitude`` [N] over ``frequencies`` [Hz] in ``direction`` (each
+    step ``case.cycles`` periods, the last ``measure_cycles`` fitted; one DEM run, the state carried
+    from step to step), with the bare structure's exact stepped sine and steady closed form."""
+    if not case.drive.coupled:
+        raise InputError("the stepped sine needs a [structure] section (the container riding on a structure)")
+    if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
+        raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
+    if case.cycles < measure_cycles + 2:
+        raise InputError(f"run.cycles = {case.cycles:g} periods a step leave no transient to discard before the "
+                         f"{measure_cycles} measured; give --cycles {measure_cycles + 2} or more")
+    freqs = sweep_order(frequencies, direction)
+    load = SteppedSine(amplitude=float(force_amplitude), frequencies=tuple(freqs), cycles=float(case.cycles))
+    drive = dataclasses.replace(case.drive, force_amplitude=0.0, load=load, displacement=0.0, velocity=0.0)
+    run = dataclasses.replace(case, drive=drive)
+    s = run.running_drive
+    labels, idx, res, X = _dem(run, s, dofs, progress)
+    rec = res.structure
+    t = rec.time
+    starts = load.step_times()
+    psi = load.force_phases()
+    damped, phase, dof_amp, bare_sweep, steady = [], [], [], [], []
+    for j, fj in enumerate(freqs):
+        end = starts[j + 1]
+        sel = (t > end - measure_cycles / fj - 1e-12) & (t <= end + 1e-12)
+        z = fit_sine(t[sel], rec.displacement[sel], fj)
+        damped.append(abs(z))
+        phase.append(float(np.angle(z * np.exp(-1j * psi[j]))))
+        dof_amp.append([abs(fit_sine(t[sel], X[sel, i], fj)) for i in range(len(idx))])
+        half = (t > end - measure_cycles / fj / 2.0 - 1e-12) & sel
+        first = sel & ~half
+        a1, a0 = abs(fit_sine(t[half], rec.displacement[half], fj)), abs(fit_sine(t[first], rec.displacement[first], fj))
+        steady.append(abs(a1 / a0 - 1.0) if a0 > 0 else math.inf)
+        # the bare structure's stepped sine, exactly, measured on the same window
+        tb = np.linspace(end - measure_cycles / fj, end, 64 * measure_cycles + 1)
+        qb, _ = modal_response(s, tb)
+        bare_sweep.append(abs(fit_sine(tb, qb @ s.modal_arrays()[3], fj)))
+    damped, bare_sweep = np.array(damped), np.array(bare_sweep)
+    bare = s.steady_amplitude(freqs, force_amplitude)
+    solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
+    from .structure import STEADY_TOLERANCE, _resonance
+
+    k = int(np.argmax(damped))
+    summary = {
+        "method": "dem", "sweep": direction, "force_amplitude_N": float(force_amplitude),
+        "particles": case.n_particles, "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
+        "cycles": case.cycles, "measure_cycles": measure_cycles, "frequencies_hz": freqs.tolist(),
+        "damper_amplitude_m": damped.tolist(),
+        "phase_damped_rad": phase, "dofs": list(labels),
+        "response_amplitude_m": np.array(dof_amp).T.tolist(),
+        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
+        "amplitude_bare_m": bare.tolist(), "amplitude_bare_sweep_m": bare_sweep.tolist(),
+        "bare_sweep_vs_closed_form_max_error": float(np.max(np.abs(bare_sweep / bare - 1.0))),
+        "amplitude_solid_mass_m": solid.tolist(), "steady_tolerance": STEADY_TOLERANCE,
+        "window_change": [float(v) for v in steady], "steady": [bool(v <= STEADY_TOLERANCE) for v in steady],
+        "peak_damped_m": float(damped[k]), "peak_damped_frequency_hz": float(freqs[k]),
+        "peak_bare_m": float(np.max(bare)), **_resonance(s, force_amplitude, float(freqs[k])),
+        "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps, "wall_time_s": res.wall_time_s,
+        "duration_s": load.duration, **structure_numbers(s),
+    }
+    summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
+    return SweepResult(case=case, force_amplitude=float(force_amplitude), direction=direction, frequencies=freqs,
+                       damped=damped, phase=np.array(phase), bare=bare, bare_sweep=bare_sweep, solid=solid,
+                       dof_amplitudes=np.array(dof_amp), time=t, displacement=rec.displacement, summary=summary)

@@ -1,0 +1,102 @@
+"""The damper on a structure under a load in time (pdamper.studies.transient): a locked bed is a pure
+added mass, under a force and under a ground acceleration; the transient's peaks and RMS; the random
+load's H1; the stepped sine.
+
+**A locked bed.** A row of spheres that fills the container along the drive wall to wall (no
+clearance, touching at rest) cannot move relative to it along the drive: it is a rigid mass at the
+damper up to the compliance of its Hertz contacts. The coupled DEM must then be the structure
+carrying the bed's mass (:meth:`~pdamper.structure.StructureBase.carrying`) exactly, but for that
+compliance: the contacts' lowest mode here is far above the structure's (the chain's stiffness
+under its own inertial load, ~1e5 N/m for 25 g: ~300 Hz against 3 Hz), an error of order
+(3/300)^2 = 1e-4 at most. Under a ground acceleration the same holds only if the bed feels the
+ground's acceleration and the structure's together, and if the carried mass takes its share of the
+ground's load: both are checked."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pdamper.structure.linear import damper_motion, dof_response, frequency_response
+from pdamper.structure.loads import RandomLoad
+
+from dem_fixtures import locked_case
+
+
+@pytest.mark.parametrize("load", [
+    'kind = "force_history"\ntime = [0, 0.1, 0.2]\nforce = [0, 1.0, 0]\nduration = "1.5s"',
+    'kind = "ground_acceleration"\ntime = [0, 0.1, 0.2]\nacceleration = [0, 1.0, 0]\nduration = "1.5s"',
+], ids=["force", "ground"])
+def test_a_locked_bed_is_a_pure_added_mass(load):
+    from pdamper.simulation import Simulation
+
+    case = locked_case(load)
+    res = Simulation(case).run()
+    rec = res.structure
+    s = case.running_drive
+    locked, _, _ = damper_motion(s.carrying(case.bed_mass), rec.time)
+    bare, _, _ = damper_motion(s, rec.time)
+    scale = np.max(np.abs(locked))
+    err = np.max(np.abs(rec.displacement - locked)) / scale
+    assert err < 1e-4  # measured 9.9e-6 (force) and 7.3e-6 (ground)
+    assert np.max(np.abs(rec.displacement - bare)) / scale > 100 * err  # the bed's mass is seen: ~0.1
+    # every dof is the damper's here (one mode), from the recorded modal coordinates
+    assert np.allclose(rec.dof_displacements(s.dof_shapes()[1])[:, 0], rec.displacement, rtol=0, atol=1e-15)
+
+
+def test_the_transient_reports_every_dof_against_the_exact_bare_structure():
+    from pdamper.studies.transient import run_transient
+
+    case = locked_case('kind = "force_history"\ntime = [0, 0.05, 0.1]\nforce = [0, 2.0, 0]\nduration = "0.6s"')
+    res = run_transient(case)
+    s = res.summary
+    assert s["dofs"] == [0] and s["method"] == "dem" and not s["ground"]
+    _, bare = dof_response(case.running_drive, res.time)
+    assert np.array_equal(res.bare, bare)
+    assert s["peak_m"] == [pytest.approx(float(np.max(np.abs(res.damped))))]
+    assert s["rms_bare_m"] == [pytest.approx(float(np.sqrt(np.mean(bare**2))))]
+    assert s["peak_reduction"][0] == pytest.approx(s["peak_m"][0] / s["peak_bare_m"][0])
+    assert s["damper_peak_m"] == pytest.approx(s["peak_m"][0]) and s["energy_balance_error"] < 1e-3
+    for key in ("peak_m", "rms_m", "peak_bare_m", "rms_bare_m", "peak_reduction", "rms_reduction"):
+        assert len(s[key]) == 1
+
+
+def test_h1_of_the_exact_bare_response_is_the_exact_frf():
+    """The FRF estimate (Welch, H1 = G_fx / G_ff) of the exact response to a long white-noise record,
+    away from the resonance's peak (where the resolution smears it): within a few per cent."""
+    from pdamper.structure import CoupledStructure
+    from pdamper.studies.transient import _random_spectra
+
+    load = RandomLoad(level=1.0, band=(0.5, 20.0), duration_s=800.0, seed=4)
+    s = CoupledStructure(mass=7.0, stiffness=7.0 * (2 * math.pi * 5.0) ** 2, damping_ratio=0.05, load=load)
+    t = np.arange(0.0, load.duration, 0.005)
+    _, x = dof_response(s, t)
+    r = _random_spectra(s, t, load.values(t), x, x, np.array([0]))
+    f = np.asarray(r["frequencies_hz"])
+    h1, exact = np.asarray(r["h1_bare_abs"][0]), np.abs(frequency_response(s, f)[:, 0])
+    assert np.allclose(h1, np.asarray(r["h1_abs"][0])) and np.allclose(exact, r["frf_exact_abs"][0])
+    away = np.abs(f - 5.0) > 1.0
+    assert np.median(np.abs(h1[away] / exact[away] - 1)) < 0.02  # measured 0.26 %
+    assert r["load_variance"] / r["load_variance_target"] == pytest.approx(1.0, abs=0.05)
+    assert np.min(np.asarray(r["coherence"][0])[away]) > 0.95
+
+
+@pytest.mark.slow
+def test_a_stepped_sine_on_a_locked_bed_is_the_solid_mass_closed_form():
+    """The stepped sine down (one run, the state carried) of a locked bed on a stiff, well damped
+    structure (20 Hz, 15 %: a step's transient decays to e^-28 in 30 periods) against the closed
+    form with the bed as a solid mass."""
+    import dataclasses
+
+    from pdamper.studies.transient import run_stepped_sine, sweep_order
+
+    case = locked_case('kind = "force_history"\ntime = [0, 1]\nforce = [0, 0]',
+                       structure='mass = "2kg"\nnatural_frequency = "20Hz"\ndamping_ratio = 0.15')
+    case = dataclasses.replace(case, cycles=30)
+    res = run_stepped_sine(case, [19.0, 21.0], force_amplitude=60.0, direction="down", measure_cycles=8)
+    solid = case.running_drive.steady_amplitude(res.frequencies, 60.0, added_mass=case.bed_mass)
+    assert res.frequencies.tolist() == [21.0, 19.0] and sweep_order([21.0, 19.0, 20.0], "up").tolist() == [19, 20, 21]
+    assert np.allclose(res.damped, solid, rtol=1e-3)  # measured 1.3e-5
+    assert np.allclose(res.bare_sweep, res.bare, rtol=1e-6) and all(res.summary["steady"])  # measured 2.4e-10
