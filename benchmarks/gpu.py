@@ -2,19 +2,20 @@
 
     PYTHONUNBUFFERED=1 python benchmarks/gpu.py --out gpu.json [--budget-s 450] [--only PART ...]
 
-What it runs, the most important first, writing ``--out`` (JSON) after every part and a markdown
-summary at the end (also ``--out`` with ``.md``):
+What it runs, the bounded parts first (a part that overruns the device call's limit then loses only
+what follows it), writing ``--out`` (JSON) after every part and a markdown summary at the end (also
+``--out`` with ``.md``):
 
 1. ``env``: the GPU, numba and numba-cuda, the commit.
 2. ``compile``: the first GPU launch of the kernel (numba-cuda typing, NVVM, the driver's PTX JIT;
    a launch with no steps) and the compiled kernel's registers per thread, shared and local memory
    per block, the blocks an SM can hold.
-3. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
+3. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
+   threads) for ``--bed-seconds`` (20): microseconds per step and per particle-step.
+4. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
    (40 strokes x 20 cycles, 36 and 44 spheres, one seed, from an empty store): wall time, the
    longest case's steps and the per-step cost of a block, and eta* of every stroke against the CPU
-   engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``).
-4. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
-   threads) for a few seconds: microseconds per step and per particle-step.
+   engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``). It runs to its end (no budget).
 5. ``paper``: every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at
    the paper's 40 strokes, 20 cycles, one seed, as one GPU batch: wall time, cases finished and
    failed. Stopped at the budget (``--budget-s``, counted from the start): then what was done is
@@ -23,7 +24,8 @@ summary at the end (also ``--out`` with ``.md``):
 ``--tiny`` runs the same parts on tiny cases (a few soft spheres, a few hundred steps) in
 numba-cuda's simulator (``NUMBA_ENABLE_CUDASIM=1``): the test suite's check that this script works
 (tests/kernels/gpu/test_benchmark_gpu.py). ``--ptx`` needs no GPU: it compiles the kernel to PTX for
-sm_90 with the local CUDA toolkit's NVVM and reads ``ptxas -v`` (registers, spills, shared memory).
+sm_90 with the local CUDA toolkit's NVVM and reads ``ptxas -v`` (registers, spills, shared memory);
+``--ptx-tangential spring`` compiles the kernels for the tangential spring instead of the tanh law.
 
 **On the project's GPU machines** (numba, numba-cuda, numpy, scipy, xarray, pandas, matplotlib, h5py
 there; no package registry), the rest of pdamper's dependencies travel as wheels in the git-ignored
@@ -56,7 +58,7 @@ from pathlib import Path
 BENCH = Path(__file__).resolve().parent
 ROOT = BENCH.parent
 REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
-PARTS = ("env", "compile", "fig4", "bed", "paper")
+PARTS = ("env", "compile", "bed", "fig4", "paper")
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
 #: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
 #: still measures something, and says so).
@@ -425,10 +427,10 @@ def part_paper(tiny, deadline):
     return out
 
 
-def part_ptx(kernels=("gear", "verlet")):
+def part_ptx(kernels=("gear", "verlet"), tangential="tanh"):
     """The kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
     local CUDA toolkit's NVVM), and ``ptxas -v``'s registers, spills and shared memory (when ptxas
-    is on PATH)."""
+    is on PATH); ``tangential``: the tangential law they are compiled for (``contact.tangential``)."""
     import dataclasses as dc
     import re
     import shutil
@@ -445,7 +447,7 @@ def part_ptx(kernels=("gear", "verlet")):
     dispatcher.get_current_device = lambda: _Hopper()
     from numba import cuda
 
-    from pdamper.engine.cuda import _pack, _pack_gear
+    from pdamper.engine.cuda import kernel_arguments
     from pdamper.kernels.gpu.gear import batch_gear
     from pdamper.kernels.gpu.verlet import batch_verlet
     from pdamper.run import on_device
@@ -456,17 +458,16 @@ def part_ptx(kernels=("gear", "verlet")):
     for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet")):
         if name not in kernels:
             continue
-        c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator))
+        c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator),
+                       contact=dc.replace(case.contact, tangential=tangential))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sim = Simulation(on_device(c, "cuda"))
         job, _ = sim._gpu_job()
-        sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack([job], None)
-        # the output arrays as the GPU has them (C-contiguous; _pack leaves only their shapes off the simulator)
-        rec = rec._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)), frames=np.zeros((1, 1, 1, 9)))
-        args = [sp, li, wl, tb, sim.engine.table.law, mo, ct, rec, nmat, row0]
-        if integrator == "gear":
-            args += list(_pack_gear([job], sp, li, wl, bd))
+        args, _ = kernel_arguments([job])
+        # the output arrays as the GPU has them (C-contiguous; off the simulator the packing leaves only their shapes)
+        args[8] = args[8]._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)),
+                                   frames=np.zeros((1, 1, 1, 9)))
         sig = tuple(numba.typeof(a) for a in args) + (types.int64,)
         t = time.perf_counter()
         try:
@@ -493,8 +494,9 @@ def part_ptx(kernels=("gear", "verlet")):
                 k.update(stack_bytes=max(int(x[0]) for x in sp_), spill_store_bytes=max(int(x[1]) for x in sp_),
                          spill_load_bytes=max(int(x[2]) for x in sp_))
             k["ptxas_ok"] = r.returncode == 0
+        k["tangential"] = tangential
         out[name] = k
-        print(f"ptx ({name}):", json.dumps(k), flush=True)
+        print(f"ptx ({name}, {tangential}):", json.dumps(k), flush=True)
     return out
 
 
@@ -534,6 +536,8 @@ def main(argv=None):
     ap.add_argument("--tiny", action="store_true", help="tiny cases (numba-cuda's simulator: the test suite)")
     ap.add_argument("--ptx", action="store_true", help="compile to PTX for sm_90 without a GPU; ptxas -v")
     ap.add_argument("--ptx-kernels", default="gear,verlet", help="the kernels --ptx compiles (gear, verlet)")
+    ap.add_argument("--ptx-tangential", default="tanh", choices=("tanh", "spring"),
+                    help="the tangential law --ptx compiles the kernels for (contact.tangential)")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
     ap.add_argument("--make-reference", metavar="STUDY_DIR",
                     help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
@@ -544,7 +548,7 @@ def main(argv=None):
     t0 = time.perf_counter()
     report = Report(args.out)
     if args.ptx:
-        report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(","))))
+        report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(",")), args.ptx_tangential))
         return 0
     parts = args.only or PARTS
     report.put("env", env_info())

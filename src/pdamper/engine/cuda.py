@@ -22,18 +22,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.bundles import PrescribedMotion
-from ..kernels.drive import DRIVE_HARMONIC, DRIVE_STILL
+from ..kernels.bundles import SAVED_HISTORY_ROWS, TANGENTIAL_COLUMNS
+from ..kernels.contact import keeps_history
+from ..kernels.drive import is_parametric
 
 __all__ = ["GpuJob", "GpuOutcome", "run_jobs", "STATUS_STOPPED", "unavailable", "require", "refusal", "row_capacity",
-           "threads_for", "GPU_HINT"]
+           "threads_for", "kernel_arguments", "GPU_HINT"]
 
 #: How to get the GPU engine, for messages.
 GPU_HINT = 'pip install -e ".[gpu]"'
 #: :attr:`GpuOutcome.status` of a case whose batch was stopped (``progress`` returned False) before its end.
 STATUS_STOPPED = -1
-#: The drive kinds the GPU kernels compute (the kernels' own numbers).
-_GPU_DRIVES = (DRIVE_STILL, DRIVE_HARMONIC)
 
 
 @dataclass
@@ -105,7 +104,7 @@ def require() -> None:
 def refusal(engine, python_recorders: bool = False) -> str | None:
     """Why the GPU engine does not run this case (None: it does), and how to run it on the CPU."""
     how = "; run it on the CPU (device = \"cpu\", the default)"
-    if not isinstance(engine.drive.coupling, PrescribedMotion) or engine.drive.kind not in _GPU_DRIVES:
+    if not is_parametric(engine.drive.kind):  # the kernels move the container by (kind, parameters, t) alone
         return ("the GPU engine runs harmonic drives (and a container at rest); a coupled structure or a motion "
                 "given as samples is not on the GPU yet" + how)
     if python_recorders:
@@ -138,8 +137,8 @@ def threads_for(n: int) -> int:
 
 def _group_key(job):
     t = job.engine.table
-    return (job.integrator, type(t.law), t.coefficient.shape[1], float(t.log_speed0), float(t.dlog_speed), float(t.tau),
-            float(t.v_floor), float(t.overlap_limit))
+    return (job.integrator, type(t.law), type(t.tangential), t.coefficient.shape[1], float(t.log_speed0),
+            float(t.dlog_speed), float(t.tau), float(t.v_floor), float(t.overlap_limit))
 
 
 def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
@@ -202,7 +201,8 @@ class _Batch:
         from ..kernels.gpu.verlet import verlet_kernel
 
         self.jobs = jobs
-        sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
+        args, bd = kernel_arguments(jobs, threads)
+        sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, *gear = args
         self.types = (type(sp), type(ct), type(rec))
         self.bd = bd
         self.total = ct.total_steps.copy()
@@ -210,15 +210,19 @@ class _Batch:
         self.status = np.zeros_like(self.total)
         self.finished = False
         self.stream = None if SIMULATOR else _stream()
-        self.args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), jobs[0].engine.table.law,
-                     _device(mo), _device(ct), _device_record(rec), _device_array(nmat), _device_array(row0)]
+        #: the bundles on the GPU, by name (the kernel's arguments, in order, are :attr:`args`)
+        self.sp, self.ct, self.rec = _device(sp), _device(ct), _device_record(rec)
+        self.args = [self.sp, _device(li), _device(wl), _device_tuple(tb), law, tlaw, _device(mo), self.ct, self.rec,
+                     _device_array(nmat), _device_array(row0)]
         self.gear = jobs[0].integrator == "gear"
+        self.gs = self.gc = None
         if self.gear:
             from ..kernels.gpu.gear import gear_kernel
 
-            gs, gc = _pack_gear(jobs, sp, li, wl, bd)
+            gs, gc = gear
             self.gear_types = (type(gc),)
-            self.args += [_device(gs), _device(gc)]
+            self.gs, self.gc = _device(gs), _device(gc)
+            self.args += [self.gs, self.gc]
             self.total = gc.spans.copy()
             self.kernel = gear_kernel()
         else:
@@ -232,18 +236,18 @@ class _Batch:
             self.kernel[C, self.bd, self.stream](*self.args, int(steps))
 
     def poll(self):
-        ct = self.args[6]
-        self.done = _host(self.args[11].span) if self.gear else _host(ct.step)
+        ct = self.ct
+        self.done = _host(self.gc.span) if self.gear else _host(ct.step)
         self.status = _host(ct.status)
         self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
 
     def unpack(self, wall, batch):
         """Each job's channels, final state and outcome."""
         sp_t, ct_t, rec_t = self.types
-        rec_h = rec_t(*[_host(a) for a in self.args[7]])
-        sp_h = sp_t(*[_host(a) for a in self.args[0]])
-        ct_h = ct_t(*[_host(a) for a in self.args[6]])
-        gc_h = self.gear_types[0](*[_host(a) for a in self.args[11]]) if self.gear else None
+        rec_h = rec_t(*[_host(a) for a in self.rec])
+        sp_h = sp_t(*[_host(a) for a in self.sp])
+        ct_h = ct_t(*[_host(a) for a in self.ct])
+        gc_h = self.gear_types[0](*[_host(a) for a in self.gc]) if self.gear else None
         out = []
         for c, job in enumerate(self.jobs):
             e = job.engine
@@ -273,17 +277,33 @@ class _Batch:
         return out
 
 
-def _pack_gear(jobs, sp, li, wl, bd):
+def kernel_arguments(jobs, threads: int | None = None):
+    """The arguments of one batch's kernel (:func:`pdamper.kernels.gpu.verlet.batch_verlet`, or
+    :func:`pdamper.kernels.gpu.gear.batch_gear` for Gear's jobs) on the host, less the steps of the
+    launch, and the block size: the bundles, the contact table's arrays, the damping and tangential
+    laws' markers (one group's: :func:`run_jobs` groups by them), the materials and table rows, Gear's
+    state and clock."""
+    sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
+    table = jobs[0].engine.table
+    args = [sp, li, wl, tb, table.law, table.tangential, mo, ct, rec, nmat, row0]
+    if jobs[0].integrator == "gear":
+        args += list(_pack_gear(jobs, sp, li, wl, bd, keeps_history(table.tangential)))
+    return args, bd
+
+
+def _pack_gear(jobs, sp, li, wl, bd, history):
     """Gear's state and clock of every job: the Nordsieck vectors (filled by the kernel's priming),
-    the saved history, the clock at the start of the first span."""
+    the saved history (with the tangential history's rows under a law that keeps one), the clock at
+    the start of the first span."""
     from ..kernels.gpu.batch import GearClock, GearState
 
     C, N = sp.position.shape[:2]
     K = li.partner.shape[3]
     W = wl.kind.shape[1]
+    rows = SAVED_HISTORY_ROWS if history else 2
     gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), predicted=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
-                   saved_pair=np.zeros((C, 2, N, K)), saved_wall=np.zeros((C, 2, N, W)),
-                   integrands=np.zeros((C, bd, 4)))
+                   saved_pair=np.zeros((C, rows, N, K)), saved_wall=np.zeros((C, rows, N, W)),
+                   anchor=np.zeros((C, N, 6)), integrands=np.zeros((C, bd, 4)))
     settle = np.array([j.settle_samples for j in jobs], dtype=np.int64)
     n = np.array([j.n_samples for j in jobs], dtype=np.int64)
     seg = np.array([j.segment_samples for j in jobs], dtype=np.int64)
@@ -348,20 +368,26 @@ def _pack(jobs, threads):
     W = max(e.walls.kind.shape[0] for e in engines)
     K = max(row_capacity(e.bodies.radius, e.search.skin) for e in engines)
     bd = threads or threads_for(N)
+    # the tangential history: one entry a row under a law without one (never read)
+    history = keeps_history(engines[0].table.tangential)
+    nt = len(TANGENTIAL_COLUMNS)
     zeros3 = np.zeros((C, N, 3))
     sp = Spheres(position=zeros3.copy(), velocity=zeros3.copy(), spin=zeros3.copy(), acceleration=zeros3.copy(),
                  angular_acceleration=zeros3.copy(), previous_acceleration=zeros3.copy(),
                  previous_angular_acceleration=zeros3.copy(), reference=np.full((C, N, 3), np.inf),
+                 moved=np.zeros((C, N, 6)),
                  radius=np.ones((C, N)), mass=np.ones((C, N)), inv_mass=np.ones((C, N)), inv_inertia=np.ones((C, N)),
                  material=np.zeros((C, N), dtype=np.int64), count=np.array([e.n for e in engines], dtype=np.int64))
     wl = Walls(kind=np.zeros((C, W), dtype=np.int64), data=np.zeros((C, W, 7)),
                count=np.array([e.walls.kind.shape[0] for e in engines], dtype=np.int64),
                floor=np.array([e.walls.floor for e in engines], dtype=np.int64), stiffness=np.zeros((C, N, W)),
                material_pair=np.zeros((C, N, W), dtype=np.int64), effective_radius=np.ones((C, N, W)),
-               approach_speed=np.zeros((C, N, W)), damping=np.zeros((C, N, W)), row=np.zeros((C, N, W, WALL_ROW)))
+               approach_speed=np.zeros((C, N, W)), damping=np.zeros((C, N, W)),
+               tangential=np.zeros((C, N, W if history else 1, nt)), row=np.zeros((C, N, W, WALL_ROW)))
     li = Lists(partner=np.zeros((C, 2, N, K), dtype=np.int64), length=np.zeros((C, 2, N), dtype=np.int64),
                slot=np.zeros((C, N, K), dtype=np.int64), approach_speed=np.zeros((C, 2, N, K)),
-               damping=np.zeros((C, 2, N, K)), stiffness=np.zeros((C, N, K)),
+               damping=np.zeros((C, 2, N, K)), tangential=np.zeros((C, 2, N, K if history else 1, nt)),
+               stiffness=np.zeros((C, N, K)),
                material_pair=np.zeros((C, N, K), dtype=np.int64), friction_cap=np.zeros((C, N, K)),
                result=np.zeros((C, N, K, PAIR_RESULT)), buffer=np.zeros(C, dtype=np.int64),
                skin=np.array([e.search.skin for e in engines]))
@@ -386,11 +412,12 @@ def _pack(jobs, threads):
         row += e.table.modulus.shape[0]
     tables = [e.table for e in engines]
     t0 = tables[0]
-    tb = (np.concatenate([t.modulus for t in tables]), np.concatenate([t.friction for t in tables]),
-          np.ascontiguousarray(np.concatenate([t.coefficient for t in tables])),
+    tb = (np.concatenate([t.modulus for t in tables]), np.concatenate([t.shear_modulus for t in tables]),
+          np.concatenate([t.friction for t in tables]), np.ascontiguousarray(np.concatenate([t.coefficient for t in tables])),
+          np.ascontiguousarray(np.concatenate([t.tangential_damping for t in tables])),
           np.concatenate([t.yield_pressure for t in tables]), float(t0.log_speed0), float(t0.dlog_speed),
           float(t0.tau), float(t0.v_floor), float(t0.overlap_limit))
-    mo = Motion(harmonic=np.array([int(e.drive.kind == DRIVE_HARMONIC) for e in engines], dtype=np.int64),
+    mo = Motion(kind=np.array([e.drive.kind for e in engines], dtype=np.int64),
                 par=np.array([np.resize(np.asarray(e.drive.par, dtype=float), 3) for e in engines]),
                 gravity=np.array([e.drive.gravity for e in engines]),
                 direction=np.array([e.drive.direction for e in engines]), jump=np.array([j.jump for j in jobs]))

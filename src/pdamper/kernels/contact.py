@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 from numba.extending import overload
 
 from ..contact import DAMPING_LAWS, TANGENTIAL_LAWS
@@ -209,8 +210,9 @@ def friction(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touc
 
 def keeps_history(law):
     """Whether the tangential law of marker ``law`` keeps a per-contact history (a constant of the
-    compiled kernel: compiled kernels only)."""
-    raise NotImplementedError("keeps_history is compiled into the kernels")
+    compiled kernel; called from Python -- numba-cuda's simulator runs the GPU kernels so -- the same
+    answer from the law's registration)."""
+    return _tangential_law_of(numba.typeof(law)).history
 
 
 @njit

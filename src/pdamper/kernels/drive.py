@@ -27,8 +27,9 @@ from numba.extending import overload
 from ..jit import JIT, njit
 from .bundles import CoupledMotion, marker_class
 
-__all__ = ["drive_motion", "harmonic_motion", "is_coupled", "is_modal", "is_loaded", "DRIVE_STILL", "DRIVE_HARMONIC",
-           "DRIVE_SAMPLED", "DRIVE_STRUCTURE", "DRIVE_MODAL", "DRIVE_MODAL_LOAD", "DRIVE_KINDS"]
+__all__ = ["drive_motion", "harmonic_motion", "parametric_motion", "is_parametric", "is_coupled", "is_modal",
+           "is_loaded", "DRIVE_STILL", "DRIVE_HARMONIC", "DRIVE_SAMPLED", "DRIVE_STRUCTURE", "DRIVE_MODAL",
+           "DRIVE_MODAL_LOAD", "DRIVE_KINDS"]
 
 #: Drive kind of a container at rest.
 DRIVE_STILL = 0
@@ -89,6 +90,24 @@ def harmonic_motion(x, omega, phase, t):
     ph = omega * t + phase
     s = math.sin(ph)
     return x * s, x * omega * math.cos(ph), -x * omega * omega * s
+
+
+def is_parametric(kind) -> bool:
+    """Whether the compiled motion of kind number ``kind`` is a function of its three parameters
+    and the time alone (:func:`parametric_motion`: a container at rest, the harmonic motion): what a
+    kernel needs to move the container without the drive's table or state (the GPU engine's)."""
+    return int(kind) in (DRIVE_STILL, DRIVE_HARMONIC)
+
+
+@njit(inline="always")
+def parametric_motion(kind, p0, p1, p2, t):
+    """The container's (position [m], velocity [m/s], acceleration [m/s^2]) at ``t`` [s] for a motion
+    of kind number ``kind`` that :func:`is_parametric` accepts, from its parameters ``par[0:3]``
+    (harmonic: X, Omega, phase): :func:`harmonic_motion`, or at rest. Scalars only (the GPU engine
+    compiles it; the CPU's :func:`drive_motion` computes the same by the same function)."""
+    if kind == DRIVE_HARMONIC:
+        return harmonic_motion(p0, p1, p2, t)
+    return 0.0, 0.0, 0.0
 
 
 @njit

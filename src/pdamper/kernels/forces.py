@@ -27,7 +27,7 @@ from .bundles import FrictionRecord
 from .contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, note_friction_row,
                       pair_point_velocity, scatter, wall_point_velocity)
 
-__all__ = ["compute_forces", "elastic_energy", "no_friction_record", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN",
+__all__ = ["compute_forces", "pair_geometry", "elastic_energy", "no_friction_record", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN",
            "STATUS_LIST_OVERFLOW", "STATUS_WALL_OVERFLOW"]
 
 STATUS_OK = 0
@@ -42,6 +42,27 @@ def no_friction_record():
     """A friction record with no rows: the force loops write nothing into it (Verlet; Gear's
     priming evaluation)."""
     return FrictionRecord(np.zeros((0, 2), dtype=np.int64), np.zeros((0, 8)), np.zeros(3, dtype=np.int64))
+
+
+@njit(inline="always")
+def pair_geometry(dx, dy, dz, d2, cut, rvx, rvy, rvz, wx, wy, wz):
+    """A touching sphere pair's contact geometry: from ``d = x_j - x_i`` (its square ``d2``), the
+    contact distance ``cut = r_i + r_j``, the relative velocity ``v_i - v_j`` and ``w = r_i w_i +
+    r_j w_j``: the unit normal from i to j, the overlap, its rate (> 0 approaching), the tangential
+    slip at the contact point and its length. Scalars only: the CPU pair loop and the GPU engine's
+    (:mod:`pdamper.kernels.gpu.verlet`) compile the same function."""
+    dist = math.sqrt(d2)
+    inv = 1.0 / dist
+    nx = dx * inv
+    ny = dy * inv
+    nz = dz * inv
+    ddot = rvx * nx + rvy * ny + rvz * nz
+    # slip at the contact point: v_i - v_j + (r_i w_i + r_j w_j) x n, tangential part
+    cvx, cvy, cvz, cn = pair_point_velocity(rvx, rvy, rvz, wx, wy, wz, nx, ny, nz)
+    tx = cvx - cn * nx
+    ty = cvy - cn * ny
+    tz = cvz - cn * nz
+    return nx, ny, nz, cut - dist, ddot, tx, ty, tz, math.sqrt(tx * tx + ty * ty + tz * tz)
 
 
 @njit
@@ -132,27 +153,12 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
                 pvin[a] = 0.0
                 e_f += drop_history(tlaw, pth, a)
             continue
-        dist = math.sqrt(d2)
-        inv = 1.0 / dist
-        nx = dx * inv
-        ny = dy * inv
-        nz = dz * inv
-        delta = cut - dist
+        nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
+            dx, dy, dz, d2, cut, vel[i, 0] - vel[j, 0], vel[i, 1] - vel[j, 1], vel[i, 2] - vel[j, 2],
+            ri * omg[i, 0] + rj * omg[j, 0], ri * omg[i, 1] + rj * omg[j, 1], ri * omg[i, 2] + rj * omg[j, 2])
         if delta > limit * min(ri, rj):
             status = STATUS_OVERLAP
             culprit = i
-        rvx = vel[i, 0] - vel[j, 0]
-        rvy = vel[i, 1] - vel[j, 1]
-        rvz = vel[i, 2] - vel[j, 2]
-        ddot = rvx * nx + rvy * ny + rvz * nz
-        # slip at the contact point: v_i - v_j + (r_i w_i + r_j w_j) x n, tangential part
-        cvx, cvy, cvz, cn = pair_point_velocity(rvx, rvy, rvz, ri * omg[i, 0] + rj * omg[j, 0],
-                                                ri * omg[i, 1] + rj * omg[j, 1], ri * omg[i, 2] + rj * omg[j, 2],
-                                                nx, ny, nz)
-        tx = cvx - cn * nx
-        ty = cvy - cn * ny
-        tz = cvz - cn * nz
-        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
         dsx = dsy = dsz = 0.0
         if spring:
             # the contact points' relative displacement, from the spheres' (the slip's kinematics)

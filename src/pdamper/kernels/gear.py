@@ -71,7 +71,7 @@ from .neighbours import max_displacement_sq, rebuild_lists
 from .record import record_sample
 from .structure import advance_structure
 
-__all__ = ["run_gear", "GEAR_C"]
+__all__ = ["run_gear", "GEAR_C", "predict_dof", "step_to_boundary", "shorter_step", "next_step"]
 
 #: Corrector coefficients of the 6-value Gear scheme for second-order equations with
 #: velocity-dependent forces.
@@ -80,6 +80,63 @@ GEAR_C = (3.0 / 20.0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0)
 #: compute_forces' step argument that switches its explicit friction cap off (the implicit pass
 #: takes its place).
 _NO_CAP = 1e-300
+
+
+@njit(inline="always")
+def predict_dof(r0, r1, r2, r3, r4, r5):
+    """One degree of freedom's Nordsieck vector predicted a step on (the Pascal triangle). Scalars
+    only: the CPU's :func:`_predict` and the GPU engine (:mod:`pdamper.kernels.gpu.gear`) compile
+    the same function, as they do the step control below."""
+    return (r0 + r1 + r2 + r3 + r4 + r5, r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5,
+            r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5, r3 + 4.0 * r4 + 10.0 * r5, r4 + 5.0 * r5, r5)
+
+
+@njit(inline="always")
+def step_to_boundary(t, ts, h, t_end):
+    """The step from ``t`` [s]: ``h``, ended on the next sample boundary (interval ``ts``) or
+    ``t_end`` -- a step that would stop just short of the boundary is stretched onto it, so no
+    boundary is ever passed over or approached by a sliver of a step. Returns ``(kb, tb, step)``:
+    the boundary's number and time [s] and the step [s]."""
+    kb = int(math.floor(t / ts + 1e-9)) + 1  # (an integer on every target: CUDA's floor is a float)
+    tb = kb * ts
+    hh = h
+    if hh > tb - t or tb - t - hh < 1e-3 * hh:
+        hh = tb - t
+    if hh > t_end - t:
+        hh = t_end - t
+    return kb, tb, hh
+
+
+@njit(inline="always")
+def shorter_step(hs, tol, err, h_min):
+    """The step to retry after a step ``hs`` [s] was rejected with error ``err`` [m] (tolerance
+    ``tol``): ``0.9 (tol/err)^(1/6)`` of it, at least 0.2 of it and ``h_min``."""
+    fac = 0.9 * (tol / err) ** (1.0 / 6.0)
+    if fac < 0.2:
+        fac = 0.2
+    h = hs * fac
+    if h < h_min:
+        h = h_min
+    return h
+
+
+@njit(inline="always")
+def next_step(hs, h, tol, err, h_min, h_max):
+    """The step to try after step ``hs`` [s] was accepted with error ``err`` [m] (``h``: the step
+    that was to be tried, which a step shortened onto a sample boundary does not shrink):
+    ``0.9 (tol/err)^(1/6)`` of ``hs`` within [0.2, 1.5] of it and [``h_min``, ``h_max``]."""
+    fac = 1.5 if err <= 0.0 else 0.9 * (tol / err) ** (1.0 / 6.0)
+    if fac > 1.5:
+        fac = 1.5
+    if fac < 0.2:
+        fac = 0.2
+    if not (hs < h and fac >= 1.0):
+        h = hs * fac
+    if h > h_max:
+        h = h_max
+    if h < h_min:
+        h = h_min
+    return h
 
 
 @njit
@@ -106,18 +163,8 @@ def _predict(nord, pred, ratio, inv_h, bodies):
     nf = nord.reshape(6, -1)
     pf = pred.reshape(6, -1)
     for m in range(nf.shape[1]):
-        r0 = nf[0, m]
-        r1 = nf[1, m]
-        r2 = nf[2, m]
-        r3 = nf[3, m]
-        r4 = nf[4, m]
-        r5 = nf[5, m]
-        pf[0, m] = r0 + r1 + r2 + r3 + r4 + r5
-        pf[1, m] = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
-        pf[2, m] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
-        pf[3, m] = r3 + 4.0 * r4 + 10.0 * r5
-        pf[4, m] = r4 + 5.0 * r5
-        pf[5, m] = r5
+        pf[0, m], pf[1, m], pf[2, m], pf[3, m], pf[4, m], pf[5, m] = predict_dof(nf[0, m], nf[1, m], nf[2, m], nf[3, m],
+                                                                                nf[4, m], nf[5, m])
     _unpack(pred, inv_h, bodies)
 
 
@@ -386,15 +433,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
                 anchor[m] = a0[m]
     while t < t_end - 1e-12 * ts and steps < span.max_steps:
         # step length: end on the next sample boundary or t_end
-        # (a step that would stop just short of the boundary is stretched onto it, so no
-        # boundary is ever passed over or approached by a sliver of a step)
-        kb = math.floor(t / ts + 1e-9) + 1
-        tb = kb * ts
-        hh = h
-        if hh > tb - t or tb - t - hh < 1e-3 * hh:
-            hh = tb - t
-        if hh > t_end - t:
-            hh = t_end - t
+        kb, tb, hh = step_to_boundary(t, ts, h, t_end)
         ratio = 1.0
         if hh != hs:
             ratio = hh / hs
@@ -475,12 +514,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
                 _copy_tangential(hist_p, hist_w, npair, pairs, walls, False)
             if coupled:
                 _copy_structure(gear.saved_structure, drive.state)
-            fac = 0.9 * (tol / err) ** (1.0 / 6.0)
-            if fac < 0.2:
-                fac = 0.2
-            h = hs * fac
-            if h < span.h_min:
-                h = span.h_min
+            h = shorter_step(hs, tol, err, span.h_min)
             rejected += 1
             continue
         # accept: correct the prediction into the Nordsieck vector
@@ -512,17 +546,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         gear.integrands[2] = q_f
         gear.integrands[3] = q_i
         # next step
-        fac = 1.5 if err <= 0.0 else 0.9 * (tol / err) ** (1.0 / 6.0)
-        if fac > 1.5:
-            fac = 1.5
-        if fac < 0.2:
-            fac = 0.2
-        if not (hs < h and fac >= 1.0):
-            h = hs * fac
-        if h > span.h_max:
-            h = span.h_max
-        if h < span.h_min:
-            h = span.h_min
+        h = next_step(hs, h, tol, err, span.h_min, span.h_max)
         if span.record and math.fabs(t - tb) <= 1e-9 * ts:
             _unpack(nord, inv_h, bodies)
             record_sample(kb - 1, samples, bodies, pairs, walls, drive, xc, vc)

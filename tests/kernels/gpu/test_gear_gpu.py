@@ -23,18 +23,16 @@ def _gear(case, mu=0.3):
                                contact=dataclasses.replace(case.contact, friction=mu))
 
 
-def test_gear_step_by_step_as_the_cpu():
-    """Ten accepted steps (one rejected among them) of a violently driven 4-sphere bed: the same
-    steps, the same Nordsieck vector to rounding."""
+def _step_by_step(case, k):
+    """``k`` accepted steps of ``case`` (no settling) on both engines: the CPU's (status, steps, t,
+    rejected, its stepper's state, its engine) and the GPU's batch."""
     from pdamper.engine.cuda import _Batch
     from pdamper.engine.steppers import GEAR_MIN_STEP
     from pdamper.kernels.bundles import GearSpan
     from pdamper.kernels.gear import run_gear
     from pdamper.simulation import Simulation
 
-    case = _gear(_case("cuboid", n=4, direction=(1.0, 0.3, 0.2), coated=True, cycles=0.004))
     case = dataclasses.replace(case, initial=dataclasses.replace(case.initial, settle_time=0.0))
-    k = 10
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         cpu = Simulation(case)
@@ -47,20 +45,52 @@ def test_gear_step_by_step_as_the_cpu():
     status, steps, _, t, _, rejected = run_gear(span, e.bodies, st.state, e.pairs, e.walls, e.search, e.table, e.drive,
                                                cpu.samples)
     batch = _Batch([gpu._gpu_job()[0]], 2)
-    while int(batch.args[6].step[0]) < k:
+    while int(batch.ct.step[0]) < k:
         batch.launch(1)
-    clock = batch.args[11]
-    assert status == 0 and steps == k and int(clock.rejected[0]) == rejected >= 1
-    assert abs(float(clock.t[0]) - t) <= 1e-12 * t
+    return status, steps, t, rejected, st, e, batch
+
+
+def _same_nordsieck(st, batch, t, rel_t=1e-12):
+    """The same clock (within ``rel_t``: the steps are rounding apart, amplified by the step control)
+    and the same Nordsieck vector to rounding."""
+    clock = batch.gc
+    assert abs(float(clock.t[0]) - t) <= rel_t * t
     # the derivatives the Nordsieck vectors stand for (r_q = h^q / q! x^(q)): each engine's own step
     # has moved by rounding through the step control, the derivatives hardly
     hs_gpu, hs_cpu = float(clock.hs[0]), float(st.state.step[0])
     assert abs(hs_gpu - hs_cpu) <= 1e-9 * hs_cpu
-    ours, ref = batch.args[10].nordsieck[0], st.state.nordsieck
+    ours, ref = batch.gs.nordsieck[0], st.state.nordsieck
     for q, fact in ((0, 1.0), (1, 1.0), (2, 2.0)):
         a = fact * ours[q] / hs_gpu ** q
         b = fact * ref[q] / hs_cpu ** q
         assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(b)), q
+
+
+def test_gear_step_by_step_as_the_cpu():
+    """Ten accepted steps (one rejected among them) of a violently driven 4-sphere bed: the same
+    steps, the same Nordsieck vector to rounding."""
+    k = 10
+    status, steps, t, rejected, st, e, batch = _step_by_step(
+        _gear(_case("cuboid", n=4, direction=(1.0, 0.3, 0.2), coated=True, cycles=0.004)), k)
+    assert status == 0 and steps == k and int(batch.gc.rejected[0]) == rejected >= 1
+    _same_nordsieck(st, batch, t)
+
+
+def test_gear_step_by_step_with_the_tangential_spring():
+    """The tangential spring under Gear (springs advanced by the prediction, restored with a
+    rejected step; a tight tolerance makes some): the same accepted and rejected steps and Nordsieck
+    vector, and the same stored spring forces at the walls."""
+    case = _gear(_case("cuboid", n=4, direction=(1.0, 0.3, 0.2), coated=True, cycles=0.004))
+    case = dataclasses.replace(case, contact=dataclasses.replace(case.contact, tangential="spring"),
+                               numerics=dataclasses.replace(case.numerics, gear_tolerance=1e-10))
+    k = 20
+    status, steps, t, rejected, st, e, batch = _step_by_step(case, k)
+    assert status == 0 and steps == k and int(batch.gc.rejected[0]) == rejected >= 1
+    _same_nordsieck(st, batch, t, 1e-10)  # (twice the steps of the test above, two of them rejected)
+    n, nw = e.walls.tangential.shape[:2]
+    ours, ref = batch.args[2].tangential[0, :n, :nw], e.walls.tangential
+    assert np.max(np.abs(ref[..., 3])) > 0.0  # springs are loaded
+    assert np.max(np.abs(ours - ref)) <= 1e-9 * np.max(np.abs(ref))
 
 
 def test_gear_run_agrees_to_its_tolerance():

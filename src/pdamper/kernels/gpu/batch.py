@@ -14,9 +14,12 @@ the friction force: what :func:`~pdamper.kernels.contact.scatter` takes) live in
 row points to it (``slot``). Every sphere sums its pairs in ascending partner order, then the floor,
 then the other walls: the CPU pair loop's order for that sphere (its list is sorted by ``(i, j)``).
 
-**A tangential history** (a spring law's 3-vector per contact) would be one more array
-``(C, 2, N, K, 3)`` beside ``approach_speed`` and ``damping`` in :class:`Lists` (carried over by the
-rebuild the same way) and ``(C, N, W, 3)`` in :class:`Walls`.
+**The tangential history** of a law that keeps one (the spring,
+:data:`~pdamper.kernels.bundles.TANGENTIAL_COLUMNS`) lives beside ``approach_speed`` and ``damping``:
+``(C, 2, N, K, 5)`` for the owned pairs (per buffer, carried over by the rebuild the same way) and
+``(C, N, W, 5)`` for the sphere-wall contacts. Under a law without history the kernels never touch it,
+and it is packed with one entry per row (``(C, 2, N, 1, 5)``, ``(C, N, 1, 5)``): the same types, so the
+same kernel signature, and no memory for nothing.
 """
 
 from __future__ import annotations
@@ -57,6 +60,8 @@ class Spheres(NamedTuple):
     previous_acceleration: np.ndarray
     previous_angular_acceleration: np.ndarray
     reference: np.ndarray         #: (C, N, 3) positions at the last list build [m]
+    moved: np.ndarray             #: (C, N, 6) what the springs advance by: Verlet's drift, Gear's prediction
+                                  #: less the one they were last advanced at (displacement [m], rotation [rad])
     radius: np.ndarray            #: (C, N) [m]
     mass: np.ndarray              #: (C, N) [kg]
     inv_mass: np.ndarray          #: (C, N)
@@ -73,6 +78,7 @@ class Lists(NamedTuple):
     slot: np.ndarray              #: (C, N, K) int32: for j's entry of a pair (i, j), i < j, the entry in i's row
     approach_speed: np.ndarray    #: (C, 2, N, K) history of the owned pairs (0: not touching), per buffer
     damping: np.ndarray           #: (C, 2, N, K) history: the damping law's parameter, per buffer
+    tangential: np.ndarray        #: (C, 2, N, K, 5) history: the tangential law's, per buffer ((C, 2, N, 1, 5): none)
     stiffness: np.ndarray         #: (C, N, K) Hertz k of the owned pairs [N/m^1.5]
     material_pair: np.ndarray     #: (C, N, K) int: row in the batch's contact table
     friction_cap: np.ndarray      #: (C, N, K) FRICTION_CAP x m* [kg]
@@ -93,14 +99,16 @@ class Walls(NamedTuple):
     effective_radius: np.ndarray  #: (C, N, W) [m]
     approach_speed: np.ndarray    #: (C, N, W) history
     damping: np.ndarray           #: (C, N, W) history
+    tangential: np.ndarray        #: (C, N, W, 5) history: the tangential law's ((C, N, 1, 5): none)
     row: np.ndarray               #: (C, N, W, WALL_ROW) each contact's friction row (Gear's implicit pass)
 
 
 class Motion(NamedTuple):
-    """Each case's drive: a harmonic motion (or none) along ``direction``."""
+    """Each case's drive: a motion of its parameters alone along ``direction``
+    (:func:`pdamper.kernels.drive.parametric_motion`)."""
 
-    harmonic: np.ndarray          #: (C,) int: 1 harmonic, 0 still
-    par: np.ndarray               #: (C, 3) X [m], Omega [rad/s], phase [rad]
+    kind: np.ndarray              #: (C,) int: the compiled motion's kind number (Drive.kind)
+    par: np.ndarray               #: (C, 3) its parameters (harmonic: X [m], Omega [rad/s], phase [rad])
     gravity: np.ndarray           #: (C, 3) [m/s^2], container frame
     direction: np.ndarray         #: (C, 3) unit drive direction, container frame
     jump: np.ndarray              #: (C, 3) the velocity jump -v_c(0+) d at the drive's start [m/s]
@@ -146,8 +154,10 @@ class GearState(NamedTuple):
     nordsieck: np.ndarray         #: (C, 6, N, 6) scaled derivatives of position and angle
     predicted: np.ndarray         #: (C, 6, N, 6) the prediction of the current step
     increments: np.ndarray        #: (C, N, 6) the corrector's increments (position, angle)
-    saved_pair: np.ndarray        #: (C, 2, N, K) the rows' history before the step
-    saved_wall: np.ndarray        #: (C, 2, N, W) the walls' history before the step
+    saved_pair: np.ndarray        #: (C, R, N, K) the rows' history before the step: approach speed, damping,
+                                  #: then the tangential history's columns (R = SAVED_HISTORY_ROWS; 2: none)
+    saved_wall: np.ndarray        #: (C, R, N, W) the walls' history before the step
+    anchor: np.ndarray            #: (C, N, 6) the predicted position and angle the springs were last advanced at
     integrands: np.ndarray        #: (C, threads, 4) each thread's ledger integrands at the last accepted step
 
 

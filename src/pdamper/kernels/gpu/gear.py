@@ -23,12 +23,13 @@ import math
 from numba import cuda, float64, int64
 
 from ..bundles import ContactTable
-from ..contact import corrected_friction, floor_slip, pair_point_velocity, scatter, wall_point_velocity
+from ..contact import corrected_friction, floor_slip, keeps_history, pair_point_velocity, scatter, wall_point_velocity
 from ..forces import STATUS_NAN, STATUS_OK
-from ..gear import GEAR_C
+from ..gear import GEAR_C, next_step, predict_dof, shorter_step, step_to_boundary
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_PRIMED, FLAG_STARTED
-from .verlet import MAX_THREADS, REDUCED, _motion, _pair_laws, _rebuild, _record_sample, _sphere_force
+from .verlet import (MAX_THREADS, REDUCED, _motion, _pair_laws, _prime_contacts, _rebuild, _record_sample,
+                     _sphere_force)
 
 __all__ = ["gear_kernel", "batch_gear", "NO_CAP"]
 
@@ -200,7 +201,7 @@ def _block_max(red, tid, bd, v):
     return out
 
 
-def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
+def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_steps):
     """Advance every case of the batch by at most ``max_steps`` attempted steps (block ``c`` is case
     ``c``), as :func:`pdamper.kernels.gear.run_gear` does over the CPU stepper's spans.
 
@@ -213,7 +214,10 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
     red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
     lin = cuda.local.array((1, 3), float64)
     ang = cuda.local.array((1, 3), float64)
-    table = ContactTable(law, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
+    table = ContactTable(law, tlaw, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8], tb[9], tb[10])
+    spring = keeps_history(tlaw)
+    mv = sp.moved
+    anchor = gs.anchor
     n = sp.count[c]
     pos = sp.position
     vel = sp.velocity
@@ -239,6 +243,7 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
     seg = gc.segment_samples[c]
     n_spans = gc.spans[c]
     skin2 = 0.25 * li.skin[c] * li.skin[c]
+    nt = li.tangential.shape[4]
     span = gc.span[c]
     t = gc.t[c]
     h = gc.h[c]
@@ -296,17 +301,15 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
             cuda.syncthreads()
         # ---- the Nordsieck vector at the start (run_gear's priming), forces with the capped friction
         if flags[4] == 0:
-            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
+            st, cu = _prime_contacts(c, tid, bd, n, sp, li, table, nmat[c], row0[c], h)
             if st != STATUS_OK:
                 status = st
                 culprit = cu
-            _pair_laws(c, tid, bd, n, sp, li, table, h)
-            cuda.syncthreads()
             xc, vc, ac = _motion(mo, c, t)
             hs = h
             i = tid
             while i < n:
-                _sphere_force(c, i, sp, li, wl, table, h, lin, ang)
+                _sphere_force(c, i, sp, li, wl, table, h, 0.0, lin, ang)
                 im = inv_m[c, i]
                 ii = inv_i[c, i]
                 for k in range(3):
@@ -321,6 +324,9 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                     for q in range(3, 6):
                         nord[c, q, i, k] = 0.0
                         nord[c, q, i, 3 + k] = 0.0
+                if spring:
+                    for d in range(6):
+                        anchor[c, i, d] = nord[c, 0, i, d]
                 i += bd
             if status != STATUS_OK:
                 flags[0] = status
@@ -332,13 +338,7 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
             if flags[0] != STATUS_OK:
                 break
         # ---- the step: end on the next sample boundary or the span's end
-        kb = int(math.floor(t / ts + 1e-9)) + 1
-        tb = kb * ts
-        hh = h
-        if hh > tb - t or tb - t - hh < 1e-3 * hh:
-            hh = tb - t
-        if hh > t_end - t:
-            hh = t_end - t
+        kb, tb, hh = step_to_boundary(t, ts, h, t_end)
         ratio = 1.0
         if hh != hs:
             ratio = hh / hs
@@ -359,7 +359,7 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                     pos[c, i, k] = nord[c, 0, i, k]
                 i += bd
             cuda.syncthreads()
-            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
+            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c], tlaw)
             if st != STATUS_OK:
                 status = st
                 culprit = cu
@@ -374,18 +374,17 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                     for k in range(1, 6):
                         f *= ratio
                         nord[c, k, i, d] *= f
-                r0 = nord[c, 0, i, d]
-                r1 = nord[c, 1, i, d]
-                r2 = nord[c, 2, i, d]
-                r3 = nord[c, 3, i, d]
-                r4 = nord[c, 4, i, d]
-                r5 = nord[c, 5, i, d]
-                pred[c, 0, i, d] = r0 + r1 + r2 + r3 + r4 + r5
-                pred[c, 1, i, d] = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
-                pred[c, 2, i, d] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
-                pred[c, 3, i, d] = r3 + 4.0 * r4 + 10.0 * r5
-                pred[c, 4, i, d] = r4 + 5.0 * r5
-                pred[c, 5, i, d] = r5
+                p0, p1, p2, p3, p4, p5 = predict_dof(nord[c, 0, i, d], nord[c, 1, i, d], nord[c, 2, i, d],
+                                                     nord[c, 3, i, d], nord[c, 4, i, d], nord[c, 5, i, d])
+                pred[c, 0, i, d] = p0
+                pred[c, 1, i, d] = p1
+                pred[c, 2, i, d] = p2
+                pred[c, 3, i, d] = p3
+                pred[c, 4, i, d] = p4
+                pred[c, 5, i, d] = p5
+                if spring:
+                    # what the springs advance by: this prediction against the one they were last advanced at
+                    mv[c, i, d] = p0 - anchor[c, i, d]
             for k in range(3):
                 pos[c, i, k] = pred[c, 0, i, k]
                 vel[c, i, k] = pred[c, 1, i, k] * inv_h
@@ -393,14 +392,20 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
             for e in range(li.length[c, b, i]):
                 gs.saved_pair[c, 0, i, e] = li.approach_speed[c, b, i, e]
                 gs.saved_pair[c, 1, i, e] = li.damping[c, b, i, e]
+                if spring:
+                    for q in range(nt):
+                        gs.saved_pair[c, 2 + q, i, e] = li.tangential[c, b, i, e, q]
             for w in range(wl.count[c]):
                 gs.saved_wall[c, 0, i, w] = wl.approach_speed[c, i, w]
                 gs.saved_wall[c, 1, i, w] = wl.damping[c, i, w]
+                if spring:
+                    for q in range(nt):
+                        gs.saved_wall[c, 2 + q, i, w] = wl.tangential[c, i, w, q]
             i += bd
         tn = t + hs
         cuda.syncthreads()
         # ---- forces at the prediction (no friction cap), the corrector's increments
-        p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP)
+        p_n, p_f, e_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP, hs)
         if st != STATUS_OK:
             status = st
             culprit = cu
@@ -412,12 +417,13 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
         fwz = 0.0
         i = tid
         while i < n:
-            pn, pf, wx, wy, wz, st = _sphere_force(c, i, sp, li, wl, table, NO_CAP, lin, ang)
+            pn, pf, ef, wx, wy, wz, st = _sphere_force(c, i, sp, li, wl, table, NO_CAP, hs, lin, ang)
             if st != STATUS_OK:
                 status = st
                 culprit = i
             p_n += pn
             p_f += pf
+            e_f += ef
             fwx += wx
             fwy += wy
             fwz += wz
@@ -431,19 +437,21 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
             i += bd
         cuda.syncthreads()
         # ---- the friction at the corrected slip, in the CPU's order: the pairs walked by one
-        #      thread, then each sphere's floor and walls by its own thread
-        if tid == 0:
-            p_f += _implicit_pairs(c, n, sp, li, dlt, hs)
-        cuda.syncthreads()
-        i = tid
-        while i < n:
-            dfx, dfy, dfz, dpf = _implicit_walls(c, i, sp, wl, dlt, hs)
-            fwx += dfx
-            fwy += dfy
-            fwz += dfz
-            p_f += dpf
-            i += bd
-        cuda.syncthreads()
+        #      thread, then each sphere's floor and walls by its own thread (a law with history, the
+        #      spring, leaves no friction rows: nothing to correct, and no block waits for the walk)
+        if not spring:
+            if tid == 0:
+                p_f += _implicit_pairs(c, n, sp, li, dlt, hs)
+            cuda.syncthreads()
+            i = tid
+            while i < n:
+                dfx, dfy, dfz, dpf = _implicit_walls(c, i, sp, wl, dlt, hs)
+                fwx += dfx
+                fwy += dfy
+                fwz += dfz
+                p_f += dpf
+                i += bd
+            cuda.syncthreads()
         # ---- the error: the block's largest increment
         err = 0.0
         i = tid
@@ -472,16 +480,17 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                 for e in range(li.length[c, b, i]):
                     li.approach_speed[c, b, i, e] = gs.saved_pair[c, 0, i, e]
                     li.damping[c, b, i, e] = gs.saved_pair[c, 1, i, e]
+                    if spring:
+                        for q in range(nt):
+                            li.tangential[c, b, i, e, q] = gs.saved_pair[c, 2 + q, i, e]
                 for w in range(wl.count[c]):
                     wl.approach_speed[c, i, w] = gs.saved_wall[c, 0, i, w]
                     wl.damping[c, i, w] = gs.saved_wall[c, 1, i, w]
+                    if spring:
+                        for q in range(nt):
+                            wl.tangential[c, i, w, q] = gs.saved_wall[c, 2 + q, i, w]
                 i += bd
-            fac = 0.9 * (tol / err) ** (1.0 / 6.0)
-            if fac < 0.2:
-                fac = 0.2
-            h = hs * fac
-            if h < h_min:
-                h = h_min
+            h = shorter_step(hs, tol, err, h_min)
             rejected += 1
             cuda.syncthreads()
             continue
@@ -496,6 +505,8 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                 nord[c, 3, i, d] = pred[c, 3, i, d] + _C3 * dd
                 nord[c, 4, i, d] = pred[c, 4, i, d] + _C4 * dd
                 nord[c, 5, i, d] = pred[c, 5, i, d] + _C5 * dd
+                if spring:
+                    anchor[c, i, d] = pred[c, 0, i, d]
             i += bd
         t = tn
         steps += 1
@@ -503,6 +514,8 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
         s_w += 0.5 * (vc * fd + q_w) * hs
         s_n += 0.5 * (p_n + q_n) * hs
         s_f += 0.5 * (p_f + q_f) * hs
+        if spring:
+            s_f += e_f
         s_i += 0.5 * (fd + q_i) * hs
         q_w = vc * fd
         q_n = p_n
@@ -511,17 +524,7 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
         if status != STATUS_OK:
             flags[0] = status
             flags[3] = culprit
-        fac = 1.5 if err <= 0.0 else 0.9 * (tol / err) ** (1.0 / 6.0)
-        if fac > 1.5:
-            fac = 1.5
-        if fac < 0.2:
-            fac = 0.2
-        if not (hs < h and fac >= 1.0):
-            h = hs * fac
-        if h > h_max:
-            h = h_max
-        if h < h_min:
-            h = h_min
+        h = next_step(hs, h, tol, err, h_min, h_max)
         cuda.syncthreads()
         if flags[0] != STATUS_OK:
             break
@@ -536,7 +539,7 @@ def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
                     omg[c, i, k] = nord[c, 1, i, 3 + k] * inv_h
                 i += bd
             cuda.syncthreads()
-            _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc)
+            _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc, spring)
             s_i = 0.0
     # ---- the state in the bodies (once there is a Nordsieck vector); the clock, the flags and the
     #      running sums for the next launch

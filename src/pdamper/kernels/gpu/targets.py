@@ -1,13 +1,15 @@
-"""The damping law's dispatch for the CUDA target.
+"""The contact laws' dispatch for the CUDA target.
 
 :func:`pdamper.kernels.contact.law_touch` and :func:`~pdamper.kernels.contact.law_force` resolve,
-when a kernel is compiled, to the ``touch`` and ``force`` of the law whose marker is in the contact
-table. The CPU kernels register that resolution as generic-target overloads inlined at numba's IR
-level (``inline="always"``); numba-cuda 0.30 cannot inline an overload registered that way (its
-lowering sees the inlined arguments as omitted), so the CUDA target gets its own registration
-here: the same resolution, the same law functions, a plain call (which NVVM inlines). A
-target-specific overload takes precedence over the generic one for its target, so the CPU kernels
-are untouched.
+when a kernel is compiled, to the ``touch`` and ``force`` of the damping law whose marker is in the
+contact table; :func:`~pdamper.kernels.contact.friction` and
+:func:`~pdamper.kernels.contact.keeps_history` to the tangential law of its ``tangential`` marker
+(the tanh law or the spring). The CPU kernels register that resolution as generic-target overloads
+inlined at numba's IR level (``inline="always"``); numba-cuda 0.30 cannot inline an overload
+registered that way (its lowering sees the inlined arguments as omitted), so the CUDA target gets
+its own registration of the very same resolution functions (``kernels/contact.py``'s), as a plain
+call (which NVVM inlines). A target-specific overload takes precedence over the generic one for its
+target, so the CPU kernels are untouched.
 
 Importing this module registers the overloads (once); :mod:`pdamper.kernels.gpu.verlet` imports it.
 In numba-cuda's simulator the kernels run as Python and call the CPU-compiled functions, so there
@@ -18,7 +20,7 @@ from __future__ import annotations
 
 from numba import cuda
 
-from ..contact import _law_of, law_force, law_touch
+from .. import contact as _contact
 
 __all__ = ["SIMULATOR"]
 
@@ -40,20 +42,8 @@ def _cuda_overload(func):
 
 
 if not SIMULATOR:
-    @_cuda_overload(law_touch)
-    def _law_touch_cuda(law, coefficient, v_in, k, m_star):
-        touch = _law_of(law).touch
-
-        def impl(law, coefficient, v_in, k, m_star):
-            return touch(coefficient, v_in, k, m_star)
-
-        return impl
-
-    @_cuda_overload(law_force)
-    def _law_force_cuda(law, k, delta, delta_dot, d):
-        force = _law_of(law).force
-
-        def impl(law, k, delta, delta_dot, d):
-            return force(k, delta, delta_dot, d)
-
-        return impl
+    # the CPU's resolution functions (numba's @overload hands the decorated function back)
+    for _stub, _resolve in ((_contact.law_touch, _contact._law_touch), (_contact.law_force, _contact._law_force),
+                            (_contact.friction, _contact._friction),
+                            (_contact.keeps_history, _contact._keeps_history)):
+        _cuda_overload(_stub)(_resolve)

@@ -35,11 +35,13 @@ import math
 from numba import cuda, float64, int64
 
 from ...contact.hertz import hertz_energy, hertz_stiffness
+from ...contact.tangential_spring import spring_energy
 from ...geometry.walls import wall_distance
 from ..bundles import ContactTable
-from ..contact import FRICTION_CAP, contact, floor_slip, pair_point_velocity, scatter, wall_point_velocity
-from ..drive import harmonic_motion
-from ..forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_OVERLAP
+from ..contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, pair_point_velocity, scatter,
+                       wall_point_velocity)
+from ..drive import parametric_motion
+from ..forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_OVERLAP, pair_geometry
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_MOVED, FLAG_PRIMED, FLAG_STARTED
 
@@ -77,14 +79,13 @@ def _case_time(g, dt, settle, seg_steps, seg_samples, interval):
 
 @cuda.jit(device=True)
 def _motion(mo, c, t):
-    """The container's (position, velocity, acceleration) along the drive at ``t``."""
-    if mo.harmonic[c] == 1:
-        return harmonic_motion(mo.par[c, 0], mo.par[c, 1], mo.par[c, 2], t)
-    return 0.0, 0.0, 0.0
+    """The container's (position, velocity, acceleration) along the drive at ``t`` (the kernels'
+    own function of the drive's kind number and parameters)."""
+    return parametric_motion(mo.kind[c], mo.par[c, 0], mo.par[c, 1], mo.par[c, 2], t)
 
 
 @cuda.jit(device=True)
-def _rebuild(c, tid, bd, n, sp, li, modulus, nmat, row0):
+def _rebuild(c, tid, bd, n, sp, li, modulus, nmat, row0, tlaw):
     """Rebuild this thread's rows into the other buffer, carrying the owned pairs' history over;
     after a barrier, the owner entry of every pair a row does not own; then swap the buffers.
     Every thread of the block calls it. Returns ``(status, culprit)`` (a full row: list overflow)."""
@@ -95,6 +96,9 @@ def _rebuild(c, tid, bd, n, sp, li, modulus, nmat, row0):
     plen = li.length
     pvin = li.approach_speed
     pd = li.damping
+    pth = li.tangential
+    nt = pth.shape[4]
+    spring = keeps_history(tlaw)
     skin = li.skin[c]
     cap_rows = partner.shape[3]
     b = li.buffer[c]
@@ -123,11 +127,17 @@ def _rebuild(c, tid, bd, n, sp, li, modulus, nmat, row0):
                 v = 0.0
                 d = 0.0
                 if j > i:
+                    e_old = -1
                     for e in range(plen[c, b, i]):
                         if partner[c, b, i, e] == j:
                             v = pvin[c, b, i, e]
                             d = pd[c, b, i, e]
+                            e_old = e
                             break
+                    if spring:
+                        # the tangential history too (transfer_history's), zero for a new pair
+                        for q in range(nt):
+                            pth[c, nb, i, m, q] = pth[c, b, i, e_old, q] if e_old >= 0 else 0.0
                     mp = row0 + sp.material[c, i] * nmat + sp.material[c, j]
                     li.material_pair[c, i, m] = mp
                     rs = rad[c, i] * rad[c, j] / (rad[c, i] + rad[c, j])
@@ -159,26 +169,53 @@ def _rebuild(c, tid, bd, n, sp, li, modulus, nmat, row0):
 
 
 @cuda.jit(device=True)
-def _pair_laws(c, tid, bd, n, sp, li, table, dt):
-    """The contact law of every pair this thread's spheres own (the CPU pair loop's arithmetic),
-    its result kept in the owner's row. Returns ``(p_normal, p_friction, status, culprit)``."""
+def _prime_contacts(c, tid, bd, n, sp, li, table, nmat, row0, dt):
+    """The contacts at the start of a run (the CPU's priming evaluation): the lists built, the owned
+    pairs' law evaluated with the springs not advanced (nothing moved; ``dt``: the tanh law's friction
+    guard's step), then a barrier. Every thread of the block calls it. Returns ``(status, culprit)``
+    of the rebuild."""
+    mv = sp.moved
+    i = tid
+    while i < n:
+        for k in range(6):
+            mv[c, i, k] = 0.0
+        i += bd
+    st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat, row0, table.tangential)
+    _pair_laws(c, tid, bd, n, sp, li, table, dt, 0.0)
+    cuda.syncthreads()
+    return st, cu
+
+
+@cuda.jit(device=True)
+def _pair_laws(c, tid, bd, n, sp, li, table, dt, step):
+    """The contact law of every pair this thread's spheres own (the CPU pair loop's arithmetic:
+    :func:`~pdamper.kernels.forces.pair_geometry`, the contact points' displacement for a law with
+    history, :func:`~pdamper.kernels.contact.contact`), its result kept in the owner's row; a pair
+    that opened has its history dropped. ``dt``: the tanh law's friction guard's step, ``step``: the
+    step taken (as :func:`~pdamper.kernels.forces.compute_forces`). Returns ``(p_normal,
+    p_friction, e_friction, status, culprit)``."""
     pos = sp.position
     vel = sp.velocity
     omg = sp.spin
     rad = sp.radius
+    mv = sp.moved
     b = li.buffer[c]
     partner = li.partner
     pvin = li.approach_speed
     pd = li.damping
     friction = table.friction
     limit = table.overlap_limit
+    tlaw = table.tangential
+    spring = keeps_history(tlaw)
     p_n = 0.0
     p_f = 0.0
+    e_f = 0.0
     status = STATUS_OK
     culprit = -1
     i = tid
     while i < n:
         ri = rad[c, i]
+        th = li.tangential[c, b, i]
         for e in range(li.length[c, b, i]):
             j = partner[c, b, i, e]
             if j < i:
@@ -190,40 +227,33 @@ def _pair_laws(c, tid, bd, n, sp, li, table, dt):
             cut = ri + rj
             d2 = dx * dx + dy * dy + dz * dz
             if d2 >= cut * cut:
-                pvin[c, b, i, e] = 0.0
+                if pvin[c, b, i, e] != 0.0:
+                    pvin[c, b, i, e] = 0.0
+                    e_f += drop_history(tlaw, th, e)
                 continue
-            dist = math.sqrt(d2)
-            inv = 1.0 / dist
-            nx = dx * inv
-            ny = dy * inv
-            nz = dz * inv
-            delta = cut - dist
+            nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
+                dx, dy, dz, d2, cut, vel[c, i, 0] - vel[c, j, 0], vel[c, i, 1] - vel[c, j, 1],
+                vel[c, i, 2] - vel[c, j, 2], ri * omg[c, i, 0] + rj * omg[c, j, 0],
+                ri * omg[c, i, 1] + rj * omg[c, j, 1], ri * omg[c, i, 2] + rj * omg[c, j, 2])
             if delta > limit * min(ri, rj):
                 status = STATUS_OVERLAP
                 culprit = i
-            rvx = vel[c, i, 0] - vel[c, j, 0]
-            rvy = vel[c, i, 1] - vel[c, j, 1]
-            rvz = vel[c, i, 2] - vel[c, j, 2]
-            ddot = rvx * nx + rvy * ny + rvz * nz
-            cvx, cvy, cvz, cn = pair_point_velocity(
-                rvx, rvy, rvz, ri * omg[c, i, 0] + rj * omg[c, j, 0], ri * omg[c, i, 1] + rj * omg[c, j, 1],
-                ri * omg[c, i, 2] + rj * omg[c, j, 2], nx, ny, nz)
-            tx = cvx - cn * nx
-            ty = cvy - cn * ny
-            tz = cvz - cn * nz
-            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+            dsx = dsy = dsz = 0.0
+            if spring:
+                dsx, dsy, dsz, dsn = pair_point_velocity(
+                    mv[c, i, 0] - mv[c, j, 0], mv[c, i, 1] - mv[c, j, 1], mv[c, i, 2] - mv[c, j, 2],
+                    ri * mv[c, i, 3] + rj * mv[c, j, 3], ri * mv[c, i, 4] + rj * mv[c, j, 4],
+                    ri * mv[c, i, 5] + rj * mv[c, j, 5], nx, ny, nz)
             cap = li.friction_cap[c, i, e]
             mp = li.material_pair[c, i, e]
-            fn, ff, lim, vin, dd, pn, pf = contact(table, mp, friction[mp], li.stiffness[c, i, e], ri * rj / cut,
-                                                   cap / FRICTION_CAP, cap, delta, ddot, pvin[c, b, i, e],
-                                                   pd[c, b, i, e], vt, dt)
+            fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
+                table, th, e, mp, friction[mp], li.stiffness[c, i, e], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
+                ddot, pvin[c, b, i, e], pd[c, b, i, e], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
             pvin[c, b, i, e] = vin
             pd[c, b, i, e] = dd
             p_n += pn
             p_f += pf
-            ftx = -ff * tx
-            fty = -ff * ty
-            ftz = -ff * tz
+            e_f += ef
             r = li.result[c, i, e]
             r[0] = -fn * nx + ftx
             r[1] = -fn * ny + fty
@@ -240,7 +270,7 @@ def _pair_laws(c, tid, bd, n, sp, li, table, dt):
             r[12] = ff
             r[13] = lim
         i += bd
-    return p_n, p_f, status, culprit
+    return p_n, p_f, e_f, status, culprit
 
 
 @cuda.jit(device=True)
@@ -257,21 +287,25 @@ def _note_wall(r, nx, ny, nz, tx, ty, tz, c, lim):
 
 
 @cuda.jit(device=True)
-def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
+def _sphere_force(c, i, sp, li, wl, table, dt, step, lin, ang):
     """Force and torque on sphere ``i`` into ``lin[0]``, ``ang[0]``: its pairs in ascending partner
     order (the owned pairs' results), the floor, then the other walls (their contact law here: each
-    concerns this sphere alone). Returns ``(p_normal, p_friction, fwx, fwy, fwz, status)`` of its
-    wall contacts (the force of the walls on it [N])."""
+    concerns this sphere alone; the CPU wall loops' arithmetic). Returns ``(p_normal, p_friction,
+    e_friction, fwx, fwy, fwz, status)`` of its wall contacts (the force of the walls on it [N])."""
     pos = sp.position
     vel = sp.velocity
     omg = sp.spin
+    mv = sp.moved
     b = li.buffer[c]
     pvin = li.approach_speed
     res = li.result
     friction = table.friction
     limit = table.overlap_limit
+    tlaw = table.tangential
+    spring = keeps_history(tlaw)
     wvin = wl.approach_speed
     wd = wl.damping
+    wth = wl.tangential[c, i]
     floor = wl.floor[c]
     for k in range(3):
         lin[0, k] = 0.0
@@ -290,6 +324,7 @@ def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
                 scatter(lin, ang, 0, -1, -r[0], -r[1], -r[2], r[3], r[4], r[5], r[6], r[7], r[8], 1.0, 0.0, ri, 0.0)
     p_n = 0.0
     p_f = 0.0
+    e_f = 0.0
     fwx = 0.0
     fwy = 0.0
     fwz = 0.0
@@ -298,23 +333,28 @@ def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
     if floor >= 0:
         delta = ri - pos[c, i, 1]
         if delta <= 0.0:
-            wvin[c, i, floor] = 0.0
+            if wvin[c, i, floor] != 0.0:
+                wvin[c, i, floor] = 0.0
+                e_f += drop_history(tlaw, wth, floor)
         else:
             if delta > limit * ri:
                 status = STATUS_OVERLAP
             ddot = -vel[c, i, 1]
             tx, tz = floor_slip(vel[c, i, 0], vel[c, i, 2], omg[c, i, 0], omg[c, i, 2], ri)
             vt = math.sqrt(tx * tx + tz * tz)
+            dsx = dsz = 0.0
+            if spring:
+                dsx, dsz = floor_slip(mv[c, i, 0], mv[c, i, 2], mv[c, i, 3], mv[c, i, 5], ri)
             mp = wl.material_pair[c, i, floor]
-            fn, ff, lim, vin, dd, pn, pf = contact(table, mp, friction[mp], wl.stiffness[c, i, floor],
-                                                   wl.effective_radius[c, i, floor], mi, FRICTION_CAP * mi, delta,
-                                                   ddot, wvin[c, i, floor], wd[c, i, floor], vt, dt)
+            fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
+                table, wth, floor, mp, friction[mp], wl.stiffness[c, i, floor], wl.effective_radius[c, i, floor], mi,
+                FRICTION_CAP * mi, delta, ddot, wvin[c, i, floor], wd[c, i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, vt,
+                dsx, 0.0, dsz, dt, step)
             wvin[c, i, floor] = vin
             wd[c, i, floor] = dd
             p_n += pn
             p_f += pf
-            ftx = -ff * tx
-            ftz = -ff * tz
+            e_f += ef
             _note_wall(wl.row[c, i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
             scatter(lin, ang, 0, -1, ftx, fn, ftz, 0.0, 1.0, 0.0, ftx, 0.0, ftz, 1.0, 0.0, -ri, 0.0)
             fwx += ftx
@@ -327,7 +367,9 @@ def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
         s, nx, ny, nz = wall_distance(wl.kind[c, w], wdata, w, pos[c, i, 0], pos[c, i, 1], pos[c, i, 2])
         delta = ri - s
         if delta <= 0.0:
-            wvin[c, i, w] = 0.0
+            if wvin[c, i, w] != 0.0:
+                wvin[c, i, w] = 0.0
+                e_f += drop_history(tlaw, wth, w)
             continue
         if delta > limit * ri:
             status = STATUS_OVERLAP
@@ -340,17 +382,19 @@ def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
         ty = cvy - cn * ny
         tz = cvz - cn * nz
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        dsx = dsy = dsz = 0.0
+        if spring:
+            dsx, dsy, dsz, dsn = wall_point_velocity(mv[c, i, 0], mv[c, i, 1], mv[c, i, 2], mv[c, i, 3], mv[c, i, 4],
+                                                     mv[c, i, 5], ri, nx, ny, nz)
         mp = wl.material_pair[c, i, w]
-        fn, ff, lim, vin, dd, pn, pf = contact(table, mp, friction[mp], wl.stiffness[c, i, w],
-                                               wl.effective_radius[c, i, w], mi, FRICTION_CAP * mi, delta, ddot,
-                                               wvin[c, i, w], wd[c, i, w], vt, dt)
+        fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
+            table, wth, w, mp, friction[mp], wl.stiffness[c, i, w], wl.effective_radius[c, i, w], mi, FRICTION_CAP * mi,
+            delta, ddot, wvin[c, i, w], wd[c, i, w], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         wvin[c, i, w] = vin
         wd[c, i, w] = dd
         p_n += pn
         p_f += pf
-        ftx = -ff * tx
-        fty = -ff * ty
-        ftz = -ff * tz
+        e_f += ef
         fx = fn * nx + ftx
         fy = fn * ny + fty
         fz = fn * nz + ftz
@@ -359,12 +403,13 @@ def _sphere_force(c, i, sp, li, wl, table, dt, lin, ang):
         fwx += fx
         fwy += fy
         fwz += fz
-    return p_n, p_f, fwx, fwy, fwz, status
+    return p_n, p_f, e_f, fwx, fwy, fwz, status
 
 
 @cuda.jit(device=True)
-def _elastic(c, i, sp, li, wl):
-    """Energy [J] in the Hertz springs of sphere ``i``'s owned pairs and its walls."""
+def _elastic(c, i, sp, li, wl, spring):
+    """Energy [J] in the Hertz springs of sphere ``i``'s owned pairs and its walls, and in their
+    tangential springs under a law with history (``spring``)."""
     pos = sp.position
     rad = sp.radius
     b = li.buffer[c]
@@ -389,11 +434,21 @@ def _elastic(c, i, sp, li, wl):
             delta = ri - s
         if delta > 0.0:
             e_el += hertz_energy(wl.stiffness[c, i, w], delta)
+    if spring:
+        # the tangential springs (elastic_energy's): the owned pairs' rows and the walls'
+        th = li.tangential[c, b, i]
+        for e in range(li.length[c, b, i]):
+            if li.partner[c, b, i, e] > i and th[e, 3] > 0.0:
+                e_el += spring_energy(th[e, 0], th[e, 1], th[e, 2], th[e, 3])
+        wth = wl.tangential[c, i]
+        for w in range(wl.count[c]):
+            if wth[w, 3] > 0.0:
+                e_el += spring_energy(wth[w, 0], wth[w, 1], wth[w, 2], wth[w, 3])
     return e_el
 
 
 @cuda.jit(device=True)
-def _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc):
+def _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc, spring):
     """Sample ``kk`` of case ``c`` (:func:`pdamper.kernels.record.record_sample`): the block's sums of the
     threads' impulse and ledger (``s_i``, ``s_w``, ``s_n``, ``s_f``), the energies, a frame; every thread
     of the block calls it (the container at ``xc`` [m], moving at ``vc`` [m/s])."""
@@ -422,7 +477,7 @@ def _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_
             ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
             erot += 0.5 / inv_i[c, i] * (omg[c, i, 0] ** 2 + omg[c, i, 1] ** 2 + omg[c, i, 2] ** 2)
             epot -= mi * (gvx * pos[c, i, 0] + gvy * pos[c, i, 1] + gvz * pos[c, i, 2])
-            eel += _elastic(c, i, sp, li, wl)
+            eel += _elastic(c, i, sp, li, wl, spring)
             i += bd
     red[0, tid] = s_i
     red[1, tid] = s_w
@@ -473,12 +528,13 @@ def _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_
     cuda.syncthreads()
 
 
-def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
+def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps):
     """Advance every case of the batch by at most ``max_steps`` steps: block ``c`` is case ``c``.
 
     ``sp``, ``li``, ``wl``, ``mo``, ``ct``, ``rec``: the batch's bundles (:mod:`.batch`); ``tb`` the
     contact table's arrays and constants of every case (rows ``row0[c]`` on; ``nmat[c]`` materials),
-    ``law`` the damping law's marker (its type picks the law when the kernel is compiled)."""
+    ``law`` and ``tlaw`` the damping and tangential laws' markers (their types pick the laws when the
+    kernel is compiled)."""
     c = cuda.blockIdx.x
     tid = cuda.threadIdx.x
     bd = cuda.blockDim.x
@@ -486,8 +542,10 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
     red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
     lin = cuda.local.array((1, 3), float64)
     ang = cuda.local.array((1, 3), float64)
-    # the batch's contact table, with this law's marker
-    table = ContactTable(law, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
+    # the batch's contact table, with these laws' markers
+    table = ContactTable(law, tlaw, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8], tb[9], tb[10])
+    spring = keeps_history(tlaw)
+    mv = sp.moved
     n = sp.count[c]
     pos = sp.position
     vel = sp.velocity
@@ -553,16 +611,14 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
             cuda.syncthreads()
         # ---- the initial accelerations (run_verlet's priming): lists and forces at the start
         if flags[4] == 0:
-            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
+            st, cu = _prime_contacts(c, tid, bd, n, sp, li, table, nmat[c], row0[c], dt)
             if st != STATUS_OK:
                 status = st
                 culprit = cu
-            p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, dt)
-            cuda.syncthreads()
             xc, vc, ac = _motion(mo, c, _case_time(g, dt, settle, seg_steps, seg_samples, interval))
             i = tid
             while i < n:
-                _sphere_force(c, i, sp, li, wl, table, dt, lin, ang)
+                _sphere_force(c, i, sp, li, wl, table, dt, 0.0, lin, ang)
                 im = inv_m[c, i]
                 ii = inv_i[c, i]
                 a0 = lin[0, 0] * im + gvx - ac * dvx
@@ -593,7 +649,7 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
         # ---- rebuild the lists when a sphere moved too far in the previous step
         mslot = 1 + (g + 1) % 2
         if flags[mslot] != 0:
-            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
+            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c], tlaw)
             if st != STATUS_OK:
                 status = st
                 culprit = cu
@@ -601,6 +657,11 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
         disp = 0.0
         i = tid
         while i < n:
+            if spring:
+                # what the drift moves and turns the sphere by: the springs advance by it
+                for k in range(3):
+                    mv[c, i, k] = dt * (vel[c, i, k] + half * acc[c, i, k])
+                    mv[c, i, 3 + k] = dt * (omg[c, i, k] + half * alp[c, i, k])
             for k in range(3):
                 a = acc[c, i, k]
                 x = pos[c, i, k] + dt * (vel[c, i, k] + half * a)
@@ -616,7 +677,7 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
         if tid == 0:
             flags[mslot] = 0
         # ---- the owned pairs' contact law
-        p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, dt)
+        p_n, p_f, e_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, dt, dt)
         if st != STATUS_OK:
             status = st
             culprit = cu
@@ -632,12 +693,13 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
         vsum = 0.0
         i = tid
         while i < n:
-            pn, pf, wx, wy, wz, st = _sphere_force(c, i, sp, li, wl, table, dt, lin, ang)
+            pn, pf, ef, wx, wy, wz, st = _sphere_force(c, i, sp, li, wl, table, dt, dt, lin, ang)
             if st != STATUS_OK:
                 status = st
                 culprit = i
             p_n += pn
             p_f += pf
+            e_f += ef
             fwx += wx
             fwy += wy
             fwz += wz
@@ -666,6 +728,8 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
         s_w += vc * fd * dt
         s_n += p_n * dt
         s_f += p_f * dt
+        if spring:
+            s_f += e_f
         s_i += fd * dt
         g += 1
         done += 1
@@ -675,7 +739,7 @@ def batch_verlet(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, max_steps):
         # ---- a sample ends: the block's sums, the energies, a frame
         if g > settle and g % sub == 0:
             kk = g // sub - 1 - rec.settle_samples[c]
-            _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc)
+            _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc, spring)
             s_i = 0.0
     # ---- leave the clock, the flags and the running sums for the next launch
     ct.partials[c, tid, 0] = s_w
