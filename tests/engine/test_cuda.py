@@ -61,3 +61,19 @@ def test_on_device_changes_where_not_what():
     gpu = on_device(case, "cuda")
     assert on_gpu(gpu) and not on_gpu(case)
     assert on_device(gpu, "cpu") == case
+
+
+def test_numpy_without_row_stack_gets_the_alias_numba_cuda_registers(monkeypatch):
+    """numpy 2.5 dropped np.row_stack, which numba-cuda 0.30.4 overloads on its first compile: the
+    engine gives it back as np.vstack (what numpy <= 2.4 had), and leaves a numpy that has it alone."""
+    import numpy as np
+
+    from pdamper.engine.cuda import numpy_aliases_for_numba_cuda
+
+    if hasattr(np, "row_stack"):
+        own = np.row_stack
+        numpy_aliases_for_numba_cuda()
+        assert np.row_stack is own
+        monkeypatch.delattr(np, "row_stack")
+    numpy_aliases_for_numba_cuda()
+    assert np.row_stack is np.vstack

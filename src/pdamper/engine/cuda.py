@@ -75,6 +75,20 @@ class GpuOutcome:
     h_next: float = math.nan
 
 
+def numpy_aliases_for_numba_cuda() -> None:
+    """Give numpy >= 2.5 back ``np.row_stack`` (an alias of ``np.vstack`` until numpy 2.4) when
+    numba-cuda is about to load.
+
+    numba-cuda 0.30.4 registers a CUDA overload of ``np.row_stack`` for every numpy >= 2.0 when it
+    first compiles a kernel (``numba/cuda/np/arrayobj.py``); numpy 2.5 removed the name, so every
+    compile failed with ``AttributeError: module 'numpy' has no attribute 'row_stack'`` (measured on
+    the GPU machine: numpy 2.5.2, numba 0.68.0, numba-cuda 0.30.4). numba itself guards the same line
+    by numpy's version. The alias is the function numpy <= 2.4 had under that name; nothing else is
+    changed, and nothing when numpy has the name."""
+    if not hasattr(np, "row_stack"):
+        np.row_stack = np.vstack
+
+
 def unavailable() -> str | None:
     """Why the GPU engine cannot run here (None: it can): numba-cuda missing, or no GPU. numba-cuda's
     simulator (``NUMBA_ENABLE_CUDASIM=1``) counts as a GPU."""
@@ -82,6 +96,7 @@ def unavailable() -> str | None:
 
     if importlib.util.find_spec("numba_cuda") is None:
         return "numba-cuda is not installed"
+    numpy_aliases_for_numba_cuda()
     try:
         from numba import cuda
 
