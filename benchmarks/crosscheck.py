@@ -151,6 +151,18 @@ def prepare(spec: dict, dt: float):
     return case, {"config": config, **extra}, f"{spec['code']}/{spec_tag(spec)}_{digest}.json"
 
 
+def start_key(spec: dict, case, config: dict) -> str:
+    """What a run depends on besides its seed: its config without the seed, and the initial
+    positions the seed gives (equal for every seed where the bed leaves no room for the jitter)."""
+    from pdamper.initial import initial_positions
+
+    pos = initial_positions(case, np.random.default_rng(case.initial.seed))
+    cfg = json.loads(json.dumps(config, default=str))
+    cfg["config"].get("initial", {}).pop("seed", None)
+    other = {k: v for k, v in spec.items() if k != "seed"}
+    return hashlib.sha1(json.dumps([other, cfg], sort_keys=True).encode() + pos.tobytes()).hexdigest()
+
+
 def run_one(spec: dict, dt: float, results: str) -> dict:
     """Run one spec in a worker; write and return its record."""
     case, config, key = prepare(spec, dt)
@@ -257,15 +269,18 @@ def table(records: list[dict]):
     return "\n".join(md), rows
 
 
-def write_table(results: Path) -> str:
-    records = stored(results)
-    text, rows = table(records)
+def write_table(results: Path, cases=None) -> str:
+    """Write ``table.md``, ``table.csv`` and ``cost.txt`` of every stored run into ``results``;
+    return the table and the costs of ``cases`` (None: all) as text."""
+    every = stored(results)
+    text, rows = table(every)
     (results / "table.md").write_text(text + "\n")
     if rows:
         with open(results / "table.csv", "w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(rows[0]))
             w.writeheader()
             w.writerows(rows)
+    records = [r for r in every if cases is None or r["spec"]["case"] in cases]
     cost: dict = {}
     for r in records:
         s = r["spec"]
@@ -273,7 +288,7 @@ def write_table(results: Path) -> str:
     lines = [f"{c} {law}: {np.mean(v):.1f} s a run (n={len(v)}, min {min(v):.1f}, max {max(v):.1f})"
              for (c, law), v in sorted(cost.items())]
     (results / "cost.txt").write_text("\n".join(lines) + "\n")
-    return text + "\n\nwall time per run (shared machine):\n" + "\n".join(lines)
+    return table(records)[0] + "\n\nwall time per run (shared machine):\n" + "\n".join(lines)
 
 
 def figure(results: Path, case: str, path: Path) -> None:
@@ -301,6 +316,9 @@ def figure(results: Path, case: str, path: Path) -> None:
         ax.errorbar(x * shift, m, yerr=[m - lo, hi - m], color=colours[law], ls=style, marker="o" if tilt == "paper" else "s",
                     ms=4, capsize=2, label=f"{names.get(law, law)}, {'0.1° tilt' if tilt == 'paper' else 'no tilt'}")
     ax.set_xscale("log")
+    ticks = sorted({r["stroke_mm"] for r in rows})
+    ax.set_xticks(ticks, [f"{t:g}" for t in ticks])
+    ax.minorticks_off()
     ax.set_xlabel("stroke X [mm]")
     ax.set_ylabel("η* [-]")
     ax.set_title(f"{case}: seed mean, bars = range over seeds")
@@ -350,17 +368,23 @@ def main(argv=None):
         else _list(args.seeds, int)
     args.results.mkdir(parents=True, exist_ok=True)
     if args.table_only:
-        print(write_table(args.results))
+        print(write_table(args.results, args.cases))
         _figures(args)
         return 0
     if "liggghts" in args.codes and liggghts.available() is None:
         print(f"LIGGGHTS not found: its runs are skipped; {liggghts.INSTALL_HINT}")
         args.codes = [c for c in args.codes if c != "liggghts"]
     todo, skipped, done = [], [], 0
+    starts: dict = {}
     for spec in matrix(args):
         case, config, key = prepare(spec, args.dt)
         if case is None:
             skipped.append(config)
+            continue
+        same = starts.setdefault(start_key(spec, case, config), spec_tag(spec))
+        if same != spec_tag(spec):
+            skipped.append(f"{spec['case']}: seed {spec['seed']} starts from the same positions as another seed "
+                           "(no room for the jitter), so both codes would repeat that run: not run")
             continue
         if (args.results / "runs" / key).exists():
             done += 1
@@ -388,7 +412,7 @@ def main(argv=None):
                 failed += 1
                 print(f"[{k}/{len(todo)}] {s['code']:8s} {spec_tag(s)}: FAILED {type(exc).__name__}: "
                       f"{str(exc).splitlines()[0] if str(exc) else ''}", flush=True)
-    print(write_table(args.results))
+    print(write_table(args.results, args.cases))
     _figures(args)
     return 1 if failed else 0
 

@@ -217,10 +217,10 @@ def layers(traj, radius: float) -> dict:
     """Per frame: the mean height of the lower and the upper half of the spheres [m], the lowest
     and highest centre [m], and the column fraction (module docstring)."""
     y = traj["position"][:, :, 1]
-    order = np.argsort(y, axis=1)
+    by_height = np.argsort(y, axis=1)
     n = y.shape[1]
-    lo_idx, hi_idx = order[:, : n // 2], order[:, n // 2:]
-    ys = np.take_along_axis(y, order, axis=1)
+    lo_idx, hi_idx = by_height[:, : n // 2], by_height[:, n // 2:]
+    ys = np.take_along_axis(y, by_height, axis=1)
     col = np.zeros(len(y))
     for f in range(len(y)):
         P = traj["position"][f]
@@ -306,9 +306,13 @@ def run_liggghts(stroke_mm, seed, tilt, variant, fps, out: Path, dt=1e-6, start=
     tag = f"{variant}_X{stroke_mm:g}_s{seed}_tilt-{tilt}" + ("" if start == "layers" else f"_{start}")
     work = out / "liggghts_work" / tag
     t0 = time.perf_counter()
-    res = liggghts.run(case, work, dt=dt, per_wall=True, dump_fps=fps, model_options=crosscheck.LIGGGHTS_LAWS[variant])
-    info = liggghts.write_deck(case, work, dt=dt, per_wall=True, dump_fps=fps,
-                               model_options=crosscheck.LIGGGHTS_LAWS[variant])
+    opts = {"dt": dt, "per_wall": True, "dump_fps": fps, "model_options": crosscheck.LIGGGHTS_LAWS[variant]}
+    if liggghts.finished(work):    # a run of this deck is there already: read it again
+        info = liggghts.write_deck(case, work, **opts)
+        res = liggghts.read_results(case, work, info)
+    else:
+        res = liggghts.run(case, work, **opts)
+        info = liggghts.write_deck(case, work, **opts)
     tr = liggghts.read_dump(work, case, info, dt)
     lay = layers(tr, case.particles[0].radius)
     f = case.drive.frequency
@@ -363,15 +367,17 @@ def figures(results: Path, img: Path, strokes=(9.55, 12.0), seed=1, height=0.05,
                 ax.plot(ph, yc + d[f"layer_{key}"][sel], color=c, label=lab)
             ax.plot(ph, yc + d["layer_bottom"][sel], color="C0", lw=0.6, ls=":", label="lowest / highest sphere")
             ax.plot(ph, yc + d["layer_top"][sel], color="C3", lw=0.6, ls=":")
-            ax.set_title(f"X = {x:g} mm, {'0.1° tilt' if t == 'paper' else 'no tilt'}: η* = {js['eta_star']:.3f}",
-                         fontsize=9)
+            psi = float(order(d["position"][sel], 0.005).mean())
+            ax.set_title(f"X = {x:g} mm, {'0.1° tilt' if t == 'paper' else 'no tilt'}: η* = {js['eta_star']:.3f}, "
+                         f"x-lattice order ψ = {psi:.2f}", fontsize=9)
             ax.set_ylabel("height, lab frame [m]")
             ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("time [drive cycles]")
     axes[-1, 1].set_xlabel("time [drive cycles]")
-    axes[0, 0].legend(fontsize=7, loc="upper left")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=5)
     fig.suptitle("vertical_96 in pdamper (tanh), seed 1: sphere centres over the last three cycles", fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     out.append(img / "crosscheck_vertical_layers.png")
     fig.savefig(out[-1], dpi=110)
     plt.close(fig)
@@ -382,8 +388,10 @@ def figures(results: Path, img: Path, strokes=(9.55, 12.0), seed=1, height=0.05,
     for variant, name in (("liggghts", "LIGGGHTS"), ("liggghts_tdoff", "LIGGGHTS tangential_damping off")):
         for x in strokes:
             for t in ("paper", "none"):
-                curves.append((f"{name}, X = {x:g} mm, {'0.1° tilt' if t == 'paper' else 'no tilt'}",
-                               _load(results, f"{variant}_X{x:g}_s{seed}_tilt-{t}")))
+                for start in ("", "_dropped"):
+                    curves.append((f"{name}, X = {x:g} mm, {'0.1° tilt' if t == 'paper' else 'no tilt'}"
+                                   + (", dropped start" if start else ""),
+                                   _load(results, f"{variant}_X{x:g}_s{seed}_tilt-{t}{start}")))
     for k, (label, (d, js)) in enumerate(c for c in curves if c[1][0] is not None):
         psi = d["layer_order"] if "layer_order" in d else order(d["position"], 0.005)
         ax.plot(d["frame_time"] * frequency, psi, lw=0.8, color=f"C{k}", ls="-" if "LIGGGHTS" not in label else "--",
@@ -398,14 +406,14 @@ def figures(results: Path, img: Path, strokes=(9.55, 12.0), seed=1, height=0.05,
     out.append(img / "crosscheck_vertical_order.png")
     fig.savefig(out[-1], dpi=110)
     plt.close(fig)
-    # 3. dissipation per cycle by contact class
-    fig, ax = plt.subplots(figsize=(8, 3.8))
-    labels, bottom = [], None
+    # 3. dissipation per cycle by contact class, and over the cycle
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.2), gridspec_kw={"width_ratios": [1, 1.15]})
+    labels = []
     keys = [k for k in runs if runs[k][1] is not None]
     colours = dict(zip(CLASSES, ("C0", "C1", "C2", "C4", "C5", "C6")))
     for i, k in enumerate(keys):
         js = runs[k][1]
-        labels.append(f"{k[0]:g} mm\n{'tilt' if k[1] == 'paper' else 'no tilt'}")
+        labels.append(f"{k[0]:g} mm\n{'tilt' if k[1] == 'paper' else 'no tilt'}\nη* {js['eta_star']:.3f}")
         y0 = 0.0
         for c in CLASSES:
             for part, hatch in (("damping", None), ("friction", "//")):
@@ -413,12 +421,32 @@ def figures(results: Path, img: Path, strokes=(9.55, 12.0), seed=1, height=0.05,
                 if v <= 1e-6:
                     continue
                 ax.bar(i, v, bottom=y0, color=colours[c], hatch=hatch, edgecolor="k", lw=0.3,
-                       label=f"{c} ({'normal damping' if hatch is None else 'friction'})" if i == 0 else None)
+                       label=f"{c}, {'normal damping' if hatch is None else 'friction'}" if i == 0 else None)
                 y0 += v
-    ax.set_xticks(range(len(keys)), labels)
+    ax.set_xticks(range(len(keys)), labels, fontsize=8)
     ax.set_ylabel("dissipated per cycle [J]")
-    ax.set_title("where the energy goes (pdamper tanh, seed 1; ledger shared by contact class)", fontsize=9)
-    ax.legend(fontsize=7, bbox_to_anchor=(1.01, 1), loc="upper left")
+    ax.set_title("by contact class (pdamper tanh, seed 1)", fontsize=9)
+    ax.set_ylim(0, 1.9 * ax.get_ylim()[1])
+    ax.legend(fontsize=6.5, loc="upper left", ncol=2)
+    x = max(strokes)
+    for t, ls in (("paper", "-"), ("none", "--")):
+        d, js = runs[(x, t)]
+        if d is None:
+            continue
+        te = d["time_end"]
+        dt = np.diff(np.concatenate([[0.0], te]))
+        keep = te > 4.0 / frequency
+        rate = (d["damping"] + d["friction"])[:, :len(CLASSES)] / dt[:, None]
+        ph, folded = fold(te[keep], rate[keep], frequency, bins=50)
+        for k, c in enumerate(CLASSES):
+            if folded[:, k].max() > 0.05:
+                ax2.plot(ph, folded[:, k], color=colours[c], ls=ls,
+                         label=f"{c}, {'tilt' if t == 'paper' else 'no tilt'}")
+    ax2.set_xlabel("drive phase [cycles] (container at its lowest at 0.75)")
+    ax2.set_ylabel("dissipation rate [W]")
+    ax2.set_title(f"over the cycle, X = {x:g} mm (cycles 4-20 folded)", fontsize=9)
+    ax2.legend(fontsize=6.5)
+    ax2.grid(alpha=0.3)
     fig.tight_layout()
     out.append(img / "crosscheck_vertical_dissipation.png")
     fig.savefig(out[-1], dpi=110)

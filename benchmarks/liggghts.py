@@ -311,9 +311,6 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None, 
     power the container puts into the spheres through each mesh over the analysed cycles
     (<-f_mesh . d v_c>; their sum is the mean power of the drive).
     """
-    from pdamper.recorders.signals import Signals
-    from pdamper.run import analyze_signals
-
     exe = available()
     if exe is None:
         raise FileNotFoundError(f"`{LIGGGHTS}` is not on PATH; {INSTALL_HINT}")
@@ -327,6 +324,23 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None, 
     if proc.returncode != 0:
         tail = "\n".join((log or proc.stdout + proc.stderr).splitlines()[-15:])
         raise RuntimeError(f"LIGGGHTS failed (exit {proc.returncode}) in {workdir}:\n{tail}")
+    res = read_results(case, workdir, info)
+    res["wall_time_s"] = wall
+    return res
+
+
+def finished(workdir: Path) -> bool:
+    """Whether ``workdir`` holds a LIGGGHTS run that reached its end (both runs' loop times)."""
+    log = Path(workdir) / "log.liggghts"
+    return log.exists() and len(re.findall(r"Loop time of", log.read_text())) >= 2
+
+
+def read_results(case, workdir: Path, info: dict) -> dict:
+    """eta* and the rest of :func:`run`'s answer from a finished run in ``workdir``."""
+    from pdamper.recorders.signals import Signals
+    from pdamper.run import analyze_signals
+
+    log = (Path(workdir) / "log.liggghts").read_text()
     loops = [(float(a), int(b)) for a, b in re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", log)]
     drive_time, drive_steps = loops[-1]
     per_mesh = read_force(workdir, info)
@@ -338,6 +352,6 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None, 
     res = analyze_signals(case, sig)
     first = int(round(case.drop_cycles * case.recording.sample_rate / case.drive.frequency))
     power = {", ".join(walls): float(np.mean(along[mid][first:] * sig.velocity[first:])) for mid, walls in info["meshes"]}
-    return {"us_per_step": 1e6 * drive_time / drive_steps, "steps": drive_steps, "wall_time_s": wall,
+    return {"us_per_step": 1e6 * drive_time / drive_steps, "steps": drive_steps, "loop_time_s": drive_time,
             "eta_star": float(res.eta_star), "energy_per_cycle_J": float(res.energy_per_cycle_J),
             "wall_power_W": power}
