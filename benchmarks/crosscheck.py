@@ -52,7 +52,8 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "src"))
+if not os.environ.get("PYTHONPATH"):  # this tree's pdamper, unless PYTHONPATH names one
+    sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import liggghts  # noqa: E402
@@ -110,14 +111,21 @@ def starting(case, start: str):
     return replace(case, {"initial.positions": np.vstack([pos[:n], upper]), "initial.settle_time": 0.3})
 
 
+#: pdamper's laws (``--laws``): name -> the config keys that choose it (a name not listed here
+#: is taken as a value of ``contact.tangential``).
+PDAMPER_LAWS = {"tanh": {"contact.tangential": "tanh"}, "spring": {"contact.tangential": "spring"},
+                "spring_tdoff": {"contact.tangential": "spring", "contact.tangential_damping": False}}
+
+
 def with_law(case, law: str):
-    """``case`` with ``contact.tangential = law``; None when this pdamper has no such law. The
-    paper's law "tanh" is the only one of a pdamper without the key: the case as it is."""
+    """``case`` with the tangential law ``law`` (:data:`PDAMPER_LAWS`); None when this pdamper
+    has no such law. The paper's law "tanh" is the only one of a pdamper without the key: the
+    case as it is."""
     from pdamper.errors import InputError
     from pdamper.schema import replace
 
     try:
-        return replace(case, {"contact.tangential": law})
+        return replace(case, PDAMPER_LAWS.get(law, {"contact.tangential": law}))
     except InputError:
         return case if law == "tanh" and not hasattr(case.contact, "tangential") else None
 
@@ -143,11 +151,17 @@ def prepare(spec: dict, dt: float):
     if spec["code"] == "pdamper":
         case = with_law(case, spec["law"])
         if case is None:
-            return None, f"pdamper has no contact.tangential = {spec['law']!r} here (not merged yet?): skipped", None
+            return None, f"pdamper has no tangential law {spec['law']!r} here (not merged yet?): skipped", None
     config = case_to_dict(case)
+    keyed = json.loads(json.dumps(config, default=str))
+    if keyed.get("contact", {}).get("tangential") == "tanh":
+        # the paper's law, the default: a run stored before the key existed is the same run (and
+        # the spring's own options do not touch it)
+        del keyed["contact"]["tangential"]
+        keyed["contact"].pop("tangential_damping", None)
     extra = {"dt_s": dt, "model": f"{liggghts.MODEL} {LIGGGHTS_LAWS[spec['law']]}".strip()} \
         if spec["code"] == "liggghts" else {}
-    digest = hashlib.sha1(json.dumps([spec, config, extra], sort_keys=True, default=str).encode()).hexdigest()[:10]
+    digest = hashlib.sha1(json.dumps([spec, keyed, extra], sort_keys=True, default=str).encode()).hexdigest()[:10]
     return case, {"config": config, **extra}, f"{spec['code']}/{spec_tag(spec)}_{digest}.json"
 
 
@@ -174,10 +188,12 @@ def run_one(spec: dict, dt: float, results: str) -> dict:
     else:
         from pdamper.run import run_case
 
+        c0 = time.process_time()
         r = run_case(case)
         s = r.summary()
+        s["cpu_time_s"] = time.process_time() - c0
         res = {k: s[k] for k in ("eta_star", "energy_per_cycle_J", "energy_balance_error", "steps", "time_step_s",
-                                 "wall_time_s", "us_per_step", "integrator") if k in s}
+                                 "wall_time_s", "cpu_time_s", "us_per_step", "integrator") if k in s}
         res["mode"] = r.mode
     record = {"spec": spec, **config, "result": res, "elapsed_s": time.perf_counter() - t0,
               "finished": time.strftime("%Y-%m-%d %H:%M:%S"), "git": _git_head(), "host": platform.node(),
@@ -284,11 +300,17 @@ def write_table(results: Path, cases=None) -> str:
     cost: dict = {}
     for r in records:
         s = r["spec"]
-        cost.setdefault((s["case"], s["law"]), []).append(r["result"]["wall_time_s"])
-    lines = [f"{c} {law}: {np.mean(v):.1f} s a run (n={len(v)}, min {min(v):.1f}, max {max(v):.1f})"
-             for (c, law), v in sorted(cost.items())]
+        cost.setdefault((s["case"], s["law"]), []).append((r["result"]["wall_time_s"],
+                                                            r["result"].get("cpu_time_s", math.nan)))
+    lines = []
+    for (c, law), v in sorted(cost.items()):
+        wall, cpu = np.array(v).T
+        line = f"{c} {law}: wall {wall.mean():.1f} s a run (n={len(v)}, {wall.min():.1f}-{wall.max():.1f})"
+        if np.isfinite(cpu).any():
+            line += f", CPU {np.nanmean(cpu):.1f} s ({np.isfinite(cpu).sum()} runs timed)"
+        lines.append(line)
     (results / "cost.txt").write_text("\n".join(lines) + "\n")
-    return table(records)[0] + "\n\nwall time per run (shared machine):\n" + "\n".join(lines)
+    return table(records)[0] + "\n\ncost per run (shared machine):\n" + "\n".join(lines)
 
 
 def figure(results: Path, case: str, path: Path) -> None:
@@ -301,10 +323,10 @@ def figure(results: Path, case: str, path: Path) -> None:
 
     _, rows = table([r for r in stored(results) if r["spec"]["case"] == case and r["spec"]["friction"] == "case"])
     fig, ax = plt.subplots(figsize=(7, 4.2))
-    colours = {"liggghts": "C0", "liggghts_tdoff": "C2", "tanh": "C3", "spring": "C1"}
+    colours = {"liggghts": "C0", "liggghts_tdoff": "C2", "tanh": "C3", "spring": "C1", "spring_tdoff": "C4"}
     names = {"liggghts": "LIGGGHTS (tangential damping on, its default)",
              "liggghts_tdoff": "LIGGGHTS (tangential_damping off)", "tanh": "pdamper, tanh (default)",
-             "spring": "pdamper, spring"}
+             "spring": "pdamper, spring", "spring_tdoff": "pdamper, spring, tangential_damping off"}
     for (law, tilt), style in (((law, tilt), "-" if tilt == "paper" else "--")
                                for law in colours for tilt in ("paper", "none")):
         pts = sorted((r["stroke_mm"], r["eta_mean"], r["eta_min"], r["eta_max"]) for r in rows
@@ -346,7 +368,8 @@ def main(argv=None):
                     help=f"LIGGGHTS variants: {', '.join(LIGGGHTS_LAWS)} (default liggghts: its default "
                          "model, tangential damping on)")
     ap.add_argument("--laws", type=_list, default=["tanh", "spring"],
-                    help="pdamper's contact.tangential laws (default tanh,spring; a missing one is skipped)")
+                    help=f"pdamper's tangential laws: {', '.join(PDAMPER_LAWS)} or another value of "
+                         "contact.tangential (default tanh,spring; one this pdamper lacks is skipped)")
     ap.add_argument("--friction", type=_list, default=["case"], help="'case' (the case's mu) and/or 0 (frictionless)")
     ap.add_argument("--dt", type=float, default=1e-6, help="LIGGGHTS' time step [s] (default 1e-6)")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")

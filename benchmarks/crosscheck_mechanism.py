@@ -1,4 +1,4 @@
-"""Where a bed dissipates, and where its layers are: a diagnostic of a pdamper run (issue 28, item 2).
+"""Where a bed dissipates, and where its layers are: a diagnostic of a pdamper run.
 
 Usage::
 
@@ -40,6 +40,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -48,7 +49,8 @@ import numba
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "src"))
+if not os.environ.get("PYTHONPATH"):  # this tree's pdamper, unless PYTHONPATH names one
+    sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 CLASSES = ("sphere-sphere", "floor", "lid", "end walls", "side walls", "baffles")

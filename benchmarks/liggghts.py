@@ -70,6 +70,7 @@ from __future__ import annotations
 
 import math
 import re
+import resource
 import shutil
 import subprocess
 import time
@@ -306,7 +307,8 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None, 
     """Run ``case`` in LIGGGHTS at the fixed step ``dt`` [s]; return its step cost and eta*.
 
     ``us_per_step`` is LIGGGHTS' own loop time of the driven phase over its steps (the bed in
-    motion, forces averaged every step); ``eta_star`` and ``energy_per_cycle_J`` come from
+    motion, forces averaged every step); ``wall_time_s`` and ``cpu_time_s`` the whole process's
+    (the CPU time is the one to compare on a shared machine); ``eta_star`` and ``energy_per_cycle_J`` come from
     pdamper's complex-power analysis of the LIGGGHTS force record; ``wall_power_W`` is the mean
     power the container puts into the spheres through each mesh over the analysed cycles
     (<-f_mesh . d v_c>; their sum is the mean power of the drive).
@@ -316,16 +318,18 @@ def run(case, workdir: Path, *, dt: float = 1e-6, timeout: float | None = None, 
         raise FileNotFoundError(f"`{LIGGGHTS}` is not on PATH; {INSTALL_HINT}")
     workdir = Path(workdir)
     info = write_deck(case, workdir, dt=dt, per_wall=per_wall, dump_fps=dump_fps, model_options=model_options)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     proc = subprocess.run([exe, "-in", "in.damper", "-log", "log.liggghts", "-nocite"],
                           cwd=workdir, capture_output=True, text=True, timeout=timeout)
     wall = time.perf_counter() - t0
+    c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     log = (workdir / "log.liggghts").read_text() if (workdir / "log.liggghts").exists() else ""
     if proc.returncode != 0:
         tail = "\n".join((log or proc.stdout + proc.stderr).splitlines()[-15:])
         raise RuntimeError(f"LIGGGHTS failed (exit {proc.returncode}) in {workdir}:\n{tail}")
     res = read_results(case, workdir, info)
     res["wall_time_s"] = wall
+    res["cpu_time_s"] = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
     return res
 
 
