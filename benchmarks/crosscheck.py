@@ -73,13 +73,17 @@ NO_TILT = ["0deg", "0deg", "0deg"]
 LIGGGHTS_LAWS = {"liggghts": "", "liggghts_tdoff": "tangential_damping off"}
 
 
-def build_case(name: str, stroke_mm: float, seed: int, tilt: str, friction: str):
-    """The pdamper Case of one cell of the matrix (the law is set apart: :func:`with_law`)."""
+def build_case(name: str, stroke_mm: float, seed: int, tilt: str, friction: str, settle_step: float = 0.0):
+    """The pdamper Case of one cell of the matrix (the law is set apart: :func:`with_law`);
+    ``settle_step`` [s] lengthens the settling of seed k by (k - 1) settle_step."""
     from pdamper.config import load_case
     from pdamper.schema import replace
 
     path, changes, _, *start = CASES[name]
     changes = {**changes, "drive.stroke": f"{stroke_mm}mm", "initial.seed": seed}
+    if settle_step:
+        base = load_case(ROOT / path).initial.settle_time
+        changes["initial.settle_time"] = base + (seed - 1) * settle_step
     if tilt == "none":
         changes["container.tilt"] = NO_TILT
     if friction != "case":
@@ -132,7 +136,8 @@ def with_law(case, law: str):
 
 def spec_tag(spec: dict) -> str:
     fr = "" if spec["friction"] == "case" else f"_mu{spec['friction']}"
-    return f"{spec['case']}_X{spec['stroke_mm']:g}mm_s{spec['seed']}_tilt-{spec['tilt']}_{spec['law']}{fr}"
+    st = f"_settle+{spec['settle_step'] * 1e3:g}ms" if spec.get("settle_step") else ""
+    return f"{spec['case']}_X{spec['stroke_mm']:g}mm_s{spec['seed']}{st}_tilt-{spec['tilt']}_{spec['law']}{fr}"
 
 
 def _git_head() -> str:
@@ -147,7 +152,8 @@ def prepare(spec: dict, dt: float):
     """(case, config dict, file key) of a spec, or (None, reason, None) when it cannot run."""
     from pdamper.config import case_to_dict
 
-    case = build_case(spec["case"], spec["stroke_mm"], spec["seed"], spec["tilt"], spec["friction"])
+    case = build_case(spec["case"], spec["stroke_mm"], spec["seed"], spec["tilt"], spec["friction"],
+                      spec.get("settle_step", 0.0))
     if spec["code"] == "pdamper":
         case = with_law(case, spec["law"])
         if case is None:
@@ -215,6 +221,8 @@ def matrix(args) -> list[dict]:
                 for tilt in tilts:
                     for fr in args.friction:
                         base = {"case": name, "stroke_mm": float(x), "seed": seed, "tilt": tilt, "friction": fr}
+                        if args.settle_step and seed > 1:  # seed 1 settles as the case says
+                            base["settle_step"] = args.settle_step
                         if "liggghts" in args.codes:
                             out += [{"code": "liggghts", "law": law, **base} for law in args.liggghts]
                         if "pdamper" in args.codes:
@@ -371,6 +379,9 @@ def main(argv=None):
                     help=f"pdamper's tangential laws: {', '.join(PDAMPER_LAWS)} or another value of "
                          "contact.tangential (default tanh,spring; one this pdamper lacks is skipped)")
     ap.add_argument("--friction", type=_list, default=["case"], help="'case' (the case's mu) and/or 0 (frictionless)")
+    ap.add_argument("--settle-step", type=float, default=0.0,
+                    help="seed k settles (k - 1) times this much longer [s] (default 0): a spread for a bed "
+                         "whose seeds all start alike (the baffled one)")
     ap.add_argument("--dt", type=float, default=1e-6, help="LIGGGHTS' time step [s] (default 1e-6)")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--nice", type=int, default=10, help="niceness of the whole batch (default 10)")
