@@ -276,7 +276,7 @@ def _ok(flag):
 def report(res, quick, cmd):
     """The Markdown report of whatever parts ``res`` holds (all, or those of ``--only``)."""
     lines = [f"Produced by `{cmd}` on {res['machine']} ({res['date']}); {res['seconds'] / 60:.1f} min in all.", ""]
-    lines += ["## Targets", "", "| target | measured | ratio / baseline | result |", "|---|---|---|---|"]
+    lines += ["### CPU targets", "", "| target | measured | ratio / baseline | result |", "|---|---|---|---|"]
     steps, cross, sw, pp, st, sd = (res.get(k) for k in ("steps", "cross", "sweep", "paper", "start", "steady"))
     full = not quick
     lig = [c["liggghts"] for c in cross or () if c["liggghts"]]
@@ -334,7 +334,7 @@ def report(res, quick, cmd):
         big = steps[-1][1]
         lines.append(f"| 5,000-sphere multi-layer bed runs | {big['us_per_step']:.0f} us/step = "
                      f"{1e3 * big['us_per_step'] / big['particles']:.1f} ns per particle-step | | met |")
-        lines += ["", "## Step cost", "", "Velocity Verlet at dt = 1 us, kernel only (no recording), best of the repeats, "
+        lines += ["", "### Step cost", "", "Velocity Verlet at dt = 1 us, kernel only (no recording), best of the repeats, "
                   "after the bed is set in motion.", "",
                   "| system | us/step | ns per particle-step | search | pairs listed / touching | wall contacts |",
                   "|---|---|---|---|---|---|"]
@@ -342,7 +342,7 @@ def report(res, quick, cmd):
             lines.append(f"| {label} | {r['us_per_step']:.3f} | {1e3 * r['us_per_step'] / r['particles']:.1f} | {r['search']} | "
                          f"{r['pairs_listed']} / {r['pairs_touching']} | {r['walls_touching']} |")
     if cross:
-        lines += ["", "## Cross-validation with LIGGGHTS", "",
+        lines += ["", "### Cross-validation with LIGGGHTS", "",
                   "The 36-sphere cuboid at three strokes, same cycles (first 2 dropped), same seeded initial positions "
                   "for seed 0; pdamper with its default integrator, seeds 0-2 (mean and range), with its default "
                   "damping (`calibrated` Hertz-Gonthier) and with LIGGGHTS' own (`tsuji`, as its `model hertz`). "
@@ -360,7 +360,7 @@ def report(res, quick, cmd):
                 lines.append(f"| {c['stroke'] * 1e3:g} | {c['cycles']} | {law} | {statistics.mean(e):.3f} "
                              f"({min(e):.3f}-{max(e):.3f}) | {r['wall_s']:.1f} | {lg_cols} |")
     if sw:
-        lines += ["", "## Sweep", "", f"`run_study('fig4', ...)` from an empty store, {sw['cases']} cases, one seed, "
+        lines += ["", "### Sweep", "", f"`run_study('fig4', ...)` from an empty store, {sw['cases']} cases, one seed, "
                   f"20 cycles, embedded local Dask cluster ({sw['workers']} workers): {sw['wall_s']:.1f} s. Peaks: "
                   + "; ".join(f"{k}: eta* = {v[0]:.3f} at {v[1] * 1e3:.3g} mm" for k, v in sw["peaks"].items()) + "."]
     if pp:
@@ -372,7 +372,7 @@ def _paper_lines(pp, sw):
     """The paper-curves section: per-curve cost of the sample and the check of the estimator."""
     every = pp["every"]
     strokes = ", ".join(f"{x * 1e3:.3g}" for x in pp["strokes"])
-    lines = ["", "## Every DEM curve of the paper", "",
+    lines = ["", "### Every DEM curve of the paper", "",
              f"{pp['curves']} distinct curves (the settings of every `pdamper study`, a setting that repeats "
              f"another's physics counted once), one seed, {pp['cycles']} cycles, at every {every}th of the paper's 40 "
              f"strokes ({strokes} mm): {pp['cases']} cases in {pp['wall_s']:.0f} s wall on {pp['workers']} cores. "

@@ -13,7 +13,7 @@ import pytest
 
 from pdamper.config import case_from_dict, case_to_dict, load_case, loads_case
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, ModalStructure
+from pdamper.structure import CoupledStructure, ModalStructure
 from pdamper.params import Case, Numerics, ParticleSet
 from pdamper.run import run_case
 from pdamper.simulation import run_bare_structure
@@ -275,3 +275,69 @@ def test_the_coupled_ledger_of_two_modes_and_a_bed_closes(integrator):
     assert s["damper_stroke_max_m"] == pytest.approx(0.02, rel=1e-3)
     assert s["structure_amplitude_m"] < s["damper_stroke_m"]  # mid-height moves less than the tip
     assert s["modes_kept"] == 2
+
+
+@pytest.mark.parametrize("integrator", ["verlet", "gear"])
+def test_the_empty_container_rides_on_the_structure_in_a_run(integrator):
+    # one 4 g sphere on a 7 t mode carrying a 700 kg container: the run is the closed form of the
+    # mode with M + m_c (10 % more mass: 4.7 % lower frequency), not of M alone
+    from pdamper.params import Container
+    from pdamper.theory.oscillator import oscillator_response
+
+    s = CoupledStructure(mass=7000.0, stiffness=7000.0 * (4 * np.pi) ** 2, damping_ratio=0.005, displacement=0.004)
+    case = Case(particles=(ParticleSet(count=1),), drive=s, container=Container(mass=700.0),
+                numerics=Numerics(integrator=integrator), cycles=2, drop_cycles=0)
+    rec = run_case(case).structure
+    carried = oscillator_response(rec.time, mass=7700.0, stiffness=s.stiffness, damping_ratio=s.damping /
+                                  (2 * np.sqrt(s.stiffness * 7700.0)), displacement=0.004)[0]
+    alone = oscillator_response(rec.time, mass=7000.0, stiffness=s.stiffness, damping_ratio=0.005,
+                                displacement=0.004)[0]
+    assert np.max(np.abs(rec.displacement - carried)) / 0.004 < 1e-5
+    assert np.max(np.abs(rec.displacement - alone)) / 0.004 > 0.1
+    assert rec.mass_kg == 7700.0
+
+
+def test_rayleigh_damping_given_as_zeta_at_two_modes():
+    from pdamper.structure import rayleigh_coefficients
+
+    mast = EXAMPLES / "mast.npz"
+    kw = dict(matrices=str(mast), damper_dof=38, modes_kept=4, displacement=0.01)
+    s = ModalStructure(rayleigh_modes=(1, 3), rayleigh_ratios=(0.01, 0.02), **kw)
+    z, w = s.mode_damping_ratios, 2 * np.pi * s.mode_frequencies
+    assert z[0] == pytest.approx(0.01, rel=1e-12) and z[2] == pytest.approx(0.02, rel=1e-12)
+    alpha, beta = rayleigh_coefficients((w[0], w[2]), (0.01, 0.02))
+    np.testing.assert_allclose(z, alpha / (2 * w) + beta * w / 2, rtol=1e-12)  # every mode from the two
+    same = ModalStructure(rayleigh=(alpha, beta), **kw)  # the [alpha, beta] form gives the same modes
+    np.testing.assert_allclose(same.mode_damping_ratios, z, rtol=1e-12)
+    # a mode beyond the kept ones may set it: its frequency is computed for the fit
+    far = ModalStructure(rayleigh_modes=(1, 6), rayleigh_ratios=(0.01, 0.01), **kw)
+    assert far.n_modes == 4 and far.mode_damping_ratios[0] == pytest.approx(0.01, rel=1e-12)
+    assert s.structure_summary()["mode_damping_ratios"] == pytest.approx(z.tolist())
+    for bad, words in ((dict(rayleigh_modes=(1, 3)), "rayleigh_ratios is missing"),
+                       (dict(rayleigh_modes=(1, 1), rayleigh_ratios=(0.01, 0.01)), "two different mode numbers"),
+                       (dict(rayleigh_modes=(1, 3), rayleigh_ratios=(0.01, 1.5)), "rayleigh_ratios"),
+                       (dict(rayleigh_modes=(1, 3), rayleigh_ratios=(0.01, 0.01), damping_ratio=0.01),
+                        "exactly one damping"),
+                       (dict(rayleigh_modes=(1, 2), rayleigh_ratios=(0.05, 0.0)), "negative damping ratio")):
+        with pytest.raises(InputError, match=words):
+            ModalStructure(**kw, **bad)
+
+
+def test_rayleigh_by_two_modes_from_a_config_round_trips_and_prints_each_zeta(tmp_path):
+    from click.testing import CliRunner
+
+    from pdamper.cli.common import main
+    from pdamper.config import dumps_case, loads_case
+
+    text = ("[particles]\ncount = 1\n[structure]\nmatrices = 'mast.npz'\ndamper_dof = 38\nmodes_kept = 3\n"
+            "rayleigh_modes = [1, 3]\nrayleigh_ratios = [0.01, 0.01]\ndisplacement = '10mm'\n")
+    case = loads_case(text, base_dir=EXAMPLES)
+    assert case.drive.rayleigh_modes == (1, 3)
+    assert loads_case(dumps_case(case)) == case
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(dumps_case(case))
+    r = CliRunner().invoke(main, ["run", str(cfg), "--set", "run.cycles=0.2", "--set", "run.drop_cycles=0",
+                                  "--json"])
+    assert r.exit_code == 0, r.output
+    out = __import__("json").loads(r.stdout)
+    assert out["mode_damping_ratios"][0] == pytest.approx(0.01) and out["mode_damping_ratios"][2] == pytest.approx(0.01)

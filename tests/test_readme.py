@@ -121,3 +121,10 @@ def test_quoted_run_output_is_real():
     result = CliRunner().invoke(main, shlex.split(command.replace("examples/", str(ROOT / "examples") + "/"))[1:])
     assert result.exit_code == 0, result.output
     assert quoted in result.stdout
+
+
+def test_the_list_of_docs_names_every_page():
+    # issue 30: docs/fields.md and docs/reliability.md were missing from the list
+    pages = sorted(p.name for p in (ROOT / "docs").glob("*.md") if p.name != "index.md")
+    missing = [p for p in pages if f"(docs/{p})" not in README]
+    assert not missing, f"README's list of docs lacks {missing}"

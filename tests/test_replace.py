@@ -12,7 +12,8 @@ import pytest
 from pdamper.config import case_from_dict, case_to_dict, dumps_case
 from pdamper.contact.cor_constant import ConstantRestitution
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, SampledDrive, Still
+from pdamper.excitation import SampledDrive, Still
+from pdamper.structure import CoupledStructure
 from pdamper.materials import LIBRARY, Material
 from pdamper.params import Case, ParticleSet
 from pdamper.schema import param, replace

@@ -10,7 +10,8 @@ import pytest
 from pdamper.config import SECTIONS, _fields_to, _Reader, case_to_dict, with_overrides
 from pdamper.contact.cor_thornton import ThorntonRestitution
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, HarmonicDrive
+from pdamper.excitation import HarmonicDrive
+from pdamper.structure import CoupledStructure
 from pdamper.geometry.cuboid import Cuboid
 from pdamper.materials import Material
 from pdamper.params import Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording
@@ -47,7 +48,8 @@ def test_every_section_key_comes_from_a_field_or_is_named_structure():
     structural = {"shape", "kind", "samples", "pair", "natural_frequency"}
     fields = {s.key or f.name for _, cls, _ in HOLDERS for f in dataclasses.fields(cls) for s in (spec_of(f),)}
     fields |= {s.key or f.name for cls in (Material,) for f in dataclasses.fields(cls) for s in (spec_of(f),)}
-    from pdamper.excitation import ModalStructure, SampledDrive, Still
+    from pdamper.excitation import SampledDrive, Still
+    from pdamper.structure import ModalStructure
     from pdamper.geometry.cylinder import Cylinder
     fields |= (set(config_keys(SampledDrive)) | set(config_keys(Still)) | set(config_keys(Cylinder))
                | set(config_keys(ModalStructure)))

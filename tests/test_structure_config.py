@@ -6,7 +6,7 @@ import pytest
 
 from pdamper.config import dumps_case, loads_case
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure
+from pdamper.structure import CoupledStructure
 
 BASE = """
 [particles]
@@ -48,8 +48,9 @@ def test_errors_name_the_field(extra, words):
         assert w in msg
 
 
-def test_structure_excludes_a_drive_and_takes_either_integrator():
-    with pytest.raises(InputError, match=r"\[drive\] stroke cannot be combined with \[structure\]"):
-        loads_case('[drive]\nstroke = "1cm"\n' + BASE + 'stiffness = 1105\ndisplacement = "1cm"\n')
+def test_a_drive_beside_a_structure_is_the_rig_and_either_integrator_is_taken():
+    # issue 30: a [drive] beside a [structure] is the damper's rig drive (Case.rig), no longer refused
+    both = loads_case('[drive]\nstroke = "1cm"\n' + BASE + 'stiffness = 1105\ndisplacement = "1cm"\n')
+    assert both.drive.coupled and both.rig.stroke == pytest.approx(0.01) and not both.rig.coupled
     case = loads_case(BASE.replace('"verlet"', '"gear"') + 'stiffness = 1105\ndisplacement = "1cm"\n')
     assert case.numerics.integrator == "gear" and case.drive.kind == "structure"

@@ -10,7 +10,8 @@ import pytest
 
 from pdamper.config import case_from_dict, case_to_dict, loads_case
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, HarmonicDrive, SampledDrive, Still
+from pdamper.excitation import HarmonicDrive, SampledDrive, Still
+from pdamper.structure import CoupledStructure
 from pdamper.plausible import LiftOffWarning, check_case
 
 VERTICAL = """
@@ -79,7 +80,9 @@ def test_a_vertically_shaken_layer_lifts_off_carries_its_weight_and_closes_its_l
 
     case = loads_case(VERTICAL)   # Gamma = X (2 pi f)^2 / g = 4.5
     res = run_case(case)
-    assert res.mode == "lift-off"
+    # the layer leaves the floor as a whole (docs/motion.md, vertical drives; measured: off the floor
+    # 29 % of the time, floor and lid 1.75 and 2.5 times a cycle, sync 0.79: bouncing collect-and-collide)
+    assert res.mode in ("bouncing-collect-and-collide", "bouncing-bed")
     assert res.energy.balance_error() < 5e-3
     # over whole cycles the walls carry the bed's weight: the mean wall force along the drive is m g
     t, f = res.signals.time, res.signals.force

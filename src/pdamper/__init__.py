@@ -26,7 +26,8 @@ Run it:
 - :func:`load_case` -- a TOML config file to a :class:`Case`.
 - :func:`run_case` -> :class:`RunResult` (signals, energies, eta*, motion mode);
   :class:`Simulation` -- a case advanced in time, feeding recorders (:mod:`pdamper.recorders`),
-  without analysis.
+  without analysis; :func:`run_cases` -- many cases, those with ``numerics.device = "cuda"``
+  together on one GPU.
 - :class:`SweepSpec`, :func:`run_sweep` -- a stroke sweep over seeds on all cores or a Dask
   cluster, written to a resumable store; :func:`open_results` -- its labelled dataset.
 
@@ -81,8 +82,8 @@ _LAZY = {
     "HarmonicDrive": "excitation",
     "SampledDrive": "excitation",
     "Still": "excitation",
-    "CoupledStructure": "excitation",
-    "ModalStructure": "excitation",
+    "CoupledStructure": "structure",
+    "ModalStructure": "structure",
     "run_decay": "studies.structure",
     "run_response": "studies.structure",
     "design_filling": "design",
@@ -95,6 +96,7 @@ _LAZY = {
     "Simulation": "simulation",
     "RunResult": "run",
     "run_case": "run",
+    "run_cases": "run",
     "load_case": "config",
     "complex_power": "analysis",
     "analyze_record": "analysis",
@@ -113,7 +115,7 @@ __all__ = [
     "Material", "STEEL_S235", "PVC",
     "ConstantRestitution", "TabulatedRestitution", "ThorntonRestitution",
     # run it
-    "load_case", "Simulation", "RunResult", "run_case",
+    "load_case", "Simulation", "RunResult", "run_case", "run_cases",
     # sweep it
     "SweepSpec", "run_sweep", "open_results",
     # evaluate and design
@@ -147,11 +149,12 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .config import load_case
     from .contact import ConstantRestitution, TabulatedRestitution, ThorntonRestitution
     from .design import design_filling
-    from .excitation import CoupledStructure, HarmonicDrive, ModalStructure, SampledDrive, Still
+    from .excitation import HarmonicDrive, SampledDrive, Still
+    from .structure import CoupledStructure, ModalStructure
     from .studies.structure import run_decay, run_response
     from .geometry import Cuboid, Cylinder
     from .materials import PVC, STEEL_S235, Material
     from .params import (Case, ContactModel, Container, InitialState, Numerics, ParticleSet,
                          Recording)
-    from .run import RunResult, run_case
+    from .run import RunResult, run_case, run_cases
     from .simulation import Simulation

@@ -13,7 +13,7 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
     material = "pvc"            # a name from pdamper.materials.LIBRARY, or an inline table
                                 # {name=..., youngs_modulus=..., poisson_ratio=..., density=...}
     tilt = ["0.1deg", "0.1deg", "0.1deg"]   # about x, y, z (applied in that order); one value: all three
-    mass = "0kg"
+    mass = "0kg"                # the empty container: on a [structure] it moves with it
 
     [particles]                 # one species; [[particles]] tables for a mixed bed
     count = 36                  # required
@@ -44,17 +44,19 @@ Quantities are written as a person types them (``"120mm"``, ``"2Hz"``, ``"0.1deg
     [numerics]                  # integrator, time_step ("auto" or a time), steps_per_contact,
                                 # max_impact_speed ("auto" or a speed), max_time_step,
                                 # gear_tolerance, neighbour_search, skin ("auto" or a length),
-                                # overlap_limit
+                                # overlap_limit, device ("cpu" or "cuda": the GPU engine)
     [recording]                 # sample_rate, trajectory_fps
     [initial]                   # arrangement, jitter, seed, settle_time, layers, and optional
                                 # per-sphere rows [x, y, z]: positions, velocities, spins [rad/s]
     [run]                       # cycles, drop_cycles, gravity
 
-    [structure]                 # instead of [drive]: the container rides on a structure
-    mass = "7kg"                # modal mass incl. the empty container (see docs/structure.md)
+    [structure]                 # the container rides on a structure: the case's drive
+    mass = "7kg"                # modal mass without the damper ([container] mass is added)
     natural_frequency = "2Hz"   # or stiffness = 1105 (N/m)
     damping_ratio = 0.005
     displacement = "12mm"       # initial; and/or force_amplitude = "0.5N", force_frequency = "2Hz"
+    # A [drive] beside a [structure] is the damper's rig drive (Case.rig): a sweep runs the
+    # damper on it (Case.on_rig), the structure's commands (decay, response) run the structure.
 
 :func:`load_case` reads a file (with optional overrides such as ``{"drive.stroke": "3mm"}``, the
 command line's ``--set``, applied to the file's tables before they are read);
@@ -71,10 +73,7 @@ section builds, keys that are not fields, the restitution-law tables).
 
 from __future__ import annotations
 
-import csv
-import dataclasses
 import difflib
-import math
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -85,30 +84,24 @@ from .contact.cor_table import TabulatedRestitution
 from .contact.cor_thornton import ThorntonRestitution
 from .errors import InputError
 from .io.files import atomic_write
-from .excitation import DRIVES
+from . import structure as _structures  # noqa: F401  (registers the structure models as drives)
+from .excitation import DRIVES, read_motion_csv
 from .geometry import SHAPES
 from .materials import LIBRARY, Material, read_material
 from .params import (Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording, read_baffles,
                      read_tilt, read_wall_materials, read_with_material)
-from .schema import (Spec, _choice, _grammar, _quoted, check_keys, config_keys, plain_fields, read_fields,
-                     read_number, read_quantity, replace, spec_of, suggest)
-from .units import unit_factor
+from .schema import (Spec, _choice, _grammar, _num, _quoted, check_keys, config_keys, plain_fields, read_fields,
+                     read_number, replace, suggest, write_fields)
 
 __all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
            "with_overrides", "key_spec", "SECTIONS"]
 
 # The sections are read from the parameter dataclasses' own fields (pdamper.schema): a field's
-# spec says its dimension, allowed values and key. What is written here by hand is only the
-# structure no field can say: which class a section builds (a container shape, a drive kind),
-# and keys that are not fields (a samples file, a natural frequency instead of a stiffness,
-# per-material-pair tables).
+# spec says its dimension, allowed values and key. A container shape and a drive kind read their
+# own keys (a shape's fields; a drive's from_config); what is written here by hand is only the
+# structure no field can say (per-material-pair tables, the restitution laws). The registries
+# (SHAPES, DRIVES) are asked each time: a shape or drive registered later is read too.
 _GEOMETRIES = SHAPES
-_DRIVES = {kind: cls for kind, cls in DRIVES.items() if cls.config_section == "drive"}
-#: The drives the [structure] section builds: the single mode (mass, stiffness) first, then the
-#: modal structure (modes or matrices); the reader decides from the keys.
-_STRUCTURES = tuple(cls for cls in DRIVES.values() if cls.config_section == "structure")
-_STRUCTURE = _STRUCTURES[0]
-_MODAL = next(cls for cls in _STRUCTURES if "modes" in config_keys(cls))
 
 
 def _shape_keys() -> dict:
@@ -116,21 +109,55 @@ def _shape_keys() -> dict:
     return {shape: config_keys(cls) for shape, cls in _GEOMETRIES.items()}
 
 
-#: Keys that only one kind of drive has (a key of another kind is an error).
-_DRIVE_OWN = {kind: tuple(k for k in config_keys(cls)
-                          if not any(k in config_keys(o) for o in _DRIVES.values() if o is not cls))
-              for kind, cls in _DRIVES.items()}
-_DRIVE_OWN["samples"] = ("samples",) + _DRIVE_OWN["samples"]
-_SAMPLED_KEYS = _DRIVE_OWN["samples"]
-
-
 def _union(*groups) -> tuple:
     return tuple(dict.fromkeys(k for g in groups for k in g))
 
 
+def _drive_sections() -> tuple:
+    """The config sections drives are read from (``drive``, ``structure``), in registration order."""
+    return tuple(dict.fromkeys(cls.config_section for cls in DRIVES.values()))
+
+
+def _kinds(section: str) -> dict:
+    """The registered drive kinds of ``section``: tag -> class."""
+    return {kind: cls for kind, cls in DRIVES.items() if cls.config_section == section}
+
+
+def _own_keys(section: str) -> dict:
+    """Keys that only one kind of ``section`` has (a key of another kind is an error): tag -> keys."""
+    kinds = _kinds(section)
+    return {kind: tuple(k for k in cls.table_keys()
+                        if not any(k in o.table_keys() for o in kinds.values() if o is not cls))
+            for kind, cls in kinds.items()}
+
+
+def _section_keys(section: str) -> tuple:
+    """The keys a drive section may hold: every key of its kinds (and ``kind`` where written)."""
+    kinds = _kinds(section).values()
+    tag = ("kind",) if any(cls.config_writes_kind for cls in kinds) else ()
+    return _union(tag, *(cls.table_keys() for cls in kinds))
+
+
+def _kind_of(table: dict, section: str):
+    """The drive class a table of ``section`` is read by: its ``kind``, else the kind whose
+    marking keys it has (a samples file: sampled), else the section's default kind."""
+    kinds = _kinds(section)
+    if "kind" in table:
+        return kinds[_choice(table["kind"], f"[{section}] kind", tuple(kinds))]
+    marked = {kind: [k for k in cls.config_marks if k in table] for kind, cls in kinds.items()}
+    marked = {kind: keys for kind, keys in marked.items() if keys}
+    if len(marked) > 1:
+        said = " and ".join(f"{', '.join(keys)} ({kinds[kind].label()})" for kind, keys in marked.items())
+        raise InputError(f"[{section}] {said} are given together; give the keys of one kind: "
+                         + " or ".join(cls.config_summary for cls in kinds.values()) + ", not a mix")
+    if marked:
+        return kinds[next(iter(marked))]
+    return next(cls for cls in kinds.values() if cls.config_default)
+
+
 class _Sections(Mapping):
     """Allowed keys of each section, derived from the dataclasses' fields (the container's from
-    the shapes registered when asked)."""
+    the shapes registered when asked, a drive section's from its kinds registered when asked)."""
 
     def __init__(self, fixed: dict):
         self._fixed = fixed
@@ -139,25 +166,31 @@ class _Sections(Mapping):
         return _union(("shape",), *_shape_keys().values(), config_keys(Container, drop=("geometry",)))
 
     def __getitem__(self, section):
-        return self._container() if section == "container" else self._fixed[section]
+        if section == "container":
+            return self._container()
+        if section in self._fixed:
+            return self._fixed[section]
+        if section in _drive_sections():
+            return _section_keys(section)
+        raise KeyError(section)
 
     def __iter__(self):
-        return iter(("container", *self._fixed))
+        fixed = list(self._fixed)
+        drives = [s for s in _drive_sections() if s not in self._fixed]
+        return iter(("container", fixed[0], *drives[:1], *fixed[1:], *drives[1:]))
 
     def __len__(self):
-        return len(self._fixed) + 1
+        return len(self._fixed) + 1 + len([s for s in _drive_sections() if s not in self._fixed])
 
 
 #: Allowed keys of each section, derived from the dataclasses' fields.
 SECTIONS = _Sections({
     "particles": config_keys(ParticleSet),
-    "drive": _union(("kind",), *(config_keys(cls) for cls in _DRIVES.values()), ("samples",)),
     "contact": config_keys(ContactModel, drop=("pair_friction", "pair_restitution")) + ("pair",),
     "numerics": config_keys(Numerics),
     "recording": config_keys(Recording),
     "initial": config_keys(InitialState),
     "run": tuple(s.key or f.name for f, s in plain_fields(Case)),
-    "structure": _union(config_keys(_STRUCTURE), ("natural_frequency",), config_keys(_MODAL)),
 })
 _PAIR_KEYS = ("materials", "friction", "restitution")
 
@@ -214,12 +247,17 @@ def _copy(obj):
     return obj
 
 
-#: The parameter classes whose fields make each section's keys.
+#: The parameter classes whose fields make each section's keys (a drive section's: its kinds').
 _SECTION_CLASSES = {
-    "container": (Container,), "particles": (ParticleSet,), "drive": tuple(_DRIVES.values()),
-    "contact": (ContactModel,), "numerics": (Numerics,), "recording": (Recording,), "initial": (InitialState,),
-    "run": (Case,), "structure": _STRUCTURES,
+    "container": (Container,), "particles": (ParticleSet,), "contact": (ContactModel,), "numerics": (Numerics,),
+    "recording": (Recording,), "initial": (InitialState,), "run": (Case,),
 }
+
+
+def _section_classes(section: str) -> tuple:
+    if section in _SECTION_CLASSES:
+        return _SECTION_CLASSES[section]
+    return tuple(_kinds(section).values())
 #: Specs of the structured keys that also take one plain value (a constant COR; one tilt angle for all axes).
 _VALUE_SPECS = {"contact.restitution": Spec(kind="number"), "container.tilt": Spec(kind="number", dimension="angle")}
 
@@ -234,7 +272,9 @@ def key_spec(dotted: str) -> Spec:
         raise InputError(f"{dotted!r}: unknown key {key!r} in [{section}]; " + _quoted(key, SECTIONS[section]))
     if dotted in _VALUE_SPECS:
         return _VALUE_SPECS[dotted]
-    classes = (*_GEOMETRIES.values(), *_SECTION_CLASSES[section]) if section == "container" else _SECTION_CLASSES[section]
+    classes = _section_classes(section)
+    if section == "container":
+        classes = (*_GEOMETRIES.values(), *classes)
     for cls in classes:
         for f, s in plain_fields(cls):
             if (s.key or f.name) == key:
@@ -266,6 +306,12 @@ def _apply_overrides(data: dict, overrides: dict) -> dict:
         if key not in SECTIONS[section]:
             raise InputError(f"override {dotted!r}: unknown key {key!r} in [{section}]; "
                              + _quoted(key, SECTIONS[section]))
+        if section in _drive_sections() and section not in data:
+            there = next((sec for sec in _drive_sections() if sec in data), None)
+            if there is not None:
+                raise InputError(f"override {dotted!r}: this file's drive is its [{there}]; a [{section}] beside it "
+                                 f"(the damper's rig beside a structure) is written in the file, not made by an "
+                                 f"override; give [{there}] keys")
         table = data.setdefault(section, {})
         if isinstance(table, list):
             if len(table) != 1:
@@ -274,11 +320,23 @@ def _apply_overrides(data: dict, overrides: dict) -> dict:
             table = table[0]
         if not isinstance(table, dict):
             raise InputError(f"[{section}] must be a table (a [{section}] header with key = value lines)")
-        if section == "drive" and key in ("stroke",) and any(k in table for k in _SAMPLED_KEYS):
-            raise InputError(f"override {dotted!r}: the drive is given as samples; a stroke applies to a "
-                             "harmonic drive only")
+        if section in _drive_sections() and "kind" not in table and table:
+            _check_override_kind(dotted, section, key, table)
         table[key] = value
     return data
+
+
+def _check_override_kind(dotted: str, section: str, key: str, table: dict) -> None:
+    """An override of a key that only another kind of drive has than the file's: refused with the
+    kind each belongs to (``drive.stroke`` on a sampled drive)."""
+    try:
+        cls = _kind_of(table, section)
+    except InputError:
+        return  # the reader says what is wrong with the file's table
+    owner = next((kind for kind, keys in _own_keys(section).items() if key in keys), None)
+    if owner is not None and key not in cls.table_keys():
+        raise InputError(f"override {dotted!r}: the file's [{section}] is {cls.label()}; {key} applies to "
+                         f"{_kinds(section)[owner].label()} only")
 
 
 class _Reader:
@@ -312,12 +370,7 @@ class _Reader:
             container = self.container(self._table(data, "container"))
         with _context("particles"):
             particles = self.particles(data.get("particles"))
-        if "structure" in data:
-            with _context("structure"):
-                drive = self.structure(self._table(data, "structure"), self._table(data, "drive"))
-        else:
-            with _context("drive"):
-                drive = self.drive(self._table(data, "drive"))
+        drive, rig = self.drive(data)
         mats = [p.material for p in particles] + [container.material]
         for m in mats:
             if any(o.name == m.name and o != m for o in mats):
@@ -334,7 +387,7 @@ class _Reader:
             run = self._table(data, "run")
             check_keys(run, "run", SECTIONS["run"])
             return Case(particles=particles, container=container, drive=drive, contact=contact, **sections,
-                        **read_fields(run, "run", Case))
+                        **read_fields(run, "run", Case), **({"rig": rig} if rig is not None else {}))
 
     def container(self, t) -> Container:
         check_keys(t, "container", SECTIONS["container"])
@@ -373,106 +426,38 @@ class _Reader:
                                           hint="; give the number of spheres, e.g. count = 36"))
         return tuple(out)
 
-    def drive(self, t):
-        check_keys(t, "drive", SECTIONS["drive"])
-        sampled = [k for k in _SAMPLED_KEYS if k in t]
-        kind = self._choice(t, "drive", "kind", tuple(_DRIVES),
-                           "samples" if sampled else ("still" if "duration" in t else "harmonic"))
-        for other, keys in _DRIVE_OWN.items():
-            given = [k for k in keys if k in t]
-            if other != kind and given:
-                raise InputError(f"[drive] {', '.join(given)} belongs to a {other!r} drive but this drive is "
-                                 f"{kind!r}; give stroke (harmonic), samples or time/position (sampled) "
-                                 "or duration (still), not a mix")
-        cls = _DRIVES[kind]
-        foreign = [k for k in t if k not in config_keys(cls) and k not in ("kind", "samples")]
-        if foreign:
-            raise InputError(f"[drive] {', '.join(foreign)} does not apply to a {kind!r} drive (give "
-                             f"{', '.join(config_keys(cls))})")
-        if isinstance(t.get("direction"), str):
-            t = {**t}
-            words = t.pop("direction")
-            kw = {**read_fields(t, "drive", cls), "direction": words}
-        else:
-            kw = read_fields(t, "drive", cls)
-        kw = {**cls.config_defaults, **kw}
-        if "samples" in t:
-            extra = [k for k in _SAMPLED_KEYS[1:] if k in t]
-            if extra:
-                raise InputError(f"[drive] give either samples = 'file.csv' or inline {', '.join(extra)}, not both")
-            kw.update(self._samples_file(t["samples"]))
-        missing = [k for k in cls.config_required if k not in kw]
-        if missing:
-            raise InputError(f"[drive] a {kind!r} drive needs {', '.join(repr(k) for k in missing)}: {cls.config_hint}")
-        return cls(**kw)
+    def drive(self, data: dict) -> tuple:
+        """The case's drive and the damper's rig drive (:attr:`pdamper.params.Case.rig`, or None):
+        the last drive section the file has (``[drive]``, or the ``[structure]`` the container rides
+        on) is the case's drive; an earlier one beside a coupled drive (a ``[drive]`` beside a
+        ``[structure]``) is the damper's rig; each read by its kind (:func:`_kind_of`,
+        :meth:`pdamper.excitation.DriveBase.from_config`); none: the default ``[drive]``."""
+        sections = _drive_sections()
+        present = [sec for sec in sections if sec in data]
+        section = present[-1] if present else sections[0]
+        others = [sec for sec in present[:-1] if self._table(data, sec)]
+        drive = self._drive(data, section)
+        rig = self._drive(data, others[0]) if others else None
+        if len(others) > 1 or (rig is not None and (rig.coupled or not drive.coupled)):
+            raise InputError(f"[{others[0]}] {', '.join(self._table(data, others[0]))} cannot be combined with "
+                             f"[{section}]: a case has one drive (the [{section}] moves the container); remove "
+                             f"[{others[0]}] (the direction is [{section}] angle)")
+        return drive, rig
 
-    def structure(self, t, drive_table):
-        """[structure]: the container rides on a coupled oscillator (replaces [drive])."""
-        if drive_table:
-            raise InputError(f"[drive] {', '.join(drive_table)} cannot be combined with [structure]: the "
-                             "structure moves the container; remove [drive] (the direction is [structure] angle)")
-        check_keys(t, "structure", SECTIONS["structure"])
-        if "modes" in t or "matrices" in t:
-            return self._modal_structure(t)
-        modal = [k for k in t if k not in config_keys(_STRUCTURE) and k != "natural_frequency"]
-        if modal:
-            raise InputError(f"[structure] {modal[0]} is a key of a structure of several modes; give modes = "
-                             "[{frequency, damping_ratio, modal_mass, damper, force, response}, ...] or matrices = "
-                             "'frame.npz' with it, or leave it out")
-        for req in ("mass",):
-            if req not in t:
-                raise InputError("[structure] mass is missing: give the structure's modal mass including the "
-                                 "empty container, e.g. mass = '7kg'")
-        if ("stiffness" in t) == ("natural_frequency" in t):
-            raise InputError("[structure] give exactly one of stiffness (N/m, e.g. 1105) or natural_frequency "
-                             "(e.g. '2Hz')")
-        kw = read_fields(t, "structure", _STRUCTURE)
-        if "natural_frequency" in t:
-            fn = read_quantity(t["natural_frequency"], "[structure] natural_frequency", "frequency")
-            if not (fn > 0 and math.isfinite(fn)):
-                raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r}; must be > 0, e.g. '2Hz'")
-            if not (kw["mass"] > 0 and math.isfinite(kw["mass"])):
-                raise InputError(f"[structure] mass = {t['mass']!r}; must be > 0, e.g. '7kg'")
-            w = 2.0 * math.pi * fn
-            kw["stiffness"] = kw["mass"] * w * w
-            if not (0 < kw["stiffness"] < math.inf):
-                raise InputError(f"[structure] natural_frequency = {t['natural_frequency']!r} gives a stiffness of "
-                                 f"{kw['stiffness']:g} N/m with mass = {kw['mass']:g} kg; give a natural frequency "
-                                 "a damper test can have, e.g. '2Hz'")
-        return _STRUCTURE(**kw)
-
-    def _modal_structure(self, t):
-        """[structure] with modes = [...] or matrices = ...: a structure of N modes."""
-        single = [k for k in ("mass", "stiffness", "natural_frequency") if k in t]
-        if single:
-            raise InputError(f"[structure] {single[0]} is a key of the single-mode structure; with "
-                             f"{'modes' if 'modes' in t else 'matrices'} the modes carry their own masses and "
-                             "frequencies: remove it")
-        kw = read_fields(t, "structure", _MODAL)
-        if "modes" in t:
-            kw["modes"] = t["modes"]
-        if "matrices" in t:
-            m = t["matrices"]
-            if isinstance(m, str):
-                m = self._path(m)
-            elif isinstance(m, dict):
-                m = {k: (self._path(v) if isinstance(v, str) else v) for k, v in m.items()}
-            kw["matrices"] = m
-        return _MODAL(**kw)
-
-    def _path(self, value: str) -> str:
-        """A file named in the config, absolute (a case written elsewhere, e.g. into a run
-        directory, still finds it)."""
-        path = Path(value)
-        return str((path if path.is_absolute() else self.base_dir / path).resolve())
-
-    def _samples_file(self, value) -> dict:
-        if not isinstance(value, str) or not value.strip():
-            raise InputError(f"[drive] samples = {value!r} must be the path of a CSV file")
-        path = Path(value)
-        if not path.is_absolute():
-            path = self.base_dir / path
-        return read_motion_csv(path)
+    def _drive(self, data: dict, section: str):
+        """The drive of the table of drive ``section``."""
+        with _context(section):
+            t = self._table(data, section)
+            check_keys(t, section, SECTIONS[section])
+            cls = _kind_of(t, section)
+            for other, keys in _own_keys(section).items():
+                found = [k for k in keys if k in t]
+                if found and _kinds(section)[other] is not cls:
+                    raise InputError(f"[{section}] {', '.join(found)} {'is a key' if len(found) == 1 else 'are keys'} "
+                                     f"of {_kinds(section)[other].label()}, but this [{section}] is {cls.label()}; "
+                                     "give " + " or ".join(c.config_summary for c in _kinds(section).values())
+                                     + ", not a mix")
+            return cls.from_config(t, base_dir=self.base_dir)
 
     def contact(self, t, material_names) -> ContactModel:
         check_keys(t, "contact", SECTIONS["contact"])
@@ -550,71 +535,6 @@ def _as_key(msg: str) -> str:
     return msg
 
 
-def read_motion_csv(path) -> dict:
-    """Read a prescribed motion from a CSV file: columns ``time``, ``position`` and optionally
-    ``velocity`` (units in brackets, e.g. ``time [s],position [mm]``; without a unit SI).
-
-    Returns ``{"time": tuple, "position": tuple[, "velocity": tuple]}`` in SI.
-    """
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"[drive] samples: file not found: {path}")
-    if path.is_dir():
-        raise InputError(f"[drive] samples: {path} is a directory; give a CSV file")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputError(f"[drive] samples: {path} is not a text (CSV) file: byte {exc.start} is not UTF-8") from None
-    except OSError as exc:
-        raise InputError(f"[drive] samples: cannot read {path}: {exc.strerror or exc}") from None
-    lines = [(no, ln) for no, ln in enumerate(text.splitlines(), start=1)
-             if ln.strip() and not ln.lstrip().startswith("#")]
-    if len(lines) < 2:
-        raise InputError(f"{path}: expected a header row (time, position[, velocity]) and data rows")
-    header = lines[0][1]
-    delim = max((",", ";", "\t"), key=header.count)
-    rows = []
-    for no, ln in lines:
-        try:
-            rows.append(next(csv.reader([ln], delimiter=delim)))
-        except csv.Error as exc:  # a field over 128 kB, a stray quote
-            raise InputError(f"{path}, line {no}: not a CSV row ({exc}); the samples are numbers in columns "
-                             "time, position[, velocity]") from None
-    names, units = [], []
-    for h in rows[0]:
-        h = h.strip()
-        unit = ""
-        for o, c in (("[", "]"), ("(", ")")):
-            if h.endswith(c) and o in h:
-                h, unit = h[:h.rindex(o)].strip(), h[h.rindex(o) + 1:-1].strip()
-                break
-        names.append(h.lower())
-        units.append(unit)
-    dims = {"time": "time", "position": "length", "velocity": "velocity"}
-    out = {}
-    for role, dim in dims.items():
-        if role not in names:
-            if role == "velocity":
-                continue
-            raise InputError(f"{path}: no {role!r} column; the header has {rows[0]!r} "
-                             "(need time, position[, velocity], units in brackets)")
-        i = names.index(role)
-        factor = unit_factor(units[i], dim, name=f"{path}: column {role!r}") if units[i] else 1.0
-        col = []
-        for (no, _), row in zip(lines[1:], rows[1:]):
-            try:
-                v = float(row[i].strip().replace(",", ".") if delim != "," else row[i])
-            except (ValueError, IndexError):
-                cell = row[i] if i < len(row) else ""
-                shown = repr(cell) if len(cell) <= 60 else f"{cell[:60]!r}... ({len(cell)} characters)"
-                raise InputError(f"{path}, line {no}, column {role!r}: cannot read {shown} as a number") from None
-            if not math.isfinite(v):
-                raise InputError(f"{path}, line {no}, column {role!r}: {v!r} is not a finite number")
-            col.append(v * factor)
-        out[role] = tuple(col)
-    return out
-
-
 # --------------------------------------------------------------------------- writing
 
 def _material_to(m: Material):
@@ -633,39 +553,10 @@ def _law_to(law):
     raise InputError(f"cannot write restitution law {law!r} to a config file")
 
 
-def _num(v):
-    """Keep ints as ints (TOML integer), everything else a float."""
-    if isinstance(v, bool):
-        return v
-    if isinstance(v, int):
-        return v
-    return float(v)
+#: The plain fields of an object as config keys (:func:`pdamper.schema.write_fields`).
+_fields_to = write_fields
 
 
-def _fields_to(obj) -> dict:
-    """The plain fields of ``obj`` as config keys, type tags first (the inverse of ``_Reader.fields``)."""
-    out = {}
-    for f in dataclasses.fields(obj):
-        s = spec_of(f)
-        if s.kind == "tag":
-            out[s.key or f.name] = getattr(obj, f.name)
-    for f, s in plain_fields(type(obj)):
-        v = getattr(obj, f.name)
-        key = s.key or f.name
-        if v is None:
-            if s.auto:
-                out[key] = "auto"
-        elif s.kind == "text":
-            out[key] = v
-        elif s.kind == "whole":
-            out[key] = int(v)
-        elif s.kind == "list":
-            out[key] = [float(x) for x in v]
-        elif s.kind == "rows":
-            out[key] = [[float(x) for x in row] for row in v]
-        else:
-            out[key] = float(v) if s.dimension is not None else _num(v)
-    return out
 
 
 def case_to_dict(case: Case) -> dict:
@@ -702,20 +593,20 @@ def case_to_dict(case: Case) -> dict:
                                 for b in c.baffles]
     if c.wall_materials:
         container["wall_materials"] = {w: _material_to(m) for w, m in c.wall_materials.items()}
-    d = case.drive
-    drive_key = d.config_section
-    if type(d) is not DRIVES.get(d.kind):
-        raise InputError(f"cannot write drive {type(d).__name__} to a config file")
-    drive = {**_fields_to(d), **d.config_extra()}
-    if drive_key == "structure":
-        del drive["kind"]
     out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
-    # [drive] after [particles], [structure] last: the order of the text a store's fingerprint was taken of
-    if drive_key == "structure":
-        return {**out, "structure": drive}
-    return {**{k: out[k] for k in ("container", "particles")}, "drive": drive,
-            **{k: v for k, v in out.items() if k not in ("container", "particles")}}
+    # each drive's table after the section it names ([drive] after [particles], [structure] last):
+    # the order of the text a store's fingerprint was taken of; the damper's rig ([drive]) beside
+    # a structure the same way
+    for d in (case.rig, case.drive):
+        if d is None:
+            continue
+        if type(d) is not DRIVES.get(d.kind):
+            raise InputError(f"cannot write drive {type(d).__name__} to a config file")
+        at = list(out).index(d.config_after) + 1
+        items = list(out.items())
+        out = dict(items[:at] + [(d.config_section, d.config_table())] + items[at:])
+    return out
 
 
 _HEADER = ("# pdamper case configuration (written by pdamper {version}).\n"

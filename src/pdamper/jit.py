@@ -28,7 +28,7 @@ JIT = dict(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
 
 _PKG = Path(__file__).resolve().parent
 #: Folders whose sources hold compiled code (their hash names the cache directory), and this file.
-_COMPILED_SOURCES = ("kernels", "contact", "geometry")
+_COMPILED_SOURCES = ("kernels", "kernels/gpu", "contact", "geometry")
 
 
 def _source_hash() -> str:

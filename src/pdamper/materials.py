@@ -12,7 +12,7 @@ from .errors import InputError
 from .schema import check_keys, config_keys, convert_fields, param, read_fields
 
 __all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "SILICONE", "TPU", "POLYURETHANE", "NBR", "effective_modulus",
-           "LIBRARY", "read_material"]
+           "effective_shear_modulus", "LIBRARY", "read_material"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -58,10 +58,22 @@ class Material:
         """E / (1 - nu^2) [Pa]: this material's share of 1/E* is its inverse."""
         return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
 
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)) [Pa]."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
 
 def effective_modulus(a: Material, b: Material) -> float:
     """Hertz effective modulus E* [Pa]: ``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2``."""
     return 1.0 / (1.0 / a.reduced_modulus + 1.0 / b.reduced_modulus)
+
+
+def effective_shear_modulus(a: Material, b: Material) -> float:
+    """Mindlin's effective shear modulus G* [Pa]: ``1/G* = (2-nu1)/G1 + (2-nu2)/G2`` (the
+    tangential stiffness of a Hertz contact is ``8 G* sqrt(R* delta)``,
+    :mod:`pdamper.contact.tangential_spring`)."""
+    return 1.0 / ((2.0 - a.poisson_ratio) / a.shear_modulus + (2.0 - b.poisson_ratio) / b.shear_modulus)
 
 
 #: Paper Table 1: sphere steel S235.

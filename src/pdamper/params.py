@@ -7,6 +7,7 @@ A case is a :class:`Case`; a sweep is ``dataclasses.replace`` over a base case, 
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 import warnings
@@ -14,12 +15,12 @@ from dataclasses import dataclass
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
-from .contact import DAMPING_CHOICES, read_restitution
+from .contact import DAMPING_CHOICES, TANGENTIAL_CHOICES, read_restitution
 from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError
 from .excitation import DriveBase, HarmonicDrive
 from .geometry import Baffle, Cuboid, Shape
-from .geometry.baffles import baffle_outlines, baffle_walls
+from .geometry.baffles import baffle_outlines, baffle_walls, floor_sections
 import numpy as np
 
 from .materials import PVC, STEEL_S235, Material, read_material
@@ -85,7 +86,9 @@ class Container:
     material : Material of the walls (paper: PVC).
     tilt : (a_x, a_y, a_z) [rad] about the container's x, y, z axes, applied in that order
         (see :mod:`pdamper.geometry.tilt`). Paper default 0.1 deg each.
-    mass : float, m_c [kg] >= 0; enters the driving force as m_c x_c'' (no effect on Re P).
+    mass : float, m_c [kg] >= 0, the empty container's (a key of the damper): with a prescribed
+        drive it enters the driving force as m_c x_c'' (no effect on Re P); on a structure it
+        moves with the structure, at the damper (:attr:`Case.running_drive`).
     baffles : inner plates across the x axis (:class:`pdamper.geometry.baffles.Baffle`).
     wall_materials : {wall name: Material} for walls of another material than ``material`` (a
         coating), by the names of :meth:`walls` (a cuboid: x_min, x_max, floor, lid, z_min, z_max).
@@ -142,6 +145,13 @@ class Container:
         bk, bd, bn = baffle_walls(self.baffles, hi[1] - lo[1])
         return np.concatenate([kinds, bk]), np.vstack([data, bd]), list(names) + bn
 
+    def compartments(self, radius: float) -> list[tuple[float, float]]:
+        """The floor's sections along x [m], ``[(a, b), ...]``, that a sphere of ``radius`` cannot
+        leave along the floor: split by the baffles whose gap below is under its diameter
+        (:func:`pdamper.geometry.baffles.floor_sections`); one section without such baffles."""
+        lo, hi = self.geometry.bounding_box()
+        return floor_sections(self.baffles, float(lo[0]), float(hi[0]), radius)
+
     def wall_material_list(self) -> list:
         """The material of each wall, in the order of :meth:`walls`."""
         names = self.walls()[2]
@@ -183,6 +193,13 @@ class ContactModel:
         "gonthier" (the paper's ``d = (1 - eps^2)/(eps v_in)`` as written, which rebounds up to
         4 % lower; see :mod:`pdamper.contact.hertz_gonthier`) or "tsuji" (Hertz with Tsuji's
         viscoelastic damping, as LIGGGHTS' ``model hertz``; :mod:`pdamper.contact.hertz_tsuji`).
+    tangential : the tangential law, a name of :data:`pdamper.contact.TANGENTIAL_LAWS`: "tanh"
+        (default: the paper's regularised Coulomb friction, eq. (2),
+        :mod:`pdamper.contact.friction_tanh`) or "spring" (an incremental tangential spring with
+        Mindlin's stiffness 8 G* sqrt(R* delta) and a Coulomb cap, as LIGGGHTS' ``tangential
+        history``; :mod:`pdamper.contact.tangential_spring`).
+    tangential_damping : bool, with the spring: LIGGGHTS' tangential damping on the slip
+        (default True, as in LIGGGHTS); no effect on "tanh".
     pair_friction, pair_restitution : dict mapping ``(material_a, material_b)`` names (e.g.
         ``("steel", "pvc")``) to a friction coefficient / a COR law; order does not matter.
     """
@@ -192,6 +209,8 @@ class ContactModel:
     tau: float = param(DEFAULT_TAU, unit="s/m")
     v_in_floor: float = param(V_IN_FLOOR, dimension="velocity")
     damping: str = param("calibrated", choices=DAMPING_CHOICES)
+    tangential: str = param("tanh", choices=TANGENTIAL_CHOICES, write_default=False)
+    tangential_damping: bool = param(True, write_default=False)
     pair_friction: dict = param(default_factory=dict, kind="custom")
     pair_restitution: dict = param(default_factory=dict, kind="custom")
 
@@ -203,6 +222,10 @@ class ContactModel:
         _positive(self, "tau", "> 0 s/m (default 1000)")
         _positive(self, "v_in_floor", "> 0 m/s (default 1e-3)")
         check_choice(self, "damping", "contact")
+        check_choice(self, "tangential", "contact")
+        if not isinstance(self.tangential_damping, bool):
+            raise InputError(f"contact.tangential_damping = {self.tangential_damping!r}; must be true or false "
+                             "(default true)")
 
     def friction_for(self, a: str, b: str) -> float:
         """mu [-] for the material pair (a, b)."""
@@ -232,6 +255,9 @@ class Numerics:
     neighbour_search : "auto", "direct" (all pairs) or "cells" (link cells) for building the Verlet list.
     skin : Verlet-list skin [m]; None: 0.2 r_max.
     overlap_limit : a run stops when an overlap exceeds this fraction of the radius (default 0.05).
+    device : "cpu" (default) or "cuda": the GPU engine (:mod:`pdamper.engine.cuda`), which runs the
+        cases of a batch together on one NVIDIA GPU, each with its integrator (docs/engine.md, "The GPU
+        engine"); it needs numba-cuda (``pip install -e ".[gpu]"``).
     """
 
     integrator: str = param("gear", choices=("verlet", "gear"))
@@ -244,10 +270,13 @@ class Numerics:
     neighbour_search: str = param("auto", choices=("auto", "direct", "cells"))
     skin: float | None = param(None, dimension="length", auto=True)
     overlap_limit: float = 0.05
+    # where a case runs is not what it is: "cpu" is left out of a written config (a store's fingerprint stays)
+    device: str = param("cpu", choices=("cpu", "cuda"), write_default=False)
 
     def __post_init__(self):
         convert_fields(self, "numerics")
         check_choice(self, "integrator", "numerics")
+        check_choice(self, "device", "numerics")
         check_choice(self, "neighbour_search", "numerics")
         if self.time_step is not None:
             _positive(self, "time_step", "> 0 s (or omit it for the automatic step)")
@@ -346,6 +375,10 @@ class Case:
     cycles: float = param(20, kind="number", paper="20", section="run")
     drop_cycles: int = param(2, paper="2", section="run")
     gravity: float = param(9.81, dimension="acceleration", section="run")
+    #: the damper's own drive beside a structure (a ``[drive]`` in a file whose ``[structure]`` is
+    #: the case's drive): how the damper alone is driven on its test rig, for what characterises the
+    #: damper (a sweep, the fields made of it; :attr:`on_rig`). None: ``drive`` is the only drive
+    rig: DriveBase | None = param(None, kind="custom", section="drive")
 
     def __post_init__(self):
         convert_fields(self, "run")
@@ -364,6 +397,9 @@ class Case:
             raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles:g} cycles "
                              "(run.drop_cycles); "
                              "run more cycles or drop fewer")
+        if self.rig is not None and (self.rig.coupled or not self.drive.coupled):
+            raise InputError("case.rig: the damper's rig drive stands beside a structure only (a [drive] with a "
+                             "[structure]); a case with a prescribed [drive] has no second drive")
         if not (0 <= self.gravity <= MAX_GRAVITY):
             raise InputError(f"run.gravity = {self.gravity!r} m/s^2; must be in [0, {MAX_GRAVITY:g}] m/s^2: 0 for "
                              f"no gravity, 9.81 on Earth; above {MAX_GRAVITY:g} (ten g) no damper is tested and the "
@@ -390,6 +426,22 @@ class Case:
     def duration(self) -> float:
         """Driven time [s] (after settling)."""
         return self.drive.duration(self.cycles)
+
+    @property
+    def on_rig(self) -> "Case":
+        """The damper alone on its rig: this case with ``drive`` = ``rig`` (itself when it has no
+        rig). A sweep runs this case: it characterises the damper (eta*, its fields), which a
+        prescribed motion does and a structure does not."""
+        if self.rig is None:
+            return self
+        return dataclasses.replace(self, drive=self.rig, rig=None)
+
+    @property
+    def running_drive(self):
+        """The drive as a run moves it: with the empty container's mass (``container.mass``) on it
+        (:meth:`~pdamper.excitation.DriveBase.carrying`: a structure carries it at the damper; a
+        prescribed motion is the drive itself)."""
+        return self.drive.carrying(self.container.mass)
 
 
 def read_tilt(value, section: str = "container") -> tuple:
@@ -450,6 +502,7 @@ def with_stroke(case: Case, stroke) -> Case:
     """Deprecated: ``pdamper.schema.replace(case, {"drive.stroke": stroke})``."""
     warnings.warn('with_stroke is deprecated; use pdamper.schema.replace(case, {"drive.stroke": stroke})',
                   DeprecationWarning, stacklevel=2)
-    if case.drive.stroke is None:
-        raise InputError("a stroke can only be set on a harmonic drive")
+    if not case.drive.sweepable:
+        raise InputError(f"a stroke can only be set on a drive swept by its stroke, a harmonic drive; this one is "
+                         f"{case.drive.describe()}")
     return replace(case, {"drive.stroke": stroke})

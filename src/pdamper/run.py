@@ -22,10 +22,12 @@ from .params import Case
 from .simulation import Simulation, default_recorders
 from .recorders.trajectory import TrajectoryRecorder
 
-__all__ = ["run_case", "RunResult", "analyze_signals", "analyse_signals", "MODE_FPS", "MIN_STEADY_CYCLES"]
+__all__ = ["run_case", "run_cases", "on_gpu", "check_device", "on_device", "RunResult", "analyze_signals", "analyse_signals",
+           "MODE_FPS", "MIN_STEADY_CYCLES"]
 
 #: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
-#: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100).
+#: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100);
+#: more above 2 Hz, 25 frames a cycle (:func:`pdamper.analysis.modes.mode_fps`).
 MODE_FPS = 50.0
 
 
@@ -47,8 +49,8 @@ class RunResult:
         a coupled structure, else None.
     recorded : the results of the extra recorders given to :func:`run_case`, by name.
     extras : more summary entries: ``mode`` and ``mode_features`` (the motion mode, classified on
-        the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`), Gear's
-        ``rejected_steps``.
+        the trajectory or on a coarse one recorded for it at :data:`MODE_FPS`, 25 frames a cycle
+        above 2 Hz), Gear's ``rejected_steps``.
     steps : time steps taken; time_step_s : the step [s] (Verlet) or the mean accepted step (Gear);
     wall_time_s : run time [s]. Numbers on a result carry their unit in the name, as in
     :meth:`summary` (docs/names.md); ``energy_per_cycle`` and ``time_step`` are the old names.
@@ -185,14 +187,101 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
     cycles, at the first whole cycle at which the record is steady and eta*'s standard error
     (:mod:`pdamper.analysis.steady`) is at most this value; never beyond ``case.cycles``. The
     cycles driven are ``result.extras["cycles_run"]``. Harmonic drives only.
+
+    A case with ``numerics.device = "cuda"`` runs on the GPU engine (:func:`run_cases`).
     """
     analyze = renamed_keyword("run_case", "analyse", "analyze", analyse, analyze)
     if until_steady is not None:
         if not (until_steady > 0 and math.isfinite(until_steady)):
             raise InputError(f"until_steady = {until_steady!r}: give eta*'s standard error to stop at, > 0 "
                              "(e.g. 0.01)")
-        if case.drive.kind != "harmonic" or not analyze:
+        if not (case.drive.periodic and analyze):
             raise InputError("until_steady needs a harmonic drive ([drive] stroke and frequency) and the analysis")
+    if on_gpu(case):
+        res = run_cases([case], recorders=recorders, analyze=analyze, until_steady=until_steady,
+                        progress=None if progress is None else (lambda done, total: progress(done / max(total, 1))))[0]
+        if isinstance(res, Exception):
+            raise res
+        return res
+    sim, recorders, classify = _simulation(case, recorders, analyze)
+    cycles_run = float(case.cycles)
+    if until_steady is not None:
+        cycles_run = _run_until_steady(sim, case, until_steady, progress)
+    else:
+        sim.run(progress=progress)
+    return _result(case, sim.finalize(), recorders, analyze, classify, cycles_run)
+
+
+#: ``numerics.device`` -> whether the case runs on the GPU engine.
+_DEVICES = {"cpu": False, "cuda": True}
+
+
+def on_gpu(case: Case) -> bool:
+    """Whether ``case`` runs on the GPU engine (``numerics.device = "cuda"``)."""
+    return _DEVICES[case.numerics.device]
+
+
+def check_device(device: str) -> None:
+    """Raise :class:`~pdamper.errors.InputError` (one line) when ``device`` cannot run here: "cuda"
+    without numba-cuda or without a GPU (before a long sweep starts, not after)."""
+    if _DEVICES[device]:
+        from .engine.cuda import require
+
+        require()
+
+
+def on_device(case: Case, device: str) -> Case:
+    """``case`` set to run on ``device`` ("cpu" or "cuda")."""
+    from .schema import replace
+
+    return replace(case, {"numerics.device": device})
+
+
+def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float | None = None,
+              progress=None) -> list:
+    """Run ``cases`` and analyze each as :func:`run_case` does; return, per case, its
+    :class:`RunResult` or the :class:`~pdamper.errors.SimulationError` of its failed step.
+
+    The cases with ``numerics.device = "cuda"`` run together on one GPU (the GPU engine,
+    :mod:`pdamper.engine.cuda`: every case of the batch advanced at once, each with its own
+    integrator, Gear's adaptive step or Verlet's); the others one after another on the CPU. ``recorders`` are the extra recorders of every case (a list of them per case: give
+    ``[[...], ...]``; kernel-channel recorders only on the GPU). ``progress(done, total)``: the
+    GPU's steps done between its launches. A GPU that runs out of memory or faults raises: the
+    caller keeps what finished before (the studies run a GPU study in chunks for that).
+    """
+    from .errors import SimulationError
+    from .simulation import run_on_gpu
+
+    cases = list(cases)
+    per_case = [list(r) for r in recorders] if recorders and isinstance(recorders[0], (list, tuple)) \
+        else [list(recorders)] * len(cases)
+    out = [None] * len(cases)
+    gpu = [k for k, c in enumerate(cases) if on_gpu(c)]
+    for k, c in enumerate(cases):
+        if k not in gpu:
+            try:
+                out[k] = run_case(c, recorders=per_case[k], analyze=analyze, until_steady=until_steady)
+            except SimulationError as exc:
+                out[k] = exc
+    if not gpu:
+        return out
+    if until_steady is not None:
+        raise InputError("until_steady: the GPU engine runs every case for its whole cycles; leave --until-steady "
+                         "out or run on the CPU")
+    sims = []
+    for k in gpu:
+        case = cases[k]
+        sim, recs, classify = _simulation(case, per_case[k], analyze)
+        sims.append((k, case, sim, recs, classify))
+    records = run_on_gpu([s for _, _, s, _, _ in sims], progress=progress)
+    for (k, case, sim, recs, classify), rec in zip(sims, records):
+        out[k] = rec if isinstance(rec, Exception) else _result(case, rec, recs, analyze, classify, float(case.cycles))
+    return out
+
+
+def _simulation(case: Case, recorders, analyze: bool):
+    """The simulation of ``case`` with its built-in recorders (a coarse trajectory for the motion
+    mode when it is classified) and ``recorders``; returns ``(sim, recorders, classify)``."""
     if analyze:
         from .plausible import check_case
 
@@ -202,17 +291,19 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
     periodic = float(case.drive.frequency or 0.0) > 0
     classify = analyze and periodic
     if classify and not case.recording.trajectory_fps:
-        builtin.append(TrajectoryRecorder(min(MODE_FPS, case.recording.sample_rate)))
-    sim = Simulation(case, builtin + recorders)
-    cycles_run = float(case.cycles)
-    if until_steady is not None:
-        cycles_run = _run_until_steady(sim, case, until_steady, progress)
-    else:
-        sim.run(progress=progress)
-    record = sim.finalize()
+        from .analysis.modes import mode_fps
+
+        builtin.append(TrajectoryRecorder(mode_fps(case.drive.frequency, case.recording.sample_rate, MODE_FPS)))
+    return Simulation(case, builtin + recorders), recorders, classify
+
+
+def _result(case: Case, record, recorders, analyze: bool, classify: bool, cycles_run: float) -> RunResult:
+    """The run's :class:`RunResult` from what its simulation recorded: the complex power, the
+    motion mode, the coupled structure's amplitudes."""
     out = record.outputs
+    periodic = float(case.drive.frequency or 0.0) > 0
     analysis = None
-    if analyze and case.drive.kind != "still" and not case.drive.coupled:
+    if analyze and case.drive.analysable:
         analysis = analyze_signals(case, record.signals)
     extras = {"rejected_steps": record.rejected_steps} if record.rejected_steps is not None else {}
     if analysis is not None:

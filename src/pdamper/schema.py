@@ -39,12 +39,13 @@ from .errors import InputError
 from .units import _example, _needs_conversion, is_quantity, parse_quantity, to_si
 
 __all__ = ["Spec", "param", "spec_of", "plain_fields", "config_keys", "check_choice", "convert_fields",
-           "read_value", "read_fields", "read_quantity", "read_number", "check_keys", "suggest", "replace"]
+           "read_value", "read_fields", "write_fields", "read_quantity", "read_number", "check_keys", "suggest",
+           "replace"]
 
 #: Kinds of field value: a real number, a whole number, a text, a list of numbers, a list of
-#: [x, y, z] rows, a constant type tag (``kind`` / ``shape``, written but not read as a value),
-#: or custom (read by the section's own code).
-KINDS = ("number", "whole", "text", "list", "rows", "tag", "custom")
+#: [x, y, z] rows, a switch (true or false), a constant type tag (``kind`` / ``shape``, written
+#: but not read as a value), or custom (read by the section's own code).
+KINDS = ("number", "whole", "text", "list", "rows", "flag", "tag", "custom")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -53,8 +54,8 @@ class Spec:
 
     Parameters
     ----------
-    kind : one of :data:`KINDS`; by default inferred from the field's default (int: "whole",
-        str: "text", otherwise "number").
+    kind : one of :data:`KINDS`; by default inferred from the field's default (bool: "flag",
+        int: "whole", str: "text", otherwise "number").
     dimension : a dimension of :data:`pdamper.units.DIMENSIONS` ("length", "time", ...); the value
         is held in its SI unit and a config may give it with any unit of that dimension. None: a
         plain number.
@@ -73,6 +74,10 @@ class Spec:
         (the container's geometry: ``container.length``).
     read : for a custom field, ``read(value, section)`` turns a config value (a material name, a
         restitution number, ...) into the field's value; objects already built pass through.
+    write_default : False: the key is written to a config file only when its value differs from
+        the field's default, so that the configs of cases that leave it alone -- and the
+        fingerprints of the result stores made of them -- stay what they were before the key
+        existed (a key added to an established section).
     """
 
     kind: str | None = None
@@ -86,6 +91,7 @@ class Spec:
     section: str | None = None
     inline: bool = False
     read: Callable | None = None
+    write_default: bool = True
 
     def __post_init__(self):
         if self.kind is not None and self.kind not in KINDS:
@@ -103,7 +109,7 @@ def spec_of(f: dataclasses.Field) -> Spec:
     if s.kind is not None:
         return s
     d = f.default
-    kind = ("whole" if isinstance(d, int) and not isinstance(d, bool)
+    kind = ("flag" if isinstance(d, bool) else "whole" if isinstance(d, int)
             else "text" if isinstance(d, str) else "number")
     return dataclasses.replace(s, kind=kind)
 
@@ -259,6 +265,10 @@ def read_value(v, s: Spec, section: str, key: str):
             if not isinstance(v, str):
                 raise InputError(f"{label} = {v!r} must be a string")
             return v
+        if s.kind == "flag":
+            if not isinstance(v, bool):
+                raise InputError(f"{label} = {v!r} must be true or false")
+            return v
         if s.kind == "whole":
             if isinstance(v, float) and v.is_integer():
                 return int(v)
@@ -288,6 +298,46 @@ def read_fields(t: dict, section: str, cls) -> dict:
             for f, s in plain_fields(cls) if (s.key or f.name) in t}
 
 
+def _num(v):
+    """Keep ints as ints (TOML integer), everything else a float."""
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, int):
+        return v
+    return float(v)
+
+
+def write_fields(obj) -> dict:
+    """The plain fields of ``obj`` as config keys in plain SI numbers, type tags first (the inverse
+    of :func:`read_fields`); None is left out, or written ``"auto"`` where the spec says so."""
+    out = {}
+    for f in dataclasses.fields(obj):
+        s = spec_of(f)
+        if s.kind == "tag":
+            out[s.key or f.name] = getattr(obj, f.name)
+    for f, s in plain_fields(type(obj)):
+        v = getattr(obj, f.name)
+        key = s.key or f.name
+        if not s.write_default and v == f.default:
+            continue
+        if v is None:
+            if s.auto:
+                out[key] = "auto"
+        elif s.kind == "flag":
+            out[key] = bool(v)
+        elif s.kind == "text":
+            out[key] = v
+        elif s.kind == "whole":
+            out[key] = int(v)
+        elif s.kind == "list":
+            out[key] = [float(x) for x in v]
+        elif s.kind == "rows":
+            out[key] = [[float(x) for x in row] for row in v]
+        else:
+            out[key] = float(v) if s.dimension is not None else _num(v)
+    return out
+
+
 # --------------------------------------------------------------------------- changing a case
 
 def _plain(value, s: Spec):
@@ -310,9 +360,10 @@ def _is_param(obj) -> bool:
 
 
 def _section_of(f: dataclasses.Field, value) -> str | None:
-    """The config section field ``f`` of the root holds (its value's own ``config_section`` first)."""
+    """The config section field ``f`` of the root holds (its value's own ``config_section`` first; an
+    optional object that is None, such as a case's ``rig``, holds none)."""
     s = spec_of(f).section
-    if s is None:
+    if s is None or value is None:
         return None
     items = value if isinstance(value, tuple) and value and all(_is_param(v) for v in value) else (value,)
     if _is_param(items[0]):
@@ -438,14 +489,15 @@ def _change_section(obj, fields: list, items: dict, section: str) -> dict:
     return kw
 
 
-def register_tagged(registry: dict, cls, tag_field: str, what: str, needs: tuple = ()):
+def register_tagged(registry: dict, cls, tag_field: str, what: str, needs: tuple = (), has: tuple = ()):
     """Put the dataclass ``cls`` into ``registry`` under the default of its field ``tag_field``
-    (a shape's ``shape``, a drive's ``kind``), once it has the methods ``needs``; returns ``cls``
-    (so it serves as a class decorator)."""
+    (a shape's ``shape``, a drive's ``kind``), once it has the methods ``needs`` and the
+    attributes (or properties) ``has``; returns ``cls`` (so it serves as a class decorator)."""
     tag = next((f.default for f in dataclasses.fields(cls) if f.name == tag_field), None)
     if not isinstance(tag, str) or not tag:
         raise TypeError(f"{cls.__name__}: a {what} needs a field {tag_field!r} with its tag as default")
     missing = [m for m in needs if not callable(getattr(cls, m, None))]
+    missing += [a for a in has if not hasattr(cls, a)]
     if missing:
         raise TypeError(f"{cls.__name__} does not answer the {what} protocol: missing {', '.join(missing)}")
     registry[tag] = cls

@@ -35,7 +35,7 @@ from .recorders.signals import SignalsRecorder
 from .recorders.structure import StructureRecord, StructureRecorder
 from .recorders.trajectory import TrajectoryRecorder
 
-__all__ = ["Simulation", "RunRecord", "default_recorders", "auto_time_step", "run_bare_structure",
+__all__ = ["Simulation", "RunRecord", "default_recorders", "auto_time_step", "run_bare_structure", "run_on_gpu",
            "CELLS_THRESHOLD", "GEAR_MIN_STEP"]
 
 #: Simulated time [s] the compiled loop runs between returns to Python (progress, interrupts).
@@ -114,6 +114,8 @@ class Simulation:
         from .plausible import check_case, check_memory
 
         self.case = case
+        #: the drive as it runs (a structure with the empty container's mass on it)
+        self.drive = case.running_drive
         check_case(case)
         # a list once: a generator of recorders is read here and nowhere else
         recs = list(default_recorders(case) if recorders is None else recorders)
@@ -202,10 +204,10 @@ class Simulation:
         """The drive starts: the spheres keep their lab velocity, so their velocity relative to the
         container jumps by ``-v_c(0+)``; a coupled structure is released; the running sums restart."""
         e = self.engine
-        _, v0, _ = self.case.drive.motion(np.array([0.0]))
+        _, v0, _ = self.drive.motion(np.array([0.0]))
         jump = float(v0[0]) * e.drive.direction
         e.bodies.velocity[:] -= jump
-        a0 = self.case.drive.start_state(e.drive.state)
+        a0 = self.drive.start_state(e.drive.state)
         self.stepper.start_drive(jump, a0)
         self.samples.sums[:] = 0.0
 
@@ -237,7 +239,7 @@ class Simulation:
         """The state now, as the Python recorders see it (:class:`~pdamper.recorders.base.State`)."""
         e = self.engine
         t = self.time
-        xc, vc, ac = self.case.drive.container_motion(t, e.drive.state)
+        xc, vc, ac = self.drive.container_motion(t, e.drive.state)
         b = e.bodies
         sums = self.samples.sums
         views = [a.view() for a in (b.position, b.velocity, b.spin)]
@@ -274,11 +276,100 @@ class Simulation:
         self.advance(progress=progress)
         return self.finalize()
 
+    # ------------------------------------------------------------------ on the GPU
+    def _gpu_job(self):
+        """This simulation as a job of the GPU engine (:class:`pdamper.engine.cuda.GpuJob`): the
+        whole run, settling and drive, with the recorders started; None and a reason when the GPU
+        engine does not run it."""
+        from .engine.cuda import GpuJob, refusal
+
+        if self._settled or self.sample:
+            raise InputError("a simulation that has started on the CPU cannot go on on the GPU")
+        why = refusal(self.engine, any(r.every > 0 for r in self.recorders))
+        if why is not None:
+            return None, why
+        if self.n_samples < 2:
+            raise InputError(f"run: {self.case.duration:g} s at {self.case.recording.sample_rate:g} Hz gives fewer "
+                             "than 2 samples; run longer")
+        for r in self.recorders:
+            r.start(self.info)
+        e = self.engine
+        _, v0, _ = self.case.drive.motion(np.array([0.0]))
+        st = self.stepper
+        num = self.case.numerics
+        clock = dict(samples=self.samples, settle_samples=self.settle_samples, n_samples=self.n_samples,
+                     interval=self.interval, segment_samples=max(1, int(SEGMENT * self.case.recording.sample_rate)),
+                     jump=float(v0[0]) * e.drive.direction)
+        if st.rejected is not None:  # Gear
+            return GpuJob(engine=e, dt=st.h_next, sub=1, integrator="gear", h0=st.h_next,
+                          tolerance=float(num.gear_tolerance), h_min=GEAR_MIN_STEP, h_max=float(num.gear_max_step),
+                          **clock), None
+        return GpuJob(engine=e, dt=st.dt, sub=st.sub, **clock), None
+
+    def _gpu_done(self, outcome):
+        """Take a finished GPU job's outcome: the run is done (or raise its failure)."""
+        from .engine.cuda import STATUS_STOPPED
+        from .engine.steppers import failure_message
+        from .errors import SimulationError
+        from .kernels.forces import STATUS_LIST_OVERFLOW, STATUS_OK
+
+        self._settled = True
+        self.stepper.primed = True
+        self.stepper.steps = outcome.steps
+        if self.stepper.rejected is not None:
+            self.stepper.rejected = outcome.rejected
+            self.stepper.h_next = outcome.h_next
+        self._wall = outcome.wall_time_s / max(outcome.batch, 1)
+        if outcome.status == STATUS_STOPPED:
+            raise SimulationError(f"the GPU batch was stopped at t = {outcome.t_fail:.6f} s, before this case's end")
+        if outcome.status == STATUS_LIST_OVERFLOW:
+            raise SimulationError(f"sphere {outcome.culprit} has more neighbours than the GPU engine's rows hold "
+                                  f"(at t = {outcome.t_fail:.6f} s); run this case on the CPU (device = \"cpu\")")
+        if outcome.status != STATUS_OK:
+            step = self.stepper.dt if self.stepper.rejected is None else self.stepper.h_next
+            raise SimulationError(failure_message(self.case, outcome.status, outcome.culprit, outcome.t_fail, step))
+        self.sample = self.n_samples
+
+
+def run_on_gpu(sims, *, progress=None, compile_only: bool = False) -> list:
+    """Run every simulation of ``sims`` to its end together on one GPU (the GPU engine,
+    :mod:`pdamper.engine.cuda`): for each, its :class:`RunRecord`, or the
+    :class:`~pdamper.errors.SimulationError` of its failed step (the others go on).
+
+    Raises :class:`~pdamper.errors.InputError` when no GPU can run (one line saying why) or when a
+    simulation is one the GPU engine does not run (a coupled structure, a sampled drive, a Python
+    recorder, Gear): before anything runs. ``progress(done, total)`` gets the steps done between
+    launches (returning False stops the batch; the unfinished cases end with a SimulationError). ``compile_only``: compile the kernel (a launch with no steps) and return ``[]``.
+    """
+    from .engine.cuda import require, run_jobs
+    from .errors import SimulationError
+
+    require()
+    jobs = []
+    for k, sim in enumerate(sims):
+        job, why = sim._gpu_job()
+        if why is not None:
+            raise InputError(f"case {k} ({sim.case!r}): {why}")
+        jobs.append(job)
+    if not jobs:
+        return []
+    outcomes = run_jobs(jobs, progress=progress, compile_only=compile_only)
+    if compile_only:
+        return []
+    out = []
+    for sim, o in zip(sims, outcomes):
+        try:
+            sim._gpu_done(o)
+            out.append(sim.finalize())
+        except SimulationError as exc:
+            out.append(exc)
+    return out
+
 
 def run_bare_structure(structure, duration: float, *, sample_rate: float = 1000.0,
                        time_step: float | None = None) -> StructureRecord:
-    """The structure of ``structure`` (a :class:`~pdamper.excitation.CoupledStructure` or
-    :class:`~pdamper.excitation.ModalStructure`) without a bed, for ``duration`` [s]: the same
+    """The structure of ``structure`` (a :class:`~pdamper.structure.CoupledStructure` or
+    :class:`~pdamper.structure.ModalStructure`) without a bed, for ``duration`` [s]: the same
     compiled step as the coupled runs (:func:`pdamper.kernels.structure.structure_step`) with no
     wall force.
 

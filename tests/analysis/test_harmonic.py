@@ -11,7 +11,7 @@ import fields_helpers as fh
 from pdamper.analysis.fields import DamperFields
 from pdamper.analysis.harmonic import decay_envelope, receptances, solve_frequency, solve_response
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, ModalStructure
+from pdamper.structure import CoupledStructure, ModalStructure
 
 SDOF = CoupledStructure(mass=7.0, stiffness=1105.0, damping_ratio=0.005, displacement=0.01)
 MAST = ModalStructure(modes=({"frequency": 2.0146, "damping_ratio": 0.005, "modal_mass": 7.984, "damper": 1.0,

@@ -84,5 +84,8 @@ drop_cycles = 2
     res = invoke(["sweep", str(cfg), "--strokes", "6mm,12mm", "--json", "--out", str(tmp_path / "s")])
     assert res.exit_code == 0, res.output
     data = json.loads(res.stdout)
-    assert not data["failed_cases"] and all(m == "lift-off" for m in data["modes"])
+    # the bed leaves the floor (docs/motion.md, vertical drives; measured: bouncing bed at 6 mm,
+    # bouncing collect-and-collide at 12 mm)
+    assert not data["failed_cases"] and all(m in ("bouncing-collect-and-collide", "bouncing-bed")
+                                            for m in data["modes"])
     assert all(0.1 < e < 4 / 3.1416 for e in data["eta_star_mean"])   # the bed collides, below the block's bound

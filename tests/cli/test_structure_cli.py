@@ -147,5 +147,63 @@ def test_response_warns_when_the_grid_misses_the_resonance():
     r = run(["response", EXAMPLE, "--cycles", "3", "--measure-cycles", "1", "--frequencies", "3Hz", *SMALL,
              "--force", "0.2N"])
     assert r.exit_code == 0, r.output
-    assert "warning: the frequencies 3-3 Hz miss the resonance of mode 1 at 2 Hz" in r.stderr
+    assert "warning: the frequencies 3.00-3.00 Hz lie above the resonance of mode 1 (between 1.99" in r.stderr
+    assert "and 2 Hz, without the bed)" in r.stderr
     assert "* not steady" in r.output
+
+
+# ------------------------------------------------------------------ what a designer tripped over (issue 30, item 6)
+
+def test_response_forces_a_structure_the_file_leaves_at_rest(tmp_path):
+    nc = _step_fields_file(tmp_path)
+    rest = tmp_path / "rest.toml"  # force_amplitude = 0 N and no start: nothing moves it as written
+    rest.write_text("\n".join(line for line in Path(EXAMPLE).read_text().splitlines()
+                              if not line.startswith(("displacement", "force_frequency"))))
+    r = run(["response", str(rest), "--fields", nc, "--force", "0.2N", "--frequencies", "1.95Hz:2.05Hz:5", "--json"])
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.stdout)["force_amplitude_N"] == 0.2
+    r = run(["response", str(rest), "--fields", nc, "--frequencies", "2Hz"])
+    assert r.exit_code == 2 and "nothing moves it" in r.output  # without --force it is still refused
+
+
+def test_response_ratio_is_against_the_resonance_and_the_table_shows_every_frequency(tmp_path):
+    import numpy as np
+
+    from pdamper.config import load_case
+
+    nc = _step_fields_file(tmp_path)
+    grid = ["1.9505Hz", "2.0005Hz", "2.0505Hz"]  # misses the bare peak (2 Hz less a hair)
+    r = run(["response", EXAMPLE, "--fields", nc, "--force", "0.2N", "--frequencies", ",".join(grid), "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    s_bare = load_case(EXAMPLE).running_drive
+    fine = np.linspace(1.99, 2.01, 20001)
+    peak = float(np.max(s_bare.steady_amplitude(fine, 0.2)))
+    assert s["resonance_bare_m"] == pytest.approx(peak, rel=1e-6) and s["resonance_bare_m"] > s["peak_bare_m"]
+    assert s["peak_reduction"] == pytest.approx(s["peak_damped_m"] / s["resonance_bare_m"], rel=1e-12)
+    assert s["peak_reduction_on_grid"] == pytest.approx(s["peak_damped_m"] / s["peak_bare_m"], rel=1e-12)
+    table = run(["response", EXAMPLE, "--fields", nc, "--force", "0.2N", "--frequencies", ",".join(grid)]).output
+    for f in ("1.9505", "2.0005", "2.0505"):
+        assert f"  {f}  " in table
+    assert f"ratio {s['peak_reduction']:.3g}" in table and "at its resonance" in table
+
+
+def test_a_transient_peak_names_the_check_that_failed():
+    from pdamper.cli.structure import transient_words
+
+    s = {"frequencies_hz": [2.0], "peak_damped_frequency_hz": 2.0, "steady_tolerance": 0.02,
+         "last_period_change": [0.0052], "window_change": [0.031]}
+    words = transient_words(s)
+    assert "changed 3.1 % between the two halves of the measured periods" in words and "2 % limit" in words
+    assert "0.52" not in words  # the check that passed is not quoted as the reason
+
+
+def test_several_forces_overlay_in_one_figure_and_json(tmp_path):
+    nc = _step_fields_file(tmp_path)
+    png = tmp_path / "two.png"
+    r = run(["response", EXAMPLE, "--fields", nc, "--force", "0.1N", "--force", "0.2N", "--frequencies",
+             "1.95Hz:2.05Hz:5", "--plot", str(png), "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.stdout)
+    assert out["forces_N"] == [0.1, 0.2] and [x["force_amplitude_N"] for x in out["responses"]] == [0.1, 0.2]
+    assert png.stat().st_size > 10_000

@@ -13,6 +13,7 @@ from pdamper.contact.cor_table import SPEED_GRID, tabulate_law
 from pdamper.contact.cor_thornton import thornton_restitution, yield_speed
 from pdamper.contact.hertz_gonthier import chi_for_restitution, restitution_for_chi
 from pdamper.errors import InputError
+from pdamper.contact.friction_tanh import TanhFriction
 from pdamper.contact.hertz_gonthier import HertzGonthier
 from pdamper.kernels.bundles import ContactTable
 from pdamper.kernels.contact import damping_at_touch
@@ -150,8 +151,10 @@ def test_thornton_needs_a_positive_yield_pressure(p_y):
 def _kernel_table(eps_on_grid, e_star=1e9, yield_pressure=0.0):
     """A one-material-pair contact table of Gonthier's calibrated law for ``eps`` on the speed grid."""
     chi = np.ascontiguousarray(np.asarray(chi_for_restitution(np.clip(eps_on_grid, 1e-6, 1.0)))[None, :])
-    return ContactTable(law=HertzGonthier(), n_materials=1, modulus=np.array([e_star]), friction=np.zeros(1),
-                        coefficient=chi, yield_pressure=np.array([yield_pressure]), log_speed0=math.log(SPEED_GRID[0]),
+    return ContactTable(law=HertzGonthier(), tangential=TanhFriction(), n_materials=1, modulus=np.array([e_star]),
+                        shear_modulus=np.array([e_star / 3]), friction=np.zeros(1), coefficient=chi,
+                        tangential_damping=np.zeros_like(chi), yield_pressure=np.array([yield_pressure]),
+                        log_speed0=math.log(SPEED_GRID[0]),
                         dlog_speed=math.log(SPEED_GRID[1] / SPEED_GRID[0]), tau=1000.0, v_floor=1e-3,
                         overlap_limit=0.05)
 

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from pdamper.contact.friction_tanh import TanhFriction
 from pdamper.contact.hertz_tsuji import HertzTsuji, damping_ratio, normal_force, touch
+from pdamper.contact.tangential_spring import SpringFriction
 from pdamper.kernels.bundles import ContactTable
 from pdamper.kernels.contact import contact
 
@@ -52,16 +54,26 @@ def test_unclipped_the_law_rebounds_at_eps_and_clipped_it_would_not(eps):
     assert _restitution(alpha, clip=True) == pytest.approx(clipped, abs=1e-3)
 
 
-def test_friction_follows_only_the_pushing_part_of_the_force():
-    table = ContactTable(law=HertzTsuji(), n_materials=1, modulus=np.array([2.9e9]), friction=np.array([0.5]),
-                         coefficient=np.full((1, 4), float(damping_ratio(0.5))), yield_pressure=np.zeros(1),
-                         log_speed0=0.0, dlog_speed=1.0, tau=1000.0, v_floor=1e-3, overlap_limit=0.05)
+@pytest.mark.parametrize("tangential", [TanhFriction(), SpringFriction()], ids=["tanh", "spring"])
+def test_friction_follows_only_the_pushing_part_of_the_force(tangential):
+    table = ContactTable(law=HertzTsuji(), tangential=tangential, n_materials=1, modulus=np.array([2.9e9]),
+                         shear_modulus=np.array([1.1e9]), friction=np.array([0.5]),
+                         coefficient=np.full((1, 4), float(damping_ratio(0.5))), tangential_damping=np.zeros((1, 4)),
+                         yield_pressure=np.zeros(1), log_speed0=0.0, dlog_speed=1.0, tau=1000.0, v_floor=1e-3,
+                         overlap_limit=0.05)
     k, m = 4 / 3 * 2.9e9 * math.sqrt(0.005), 4.1e-3
     c = touch(float(damping_ratio(0.5)), 0.3, k, m)
+    # a spring that holds a force along x from the steps before (the tanh law ignores it)
+    hist = np.zeros((1, 5))
+    hist[0, :4] = (-0.01, 0.0, 0.0, 1e5)
     # separating fast at a tiny overlap: the damping pulls, F_N < 0, and there is no friction
-    fn, ff, lim, v_in, d, p_n, p_f = contact(table, 0, 0.5, k, 0.005, m, 1.0, 1e-9, -0.3, 0.3, c, 0.01, 1e-6)
-    assert fn < 0 and ff == 0.0 and p_f == 0.0
+    fn, ftx, fty, ftz, ff, lim, v_in, d, p_n, p_f, e_f = contact(table, hist, 0, 0, 0.5, k, 0.005, m, 1.0, 1e-9, -0.3,
+                                                                 0.3, c, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0, 0.01, 1e-8,
+                                                                 0.0, 0.0, 1e-6, 1e-6)
+    assert fn < 0 and ff == 0.0 and p_f == 0.0 and (ftx, fty, ftz) == (0.0, 0.0, 0.0)
     assert p_n > 0  # the pulling damping still dissipates: F_damp delta_dot > 0
-    # approaching: it pushes, and friction acts
-    fn, ff, *_ = contact(table, 0, 0.5, k, 0.005, m, 1.0, 1e-9, 0.3, 0.3, c, 0.01, 1e-6)
-    assert fn > 0 and ff > 0
+    # approaching: it pushes, and friction acts against the slip
+    hist[0, :4] = (-0.01, 0.0, 0.0, 1e5)
+    fn, ftx, *_ = contact(table, hist, 0, 0, 0.5, k, 0.005, m, 1.0, 1e-9, 0.3, 0.3, c, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0,
+                          0.01, 1e-8, 0.0, 0.0, 1e-6, 1e-6)
+    assert fn > 0 and ftx < 0

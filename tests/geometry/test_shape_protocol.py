@@ -1,13 +1,12 @@
 """The shape protocol is complete: a toy shape defined in this file alone (a hexagonal prism) is
-read from a config, filled, simulated, analysed and drawn, with no change anywhere in pdamper.
-And no module outside the shapes' and drives' own switches on which shape or drive it has."""
+read from a config, filled, simulated, analysed and drawn, sized by ``pdamper theory`` and
+``pdamper design``, with no change anywhere in pdamper. (That no module outside the shapes' and
+drives' own switches on which one it has: tests/test_no_kind_switches.py.)"""
 
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,9 +15,6 @@ from pdamper.errors import InputError
 from pdamper.geometry import SHAPES, ShapeBase, register_shape
 from pdamper.geometry.walls import PLANE, plane, wall_distances
 from pdamper.schema import convert_fields, param
-
-SRC = Path(__file__).resolve().parents[2] / "src" / "pdamper"
-
 
 @dataclass(frozen=True, kw_only=True)
 class HexPrism(ShapeBase):
@@ -32,10 +28,6 @@ class HexPrism(ShapeBase):
         convert_fields(self, "container")
         if not (self.side > 0 and self.height > 0):
             raise InputError(f"container.side = {self.side!r}, height = {self.height!r}; must be > 0")
-
-    @property
-    def drive_length(self) -> float:
-        return 2.0 * self.side  # corner to corner along x
 
     def _normals(self):
         return [(math.cos(a), 0.0, math.sin(a)) for a in np.radians(np.arange(30, 360, 60))]
@@ -140,27 +132,50 @@ def test_the_toy_shape_answers_the_protocol_from_its_walls():
     assert "hexprism" in hexa.describe()
 
 
-# ------------------------------------------------------------------ nobody else switches on kinds
+# ------------------------------------------------------------------ the theory and the design ask the shape
 
-_SWITCHES = [
-    r"isinstance\([^)]*\b(Cuboid|Cylinder|HexPrism|HarmonicDrive|SampledDrive|Still|CoupledStructure)\b",
-    r"\.shape\s*==\s*['\"]",
-    r"getattr\([^)]*drive[^)]*,\s*['\"](stroke|frequency|angle|force_amplitude|kind)['\"]",
-    r"drive\.kind\s*==",
-    r"stepper\.name|st\.name\s*==",
-]
-#: the modules that own the kinds (kernels/drive.py: the kernels' side of the drive protocol);
-#: design.py parses its own --shape choice between the two shapes its closed forms know
-_OWNERS = ("geometry/", "excitation.py", "kernels/drive.py", "design.py")
+def test_the_toy_shape_answers_its_drive_length_from_the_protocol_alone():
+    # HexPrism writes no drive_length: ShapeBase's (the chord along x) is its L, corner to corner
+    hexa = HexPrism(side=0.035)
+    assert hexa.drive_length == pytest.approx(0.07, rel=1e-9)
+    assert hexa.with_drive_length(0.09).side == pytest.approx(0.045, rel=1e-12)
+    assert hexa.row_capacity(0.005) >= 1
 
 
-def test_no_shape_or_drive_switch_outside_their_modules():
-    found = []
-    for f in sorted(SRC.rglob("*.py")):
-        rel = f.relative_to(SRC).as_posix()
-        if rel.startswith(_OWNERS):
-            continue
-        for k, line in enumerate(f.read_text().splitlines(), 1):
-            if any(re.search(p, line) for p in _SWITCHES):
-                found.append(f"{rel}:{k}: {line.strip()}")
-    assert not found, "switches on a shape or drive kind outside its module:\n" + "\n".join(found)
+def test_pdamper_theory_and_design_take_the_toy_shape():
+    import json
+
+    from click.testing import CliRunner
+
+    from pdamper import theory as th
+    from pdamper.cli.common import main
+
+    hexa = HexPrism(side=0.035)
+    n_max = hexa.clearance_capacity(0.005)
+    r = CliRunner().invoke(main, ["theory", "--shape", "hexprism", "--size", "side=35mm", "--particles", "7",
+                                  "--max-particles", str(n_max), "--frequency", "2Hz", "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.stdout)
+    assert out["length_m"] == pytest.approx(0.07, rel=1e-9)
+    assert out["x_opt_m"] == pytest.approx(th.optimal_stroke(th.clearance(0.07, 7, n_max)), rel=1e-12)
+    d = CliRunner().invoke(main, ["design", "--shape", "hexprism", "--size", "side=35mm", "--frequency", "2Hz",
+                                  "--stroke", "8mm", "--sphere-radius", "5mm", "--json"])
+    assert d.exit_code == 0, d.output
+    design = json.loads(d.stdout)
+    assert design["shape"] == "hexprism" and design["length_m"] == pytest.approx(0.07, rel=1e-9)
+    assert design["x_opt_m"] <= 0.008 and design["max_particles"] == n_max
+    missing = CliRunner().invoke(main, ["theory", "--shape", "hexprism", "--particles", "7", "--max-particles", "19",
+                                        "--frequency", "2Hz"])
+    assert missing.exit_code == 2 and "needs --size side=VALUE" in missing.output
+
+
+def test_a_shape_without_the_protocol_is_refused_when_registered():
+    @dataclass(frozen=True, kw_only=True)
+    class Blob:
+        shape: str = param("blob", kind="tag")
+
+        def walls(self): ...
+
+    with pytest.raises(TypeError, match="does not answer the shape protocol: missing .*drive_length"):
+        register_shape(Blob)
+    assert "blob" not in SHAPES

@@ -167,15 +167,17 @@ def test_transfer_history_keeps_surviving_pairs_and_clears_new_ones():
     ovin = np.array([0.11, 0.13, 0.12, 0.25, 0.45])
     od = np.array([1.1, 1.3, 1.2, 2.5, 4.5])
     nrow, npj = _csr(n, new)
+    ot = np.arange(len(old) * 5, dtype=float).reshape(len(old), 5) + 1.0  # a tangential history row per pair
     vin = np.full(len(new), np.nan)
     d = np.full(len(new), np.nan)
-    transfer_history(orow, opj, ovin, od, nrow, npj, vin, d)
-    got = {p: (v, dd) for p, v, dd in zip(sorted(new), vin, d)}
-    assert got[(0, 3)] == (0.13, 1.3)
-    assert got[(1, 2)] == (0.12, 1.2)
-    assert got[(4, 5)] == (0.45, 4.5)
-    assert got[(0, 4)] == (0.0, 0.0)
-    assert got[(3, 5)] == (0.0, 0.0)
+    t = np.full((len(new), 5), np.nan)
+    transfer_history(orow, opj, ovin, od, ot, nrow, npj, vin, d, t)
+    got = {p: (v, dd, tuple(tt)) for p, v, dd, tt in zip(sorted(new), vin, d, t)}
+    assert got[(0, 3)] == (0.13, 1.3, tuple(ot[1]))
+    assert got[(1, 2)] == (0.12, 1.2, tuple(ot[2]))
+    assert got[(4, 5)] == (0.45, 4.5, tuple(ot[4]))
+    assert got[(0, 4)] == (0.0, 0.0, (0.0,) * 5)
+    assert got[(3, 5)] == (0.0, 0.0, (0.0,) * 5)
 
 
 def test_wall_list_holds_the_spheres_within_radius_plus_skin_of_a_wall():

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from pdamper.excitation import CoupledStructure
+from pdamper.structure import CoupledStructure
 from pdamper.simulation import run_bare_structure
 from pdamper.theory import oscillator_response
 

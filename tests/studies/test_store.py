@@ -46,6 +46,9 @@ def test_a_sweep_on_a_local_cluster_stores_every_case_and_resumes_without_recomp
     csv = (store / "results.csv").read_text().splitlines()
     assert csv[0].startswith("stroke [m],seed,eta_star [1],energy_per_cycle [J]") and len(csv) == 1 + 6
     assert csv[0].endswith(",failed,mode")
+    # plain numbers that read back to the stored floats (numpy 2's repr says np.float64(...))
+    row = csv[1].split(",")
+    assert float(row[0]) == float(more.stroke.values[0]) and "np." not in csv[1]
     # every case has its motion mode, in the case file, the dataset and results.nc
     from pdamper.analysis.modes import MODES
 

@@ -10,7 +10,8 @@ import pytest
 
 from pdamper.config import load_case
 from pdamper.errors import InputError
-from pdamper.excitation import CoupledStructure, HarmonicDrive
+from pdamper.excitation import HarmonicDrive
+from pdamper.structure import CoupledStructure
 from pdamper.params import Case, Numerics, ParticleSet
 from pdamper.run import run_case
 from pdamper.studies.structure import parse_frequencies, run_decay, run_response

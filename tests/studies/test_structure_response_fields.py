@@ -58,7 +58,14 @@ def test_default_grid_is_centred_on_the_mode_and_a_grid_that_misses_it_warns():
     assert default_frequencies(mast, 2)[[0, -1]].tolist() == [11.4, 13.9]
     assert grid_warnings(mast, [1.9, 2.1]) == []
     (w,) = grid_warnings(mast, [2.5, 3.0])
-    assert "miss the resonance of mode 1 at 2.015 Hz" in w
+    assert "lie above the resonance of mode 1" in w and "and 2.0146 Hz, without the bed" in w
+    # a grid inside the band between the bed as a solid mass and no bed has the damped peak: no warning
+    s = mast.running_drive
+    m = s.mass
+    f_solid = s.natural_frequency * math.sqrt(m / (m + mast.bed_mass))
+    assert grid_warnings(mast, [f_solid + 0.002, s.natural_frequency - 0.001]) == []
+    (below,) = grid_warnings(mast, [1.90, f_solid - 1e-4])
+    assert "lie below the resonance" in below
     with pytest.raises(InputError, match="--mode 3; the structure has 2 modes"):
         default_frequencies(mast, 3)
 

@@ -16,9 +16,12 @@ Pure functions on arrays; they know nothing of the simulator, files or plots.
 Motion modes (:mod:`.modes`, docs/motion.md), from particle trajectories:
 
 - :func:`classify_trajectory` -- the mode (:data:`MODES`: scattered, rolling collect-and-collide,
-  swaying, single-sided, lift-off) and the measured features of a recorded trajectory of a case;
-- :func:`mode_features`, :func:`classify_features` -- the same in two steps, on plain arrays;
-  :data:`THRESHOLDS` the thresholds.
+  swaying, single-sided, locked, lift-off for a bed moved along the floor; bouncing bed, bouncing
+  collect-and-collide, fluidised for a vertical drive; compartment collect-and-collide for a
+  baffled bed) and the measured features of a recorded trajectory of a case;
+- :func:`mode_features`, :func:`classify_features` -- the same in two steps, on plain arrays
+  (:func:`pdamper.analysis.modes.vertical_features`, ``compartment_features`` for the other
+  families); :data:`THRESHOLDS` the thresholds.
 - :func:`extrema`, :func:`decay_damping`, :func:`harmonic_amplitude` -- a structure's free
   decay (envelope, equivalent damping ratio against amplitude) and forced steady amplitude.
 """

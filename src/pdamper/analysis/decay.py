@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["extrema", "decay_damping", "harmonic_amplitude"]
+__all__ = ["extrema", "decay_damping", "harmonic_amplitude", "harmonic_phasor"]
 
 
 def extrema(time, x, *, offset: float = 0.0):
@@ -82,6 +82,26 @@ def decay_damping(time, x, *, offset: float = 0.0):
         delta = np.log(a[:-2] / a[2:])
     zeta = delta / np.sqrt(4 * math.pi**2 + delta**2)
     return te[1:-1], np.sqrt(a[:-2] * a[2:]), zeta
+
+
+def harmonic_phasor(time, x, frequency: float, *, cycles: int) -> complex:
+    """Complex amplitude x^ [m] of the component of ``x`` at ``frequency`` [Hz] over the last
+    ``cycles`` whole periods, in the convention ``x(t) = Im(x^ e^{i Omega t})`` (against a force
+    ``F0 sin(Omega t)``: its phase is the response's phase lag, 0 in phase with the force,
+    -90 deg at resonance); ``|x^|`` is :func:`harmonic_amplitude`.
+
+    >>> t = (np.arange(5000) + 0.5) * 1e-3
+    >>> z = harmonic_phasor(t, 0.01 * np.sin(2 * np.pi * 2 * t - 0.3), 2.0, cycles=4)
+    >>> round(abs(z), 6), round(float(np.angle(z)), 6)
+    (0.01, -0.3)
+    """
+    amp = harmonic_amplitude(time, x, frequency, cycles=cycles)  # checks the arguments
+    t = np.asarray(time, dtype=float)
+    dt = t[1] - t[0]
+    n = int(round(cycles / frequency / dt))
+    c = np.sum(np.asarray(x, dtype=float)[-n:] * np.exp(-2j * math.pi * frequency * t[-n:])) * dt
+    z = 2j * c / (n * dt)
+    return complex(z / abs(z) * amp) if abs(z) > 0 else 0j
 
 
 def harmonic_amplitude(time, x, frequency: float, *, cycles: int):

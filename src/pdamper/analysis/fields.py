@@ -13,7 +13,7 @@ Interpolation (:meth:`DamperFields.at`), per frequency node ("column"):
 - along the amplitude with :class:`scipy.interpolate.PchipInterpolator` in log X: it passes
   through every node and is monotone between monotone nodes (no overshoot);
 - only **within a segment** of points of one mode family (:func:`mode_family`: the efficient
-  rolling collect-and-collide, or the rest). Between two segments the fields jump: the interval
+  collect-and-collide modes, or the rest). Between two segments the fields jump: the interval
   between the last node of one and the first of the next is a **jump interval**, in which both
   branches exist: ``branch="below"`` continues the lower-amplitude segment, ``branch="above"``
   the higher one, each at the eta* and m_eff of its end node (so c_eq = eta* m_bed Omega stays
@@ -47,7 +47,7 @@ from functools import cached_property
 import numpy as np
 
 from ..errors import InputError
-from .modes import majority_mode
+from .modes import COLLIDE_MODES, majority_mode
 
 __all__ = ["DamperFields", "FieldValues", "FIELDS", "FORMAT", "BRANCHES", "mode_family"]
 
@@ -67,15 +67,17 @@ FIELDS = {
 BRANCHES = (None, "below", "above")
 
 #: Mode -> family; a mode not listed is in the family "other". Interpolation never crosses a
-#: change of family along the amplitude.
-_FAMILIES = {"rolling-collect-and-collide": "collide"}
+#: change of family along the amplitude. "collide": the efficient modes, the bed (or each
+#: compartment's bed) collected at one wall and striking the other in step with the drive.
+_FAMILIES = {m: "collide" for m in COLLIDE_MODES}
 _NO_MODE = ("", "unknown", "failed")
 _SAME_F = 1e-6  # a frequency this close (relative) to a single column's is that column's
 
 
 def mode_family(mode: str) -> str:
-    """The family of a motion mode: ``"collide"`` (the efficient rolling collect-and-collide),
-    ``"other"`` (every other mode), ``""`` (no mode known).
+    """The family of a motion mode: ``"collide"`` (the efficient collect-and-collide modes:
+    rolling, bouncing, per compartment; :data:`pdamper.analysis.modes.COLLIDE_MODES`), ``"other"``
+    (every other mode), ``""`` (no mode known).
 
     >>> mode_family("rolling-collect-and-collide"), mode_family("swaying"), mode_family("unknown")
     ('collide', 'other', '')

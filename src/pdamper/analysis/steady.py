@@ -12,7 +12,7 @@ does not repeat itself exactly. Their spread says how well eta* is known:
   given back in the next (negative lag-1 correlation, -0.2 to -0.55 at 14 mm), and a bed in a
   slowly changing state repeats itself (positive). eta*'s error is ``|eta*|`` times the relative
   standard error of the mean cycle energy. Measured against the spread of six seeds
-  (docs/performance.md, "Steady state"): about twice that spread where the bed has one state,
+  (CHANGELOG.md, "Performance history", "Steady state"): about twice that spread where the bed has one state,
   and blind to a choice between two states that a run never leaves.
 * **Steady state.** The means of the first and the second half of the analysed cycles agree
   within two combined standard errors (a Geweke-style drift test; the long-run variance taken

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from .common import echo_json, main, user_errors
+from .common import device_option, echo_json, main, user_errors
 
 __all__ = ["calibrate_command"]
 
@@ -26,9 +26,11 @@ __all__ = ["calibrate_command"]
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run the DEM cases on an existing Dask cluster.")
 @click.option("--plot", type=click.Path(dir_okay=False), help="Figure of the fit (.png, .svg, .pdf).")
+@device_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (best, uncertainty, misfit, ...).")
 @user_errors
-def calibrate_command(campaign, config, fits, seeds, cycles, points, settings, out, workers, scheduler, plot, as_json):
+def calibrate_command(campaign, config, fits, seeds, cycles, points, settings, out, workers, scheduler, plot, device,
+                      as_json):
     """Fit model parameters (e.g. friction, tilt) so the DEM's eta*(X) matches a measured CAMPAIGN.
 
     CAMPAIGN is the output of 'pdamper campaign' (its directory or campaign.nc); CONFIG.toml the
@@ -52,6 +54,11 @@ def calibrate_command(campaign, config, fits, seeds, cycles, points, settings, o
     if camp.attrs.get("kind") != "campaign":
         raise InputError(f"{campaign}: not a campaign dataset; make one with 'pdamper campaign RECORDS --bed-mass ...'")
     base = load_case(config, parse_set(settings))
+    if device is not None:
+        from ..run import check_device, on_device
+
+        check_device(device)
+        base = on_device(base, device)
     out = Path(out) if out else Path(f"{Path(config).stem}_calibration")
     cal = calibrate(camp, base, params, out=out, seeds=tuple(range(seeds)), cycles=cycles, points=points,
                     workers=workers, scheduler=scheduler, progress=False if as_json else None)

@@ -25,8 +25,8 @@ from ..io.files import json_safe
 from ..errors import InputError, SimulationError
 from ..units import parse_quantity
 
-__all__ = ["main", "OneLineCommand", "Quantity", "user_errors", "echo_json", "fail", "renamed",
-           "until_steady_option"]
+__all__ = ["main", "OneLineCommand", "Quantity", "ShapeChoice", "parse_sizes", "user_errors", "echo_json", "fail",
+           "renamed", "until_steady_option", "device_option"]
 
 # Raised when a group is called without arguments (click >= 8.2): it carries the help text,
 # which must be shown as it is, not squeezed into one error line.
@@ -111,6 +111,38 @@ class Quantity(click.ParamType):
 
     def get_metavar(self, param, ctx=None):  # noqa: D401 - click API
         return self.dimension.upper()
+
+
+class ShapeChoice(click.Choice):
+    """The container shapes registered when asked (:data:`pdamper.geometry.SHAPES`): a shape
+    registered after the command was built is a choice too."""
+
+    def __init__(self):
+        super().__init__((), case_sensitive=True)
+
+    @property
+    def choices(self):
+        from ..geometry import SHAPES
+
+        return tuple(SHAPES)
+
+    @choices.setter
+    def choices(self, value):  # click sets it in __init__; the registry is the answer
+        pass
+
+
+def parse_sizes(items) -> dict:
+    """``--size KEY=VALUE`` items (``side=35mm``): [container] keys of a shape beyond the named
+    options, their values as given (the shape reads them with units)."""
+    from ..errors import InputError
+
+    out = {}
+    for item in items or ():
+        key, eq, value = str(item).partition("=")
+        if not eq or not key.strip() or not value.strip():
+            raise InputError(f"--size {item!r}: write KEY=VALUE, a [container] key of the shape, e.g. side=35mm")
+        out[key.strip()] = value.strip()
+    return out
 
 
 def user_errors(func):
@@ -200,6 +232,14 @@ def until_steady_option(func):
         help="Stop a case early once its record is steady and eta*'s standard error over the analysed cycles is "
              f"at most TOL (e.g. 0.01), after at least {MIN_STEADY_CYCLES} analysed cycles; never beyond the "
              "configured cycles. Default: the paper's protocol, all cycles.")(func)
+
+
+def device_option(func):
+    """``--device cpu|cuda`` of run, sweep, study and calibrate (``numerics.device``)."""
+    return click.option(
+        "--device", type=click.Choice(["cpu", "cuda"]), default=None,
+        help="Where the DEM runs: cpu (default) or cuda, the GPU engine: every case of the batch advanced together "
+             "on one NVIDIA GPU, each with its own adaptive Gear step (or Verlet's) (needs numba-cuda: pip install -e \".[gpu]\"; docs/engine.md).")(func)
 
 
 def renamed(new_value, old_value, *, new: str, old: str):

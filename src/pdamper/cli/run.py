@@ -9,7 +9,7 @@ import tomllib
 import click
 
 from ..errors import InputError
-from .common import Quantity, echo_json, fraction_bar, main, until_steady_option, user_errors
+from .common import Quantity, device_option, echo_json, fraction_bar, main, until_steady_option, user_errors
 
 __all__ = ["run_command", "parse_set", "DEFAULT_FPS"]
 
@@ -52,25 +52,27 @@ def parse_set(items) -> dict:
 @click.option("--fps", type=Quantity("frequency"),
               help="Trajectory frames per second with --trajectory (default 100; a bare number is frames/s).")
 @until_steady_option
+@device_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units) instead of the table.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False),
               help="Write the run directory (config.toml, signals.csv, energy.csv, result.json).")
 @user_errors
-def run_command(config, stroke, frequency, cycles, seed, integrator, settings, trajectory, fps, until_steady, as_json,
-                out_dir):
+def run_command(config, stroke, frequency, cycles, seed, integrator, settings, trajectory, fps, until_steady, device,
+                as_json, out_dir):
     """Simulate the particle damper of CONFIG.toml and print eta* and the energy per cycle.
 
     Options override the file's values; quantities take units (12mm, 2Hz). See
     examples/cuboid_36.toml for the config format.
 
     Every run also reports the bed's motion mode (docs/motion.md), measured on the recorded
-    trajectory (a coarse one at 50 frames/s is recorded for it if none is asked for).
+    trajectory (a coarse one at 50 frames/s, 25 frames a cycle above 2 Hz, is recorded
+    for it if none is asked for).
 
     Example: pdamper run examples/cuboid_36.toml --stroke 20mm --trajectory --out runs/x20
     """
     from ..config import load_case
     from ..rundir import check_run_dir, write_run
-    from ..run import run_case
+    from ..run import check_device, on_device, run_case
 
     overrides = parse_set(settings)
     for key, value in (("drive.stroke", stroke), ("drive.frequency", frequency), ("run.cycles", cycles),
@@ -86,12 +88,15 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     if trajectory:
         overrides["recording.trajectory_fps"] = fps if fps is not None else DEFAULT_FPS
     case = load_case(config, overrides)
+    if device is not None:
+        case = on_device(case, device)
+    check_device(case.numerics.device)  # no GPU: one line now, not after the setup
     if out_dir is not None:
         check_run_dir(out_dir)  # fail before a long run, not after it
 
-    periodic = hasattr(case.drive, "stroke")
-    total = float(case.cycles) if periodic else round(case.duration, 3)
-    with fraction_bar("pdamper run", total, "cycle" if periodic else "s",
+    cycles = case.drive.counts_cycles
+    total = float(case.cycles) if cycles else round(case.duration, 3)
+    with fraction_bar("pdamper run", total, "cycle" if cycles else "s",
                       not as_json and sys.stderr.isatty()) as progress:
         result = run_case(case, progress=progress, until_steady=until_steady)
     written = write_run(result, out_dir) if out_dir is not None else None
@@ -156,17 +161,18 @@ def _table(config, case, s, written) -> str:
         if s.get("truncation_error") is not None and math.isfinite(s["truncation_error"]):
             rows.insert(4, ("truncation error", _fmt(s["truncation_error"], 2), "[-]",
                             f"static compliance at the damper from the {s['modes_kept']} kept modes vs K^-1"))
-        at = 4 + ("truncation_error" in s)
+        if s.get("modes_kept", 1) > 1:
+            rows.insert(4, ("modes", str(s["modes_kept"]), "",
+                            "f = " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"]) + " Hz; zeta = "
+                            + ", ".join(f"{100 * z:.3g}" for z in s["mode_damping_ratios"]) + " %"))
+        at = 4 + ("truncation_error" in s) + (s.get("modes_kept", 1) > 1)
     if s.get("mode"):
+        from ..analysis.modes import describe_features
+
         f = s.get("mode_features") or {}
         # after eta* and its steadiness line (which is about eta*, not about the mode)
         rows.insert(at, ("motion mode", s["mode"], "", ""))
-        rows.insert(at + 1, ("", "", "", f"sync {f.get('sync', math.nan):.2f}, swing {f.get('swing', math.nan):.2f} h, "
-                                    f"phase {f.get('phase_deg', math.nan):.0f} deg, "
-                                    f"wall arrivals/cycle -x {f.get('impacts_lo', math.nan):.2f} "
-                                    f"+x {f.get('impacts_hi', math.nan):.2f}, "
-                                    f"in-container motion {f.get('relative', math.nan):.2g} of the travel; "
-                                    "docs/motion.md"))
+        rows.insert(at + 1, ("", "", "", f"{describe_features(f)}; docs/motion.md"))
     if written is not None:
         rows.append(("run directory", str(written), "", ""))
     lines = [f"pdamper run {config}"]

@@ -9,13 +9,17 @@ import tempfile
 
 import click
 
-from .common import Quantity, echo_json, fraction_bar, main, renamed, user_errors
+from .common import Quantity, ShapeChoice, echo_json, fraction_bar, main, parse_sizes, renamed, user_errors
 from .run import parse_set
 
 __all__ = ["decay_command", "response_command", "design_command"]
 
 
-def _load(config, settings, cycles, seed):
+def _load(config, settings, cycles, seed, force=None):
+    """The case of CONFIG.toml with the command's overrides. ``force`` [N] (``--force``): the
+    structure is forced (its ``force_amplitude``), at its ``force_frequency`` or, where the file
+    gives none, at its first mode's natural frequency; a file whose structure nothing moves
+    (``force_amplitude = 0``, no start) is then read as forced, not refused."""
     from ..config import load_case
 
     overrides = parse_set(settings)
@@ -23,6 +27,14 @@ def _load(config, settings, cycles, seed):
         overrides["run.cycles"] = int(cycles) if float(cycles).is_integer() else cycles
     if seed is not None:
         overrides["initial.seed"] = seed
+    if force is not None and force > 0 and "structure.force_amplitude" not in overrides:
+        # the file as it stands may have nothing that moves it: read it once with a nominal start
+        probe = load_case(config, {**overrides, "structure.displacement": "1mm", "structure.force_amplitude": 0.0})
+        if not probe.drive.coupled:
+            return probe  # not a structure: the command says so
+        overrides["structure.force_amplitude"] = force
+        overrides.setdefault("structure.force_frequency",
+                             probe.drive.force_frequency or probe.drive.natural_frequency)
     return load_case(config, overrides)
 
 
@@ -107,7 +119,8 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
         f"zeta = {pct(s['damping_ratio'])}, from {mm(s['initial_displacement_m'])}",
         *([f"  modes                 {s['modes_kept']}: " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"])
            + " Hz (M, f_n, zeta: the first mode's, M at the damper)"
-           + (f"; truncation error {s['truncation_error']:.2g}" if "truncation_error" in s else "")]
+           + (f"; truncation error {s['truncation_error']:.2g}" if "truncation_error" in s else ""),
+           "  mode damping ratios   " + ", ".join(f"{100 * z:.3g}" for z in s["mode_damping_ratios"]) + " %"]
           if s.get("modes_kept", 1) > 1 else []),
         f"  damper                {s['particles']} spheres, {1e3 * s['bed_mass_kg']:.4g} g "
         f"({100 * s['mass_ratio']:.3g} % of M), X_opt = {mm(s['x_opt_m'])}",
@@ -135,8 +148,9 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
               "[default: 9 points over +-10 % around the natural frequency of --mode].")
 @click.option("--mode", "mode", type=click.IntRange(min=1), default=1, show_default=True,
               help="The mode whose resonance the default grid is centred on (and the warning checks).")
-@click.option("--force", "force", type=Quantity("force"),
-              help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude).")
+@click.option("--force", "force", type=Quantity("force"), multiple=True,
+              help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude); repeat it "
+                   "for several forces, overlaid in the figure (|X|/F0 panel).")
 @click.option("--fields", "fields_path", type=click.Path(dir_okay=False),
               help="The damper's fields (pdamper fields --out F.nc): the response by harmonic balance, in "
                    "milliseconds, instead of DEM runs (with --start: the DEM runs, and the fields' prediction beside).")
@@ -178,7 +192,8 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     from ..studies.structure import (default_frequencies, grid_warnings, parse_frequencies, run_response,
                                      run_response_fields)
 
-    case = _load(config, settings, cycles, seed)
+    forces = [float(f) for f in force or ()]
+    case = _load(config, settings, cycles, seed, force=forces[0] if forces else None)
     check_path(plot)
     if frequencies is None:
         freqs = default_frequencies(case, mode)
@@ -186,8 +201,9 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     else:
         freqs = parse_frequencies(frequencies)
         warnings = grid_warnings(case, freqs, mode)
-    f0 = force if force is not None else (case.drive.force_amplitude if case.drive.coupled else 0.0)
-    if not f0 > 0:
+    if not forces:
+        forces = [case.drive.force_amplitude if case.drive.coupled else 0.0]
+    if not all(f0 > 0 for f0 in forces):
         raise InputError("--force: give the force amplitude on the structure, e.g. --force 0.4N "
                          "([structure] force_amplitude is 0)")
     fields = None
@@ -202,48 +218,69 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     if not as_json:
         for w in warnings:
             click.echo(f"warning: {w}", err=True)
-    if fields is not None and start is None:
-        res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
-        res.summary["warnings"] = warnings
-        s = _report(res, case, config, plot, response_figure, as_json)
-        if s is not None:
-            click.echo("\n".join(_fields_lines(s, config, f0, fields_path, plot)))
+    results, beside, text = [], [], []
+    x_opt = _x_opt(case)
+    for f0 in forces:
+        if fields is not None and start is None:
+            res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+            res.summary.update(warnings=warnings, x_opt_m=x_opt)
+            results.append(res)
+            beside.append(None)
+            text += _fields_lines(dict(res.summary, config=str(config)), config, f0, fields_path, None)
+            continue
+        res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
+                           scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
+                           fields=fields, extrapolate=extrapolate)
+        res.summary.update(warnings=warnings, x_opt_m=x_opt)
+        prediction = curve = None
+        if fields is not None:
+            prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
+            res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
+                "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
+                "peak_damped_frequency_hz", "solve_time_median_s")}
+            if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
+                curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields,
+                                            force_amplitude=f0, extrapolate=extrapolate)
+        results.append(res)
+        beside.append(curve or prediction)
+        text += _dem_lines(res.summary, config, f0, prediction is not None)
+    if plot:
+        response_figure(results if len(results) > 1 else results[0], plot,
+                        fields=(beside if len(beside) > 1 else beside[0]) if any(b is not None for b in beside)
+                        else None)
+    summaries = [dict(r.summary) for r in results]
+    if as_json:
+        if len(summaries) == 1:
+            echo_json(dict(summaries[0], config=str(config), plot=plot))
+        else:
+            echo_json({"forces_N": forces, "responses": summaries, "config": str(config), "plot": plot})
         return
-    res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
-                       scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
-                       fields=fields, extrapolate=extrapolate)
-    res.summary["warnings"] = warnings
-    prediction = curve = None
-    if fields is not None:
-        prediction = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate)
-        res.summary["fields_prediction"] = {k: prediction.summary[k] for k in (
-            "damper_amplitude_m", "response_amplitude_m", "jump_frequencies_hz", "peak_damped_m",
-            "peak_damped_frequency_hz", "solve_time_median_s")}
-        if plot and freqs.size > 1:  # the figure: the fields' curve on a fine grid over the DEM's
-            curve = run_response_fields(case, np.linspace(freqs.min(), freqs.max(), 81), fields, force_amplitude=f0,
-                                        extrapolate=extrapolate)
-    s = _report(res, case, config, plot, lambda r, p: response_figure(r, p, fields=curve or prediction), as_json)
-    if s is None:
-        return
+    if plot:
+        text.append(f"  wrote {plot}")
+    click.echo("\n".join(text))
+
+
+def _dem_lines(s: dict, config, f0: float, prediction: bool) -> list[str]:
+    """The table of a DEM response (``s``: its summary)."""
+    from ..studies.structure import frequency_format
+
     mark = lambda k: "" if s["steady"][k] else " *"  # noqa: E731
+    hz = frequency_format(s["frequencies_hz"])
     lines = [f"pdamper response {config}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
              f"{100 * s['mass_ratio']:.3g} % of M; {s['measure_cycles']} of {s['cycles']:g} cycles measured, "
              f"from {s['start']})",
              f"  {'f [Hz]':>8}  {'damper [mm]':>12}  {'bare [mm]':>10}  {'bare run [mm]':>13}  {'solid mass [mm]':>15}"
              + ("  fields [mm]" if prediction else "")]
     for k, f in enumerate(s["frequencies_hz"]):
-        line = (f"  {f:8.4g}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
+        line = (f"  {hz(f):>8}  {1e3 * s['amplitude_damped_m'][k]:10.4g}{mark(k):2}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                 f"{1e3 * s['amplitude_bare_run_m'][k]:11.4g}{'' if s['bare_run_steady'][k] else ' *':2}  "
                 f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
         if prediction:
             line += "  " + _branches_mm(s["fields_prediction"]["damper_amplitude_m"][k])
         lines.append(line)
-    change = s["last_period_change"][s["frequencies_hz"].index(s["peak_damped_frequency_hz"])]
     ratio = (f"ratio {s['peak_reduction']:.3g}" if s["peak_steady"]
-             else f"no ratio: the damped peak is a transient (changed {100 * change:.2g} % over the last period)")
-    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
-                 f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
-                 + ratio)
+             else f"no ratio: the damped peak is a transient ({transient_words(s)})")
+    lines.append(_peak_line(s, hz) + ratio)
     if not all(s["steady"]) or not all(s["bare_run_steady"]):
         lines.append(f"  * not steady: the amplitude over the last period (or the last half of the measured ones) "
                      f"differs from the one before by more than {100 * s['steady_tolerance']:g} %; a bare run: "
@@ -252,9 +289,26 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
                  f"DEM time {s['wall_time_s']:.3g} s")
     for f, msg in s["failed"].items():
         lines.append(f"  failed at {f} Hz: {msg}")
-    if plot:
-        lines.append(f"  wrote {plot}")
-    click.echo("\n".join(lines))
+    return lines
+
+
+def transient_words(s: dict) -> str:
+    """Why the damped peak of a DEM response ``s`` is not steady: the checks that failed, with
+    their numbers and the limit (:func:`pdamper.studies.structure.steadiness`)."""
+    k = s["frequencies_hz"].index(s["peak_damped_frequency_hz"])
+    tol = s["steady_tolerance"]
+    checks = [("over the last period", s["last_period_change"][k]),
+              ("between the two halves of the measured periods", s["window_change"][k])]
+    failed = [f"changed {100 * v:.2g} % {what}" for what, v in checks if not v <= tol]
+    return "; ".join(failed or ["its run failed"]) + f", beyond the {100 * tol:g} % limit"
+
+
+def _peak_line(s: dict, hz) -> str:
+    """The damped peak against the bare structure's resonance (its closed-form peak, not the grid's
+    largest bare value)."""
+    return (f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {hz(s['peak_damped_frequency_hz'])} Hz; without "
+            f"{1e3 * s['resonance_bare_m']:.4g} mm at its resonance {s['resonance_bare_frequency_hz']:.5g} Hz "
+            f"({1e3 * s['peak_bare_m']:.4g} mm on this grid): ")
 
 
 def _branches_mm(v) -> str:
@@ -267,22 +321,55 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
     lines = [f"pdamper response {config} --fields {fields_path}  (F0 = {f0:.4g} N, {s['particles']} spheres, "
              f"{100 * s['mass_ratio']:.3g} % of M; harmonic balance, stable branches)",
              f"  {'f [Hz]':>8}  {'damper [mm]':>16}  {'response [mm]':>16}  {'bare [mm]':>10}  {'solid mass [mm]':>15}"]
+    from ..studies.structure import frequency_format
+
+    hz = frequency_format(s["frequencies_hz"])
     for k, f in enumerate(s["frequencies_hz"]):
-        lines.append(f"  {f:8.4g}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
+        lines.append(f"  {hz(f):>8}  {_branches_mm(s['damper_amplitude_m'][k]):>16}  "
                      f"{_branches_mm(s['response_amplitude_m'][k]):>16}  {1e3 * s['amplitude_bare_m'][k]:10.4g}  "
                      f"{1e3 * s['amplitude_solid_mass_m'][k]:15.4g}")
-    lines.append(f"  peak with damper {1e3 * s['peak_damped_m']:.4g} mm at {s['peak_damped_frequency_hz']:.4g} Hz; "
-                 f"without {1e3 * s['peak_bare_m']:.4g} mm on this grid (resonance {1e3 * s['resonance_bare_m']:.4g} mm): "
-                 f"ratio {s['peak_reduction']:.3g}")
+    lines.append(_peak_line(s, hz) + f"ratio {s['peak_reduction']:.3g}")
     if s["jump_frequencies_hz"]:
         lines.append("  jumps (the stable branches change) at " +
-                     ", ".join(f"{f:.4g} Hz" for f in s["jump_frequencies_hz"]))
+                     ", ".join(f"{f:.5g} Hz" for f in s["jump_frequencies_hz"]))
     if s["extrapolated"]:
         lines.append("  warning: some solutions lie outside the fields' box (--extrapolate: end values continued)")
     lines.append(f"  solve time {1e3 * s['solve_time_median_s']:.3g} ms per frequency (median); fields {s['fields_box']}")
     if plot:
         lines.append(f"  wrote {plot}")
     return lines
+
+
+class _LengthOrRange(Quantity):
+    """A length, or a range of them written LOW:HIGH (a tuple of two SI floats)."""
+
+    def __init__(self):
+        super().__init__("length")
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and ":" in value:
+            parts = value.split(":")
+            if len(parts) != 2:
+                raise click.UsageError(f"--{param.name} {value!r}: write one length or LOW:HIGH, e.g. 80mm:160mm", ctx)
+            return tuple(super(_LengthOrRange, self).convert(p, param, ctx) for p in parts)
+        return super().convert(value, param, ctx)
+
+    def get_metavar(self, param, ctx=None):  # noqa: D401 - click API
+        return "LENGTH|LOW:HIGH"
+
+
+def _particles_option(text):
+    """``--particles N`` or ``LOW:HIGH`` as an int or a (LOW, HIGH) pair."""
+    from ..errors import InputError
+
+    parts = str(text).split(":")
+    try:
+        values = [int(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(parts) > 2 or not values:
+        raise InputError(f"--particles {text!r}: give a number of spheres or LOW:HIGH, e.g. 36 or 20:60")
+    return values[0] if len(values) == 1 else tuple(values)
 
 
 @main.command("design")
@@ -296,12 +383,16 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 @click.option("--frequency", type=Quantity("frequency"), help="Structure's frequency, e.g. 2Hz (without --structure).")
 @click.option("--stroke", type=Quantity("length"),
               help="Stroke (amplitude) of the structure where the damper sits, e.g. 10mm (without --structure).")
-@click.option("--shape", type=click.Choice(["cuboid", "cylinder"]), default="cuboid", show_default=True)
-@click.option("--length", type=Quantity("length"), help="Cuboid: inner length along the motion, e.g. 120mm.")
+@click.option("--shape", type=ShapeChoice(),
+              help="Container shape (any registered shape) [default: cuboid; with --structure the file's container].")
+@click.option("--length", type=_LengthOrRange(), help="Cuboid: inner length along the motion, e.g. 120mm; with "
+              "--structure also a range to choose from, LOW:HIGH, e.g. 80mm:160mm (1 mm steps, at most 121).")
 @click.option("--length-range", metavar="LOW:HIGH",
-              help="With --structure: container lengths to choose from, e.g. 80mm:200mm (1 mm steps, at most 121).")
+              help="With --structure: the same as --length LOW:HIGH.")
 @click.option("--width", type=Quantity("length"), help="Cuboid: inner width, e.g. 40.4mm.")
 @click.option("--container-radius", type=Quantity("length"), help="Cylinder: inner radius R, e.g. 39mm.")
+@click.option("--size", "sizes", multiple=True, metavar="KEY=VALUE",
+              help="Another [container] key of the shape, e.g. --size height=30mm (repeatable).")
 @click.option("--sphere-radius", type=Quantity("length"),
               help="Sphere radius r, e.g. 5mm (required without --structure; with it the config's, else 5 mm).")
 @click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --sphere-radius.")
@@ -309,11 +400,21 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
               help="Sphere density [kg/m^3] (default: 7900, steel; with --structure the config's spheres).")
 @click.option("--max-particles", type=click.IntRange(min=2),
               help="Spheres covering the floor in one layer (default: the floor packing of the container).")
+@click.option("--particles", "particles", metavar="N|LOW:HIGH",
+              help="With --structure: the fillings to choose from, e.g. 20:60 (default: every filling of the floor).")
 @click.option("--max-bed-mass", type=Quantity("mass"), help="With --structure: largest bed mass, e.g. 200g.")
 @click.option("--max-mass-ratio", type=click.FloatRange(min=0, min_open=True),
               help="With --structure: largest bed mass over the mode's mass at the damper, e.g. 0.01.")
-@click.option("--margin", type=click.FloatRange(min=1.0), default=1.2, show_default=True,
-              help="With --structure: the operating stroke is kept at least this factor above X_opt.")
+@click.option("--target-ratio", type=click.FloatRange(min=0, max=1, min_open=True, max_open=True),
+              help="With --structure: the lightest filling whose resonant amplitude is at most this fraction of the "
+                   "bare structure's, e.g. 0.5 (default: the filling with the smallest amplitude).")
+@click.option("--margin", type=click.FloatRange(min=1.0),
+              help="With --structure: keep the operating stroke at least this factor above X_opt [default: by the "
+                   "filling fraction N_p/N_p,max, 1.2 up to 75 % filled to 1.75 at 91 %, above the strokes at which "
+                   "the DEM checks saw such beds sway; docs/structure.md, \"The margin\"].")
+@click.option("--write-case", type=click.Path(dir_okay=False), metavar="OUT.toml",
+              help="With --structure: write one runnable case of the design: the damper, its rig drive [drive] and "
+                   "the structure forced at the design's resonance [structure] (for sweep, fields, response).")
 @click.option("--tilt", type=Quantity("angle"), help="Expected mounting tilt, e.g. 1deg.")
 @click.option("--verify", is_flag=True, help="Run a short DEM sweep around the stroke with the proposed filling.")
 @click.option("--verify-cycles", type=click.IntRange(min=3), default=8, show_default=True,
@@ -326,8 +427,9 @@ def _fields_lines(s, config, f0, fields_path, plot) -> list[str]:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @user_errors
 def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
-                   container_radius, sphere_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio,
-                   margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+                   container_radius, sizes, sphere_radius, radius, density, max_particles, particles, max_bed_mass,
+                   max_mass_ratio, target_ratio, margin, write_case, tilt, verify, verify_cycles, verify_strokes, seeds,
+                   workers, as_json):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
     With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
@@ -336,37 +438,52 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     about lift-off, tilt sensitivity and thin beds.
 
     With a structure (--structure STRUCT.toml --mode 1 --force 1.5N): the stroke is the
-    unknown. Sizes the filling (and the container's length within --length-range, the bed
-    within --max-bed-mass / --max-mass-ratio) that minimises the mode's resonant amplitude,
-    from the energy balance at resonance with the paper's laws, keeping the operating stroke
-    >= 1.2 X_opt; --verify checks it with a short DEM sweep and gives a verdict.
+    unknown. Sizes the filling (and the container's length within --length LOW:HIGH, the bed
+    within --particles, --max-bed-mass / --max-mass-ratio) that minimises the mode's resonant
+    amplitude, or with --target-ratio R the lightest one whose resonant amplitude is at most R
+    times the bare structure's, from the energy balance at resonance with the paper's laws,
+    keeping the operating stroke >= --margin X_opt; --verify checks it with a short DEM sweep
+    and gives a verdict (against the target, with one); --write-case OUT.toml writes the design
+    as one case that sweep, fields and response run.
 
     Example: pdamper design --frequency 2Hz --stroke 10mm --length 120mm --width 40.4mm --sphere-radius 5mm
 
     Example: pdamper design --structure examples/frame_3hz.toml --mode 1 --force 1.5N
+
+    Example: pdamper design --structure examples/frame_3hz.toml --force 1.5N --target-ratio 0.5 --length 80mm:160mm
+    --write-case frame_design.toml
     """
     from ..design import design_filling
     from ..errors import InputError
+    from ..params import Container
 
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
+    sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
     if structure_file is not None:
-        return _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range,
-                                 width, container_radius, radius, density, max_particles, max_bed_mass,
-                                 max_mass_ratio, margin, tilt, verify, verify_cycles, verify_strokes, seeds, workers,
-                                 as_json)
+        return _design_structure(structure_file, dict(
+            mode=mode_number, force=force, frequency=frequency, stroke=stroke, shape=shape, length=length,
+            length_range=length_range, sizes=sizes, radius=radius, density=density, max_particles=max_particles,
+            particles=particles, max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio, target_ratio=target_ratio,
+            margin=margin, write_case=write_case, tilt=tilt), verify, verify_cycles, verify_strokes, seeds, workers,
+            as_json)
     for name, value in (("--force", force), ("--length-range", length_range), ("--max-bed-mass", max_bed_mass),
-                        ("--max-mass-ratio", max_mass_ratio)):
+                        ("--max-mass-ratio", max_mass_ratio), ("--particles", particles),
+                        ("--target-ratio", target_ratio), ("--write-case", write_case)):
         if value is not None:
             raise InputError(f"{name} belongs to the design for a structure: give --structure STRUCT.toml with it "
                              "(or --frequency and --stroke without it)")
+    if isinstance(length, tuple):
+        raise InputError("--length LOW:HIGH (a range) belongs to the design for a structure: give --structure "
+                         "STRUCT.toml with it, or one length, e.g. --length 120mm")
     for name, value in (("--frequency", frequency), ("--stroke", stroke)):
         if value is None:
             raise InputError(f"Missing option '{name}' (or give --structure STRUCT.toml --force F).")
     if radius is None:
         raise InputError("missing --sphere-radius (the sphere radius r, e.g. 5mm)")
 
-    d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius, shape=shape, length=length,
-                       width=width, container_radius=container_radius, max_particles=max_particles, tilt=tilt,
+    d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius,
+                       shape=shape if shape is not None else Container().geometry.shape, length=length,
+                       sizes=sizes, max_particles=max_particles, tilt=tilt,
                        density=7900.0 if density is None else density)
     out = d.to_dict()
     if verify:
@@ -427,45 +544,100 @@ def _verify(d, cycles, workers, quiet):
             "eta_theory": [float(th.eta_theory(x, d.clearance_m)) for x in xs]}
 
 
-def _design_structure(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
-                      container_radius, radius, density, max_particles, max_bed_mass, max_mass_ratio, margin, tilt,
-                      verify, verify_cycles, verify_strokes, seeds, workers, as_json):
-    """``pdamper design --structure``: the filling for a structure mode, its report and the DEM check."""
-    from ..design import design_cuboid, design_for_structure, load_structure
+def _design_structure(structure_file, o: dict, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+    """``pdamper design --structure``: the filling for a structure mode (the options ``o``), its
+    report, the DEM check and the written case."""
+    from ..design import design_case, design_case_text, design_container, design_for_structure, load_structure
     from ..errors import InputError
+    from ..io.files import atomic_write
 
-    for name, value in (("--frequency", frequency), ("--stroke", stroke), ("--container-radius", container_radius),
-                        ("--max-particles", max_particles), ("--tilt", tilt)):
-        if value is not None:
+    for name, key in (("--frequency", "frequency"), ("--stroke", "stroke"), ("--max-particles", "max_particles"),
+                      ("--tilt", "tilt")):
+        if o[key] is not None:
             raise InputError(f"{name} does not apply with --structure: the design finds the stroke at the mode's "
-                             "resonance and sizes a cuboid (give --length or --length-range, --width, "
-                             "--sphere-radius)")
-    if shape != "cuboid":
-        raise InputError("--shape cylinder: the design for a structure sizes a cuboid (give --length or "
-                         "--length-range and --width)")
+                             "resonance and sizes the container's length along the drive (give --length or "
+                             "--length LOW:HIGH, the other sizes, --sphere-radius)")
+    force = o["force"]
     if force is None or not force > 0:
         raise InputError(f"--force{'' if force is None else f' = {force:g} N'}: give the force amplitude on the "
                          "structure at the mode's resonance, > 0, e.g. --force 1.5N")
+    length, rng = o["length"], _length_range(o["length_range"]) if o["length_range"] is not None else None
+    if isinstance(length, tuple):
+        if rng is not None:
+            raise InputError("give --length LOW:HIGH or --length-range LOW:HIGH, not both")
+        length, rng = None, length
+    if o["write_case"] is not None:
+        _check_case_path(o["write_case"])
     case = load_structure(structure_file)
-    geo = design_cuboid(case, given=not (length is None and length_range is None or width is None),
-                        source=structure_file)
+    geo = design_container(case, shape=o["shape"], sizes=o["sizes"])
     sphere = case.particles[0]
-    rng = _length_range(length_range) if length_range is not None else None
-    if rng is None and length is None:
-        length = geo.length
-    sd = design_for_structure(case.drive, force=force, mode=mode_number,
-                              sphere_radius=radius if radius is not None else sphere.radius,
-                              length=length, width=width if width is not None else geo.width, length_range=rng,
-                              max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio,
-                              density=density if density is not None else sphere.material.density, margin=margin)
+    sd = design_for_structure(case.drive, force=force, mode=o["mode"],
+                              sphere_radius=o["radius"] if o["radius"] is not None else sphere.radius,
+                              length=length, length_range=rng, container=geo, container_mass=case.container.mass,
+                              particles=_particles_option(o["particles"]) if o["particles"] is not None else None,
+                              max_bed_mass=o["max_bed_mass"], max_mass_ratio=o["max_mass_ratio"],
+                              target_ratio=o["target_ratio"],
+                              density=o["density"] if o["density"] is not None else sphere.material.density,
+                              margin=o["margin"])
     out = sd.to_dict()
     out["structure_file"] = str(structure_file)
     if verify:
         out["verify"] = _verify_structure(sd, case, verify_cycles, verify_strokes, seeds, workers, quiet=as_json)
+    if o["write_case"] is not None:
+        from pathlib import Path
+
+        path = Path(o["write_case"])
+        text = design_case_text(sd, design_case(sd, case), command=_command_line(structure_file, o), name=path.name,
+                                verify=out.get("verify"))
+        atomic_write(path, text)
+        out["case_file"] = str(path)
     if as_json:
         echo_json(out)
         return
     click.echo("\n".join(_design_structure_lines(sd, out, structure_file)))
+
+
+def _check_case_path(path) -> None:
+    """``--write-case`` names a .toml file in a folder that exists."""
+    from pathlib import Path
+
+    from ..errors import InputError
+
+    p = Path(path)
+    if p.suffix.lower() != ".toml":
+        raise InputError(f"--write-case {path}: give a .toml file name, e.g. frame_design.toml")
+    if not p.parent.is_dir():
+        raise InputError(f"--write-case {path}: folder {str(p.parent)!r} does not exist; create it or choose another "
+                         "path")
+
+
+def _command_line(structure_file, o: dict) -> str:
+    """The design's command with the options given (for the written case's header), quantities in
+    the units a person types."""
+    import shlex
+
+    mm = lambda x: f"{x * 1e3:.6g}mm"  # noqa: E731
+    length = o["length"] if o["length"] is not None else o["length_range"]
+    words = ["pdamper design --structure", shlex.quote(str(structure_file)), f"--mode {o['mode']}",
+             f"--force {o['force']:.6g}N"]
+    given = [("--target-ratio", o["target_ratio"], "{:g}"), ("--shape", o["shape"], "{}"),
+             ("--sphere-radius", o["radius"], None), ("--density", o["density"], "{:g}kg/m^3"),
+             ("--particles", o["particles"], "{}"), ("--max-bed-mass", o["max_bed_mass"], None),
+             ("--max-mass-ratio", o["max_mass_ratio"], "{:g}")]
+    for name, value, fmt in given:
+        if value is None:
+            continue
+        words.append(f"{name} " + (fmt.format(value) if fmt else (f"{value * 1e3:.6g}g" if "mass" in name
+                                                                    else mm(value))))
+    if length is not None:
+        words.append("--length " + (":".join(mm(v) for v in length) if isinstance(length, tuple)
+                                    else length if isinstance(length, str) else mm(length)))
+    for key, value in o["sizes"].items():
+        if value is not None:
+            words.append(f"--size {key}={value if isinstance(value, str) else mm(value)}")
+    if o["margin"] is not None:
+        words.append(f"--margin {o['margin']:g}")
+    return " ".join(words)
 
 
 def _length_range(text: str):
@@ -479,28 +651,45 @@ def _length_range(text: str):
 
 
 def _design_structure_lines(sd, out, structure_file) -> list:
+    from ..design import margin_note
+
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
     pct = lambda z: f"{100 * z:.3g} %"  # noqa: E731
     d = sd.filling
+    shaped = sd.modes > 1 or sd.phi_damper != 1.0
     lines = [f"pdamper design --structure {structure_file}: mode {sd.mode} of {sd.modes}, "
-             f"m = {sd.modal_mass_kg:.4g} kg, f = {sd.natural_frequency_hz:.4g} Hz, zeta = {pct(sd.damping_ratio)}, "
-             f"F = {sd.force_N:.4g} N at resonance"
-             + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response {sd.phi_response:.4g})"
-                if sd.modes > 1 or sd.phi_damper != 1.0 else "")]
+             f"M = {sd.mass_at_damper_kg:.4g} kg at the damper"
+             + (f" (m / phi_d^2: modal mass m = {sd.modal_mass_kg:.4g} kg in the mode's normalisation)" if shaped
+                else "") + (f", the empty container's {1e3 * sd.container_mass_kg:.4g} g included"
+                            if sd.container_mass_kg > 0 else "")
+             + f", f = {sd.natural_frequency_hz:.5g} Hz, zeta = {pct(sd.damping_ratio)}, F = {sd.force_N:.4g} N at "
+             "resonance" + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response "
+                            f"{sd.phi_response:.4g})" if shaped else ""),
+             "  masses are physical, at the damper (the mode's own normalisation only where it says so)"]
+    if sd.target_ratio is not None:
+        b = sd.search
+        lines.append(f"  target: ratio <= {sd.target_ratio:g} (resonant amplitude with the damper over without); the "
+                     f"lightest filling that meets it among lengths {b['lengths_m'][0] * 1e3:.4g}-"
+                     f"{b['lengths_m'][1] * 1e3:.4g} mm" + (f", fillings {b['particles'][0]}-{b['particles'][1]}"
+                                                            if b["particles"][1] is not None else "")
+                     + "".join(f", {k} {v * 1e3:.4g} g" for k, v in b["max_bed_mass_kg"].items())
+                     + (f"; one sphere fewer: at best ratio {sd.lighter_ratio:.3g}" if sd.lighter_ratio is not None
+                        else "; no lighter filling keeps the margin"))
     rows = [
         ("container", d.describe_container(), f"{sd.candidates} fillings tried"),
         ("filling", f"{d.particles} of {d.max_particles}", f"spheres r = {mm(d.sphere_radius_m)}, {d.rows} rows"),
         ("bed mass", f"{1e3 * d.bed_mass_kg:.4g} g", f"{pct(sd.mass_ratio)} of the mode's mass at the damper"),
         ("clearance h", mm(d.clearance_m), "eq. (6)"),
         ("X_opt", mm(d.x_opt_m), "eq. (17)"),
-        ("damper stroke X", mm(sd.damper_stroke_m), f"X/X_opt = {sd.stroke_over_x_opt:.3f} (kept >= {sd.margin:g}: "
+        ("damper stroke X", mm(sd.damper_stroke_m), f"X/X_opt = {sd.stroke_over_x_opt:.3f} (kept >= {sd.margin:.3g}: "
          "rolling collect-and-collide)"),
         ("eta*", f"{sd.eta_star:.3f}", "rolling law, eq. (14)"),
         ("energy per cycle", f"{1e3 * sd.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2"),
-        ("added mass", f"{1e3 * sd.added_modal_mass_kg:.4g} g",
-         f"phi_d^2 m_eff, m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} "
-         "m_bed (rolling bed, eqs. 10-12)"),
-        ("resonance", f"{sd.frequency_hz:.4g} Hz", f"without damper {sd.natural_frequency_hz:.4g} Hz"),
+        ("added mass", f"{1e3 * sd.effective_mass_kg:.4g} g",
+         f"at the damper: the rolling bed's m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} m_bed (eqs. 10-12)"
+         + (f"; phi_d^2 m_eff = {1e3 * sd.added_modal_mass_kg:.4g} g in the mode's normalisation" if
+            sd.phi_damper != 1.0 else "")),
+        ("resonance", f"{sd.frequency_hz:.5g} Hz", f"without damper {sd.natural_frequency_hz:.5g} Hz"),
         ("modal damping", pct(sd.zeta_total),
          f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
         ("amplitude, damper", mm(sd.amplitude_damper_m), f"without damper {mm(sd.amplitude_damper_bare_m)}, bed as a "
@@ -513,19 +702,19 @@ def _design_structure_lines(sd, out, structure_file) -> list:
                  f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"))
     wv = max(16, *(len(value) + 2 for _, value, _ in rows))
     lines += [f"  {name:<20}{value:<{wv}}{note}" for name, value, note in rows]
-    lines.append(f"  margin: the DEM shows the rolling mode only above ~1.1-1.2 X_opt (the bed sways below, with less "
-                 f"eta*); the filling keeps X >= {sd.margin:g} X_opt (--margin)")
+    lines.append(f"  {margin_note(sd.margin, sd.margin_given, d.particles / d.max_particles)}")
     lines += [f"warning: {w}" for w in sd.warnings]
     if "verify" in out:
         v = out["verify"]
-        lines.append(f"  DEM check at {sd.frequency_hz:.4g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
+        lines.append(f"  DEM check at {sd.frequency_hz:.5g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
         for x, s, e, t, m, fr in zip(v["strokes_m"], v["stroke_over_x_opt"], v["eta_star_dem"], v["eta_star_law"],
                                      v["modes"], v["force_required_N"]):
             lines.append(f"    X = {mm(x):>9} ({s:.3g} X_opt)  eta* DEM {e:.3f}  law {t:.3f}  force needed "
                          f"{fr:.3g} N  {m or 'mode n/a'}")
-        dem = v["amplitude_damper_dem_m"]
-        lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else "")
-                     + (f" (DEM amplitude {mm(dem)})" if dem is not None and v["verdict"] == "pass" else ""))
+        lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else ""))
+    if "case_file" in out:
+        lines.append(f"  wrote {out['case_file']} (the damper, its rig [drive] and the [structure]: pdamper sweep, "
+                     "fields, response run it)")
     return lines
 
 
@@ -539,19 +728,16 @@ def _verify_structure(sd, case, cycles, n_strokes, n_seeds, workers, quiet) -> d
     from ..analysis.modes import majority_mode
     from ..design import judge_verification, verify_factors
     from ..excitation import HarmonicDrive
-    from ..geometry.cuboid import Cuboid
     from ..studies import SweepSpec, run_sweep
 
     d = sd.filling
-    height = getattr(case.container.geometry, "height", Cuboid().height)
     sphere = case.particles[0]
     mat = sphere.material
     if mat.density != d.density_kg_m3:
         mat = dataclasses.replace(mat, density=d.density_kg_m3)
     base = dataclasses.replace(
         case, particles=(dataclasses.replace(sphere, count=d.particles, radius=d.sphere_radius_m, material=mat),),
-        container=dataclasses.replace(case.container,
-                                      geometry=Cuboid(length=d.length_m, width=d.width_m, height=height)),
+        container=dataclasses.replace(case.container, geometry=d.container_geometry()),
         drive=HarmonicDrive(stroke=sd.damper_stroke_m, frequency=sd.frequency_hz), cycles=cycles,
         drop_cycles=2 if cycles >= 5 else 1)  # the record's whole cycles: one fewer than asked at an odd frequency
     strokes = [sd.damper_stroke_m * f for f in verify_factors(n_strokes)]

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .common import echo_json, main, until_steady_option, user_errors
+from .common import device_option, echo_json, main, until_steady_option, user_errors
 
 __all__ = ["study_command"]
 
@@ -28,9 +28,10 @@ QUICK = dict(strokes=(0.5e-3, 50e-3, 8), cycles=6, drop_cycles=2)
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
 @click.option("--plot", type=click.Path(dir_okay=False), help="Figure file (default <out>/<NAME>.png).")
 @until_steady_option
+@device_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, until_steady, as_json):
+def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, until_steady, device, as_json):
     """Run a study (one of the paper's, or your study file) and write its dataset and figure.
 
     NAME is one of: fig4, friction, modulus, density, restitution, radius, tilt, cylinder,
@@ -61,7 +62,8 @@ def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, 
     drop = QUICK["drop_cycles"] if quick else None
     out = Path(out) if out else Path(f"study_{name}{'_quick' if quick else ''}")
     ds = run_study(study.source, out, strokes=xs, seeds=tuple(range(seeds)), cycles=cycles, drop_cycles=drop,
-                   workers=workers, scheduler=scheduler, progress=False if as_json else None, until_steady=until_steady)
+                   workers=workers, scheduler=scheduler, progress=False if as_json else None, until_steady=until_steady,
+                   device=device)
     plot = Path(plot) if plot else out / f"{name}.png"
     study_figure(ds, plot)
     mean = ds.eta_star.mean("seed", skipna=True)

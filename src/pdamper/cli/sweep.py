@@ -10,7 +10,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .common import echo_json, main, until_steady_option, user_errors
+from .common import device_option, echo_json, main, until_steady_option, user_errors
 from .run import parse_set
 
 __all__ = ["sweep_command"]
@@ -39,13 +39,14 @@ __all__ = ["sweep_command"]
               "energy (about 0.25 MB per 20-cycle case; 'pdamper reanalyze' needs them), also every energy-ledger "
               "column ('full', about 0.7 MB), or nothing.")
 @until_steady_option
+@device_option
 @click.option("--repair", is_flag=True, help="Rebuild a store whose store.json was lost from this config and its case files.")
 @click.option("--measured", type=click.Path(exists=True), metavar="CAMPAIGN",
               help="Draw a measured campaign ('pdamper campaign') with error bars on the --plot figure.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, until_steady, plot,
-                  repair, measured, as_json):
+def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, until_steady, device,
+                  plot, repair, measured, as_json):
     """Run CONFIG.toml over a range of strokes (or any config keys) and report eta*.
 
     Every (point, seed) case is independent and written to the store as soon as it finishes;
@@ -66,6 +67,11 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
     if cycles is not None:
         overrides["run.cycles"] = cycles
     base = load_case(config, overrides)
+    if device is not None:
+        from ..run import check_device, on_device
+
+        check_device(device)
+        base = on_device(base, device)
     axes = tuple(parse_axis(v) for v in vary)
     if strokes is None and not axes:
         strokes = "0.5mm:50mm:40"

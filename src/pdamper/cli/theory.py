@@ -9,19 +9,25 @@ import click
 from .._version import __version__
 from .. import theory as th  # its formulas load on first use (scipy)
 from ..errors import InputError
-from .common import Quantity, echo_json, main, renamed, user_errors
+from .common import Quantity, ShapeChoice, echo_json, main, parse_sizes, renamed, user_errors
 
 __all__ = ["theory_command"]
 
+#: The options of ``pdamper theory`` that set a [container] key (any other: ``--size KEY=VALUE``).
+_SIZE_OPTIONS = {"length": "--length", "radius": "--container-radius"}
+
 
 @main.command("theory")
-@click.option("--shape", type=click.Choice(th.SHAPES), default="cuboid", show_default=True,
-              help="Container shape; the cylinder uses L = 2R.")
+@click.option("--shape", type=ShapeChoice(), default="cuboid", show_default=True,
+              help="Container shape (any registered shape); its L along the drive is the shape's (the cylinder's "
+                   "L = 2R).")
 @click.option("--length", type=Quantity("length"),
               help="Cuboid: inner length along the drive, e.g. 120mm.")
 @click.option("--container-radius", type=Quantity("length"),
               help="Cylinder: inner radius, e.g. 39mm.")
 @click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --container-radius.")
+@click.option("--size", "sizes", multiple=True, metavar="KEY=VALUE",
+              help="Another [container] key of the shape, e.g. --size side=35mm (repeatable).")
 @click.option("--particles", type=int, required=True, help="Number of spheres N_p.")
 @click.option("--max-particles", type=int, required=True,
               help="Spheres that cover the floor in one layer, N_p,max.")
@@ -45,14 +51,14 @@ __all__ = ["theory_command"]
               help="Write the paper's Fig. 5 (rolling bed over the phase) at --stroke, "
                    "else at X_opt.")
 @user_errors
-def theory_command(shape, length, container_radius, radius, particles, max_particles, frequency, tilt, gravity,
-                   bed_mass, stroke, kappa, as_json, plot, fig5):
+def theory_command(shape, length, container_radius, radius, sizes, particles, max_particles, frequency, tilt,
+                   gravity, bed_mass, stroke, kappa, as_json, plot, fig5):
     """Clearance, optimal stroke X_opt, eta*_max and the operating bounds (paper Sect. 5).
 
     Example: pdamper theory --length 120mm --particles 36 --max-particles 48 --frequency 2Hz
     """
     radius = renamed(container_radius, radius, new="--container-radius", old="--radius")
-    result = _compute(shape=shape, length=length, radius=radius, particles=particles,
+    result = _compute(shape=shape, length=length, radius=radius, sizes=parse_sizes(sizes), particles=particles,
                       max_particles=max_particles, frequency=frequency, tilt=tilt,
                       gravity=gravity, bed_mass=bed_mass, stroke=stroke, kappa=kappa)
     written = []
@@ -78,14 +84,13 @@ def theory_command(shape, length, container_radius, radius, particles, max_parti
 
 
 def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt, gravity,
-             bed_mass, stroke, kappa) -> dict:
-    if shape == "cylinder" and (radius is None or length is not None):
-        raise InputError("--shape cylinder takes --container-radius (inner radius, e.g. 39mm) and no "
-                         "--length: the clearance uses L = 2R")
-    if shape == "cuboid" and (length is None or radius is not None):
-        raise InputError("--shape cuboid (the default) takes --length (inner length along the "
-                         "drive, e.g. 120mm) and no --container-radius; for a cylinder give --shape cylinder")
-    big_l = th.container_length(shape, length=length, container_radius=radius)
+             bed_mass, stroke, kappa, sizes=None) -> dict:
+    from ..design import size_option
+    from ..geometry import shape_from_keys, sizing_keys
+
+    given = {"length": length, "radius": radius, **(sizes or {})}
+    geo = shape_from_keys(shape, given, option=lambda k: size_option(k, _SIZE_OPTIONS))
+    big_l = geo.drive_length
     h = th.clearance(big_l, particles, max_particles)
     if h == 0:
         raise InputError(f"particles = {particles} fill the floor (max_particles = "
@@ -98,6 +103,7 @@ def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt
         "version": __version__,
         "shape": shape,
         "length_m": big_l,
+        "container": {k: v for k, v in given.items() if v is not None and k in sizing_keys(type(geo))},
         "container_radius_m": radius,
         "radius_m": radius,  # deprecated: the old key of container_radius_m
         "particles": particles,
@@ -179,10 +185,9 @@ def _at_stroke(stroke, h, frequency, bed_mass, kappa, x_opt) -> dict:
 
 def _table(r: dict) -> str:
     mm = lambda x: f"{x * 1e3:.4g} mm"  # noqa: E731
-    geometry = (f"cuboid, L = {mm(r['length_m'])}" if r["shape"] == "cuboid"
-                else f"cylinder, R = {mm(r['radius_m'])} (L = 2R = {mm(r['length_m'])})")
+    sizes = ", ".join(f"{k} = {mm(v) if isinstance(v, float) else v}" for k, v in r["container"].items())
     rows = [
-        ("container", geometry, ""),
+        ("container", f"{r['shape']}, L = {mm(r['length_m'])}", f"{sizes} (L: its length along the drive)"),
         ("particles", f"{r['particles']} of {r['max_particles']}", "one layer"),
         ("frequency", f"{r['frequency_hz']:.4g} Hz", ""),
         ("clearance h", mm(r["clearance_m"]), "eq. (6)"),

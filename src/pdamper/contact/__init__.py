@@ -6,7 +6,9 @@
   damping choices ``"calibrated"`` (default) and ``"gonthier"``.
 - :mod:`.hertz_tsuji` -- normal force, Hertz with Tsuji et al. (1992) viscoelastic damping as
   LIGGGHTS' ``model hertz`` uses it; damping choice ``"tsuji"``.
-- :mod:`.friction_tanh` -- regularised Coulomb friction, eq. (2).
+- :mod:`.friction_tanh` -- regularised Coulomb friction, eq. (2) (tangential choice ``"tanh"``, default).
+- :mod:`.tangential_spring` -- incremental tangential spring, Mindlin's stiffness, Coulomb cap
+  (tangential choice ``"spring"``).
 - :mod:`.cor_constant`, :mod:`.cor_table`, :mod:`.cor_thornton` -- coefficient of restitution laws.
 
 A COR law is a Python object with ``restitution(speed)``; the kernels see every law as a table of
@@ -14,16 +16,18 @@ the damping law's coefficient over log-spaced impact speeds (:func:`.cor_table.t
 one compiled kernel serves all COR laws. A damping law is a :class:`.damping.DampingLaw`, chosen
 by name (``ContactModel.damping``) from :data:`DAMPING_LAWS`; each is compiled into its own
 kernels. **A new damping law** is one file here plus one line in :data:`DAMPING_LAWS` (see
-:mod:`.damping`).
+:mod:`.damping`). A tangential law is a :class:`.tangential.TangentialLaw`, chosen by name
+(``ContactModel.tangential``) from :data:`TANGENTIAL_LAWS` and compiled the same way.
 """
 
 import difflib
 
-from . import hertz_gonthier, hertz_tsuji
+from . import friction_tanh, hertz_gonthier, hertz_tsuji, tangential_spring
 from .cor_constant import ConstantRestitution
 from .cor_table import TabulatedRestitution
 from .cor_thornton import ThorntonRestitution
 from .damping import DampingLaw
+from .tangential import TangentialLaw
 from .friction_tanh import DEFAULT_TAU
 from .hertz import hertz_energy, hertz_stiffness
 from .hertz_gonthier import contact_time, damping_parameter
@@ -35,6 +39,12 @@ DAMPING_LAWS = {law.name: law for law in (*hertz_gonthier.LAWS, *hertz_tsuji.LAW
 
 #: The allowed values of ``contact.damping``, the default first.
 DAMPING_CHOICES = tuple(DAMPING_LAWS)
+
+#: Tangential law name -> :class:`~.tangential.TangentialLaw`: the registry of ``contact.tangential``.
+TANGENTIAL_LAWS = {law.name: law for law in (friction_tanh.LAW, tangential_spring.LAW)}
+
+#: The allowed values of ``contact.tangential``, the default first.
+TANGENTIAL_CHOICES = tuple(TANGENTIAL_LAWS)
 
 #: The keys of a restitution law's table in a config file, by law.
 LAW_KEYS = {"constant": ("law", "value"), "table": ("law", "speeds", "values"), "thornton": ("law", "yield_pressure")}
@@ -102,6 +112,9 @@ __all__ = [
     "DampingLaw",
     "DAMPING_LAWS",
     "DAMPING_CHOICES",
+    "TangentialLaw",
+    "TANGENTIAL_LAWS",
+    "TANGENTIAL_CHOICES",
     "read_restitution",
     "contact_time",
     "hertz_stiffness",

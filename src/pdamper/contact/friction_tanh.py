@@ -18,15 +18,22 @@ needs a smaller step (stability needs roughly ``mu g tau dt < 4/7`` for a rollin
 ``tests/contact/test_friction_tanh.py`` shows the rolling speed 2V/7 does not depend on tau
 over 1e2 ... 1e4 s/m.
 
+**Choice.** ``contact.tangential = "tanh"`` (the default, the paper's law); the alternative is the
+tangential spring of :mod:`pdamper.contact.tangential_spring`. The law keeps no state between
+steps.
+
 Reference: Ambrosio, J. A. C. (2003). Impact of rigid and flexible multibody systems:
 deformation description and contact models. Virtual Nonlinear Multibody Systems, 57-81.
 """
 
 from __future__ import annotations
 
-from ..jit import njit
+from typing import NamedTuple
 
-__all__ = ["DEFAULT_TAU", "friction_factor", "tanh_pos", "TANH_SATURATION"]
+from ..jit import njit
+from .tangential import TangentialLaw
+
+__all__ = ["DEFAULT_TAU", "friction_factor", "tanh_pos", "TANH_SATURATION", "TanhFriction", "LAW"]
 
 #: Default smoothing parameter tau [s/m].
 DEFAULT_TAU = 1000.0
@@ -74,3 +81,12 @@ def friction_factor(mu, tau, vt_mag):
         return mu / vt_mag
     # tanh(x)/v = tau tanh(x)/x: finite (mu tau) as the slip vanishes, no division by v
     return mu * tau * _tanh_ratio(x)
+
+
+class TanhFriction(NamedTuple):
+    """Kernel marker of this law (see :mod:`pdamper.contact.tangential`)."""
+
+
+#: The tangential choice of this law (``contact.tangential``).
+LAW = TangentialLaw(name="tanh", marker=TanhFriction, history=False,
+                    summary="regularised Coulomb friction -mu F_N tanh(tau |v_t|) v_t/|v_t| (the paper's eq. 2)")

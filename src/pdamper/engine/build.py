@@ -13,20 +13,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact import DAMPING_LAWS
+from ..contact import DAMPING_LAWS, TANGENTIAL_LAWS
 from ..contact.cor_constant import ConstantRestitution
 from ..contact.cor_table import SPEED_GRID, tabulate_law
 from ..contact.cor_thornton import ThorntonRestitution, thornton_restitution
 from ..contact.hertz import hertz_stiffness
 from ..contact.hertz_gonthier import contact_time, effective_radius
+from ..contact.tangential_spring import damping_ratio as tangential_damping_ratio
 from ..errors import InputError
 from ..geometry.tilt import container_vectors
 from ..geometry.walls import CYLINDER_INSIDE, PLANE
 from ..initial import initial_positions
-from ..kernels.bundles import (Bodies, CellSearch, ContactTable, CoupledMotion, DirectSearch, Drive, PairList,
-                               PrescribedMotion, Search, WallList)
-from ..kernels.drive import DRIVE_MODAL, DRIVE_STRUCTURE
-from ..materials import effective_modulus
+from ..kernels.bundles import (TANGENTIAL_COLUMNS, Bodies, CellSearch, ContactTable, CoupledMotion, DirectSearch,
+                               Drive, PairList, PrescribedMotion, Search, WallList)
+from ..kernels.drive import DRIVE_KINDS
+from ..materials import effective_modulus, effective_shear_modulus
 from ..params import Case
 
 __all__ = ["Engine", "build", "drive_bundle", "auto_time_step", "grow_pairs", "grow_walls", "CELLS_THRESHOLD"]
@@ -108,7 +109,7 @@ def build(case: Case) -> Engine:
     walls, wall_names = _walls(case, bodies, table, wall_material)
     search, search_name = _search(case, rad, n)
     gvec, dvec = container_vectors(case.container.tilt, case.gravity, case.drive.lab_direction())
-    drive = drive_bundle(case.drive, gvec, dvec)
+    drive = drive_bundle(case.running_drive, gvec, dvec)
     return Engine(case=case, bodies=bodies, pairs=grow_pairs(None, max(16, n * 8), n), walls=walls, search=search,
                   table=table, drive=drive, search_name=search_name, wall_names=wall_names, dt=auto_time_step(case))
 
@@ -116,12 +117,15 @@ def build(case: Case) -> Engine:
 def drive_bundle(drive, gravity=None, direction=None) -> Drive:
     """The kernels' :class:`~pdamper.kernels.bundles.Drive` of a drive (:mod:`pdamper.excitation`),
     with the gravity vector and drive direction in the container frame (default: none, along x)."""
-    kind, par, tab, state = drive.kernel_drive()
+    name, par, tab, state = drive.kernel_drive()
+    if name not in DRIVE_KINDS:
+        raise InputError(f"{type(drive).__name__}.kernel_drive() names the compiled motion {name!r}; the kernels have "
+                         f"{', '.join(repr(k) for k in DRIVE_KINDS)} (pdamper.kernels.drive.DRIVE_KINDS)")
     gravity = np.zeros(3) if gravity is None else np.asarray(gravity, dtype=float)
     direction = np.array([1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
-    # the marker follows the kind, which the kernels read the structure's motion by
-    coupling = CoupledMotion() if int(kind) in (DRIVE_STRUCTURE, DRIVE_MODAL) else PrescribedMotion()
-    return Drive(kind=int(kind), coupling=coupling, par=par, table=tab, state=state, gravity=gravity,
+    # the marker follows what the drive is: one the bed's force moves is read from the state
+    coupling = CoupledMotion() if drive.coupled else PrescribedMotion()
+    return Drive(kind=DRIVE_KINDS[name], coupling=coupling, par=par, table=tab, state=state, gravity=gravity,
                  direction=direction)
 
 
@@ -135,18 +139,22 @@ def _initial_vectors(given, n, name):
 
 
 def _contact_table(case, mats) -> ContactTable:
-    """Per material pair (row a * M + b): E*, mu, the damping law's coefficient over impact speed."""
+    """Per material pair (row a * M + b): E*, G*, mu, the damping law's coefficient and the
+    tangential spring's damping ratio over impact speed (zeros with ``tangential_damping`` off)."""
     law = DAMPING_LAWS[case.contact.damping]
     nmat = len(mats)
     npair = nmat * nmat
     modulus = np.empty(npair)
+    shear_modulus = np.empty(npair)
     friction = np.empty(npair)
     coefficient = np.empty((npair, SPEED_GRID.size))
+    tangential_damping = np.zeros((npair, SPEED_GRID.size))
     yield_pressure = np.zeros(npair)
     for a in range(nmat):
         for b in range(nmat):
             mp = a * nmat + b
             modulus[mp] = effective_modulus(mats[a], mats[b])
+            shear_modulus[mp] = effective_shear_modulus(mats[a], mats[b])
             friction[mp] = case.contact.friction_for(mats[a].name, mats[b].name)
             cor = _restitution(case.contact, mats[a], mats[b])
             if isinstance(cor, ThorntonRestitution):
@@ -156,9 +164,13 @@ def _contact_table(case, mats) -> ContactTable:
             else:
                 eps = tabulate_law(cor)
             coefficient[mp] = law.coefficient(eps)
-    return ContactTable(law=law.marker(), n_materials=nmat, modulus=modulus, friction=friction,
-                        coefficient=coefficient, yield_pressure=yield_pressure,
-                        log_speed0=math.log(SPEED_GRID[0]), dlog_speed=math.log(SPEED_GRID[1]) - math.log(SPEED_GRID[0]),
+            if case.contact.tangential_damping:
+                tangential_damping[mp] = tangential_damping_ratio(eps)
+    return ContactTable(law=law.marker(), tangential=TANGENTIAL_LAWS[case.contact.tangential].marker(),
+                        n_materials=nmat, modulus=modulus, shear_modulus=shear_modulus, friction=friction,
+                        coefficient=coefficient, tangential_damping=tangential_damping, yield_pressure=yield_pressure,
+                        log_speed0=math.log(SPEED_GRID[0]),
+                        dlog_speed=math.log(SPEED_GRID[1]) - math.log(SPEED_GRID[0]),
                         tau=float(case.contact.tau), v_floor=float(case.contact.v_in_floor),
                         overlap_limit=float(case.numerics.overlap_limit))
 
@@ -198,7 +210,8 @@ def _walls(case, bodies, table, wall_material):
     walls = WallList(kind=np.asarray(kinds), data=data, floor=int(floor), candidate_body=np.empty(cap, dtype=np.int64),
                      candidate_wall=np.empty(cap, dtype=np.int64), n_candidates=np.zeros(1, dtype=np.int64),
                      stiffness=stiffness, material_pair=material_pair, approach_speed=np.zeros((n, nw)),
-                     damping=np.zeros((n, nw)), effective_radius=r_star)
+                     damping=np.zeros((n, nw)), effective_radius=r_star,
+                     tangential=np.zeros((n, nw, len(TANGENTIAL_COLUMNS))))
     return walls, tuple(names)
 
 
@@ -230,8 +243,10 @@ def grow_pairs(pairs: PairList | None, capacity: int, n: int | None = None) -> P
                    second=np.zeros(capacity, dtype=np.int64), approach_speed=np.zeros(capacity),
                    damping=np.zeros(capacity), stiffness=np.zeros(capacity),
                    material_pair=np.zeros(capacity, dtype=np.int64), friction_cap=np.zeros(capacity),
+                   tangential=np.zeros((capacity, len(TANGENTIAL_COLUMNS))),
                    next_row=np.zeros(n + 1, dtype=np.int64), next_second=np.zeros(capacity, dtype=np.int64),
-                   next_approach_speed=np.zeros(capacity), next_damping=np.zeros(capacity))
+                   next_approach_speed=np.zeros(capacity), next_damping=np.zeros(capacity),
+                   next_tangential=np.zeros((capacity, len(TANGENTIAL_COLUMNS))))
     if pairs is not None:
         for old, arr in zip(pairs, new):
             arr[: old.shape[0]] = old

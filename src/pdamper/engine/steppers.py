@@ -15,13 +15,30 @@ from numba import types
 
 from ..errors import SimulationError
 from ..kernels import forces as kf
-from ..kernels.bundles import FrictionRecord, GearSpan, GearState, VerletSpan, VerletState
+from ..kernels.bundles import SAVED_HISTORY_ROWS, FrictionRecord, GearSpan, GearState, VerletSpan, VerletState
 from .build import Engine, auto_time_step, grow_pairs, grow_walls
 
-__all__ = ["VerletStepper", "GearStepper", "stepper_for", "GEAR_MIN_STEP"]
+__all__ = ["VerletStepper", "GearStepper", "stepper_for", "failure_message", "GEAR_MIN_STEP"]
 
 #: Gear's shortest step [s]: far below any Hertz contact time of the paper's materials.
 GEAR_MIN_STEP = 1e-9
+
+
+def failure_message(case, status, culprit, t_fail, step) -> str:
+    """What a failed step (``status``: an overlap or a non-finite velocity) says: when, which
+    sphere, what happened, what to change (the CPU steppers and the GPU engine alike)."""
+    what = "an overlap beyond " + f"{100 * case.numerics.overlap_limit:g} % of the radius" \
+        if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
+    when = f"t = {t_fail:.6f} s" if t_fail >= 0 else f"t = {t_fail:.6f} s (during settling, before the drive)"
+    if case.numerics.integrator == "gear":
+        fix = "a smaller numerics.gear_tolerance or numerics.gear_max_step"
+    else:
+        suggest = min(step, auto_time_step(dataclasses.replace(
+            case, numerics=dataclasses.replace(case.numerics, time_step=None)))) / 2
+        fix = (f"a smaller numerics.time_step (e.g. {suggest * 1e6:.3g} us), more numerics.steps_per_contact, "
+               "a larger numerics.max_impact_speed, or integrator = 'gear'")
+    return (f"the run became unstable at {when}: particle {culprit} reached {what} with time step "
+            f"{step * 1e6:.3g} us; use {fix}")
 
 
 class _Stepper:
@@ -57,20 +74,7 @@ class _Stepper:
         if status in (kf.STATUS_LIST_OVERFLOW, kf.STATUS_WALL_OVERFLOW):
             self._grow(status)
             return
-        case = self.engine.case
-        what = "an overlap beyond " + f"{100 * case.numerics.overlap_limit:g} % of the radius" \
-            if status == kf.STATUS_OVERLAP else "a non-finite velocity (NaN/inf)"
-        when = f"t = {t_fail:.6f} s" if t_fail >= 0 else f"t = {t_fail:.6f} s (during settling, before the drive)"
-        if case.numerics.integrator == "gear":
-            fix = "a smaller numerics.gear_tolerance or numerics.gear_max_step"
-        else:
-            suggest = min(step, auto_time_step(dataclasses.replace(
-                case, numerics=dataclasses.replace(case.numerics, time_step=None)))) / 2
-            fix = (f"a smaller numerics.time_step (e.g. {suggest * 1e6:.3g} us), more numerics.steps_per_contact, "
-                   "a larger numerics.max_impact_speed, or integrator = 'gear'")
-        raise SimulationError(
-            f"the run became unstable at {when}: particle {culprit} reached {what} with time step "
-            f"{step * 1e6:.3g} us; use {fix}")
+        raise SimulationError(failure_message(self.engine.case, status, culprit, t_fail, step))
 
 
 class VerletStepper(_Stepper):
@@ -84,7 +88,8 @@ class VerletStepper(_Stepper):
         #: steps per sample interval, and the step [s] that divides the interval exactly
         self.sub = max(1, int(np.ceil(interval / engine.dt - 1e-9)))
         self.dt = interval / self.sub
-        self.state = VerletState(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+        self.state = VerletState(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)),
+                                 np.zeros((n, 6)))
 
     @property
     def sample_interval(self) -> float:
@@ -136,7 +141,7 @@ class VerletStepper(_Stepper):
         span = VerletSpan(steps=0, dt=1.0, t0=0.0, step0=0, sub=1, record=False, skip_samples=0, prime=False)
         return [(run_verlet, (span, b, self.state, e.pairs, e.walls, e.search, e.table, e.drive, samples)),
                 (record_sample, (0, samples, b, e.pairs, e.walls, e.drive, 0.0, 0.0)),
-                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, no_friction_record())),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, self.state.moved, no_friction_record())),
                 (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
 
     def start_drive(self, jump, a0) -> None:
@@ -163,9 +168,11 @@ class GearStepper(_Stepper):
         self.rejected = 0
         self.state = GearState(nordsieck=np.zeros((6, n, 6)), predicted=np.zeros((6, n, 6)),
                                increments=np.zeros((n, 6)), step=np.array([h0]),
-                               integrands=np.zeros(4), saved_pair_history=np.zeros((2, engine.pairs.second.shape[0])),
-                               saved_wall_history=np.zeros((2,) + engine.walls.approach_speed.shape),
-                               saved_structure=np.zeros_like(engine.drive.state), friction=self._record(None))
+                               integrands=np.zeros(4),
+                               saved_pair_history=np.zeros((SAVED_HISTORY_ROWS, engine.pairs.second.shape[0])),
+                               saved_wall_history=np.zeros((SAVED_HISTORY_ROWS,) + engine.walls.approach_speed.shape),
+                               saved_structure=np.zeros_like(engine.drive.state), friction=self._record(None),
+                               anchor=np.zeros((n, 6)), moved=np.zeros((n, 6)))
 
     def _record(self, old):
         """The friction record, sized for every listed pair, every sphere on the floor and every
@@ -181,7 +188,7 @@ class GearStepper(_Stepper):
         s = self.state
         cap = self.engine.pairs.second.shape[0]
         if s.saved_pair_history.shape[1] < cap:
-            s = s._replace(saved_pair_history=np.zeros((2, cap)))
+            s = s._replace(saved_pair_history=np.zeros((SAVED_HISTORY_ROWS, cap)))
         self.state = s._replace(friction=self._record(s.friction))
 
     @property
@@ -230,7 +237,7 @@ class GearStepper(_Stepper):
                 # one-sphere view would be typed 'C')
                 (_implicit_friction, (b, view, view, 1.0, s.friction)),
                 (_predict, (s.nordsieck, s.predicted, 1.0, 1.0, b)),
-                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, s.friction)),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, s.moved, s.friction)),
                 (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
 
     def start_drive(self, jump, a0) -> None:

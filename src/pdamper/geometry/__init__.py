@@ -5,7 +5,7 @@ answers); :data:`SHAPES` maps ``[container] shape`` to its class. :mod:`.walls` 
 compiled distance functions every wall force uses; :mod:`.baffles` the inner plates.
 """
 
-from .shape import SHAPES, Shape, ShapeBase, register_shape
+from .shape import SHAPES, Shape, ShapeBase, register_shape, shape_from_keys, sizing_keys
 # the shapes: one registration (import) line each
 from .cuboid import Cuboid
 from .cylinder import Cylinder
@@ -13,5 +13,6 @@ from .baffles import Baffle
 from .tilt import container_vectors, rotation
 from .walls import BOX_OUTSIDE, CYLINDER_INSIDE, PLANE, wall_distance, wall_distances
 
-__all__ = ["Cuboid", "Cylinder", "Baffle", "Shape", "ShapeBase", "SHAPES", "register_shape", "rotation",
+__all__ = ["Cuboid", "Cylinder", "Baffle", "Shape", "ShapeBase", "SHAPES", "register_shape", "shape_from_keys",
+           "sizing_keys", "rotation",
            "container_vectors", "wall_distance", "wall_distances", "PLANE", "CYLINDER_INSIDE", "BOX_OUTSIDE"]

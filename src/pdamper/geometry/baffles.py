@@ -29,7 +29,7 @@ from ..errors import InputError
 from ..schema import convert_fields, param
 from .walls import BOX_OUTSIDE, box_outside
 
-__all__ = ["Baffle", "baffle_walls", "baffle_outlines"]
+__all__ = ["Baffle", "baffle_walls", "baffle_outlines", "floor_sections"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -99,3 +99,22 @@ def baffle_outlines(baffles, view: str, height: float, across: tuple[float, floa
         y0, y1 = (b.gap_below, height - b.gap_above) if view == "side" else across
         out.append(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
     return out
+
+
+def floor_sections(baffles, x_lo: float, x_hi: float, radius: float) -> list[tuple[float, float]]:
+    """The sections ``[(a, b), ...]`` [m] of the floor along x, from ``x_lo`` to ``x_hi``, that a
+    sphere of ``radius`` cannot leave along the floor: the floor is split at each baffle whose gap
+    below is less than the sphere's diameter, between the plate's two faces (one section, the
+    whole floor, without such a baffle).
+
+    >>> floor_sections([Baffle(position=-0.02), Baffle(position=0.02)], -0.06, 0.06, 0.005)
+    [(-0.06, -0.021), (-0.019, 0.019), (0.021, 0.06)]
+    """
+    cuts = sorted((b.position - b.thickness / 2, b.position + b.thickness / 2)
+                  for b in baffles if b.gap_below < 2 * radius)
+    edges, start = [], float(x_lo)
+    for face_lo, face_hi in cuts:
+        edges.append((start, float(face_lo)))
+        start = float(face_hi)
+    edges.append((start, float(x_hi)))
+    return [(round(a, 12), round(b, 12)) for a, b in edges if b > a]

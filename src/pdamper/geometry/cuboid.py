@@ -38,6 +38,7 @@ class Cuboid(ShapeBase):
     width: float = param(0.0404, dimension="length", paper="40.4 mm")
     height: float = param(0.040, dimension="length", paper="40 mm")
     shape: str = param("cuboid", kind="tag")
+    length_keys = ("length",)
 
     def __post_init__(self):
         convert_fields(self, "container")
@@ -50,6 +51,10 @@ class Cuboid(ShapeBase):
     def drive_length(self) -> float:
         """L [m] used in the clearance, eq. (6)."""
         return self.length
+
+    def row_capacity(self, radius: float) -> int:
+        """Spheres side by side across the width: floor(w / 2r)."""
+        return int(math.floor(self.width / (2 * radius) + 1e-9))
 
     def walls(self):
         """(kinds, data, names) of the six walls: x_min, x_max, floor, lid, z_min, z_max."""

@@ -35,6 +35,7 @@ class Cylinder(ShapeBase):
     radius: float = param(0.039, dimension="length", paper="39 mm")
     height: float = param(0.011, dimension="length", paper="11 mm")
     shape: str = param("cylinder", kind="tag")
+    length_keys = ("radius",)
 
     def __post_init__(self):
         convert_fields(self, "container")

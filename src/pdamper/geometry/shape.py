@@ -20,7 +20,15 @@ config keys                 its dataclass fields, declared with :func:`pdamper.s
 ``outline(view)``           closed polygons ``[(k, 2), ...]`` of the walls seen from ``"top"``
                             (x, z) or from the ``"side"`` (x, y), for figures and animations
 ``length_along(d)``         the inner length [m] along the horizontal unit vector d through the
-                            floor's centre (the clearance law's L along the drive)
+                            floor's centre
+``drive_length``            L [m] of the clearance law, eq. (6): the inner length along the
+                            container's x axis (the drive's); from ``length_along`` by default
+``length_keys``             the config keys that set ``drive_length`` (what ``pdamper theory`` and
+                            ``design`` must be given): the cuboid's ``length``, the cylinder's
+                            ``radius``; by default every key but ``height``
+``with_drive_length(L)``    the shape scaled so that ``drive_length`` is L (its ``length_keys``
+                            in proportion; the design's container lengths)
+``row_capacity(r)``         spheres side by side across the drive in one row (the design's rows)
 ``end_contacts(...)``       which frames have a sphere at the wall ahead / behind along the drive
 ``max_particles(r)``        spheres that fit on the floor in one layer
 ``clearance_capacity(r)``   N_p,max of the clearance law, eq. (6), as the paper counts it
@@ -44,7 +52,7 @@ import numpy as np
 
 from ..schema import register_tagged
 
-__all__ = ["Shape", "ShapeBase", "SHAPES", "register_shape", "GAP"]
+__all__ = ["Shape", "ShapeBase", "SHAPES", "register_shape", "shape_from_keys", "sizing_keys", "GAP"]
 
 #: Clearance [m] between neighbours and to the floor at the start (the initial block's gap).
 GAP = 1e-6
@@ -71,6 +79,13 @@ class Shape(Protocol):
 
     def length_along(self, direction) -> float: ...
 
+    @property
+    def drive_length(self) -> float: ...
+
+    def with_drive_length(self, length: float): ...
+
+    def row_capacity(self, radius: float) -> int: ...
+
     def end_contacts(self, position, radius, along, length: float, gap): ...
 
     def max_particles(self, radius: float) -> int: ...
@@ -86,13 +101,71 @@ def register_shape(cls):
     """Class decorator: register a shape dataclass under its ``shape`` tag (the default of its
     ``shape`` field). Returns the class."""
     return register_tagged(SHAPES, cls, "shape", "shape",
-                           needs=("walls", "bounding_box", "layer_sites", "outline", "max_particles", "describe"))
+                           needs=("walls", "bounding_box", "layer_sites", "outline", "max_particles", "describe",
+                                  "length_along", "clearance_capacity", "with_drive_length", "row_capacity"),
+                           has=("drive_length",))
+
+
+def sizing_keys(cls) -> tuple:
+    """The config keys that set the shape ``cls``'s ``drive_length``: its ``length_keys``, or every
+    config key but ``height`` where it names none."""
+    from ..schema import config_keys
+
+    return tuple(getattr(cls, "length_keys", ())) or tuple(k for k in config_keys(cls) if k != "height")
+
+
+def shape_from_keys(shape: str, keys: dict, *, option=lambda key: f"--{key.replace('_', '-')}",
+                    require: bool = True):
+    """The registered shape ``shape`` built from its config keys ``keys`` (None values left out),
+    for a command that sizes a container from options: each key must be the shape's, and (with
+    ``require``) its :func:`sizing_keys` (which set the clearance's L) must be given.
+    ``option(key)`` names the command's option of a key in messages."""
+    from ..errors import InputError
+    from ..schema import config_keys
+
+    if shape not in SHAPES:
+        raise InputError(f"shape = {shape!r} is unknown; use one of {', '.join(SHAPES)}")
+    cls = SHAPES[shape]
+    given = {k: v for k, v in keys.items() if v is not None}
+    own = config_keys(cls)
+    for k in given:
+        if k not in own:
+            owners = [s for s, c in SHAPES.items() if k in config_keys(c)]
+            where = f"to shape {owners[0]!r}" if owners else "to no shape"
+            raise InputError(f"{option(k)} applies {where}, not to the {shape}; the {shape} takes "
+                             + ", ".join(option(x) for x in own))
+    missing = [k for k in sizing_keys(cls) if k not in given]
+    if missing and require:
+        raise InputError(f"the {shape} needs {' and '.join(option(k) for k in missing)} (its size along the drive, "
+                         f"which sets the clearance's L)")
+    return cls(**given)
 
 
 
 class ShapeBase:
     """Answers of the shape protocol that follow from a shape's own ``walls``, ``bounding_box``
     and ``floor_sites``; a shape overrides any of them where it knows better."""
+
+    #: the config keys that set ``drive_length`` (empty: every key but ``height``, :func:`sizing_keys`)
+    length_keys: tuple = ()
+
+    @property
+    def drive_length(self) -> float:
+        """L [m] of the clearance, eq. (6): the inner length along the container's x axis through
+        the floor's centre (:meth:`length_along`)."""
+        return self.length_along((1.0, 0.0, 0.0))
+
+    def with_drive_length(self, length: float):
+        """This shape scaled so that :attr:`drive_length` is ``length`` [m]: its
+        :func:`sizing_keys` in proportion, the other keys (the height, a width) kept."""
+        scale = float(length) / self.drive_length
+        return dataclasses.replace(self, **{k: getattr(self, k) * scale for k in sizing_keys(type(self))})
+
+    def row_capacity(self, radius: float) -> int:
+        """Spheres of ``radius`` side by side across the drive in one row: the one-layer count
+        over the rows that fit along the drive."""
+        along = max(1, math.floor(self.drive_length / (2 * radius) + 1e-9))
+        return max(1, round(self.clearance_capacity(radius) / along))
 
     def layer_sites(self, radius: float, jitter: float, n_needed: int | None = None):
         """One layer of sites from :meth:`floor_sites` with room ``jitter`` around each, the

@@ -27,11 +27,11 @@ bundle             holds
 :class:`VerletSpan`, :class:`GearSpan`  what one call of an integrator advances
 =================  =========================================================================
 
-**Markers.** Two choices are made by the *type* of an empty bundle rather than by a value:
+**Markers.** Some choices are made by the *type* of an empty bundle rather than by a value:
 :attr:`Search.method` (:class:`DirectSearch` or :class:`CellSearch`) and :attr:`Drive.coupling`
 (:class:`PrescribedMotion` or :class:`CoupledMotion`), as :attr:`ContactTable.law` picks the damping
-law. numba compiles a kernel for the marker it is given, so a run compiles the pair search and the
-structure code it uses and no other (the link cells and the structure's step are ~2 CPU-s of a
+law and :attr:`ContactTable.tangential` the tangential law. numba compiles a kernel for the marker
+it is given, so a run compiles the pair search, the structure code and the laws it uses and no other (the link cells and the structure's step are ~2 CPU-s of a
 first run's compiling that a small bed on a prescribed drive never needs).
 """
 
@@ -44,7 +44,7 @@ import numpy as np
 __all__ = ["Bodies", "PairList", "WallList", "Search", "DirectSearch", "CellSearch", "ContactTable", "Drive",
            "PrescribedMotion", "CoupledMotion", "marker_class", "Samples", "FrictionRecord",
            "VerletState", "GearState", "VerletSpan", "GearSpan", "ENERGY_COLUMNS", "STRUCTURE_COLUMNS",
-           "FRAME_COLUMNS"]
+           "FRAME_COLUMNS", "TANGENTIAL_COLUMNS", "SAVED_HISTORY_ROWS"]
 
 #: Columns of :attr:`Samples.energy`: kinetic (lab frame), rotational, potential, elastic, work done
 #: by the container, dissipated by normal damping, dissipated by friction [J].
@@ -54,6 +54,15 @@ ENERGY_COLUMNS = ("kinetic", "rotational", "potential", "elastic", "work", "damp
 STRUCTURE_COLUMNS = ("displacement", "velocity", "external_work", "damping_loss", "energy", "response_displacement")
 #: Columns of a frame in :attr:`Samples.frames`: position [m], velocity [m/s], spin [rad/s].
 FRAME_COLUMNS = 9
+#: Columns of a contact's tangential history (:attr:`PairList.tangential`, :attr:`WallList.tangential`),
+#: kept by a tangential law with history (the spring, :mod:`pdamper.contact.tangential_spring`): the
+#: stored spring force on body i (x, y, z) [N], the stiffness it was stored with [N/m] (0: no
+#: spring), the tangential damping ratio fixed when the contact started [-]. All 0 for a contact
+#: that is not touching, and for every contact under a law without history.
+TANGENTIAL_COLUMNS = ("force_x", "force_y", "force_z", "stiffness", "damping_ratio")
+#: Rows of :attr:`GearState.saved_pair_history` (and of ``saved_wall_history``): the approach
+#: speed, the damping parameter, then the tangential history's columns.
+SAVED_HISTORY_ROWS = 2 + len(TANGENTIAL_COLUMNS)
 
 
 class Bodies(NamedTuple):
@@ -85,10 +94,12 @@ class PairList(NamedTuple):
     stiffness: np.ndarray        #: (capacity,) Hertz k = 4/3 E* sqrt(R*) [N/m^1.5]
     material_pair: np.ndarray    #: (capacity,) int: row of the pair in the contact table
     friction_cap: np.ndarray     #: (capacity,) FRICTION_CAP x reduced mass m* [kg] (Verlet's friction guard)
+    tangential: np.ndarray       #: (capacity, 5) history: the tangential law's, columns TANGENTIAL_COLUMNS
     next_row: np.ndarray         #: (N + 1,) int, scratch of the rebuild
     next_second: np.ndarray      #: (capacity,) int, scratch
     next_approach_speed: np.ndarray  #: (capacity,) scratch
     next_damping: np.ndarray     #: (capacity,) scratch
+    next_tangential: np.ndarray  #: (capacity, 5) scratch
 
 
 class WallList(NamedTuple):
@@ -109,6 +120,7 @@ class WallList(NamedTuple):
     approach_speed: np.ndarray   #: (N, W) history: v_in [m/s]; 0 = not touching
     damping: np.ndarray          #: (N, W) history: the damping law's parameter
     effective_radius: np.ndarray  #: (N, W) R* [m] (flat wall r; concave wall 1/(1/r - 1/R))
+    tangential: np.ndarray       #: (N, W, 5) history: the tangential law's, columns TANGENTIAL_COLUMNS
 
 
 class DirectSearch(NamedTuple):
@@ -138,10 +150,13 @@ class ContactTable(NamedTuple):
     """The contact laws per material pair; row ``a * n_materials + b`` (the wall material last)."""
 
     law: tuple                   #: the damping law's marker (:mod:`pdamper.contact.damping`)
+    tangential: tuple            #: the tangential law's marker (:mod:`pdamper.contact.tangential`)
     n_materials: int
     modulus: np.ndarray          #: (M*M,) effective modulus E* [Pa]
+    shear_modulus: np.ndarray    #: (M*M,) Mindlin's effective shear modulus G* [Pa] (the spring's stiffness)
     friction: np.ndarray         #: (M*M,) mu [-]
     coefficient: np.ndarray      #: (M*M, G) the damping law's coefficient over log-spaced impact speeds
+    tangential_damping: np.ndarray  #: (M*M, G) the spring's tangential damping ratio over the same speeds (0: off)
     yield_pressure: np.ndarray   #: (M*M,) Thornton's p_y [Pa] (table over v / v_y), 0: table over v
     log_speed0: float            #: log of the first speed of the table [log(m/s)]
     dlog_speed: float            #: log spacing of the table
@@ -169,7 +184,7 @@ class Drive(NamedTuple):
     """Gravity, the drive direction and the container's motion along it
     (:mod:`pdamper.kernels.drive`)."""
 
-    kind: int                    #: 0 still, 1 harmonic, 2 sampled, 3 coupled structure, 4 modal structure
+    kind: int                    #: DRIVE_STILL, DRIVE_HARMONIC, DRIVE_SAMPLED, DRIVE_STRUCTURE, DRIVE_MODAL (drive.py)
     coupling: tuple              #: PrescribedMotion() or CoupledMotion(): a marker whose *type* decides, when a
                                  #: kernel is compiled, whether the structure's step is compiled into it
     par: np.ndarray              #: parameters of the kind (harmonic: X, Omega, phase; structure: M, K, c, F0, Omega)
@@ -203,12 +218,15 @@ class FrictionRecord(NamedTuple):
 
 
 class VerletState(NamedTuple):
-    """Velocity Verlet's accelerations, now and one step back (for the velocity prediction)."""
+    """Velocity Verlet's accelerations, now and one step back (for the velocity prediction), and
+    what the last drift moved each sphere by."""
 
     acceleration: np.ndarray
     angular_acceleration: np.ndarray
     previous_acceleration: np.ndarray
     previous_angular_acceleration: np.ndarray
+    moved: np.ndarray            #: (N, 6) the last drift's displacement [m] and rotation [rad] (a
+                                 #: tangential law with history advances its springs by it; else unused)
 
 
 class GearState(NamedTuple):
@@ -219,10 +237,13 @@ class GearState(NamedTuple):
     increments: np.ndarray       #: (N, 6) the corrector's increments Delta of the current step (position, angle)
     step: np.ndarray             #: (1,) the step [s] the Nordsieck vector is scaled to
     integrands: np.ndarray       #: (4,) the ledger's integrands at the last accepted step (trapezoid)
-    saved_pair_history: np.ndarray   #: (2, capacity) pair history before the step
-    saved_wall_history: np.ndarray   #: (2, N, W) wall history before the step
+    saved_pair_history: np.ndarray   #: (SAVED_HISTORY_ROWS, capacity) pair history before the step
+    saved_wall_history: np.ndarray   #: (SAVED_HISTORY_ROWS, N, W) wall history before the step
     saved_structure: np.ndarray  #: the coupled structure's state before the step (the shape of Drive.state)
     friction: FrictionRecord
+    anchor: np.ndarray           #: (N, 6) the predicted position and angle the springs were last advanced at
+    moved: np.ndarray            #: (N, 6) the prediction of the step less ``anchor``: what the springs advance by
+                                 #: (both used by a tangential law with history only)
 
 
 class VerletSpan(NamedTuple):

@@ -12,7 +12,12 @@ Gear's friction record.
 The normal damping law is the one the contact table's ``law`` marker names
 (:mod:`pdamper.contact.damping`): :func:`law_touch` and :func:`law_force` resolve, when numba
 compiles a kernel, to the law's own functions, so each law is compiled (and cached) on its own.
-Friction is the tanh-regularised Coulomb law of :mod:`pdamper.contact.friction_tanh` (eq. 2).
+The tangential law is the one the table's ``tangential`` marker names
+(:mod:`pdamper.contact.tangential`): :func:`friction` resolves to the tanh-regularised Coulomb law of
+:mod:`pdamper.contact.friction_tanh` (eq. 2, the default) or to the tangential spring of
+:mod:`pdamper.contact.tangential_spring`, and :func:`keeps_history` tells the loops, the neighbour
+lists and Gear, when they are compiled, whether the law has per-contact history to carry
+(the tanh law compiles none of it, so its kernels are what they were before the spring existed).
 
 **Contact history.** ``v_in`` of a contact is the largest normal approach speed it has seen
 since it began (floored at ``v_floor``), and the law's damping parameter is fixed from it
@@ -39,13 +44,16 @@ import math
 
 from numba.extending import overload
 
-from ..contact import DAMPING_LAWS
+from ..contact import DAMPING_LAWS, TANGENTIAL_LAWS
 from ..contact.cor_thornton import yield_speed
-from ..contact.friction_tanh import friction_factor
+from ..contact.friction_tanh import TanhFriction, friction_factor
+from ..contact.tangential_spring import (SpringFriction, spring_damping, spring_energy, spring_force,
+                                         spring_stiffness)
 from ..jit import JIT, njit
 
-__all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "law_touch", "law_force", "note_friction_row", "scatter",
-           "pair_point_velocity", "wall_point_velocity", "floor_slip", "corrected_friction"]
+__all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "tabulated", "law_touch", "law_force", "friction",
+           "keeps_history", "drop_history", "note_friction_row", "scatter", "pair_point_velocity",
+           "wall_point_velocity", "floor_slip", "corrected_friction"]
 
 #: Friction stability guard: the friction force on a contact never exceeds the force that
 #: would stop its tangential slip within one step, ``m_t |v_t| / dt`` with the tangential
@@ -54,19 +62,34 @@ __all__ = ["FRICTION_CAP", "contact", "damping_at_touch", "law_touch", "law_forc
 #: without it their slip chatters around zero and the friction work is mis-counted.
 #: Velocity Verlet only: Gear's steps pass a vanishing ``dt`` (no cap) and evaluate the friction at
 #: the corrected slip instead (:mod:`pdamper.kernels.gear`); only Gear's priming evaluation at the
-#: start of a run (initial accelerations) passes its first step and so keeps the cap.
+#: start of a run (initial accelerations) passes its first step and so keeps the cap. The tanh law
+#: only: the tangential spring has no slope to chatter on (its stiffness is resolved by the step as
+#: the Hertz stiffness is).
 FRICTION_CAP = 0.5 * 2.0 / 7.0
 
 #: marker class -> DampingLaw (several names may share a marker: they differ only in their table)
 _BY_MARKER = {law.marker: law for law in DAMPING_LAWS.values()}
 
 
-def _law_of(marker_type):
+#: marker class -> TangentialLaw
+_TANGENTIAL_BY_MARKER = {law.marker: law for law in TANGENTIAL_LAWS.values()}
+
+
+def _registered(marker_type, by_marker, kind, registry):
+    """The law a marker's numba type stands for, or a TypeError naming the registry to add it to."""
     try:
-        return _BY_MARKER[marker_type.instance_class]
+        return by_marker[marker_type.instance_class]
     except (AttributeError, KeyError):
-        raise TypeError(f"no damping law is registered for {marker_type}; register it in "
-                        "pdamper.contact.DAMPING_LAWS") from None
+        raise TypeError(f"no {kind} law is registered for {marker_type}; register it in "
+                        f"pdamper.contact.{registry}") from None
+
+
+def _law_of(marker_type):
+    return _registered(marker_type, _BY_MARKER, "damping", "DAMPING_LAWS")
+
+
+def _tangential_law_of(marker_type):
+    return _registered(marker_type, _TANGENTIAL_BY_MARKER, "tangential", "TANGENTIAL_LAWS")
 
 
 def law_touch(law, coefficient, v_in, k, m_star):
@@ -106,19 +129,27 @@ def damping_at_touch(table, v_approach, mp, k, r_star, m_star):
     approach speed ``v_approach`` [m/s], fixed by the law in ``table`` for material pair ``mp``.
 
     The speed is floored at ``table.v_floor`` (see :mod:`pdamper.contact.hertz_gonthier`). The law's
-    coefficient is read from row ``mp`` of ``table.coefficient`` at that speed, or at ``v / v_y``
-    for Thornton's restitution (``table.yield_pressure[mp] > 0``, ``v_y`` from the contact's E*, R*
-    and m*, :func:`pdamper.contact.cor_thornton.yield_speed`), log-linearly interpolated.
+    coefficient is read from row ``mp`` of ``table.coefficient`` at that speed
+    (:func:`tabulated`).
     """
     v = v_approach
     if v < table.v_floor:
         v = table.v_floor
+    return law_touch(table.law, tabulated(table, table.coefficient, v, mp, r_star, m_star), v, k, m_star)
+
+
+@njit
+def tabulated(table, tab, v, mp, r_star, m_star):
+    """Row ``mp`` of a table over the contact table's log-spaced impact speeds (``tab``:
+    ``table.coefficient``, ``table.tangential_damping``) at approach speed ``v`` [m/s], or at
+    ``v / v_y`` for Thornton's restitution (``table.yield_pressure[mp] > 0``, ``v_y`` from the
+    contact's E*, R* and m*, :func:`pdamper.contact.cor_thornton.yield_speed`), log-linearly
+    interpolated and held at the table's ends."""
     x = v
     py = table.yield_pressure[mp]
     if py > 0.0:
         x = v / yield_speed(py, table.modulus[mp], r_star, m_star)
     u = (math.log(x) - table.log_speed0) / table.dlog_speed
-    tab = table.coefficient
     g = tab.shape[1]
     if u <= 0.0:
         c = tab[mp, 0]
@@ -128,37 +159,123 @@ def damping_at_touch(table, v_approach, mp, k, r_star, m_star):
         q = int(u)
         f = u - q
         c = tab[mp, q] * (1.0 - f) + tab[mp, q + 1] * f
-    return law_touch(table.law, c, v, k, m_star)
+    return c
 
 
 @njit(inline="always")
-def contact(table, mp, mu, k, r_star, m_star, cap, delta, delta_dot, v_in, d, vt, dt):
+def contact(table, hist, row, mp, mu, k, r_star, m_star, cap, delta, delta_dot, v_in, d, nx, ny, nz, tx, ty, tz, vt,
+            dx, dy, dz, dt, step):
     """The contact law at one contact.
 
-    Parameters: the contact table and the contact's material pair ``mp``, its friction
-    coefficient ``mu`` [-], Hertz stiffness ``k`` [N/m^1.5], effective radius ``r_star`` [m] and
-    mass ``m_star`` [kg], friction guard ``cap`` [kg] (:data:`FRICTION_CAP` x m*); its overlap
-    ``delta`` [m] and approach rate ``delta_dot`` [m/s] (> 0 approaching); its history
-    ``(v_in, d)`` (``v_in = 0``: a new contact); the length ``vt`` [m/s] of the tangential slip at
-    the contact point (the caller's: the floor's slip has no y part); the step ``dt`` [s] (the
-    friction guard; Gear passes a vanishing step: no guard).
+    Parameters: the contact table and the contact's row ``row`` of the tangential history ``hist``
+    (:data:`~pdamper.kernels.bundles.TANGENTIAL_COLUMNS`; a law without history leaves it alone), its
+    material pair ``mp``, friction coefficient ``mu`` [-], Hertz stiffness ``k`` [N/m^1.5],
+    effective radius ``r_star`` [m] and mass ``m_star`` [kg], friction guard ``cap`` [kg]
+    (:data:`FRICTION_CAP` x m*); its overlap ``delta`` [m] and approach rate ``delta_dot`` [m/s]
+    (> 0 approaching); its history ``(v_in, d)`` (``v_in = 0``: a new contact); the unit normal
+    ``n`` (from i to j; at a wall into the container) and the tangential slip ``t`` [m/s] at the
+    contact point with its length ``vt`` (the caller's: the floor's slip has no y part); the
+    displacement ``(dx, dy, dz)`` [m] of i's contact point relative to j's since a spring was last
+    advanced (only a law with history reads it); the step ``dt`` [s] of the tanh law's friction
+    guard (Gear passes a vanishing step: no guard) and the step ``step`` [s] of the spring's damping.
 
-    Returns ``(F_N, c, lim, v_in, d, P_damp, P_friction)``: the normal force [N] (pushing the
-    bodies apart when positive), the friction coefficient ``c`` [N s/m] (the friction force on a
-    body is ``-c`` times its slip), the Coulomb limit ``lim = mu F_N`` [N], the updated history, and
-    the power dissipated by the normal damping and by friction [W]. Friction follows the pushing
-    part of the normal force (a law that may pull at the end of a contact, Tsuji's, has no friction
-    while it pulls).
+    Returns ``(F_N, ft_x, ft_y, ft_z, c, lim, v_in, d, P_damp, P_friction, E_friction)``: the normal
+    force [N] (pushing the bodies apart when positive), the tangential force on body i [N], the
+    tanh law's friction coefficient ``c`` [N s/m] (the friction force is ``-c`` times the slip;
+    0 for a law with history: Gear's implicit friction pass then skips the contact) and its
+    Coulomb limit ``lim = mu F_N`` [N], the updated history, the power dissipated by the normal
+    damping and by the tanh law's friction [W], and the energy [J] a law with history dissipated
+    in this step. Friction follows the pushing part of the normal force (a law that may pull at
+    the end of a contact, Tsuji's, has no friction while it pulls).
     """
-    if v_in == 0.0 or delta_dot > v_in:
+    touched = v_in == 0.0 or delta_dot > v_in
+    if touched:
         # first touch, or struck harder than ever before in this contact
         v_in = max(delta_dot, table.v_floor)
         d = damping_at_touch(table, delta_dot, mp, k, r_star, m_star)
     fn, fdamp = law_force(table.law, k, delta, delta_dot, d)
+    ftx, fty, ftz, c, lim, p_f, e_f = friction(table.tangential, table, hist, row, mp, mu, r_star, m_star, cap, fn,
+                                               delta, touched, v_in, nx, ny, nz, tx, ty, tz, vt, dx, dy, dz, dt, step)
+    return fn, ftx, fty, ftz, c, lim, v_in, d, fdamp * delta_dot, p_f, e_f
+
+
+def friction(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
+             vt, dx, dy, dz, dt, step):
+    """The tangential law of marker ``law`` at one contact (compiled kernels only: resolved by the
+    type of ``law``). Returns ``(ft_x, ft_y, ft_z, c, lim, P_friction, E_friction)`` as
+    :func:`contact` describes them."""
+    raise NotImplementedError("friction is compiled into the kernels")
+
+
+def keeps_history(law):
+    """Whether the tangential law of marker ``law`` keeps a per-contact history (a constant of the
+    compiled kernel: compiled kernels only)."""
+    raise NotImplementedError("keeps_history is compiled into the kernels")
+
+
+@njit
+def _tanh_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
+                   vt, dx, dy, dz, dt, step):
+    """The tanh law (:mod:`pdamper.contact.friction_tanh`), with Verlet's friction guard."""
     ff = friction_factor(mu, table.tau, vt) * max(fn, 0.0)
     if ff * dt > cap:
         ff = cap * (1.0 / dt)
-    return fn, ff, mu * fn, v_in, d, fdamp * delta_dot, ff * vt * vt
+    return -ff * tx, -ff * ty, -ff * tz, ff, mu * fn, ff * vt * vt, 0.0
+
+
+@njit(inline="always")
+def _spring_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty,
+                     tz, vt, dx, dy, dz, dt, step):
+    """The tangential spring (:mod:`pdamper.contact.tangential_spring`) on the contact's row of
+    ``hist``: its damping ratio fixed when the contact starts (or is struck harder), the stored
+    force advanced by the contact point's displacement ``d``."""
+    kt = spring_stiffness(table.shear_modulus[mp], r_star, delta)
+    if touched:
+        hist[row, 4] = tabulated(table, table.tangential_damping, v_in, mp, r_star, m_star)
+    lim = mu * max(fn, 0.0)
+    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, spring_damping(hist[row, 4], kt, m_star), lim, hist[row, 0],
+                                                hist[row, 1], hist[row, 2], hist[row, 3], nx, ny, nz, dx, dy, dz, tx, ty,
+                                                tz, step)
+    # what the next step starts from: the spring and the stiffness it is held at
+    hist[row, 0], hist[row, 1], hist[row, 2], hist[row, 3] = sx, sy, sz, kt
+    return fx, fy, fz, 0.0, lim, 0.0, loss
+
+
+#: marker class -> the kernel function that applies the law to one contact
+_FRICTION_KERNELS = {TanhFriction: _tanh_friction, SpringFriction: _spring_friction}
+
+
+@overload(friction, inline="always", jit_options=JIT)
+def _friction(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
+              vt, dx, dy, dz, dt, step):
+    kernel = _FRICTION_KERNELS[_tangential_law_of(law).marker]
+
+    def impl(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
+             vt, dx, dy, dz, dt, step):
+        return kernel(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty,
+                      tz, vt, dx, dy, dz, dt, step)
+
+    return impl
+
+
+@overload(keeps_history, inline="always", jit_options=JIT)
+def _keeps_history(law):
+    if _tangential_law_of(law).history:
+        return lambda law: True
+    return lambda law: False
+
+
+@njit(inline="always")
+def drop_history(law, hist, row):
+    """Zero row ``row`` of the tangential history ``hist`` if the law of marker ``law`` keeps one
+    (a contact opened: its next touch starts from a relaxed spring); returns the energy [J] the
+    dropped spring still held (dissipated), 0 for a law without history."""
+    e = 0.0
+    if keeps_history(law):
+        e = spring_energy(hist[row, 0], hist[row, 1], hist[row, 2], hist[row, 3])
+        for c in range(hist.shape[1]):
+            hist[row, c] = 0.0
+    return e
 
 
 @njit(inline="always")

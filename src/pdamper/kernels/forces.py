@@ -2,10 +2,11 @@
 
 Three loops -- the listed pairs, the floor, the other walls' candidates -- each work out the
 geometry of a contact (normal, overlap, approach rate, slip at the contact point) and hand it to
-the one contact law, :func:`pdamper.kernels.contact.contact`; then they apply its force and
-torque to the bodies. The floor, which every resting sphere touches, has its own direct loop
-(its normal is +y, so there is no candidate list and no distance function): about three times
-cheaper per contact than the general wall loop.
+the one contact law, :func:`pdamper.kernels.contact.contact`, with the contact's row of the
+tangential history; then they apply its force and torque to the bodies. A contact that opens has
+its history cleared (the tangential history only where the law keeps one). The floor, which every
+resting sphere touches, has its own direct loop (its normal is +y, so there is no candidate list
+and no distance function): about three times cheaper per contact than the general wall loop.
 
 Conventions: pair normal n points from i to j, the overlap is ``delta = r_i + r_j - |x_j - x_i|``
 and its rate ``delta_dot = (v_i - v_j).n`` (> 0 approaching). Wall normals point into the
@@ -19,11 +20,12 @@ import math
 import numpy as np
 
 from ..contact.hertz import hertz_energy
+from ..contact.tangential_spring import spring_energy
 from ..geometry.walls import wall_distance
 from ..jit import njit
 from .bundles import FrictionRecord
-from .contact import (FRICTION_CAP, contact, floor_slip, note_friction_row, pair_point_velocity, scatter,
-                      wall_point_velocity)
+from .contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, note_friction_row,
+                      pair_point_velocity, scatter, wall_point_velocity)
 
 __all__ = ["compute_forces", "elastic_energy", "no_friction_record", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN",
            "STATUS_LIST_OVERFLOW", "STATUS_WALL_OVERFLOW"]
@@ -43,20 +45,25 @@ def no_friction_record():
 
 
 @njit
-def compute_forces(bodies, pairs, walls, table, dt, record):
+def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
     """Zero and fill ``bodies.force`` [N] and ``bodies.torque`` [N m]; update the contact history
     in ``pairs`` and ``walls`` in place.
 
-    ``dt`` [s] is the current step (the friction guard of :data:`~pdamper.kernels.contact.FRICTION_CAP`;
-    Gear passes a vanishing step). Every touching friction contact is written into ``record``
+    ``dt`` [s] is the current step of the tanh law's friction guard
+    (:data:`~pdamper.kernels.contact.FRICTION_CAP`; Gear passes a vanishing step), ``step`` [s] the
+    step being taken (a spring's damping), ``moved`` (N, 6) what each sphere moved [m] and turned
+    [rad] since a tangential law with history last advanced its springs (the contact points'
+    displacements follow from it; zeros for the evaluation that primes a run; read by such a law
+    only). Every touching friction contact is written into ``record``
     (:class:`~pdamper.kernels.bundles.FrictionRecord`; pairs, then the floor, then the other walls,
     ``record.ends`` their end rows) while it has room: its capacity (listed pairs + spheres + wall
     candidates) is enough by construction, and a record of no rows (Verlet) takes none.
 
-    Returns ``(fwx, fwy, fwz, p_normal, p_friction, status, culprit)``: the total force of the
-    walls on the spheres [N], the power [W] dissipated by normal damping and by friction, a status
-    code (``STATUS_OVERLAP`` when an overlap exceeds ``table.overlap_limit`` x r) and the sphere
-    concerned.
+    Returns ``(fwx, fwy, fwz, p_normal, p_friction, e_friction, status, culprit)``: the total
+    force of the walls on the spheres [N], the power [W] dissipated by normal damping and by the
+    tanh law's friction, the energy [J] a tangential law with history dissipated over ``step``, a
+    status code (``STATUS_OVERLAP`` when an overlap exceeds ``table.overlap_limit`` x r) and the
+    sphere concerned.
     """
     # the arrays the loops index, named once (a bundle's field read inside a loop costs a
     # reference count per read where numba cannot prove it away)
@@ -76,6 +83,10 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
     pk = pairs.stiffness
     pmp = pairs.material_pair
     pcap = pairs.friction_cap
+    pth = pairs.tangential
+    tlaw = table.tangential
+    spring = keeps_history(tlaw)
+    mv = moved
     wall_kind = walls.kind
     wall_data = walls.data
     wvin = walls.approach_speed
@@ -85,11 +96,14 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
     wrs = walls.effective_radius
     cand_i = walls.candidate_body
     cand_w = walls.candidate_wall
+    nw = wall_kind.shape[0]
+    n = pos.shape[0]
+    # the wall contacts' tangential history with one row per (sphere, wall): row i * nw + w
+    wth = walls.tangential.reshape((n * nw, walls.tangential.shape[2]))
     room = record.rows.shape[0]
     collect = room > 0
     limit = table.overlap_limit
     m = 0
-    n = pos.shape[0]
     for i in range(n):
         force[i, 0] = 0.0
         force[i, 1] = 0.0
@@ -99,6 +113,7 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         torque[i, 2] = 0.0
     p_n = 0.0
     p_f = 0.0
+    e_f = 0.0
     status = STATUS_OK
     culprit = -1
     # ---- sphere pairs: one flat loop over the list (no short inner loops whose exits mispredict)
@@ -115,6 +130,7 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         if d2 >= cut * cut:
             if pvin[a] != 0.0:
                 pvin[a] = 0.0
+                e_f += drop_history(tlaw, pth, a)
             continue
         dist = math.sqrt(d2)
         inv = 1.0 / dist
@@ -137,18 +153,23 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         ty = cvy - cn * ny
         tz = cvz - cn * nz
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        dsx = dsy = dsz = 0.0
+        if spring:
+            # the contact points' relative displacement, from the spheres' (the slip's kinematics)
+            dsx, dsy, dsz, dsn = pair_point_velocity(
+                mv[i, 0] - mv[j, 0], mv[i, 1] - mv[j, 1], mv[i, 2] - mv[j, 2], ri * mv[i, 3] + rj * mv[j, 3],
+                ri * mv[i, 4] + rj * mv[j, 4], ri * mv[i, 5] + rj * mv[j, 5], nx, ny, nz)
         cap = pcap[a]
         mp = pmp[a]
-        fn, ff, lim, pvin[a], pd[a], pn, pf = contact(table, mp, friction[mp], pk[a], ri * rj / cut, cap / FRICTION_CAP,
-                                                      cap, delta, ddot, pvin[a], pd[a], vt, dt)
+        fn, ftx, fty, ftz, ff, lim, pvin[a], pd[a], pn, pf, ef = contact(
+            table, pth, a, mp, friction[mp], pk[a], ri * rj / cut, cap / FRICTION_CAP, cap, delta, ddot, pvin[a], pd[a],
+            nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         p_n += pn
         p_f += pf
+        e_f += ef
         if ff > 0.0 and m < room:
             note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
-        ftx = -ff * tx
-        fty = -ff * ty
-        ftz = -ff * tz
         # torque on i: (r_i n) x Ft ; on j: (-r_j n) x (-Ft) = r_j n x Ft
         scatter(force, torque, i, j, -fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz, nx, ny, nz, ftx, fty, ftz,
                 1.0, 1.0, ri, rj)
@@ -167,6 +188,7 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
             if delta <= 0.0:
                 if wvin[i, floor] != 0.0:
                     wvin[i, floor] = 0.0
+                    e_f += drop_history(tlaw, wth, i * nw + floor)
                 continue
             if delta > limit * ri:
                 status = STATUS_OVERLAP
@@ -178,18 +200,21 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
             wx = omg[i, 0]
             tx, tz = floor_slip(vx, vz, wx, wz, ri)
             vt = math.sqrt(tx * tx + tz * tz)
+            dsx = dsz = 0.0
+            if spring:
+                dsx, dsz = floor_slip(mv[i, 0], mv[i, 2], mv[i, 3], mv[i, 5], ri)
             mi = mass[i]
             mp = wmp[i, floor]
-            fn, ff, lim, wvin[i, floor], wd[i, floor], pn, pf = contact(
-                table, mp, friction[mp], wk[i, floor], wrs[i, floor], mi, FRICTION_CAP * mi, delta, ddot,
-                wvin[i, floor], wd[i, floor], vt, dt)
+            fn, ftx, fty, ftz, ff, lim, wvin[i, floor], wd[i, floor], pn, pf, ef = contact(
+                table, wth, i * nw + floor, mp, friction[mp], wk[i, floor], wrs[i, floor], mi, FRICTION_CAP * mi, delta,
+                ddot, wvin[i, floor], wd[i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, vt, dsx, 0.0, dsz, dt, step)
             p_n += pn
             p_f += pf
+            e_f += ef
             if ff > 0.0 and m < room:
                 note_friction_row(record, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
                 m += 1
-            ftx = -ff * tx
-            ftz = -ff * tz
+            # (the tangential force has no y part: the slip has none, and neither has a spring)
             scatter(force, torque, i, -1, ftx, fn, ftz, 0.0, 1.0, 0.0, ftx, 0.0, ftz, 1.0, 0.0, -ri, 0.0)
             fwx += ftx
             fwy += fn
@@ -204,7 +229,9 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         ri = rad[i]
         delta = ri - s
         if delta <= 0.0:
-            wvin[i, w] = 0.0
+            if wvin[i, w] != 0.0:
+                wvin[i, w] = 0.0
+                e_f += drop_history(tlaw, wth, i * nw + w)
             continue
         if delta > limit * ri:
             status = STATUS_OVERLAP
@@ -222,18 +249,21 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         ty = cvy - cn * ny
         tz = cvz - cn * nz
         vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        dsx = dsy = dsz = 0.0
+        if spring:
+            dsx, dsy, dsz, dsn = wall_point_velocity(mv[i, 0], mv[i, 1], mv[i, 2], mv[i, 3], mv[i, 4], mv[i, 5], ri,
+                                                     nx, ny, nz)
         mi = mass[i]
         mp = wmp[i, w]
-        fn, ff, lim, wvin[i, w], wd[i, w], pn, pf = contact(table, mp, friction[mp], wk[i, w], wrs[i, w], mi,
-                                                            FRICTION_CAP * mi, delta, ddot, wvin[i, w], wd[i, w], vt, dt)
+        fn, ftx, fty, ftz, ff, lim, wvin[i, w], wd[i, w], pn, pf, ef = contact(
+            table, wth, i * nw + w, mp, friction[mp], wk[i, w], wrs[i, w], mi, FRICTION_CAP * mi, delta, ddot,
+            wvin[i, w], wd[i, w], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         p_n += pn
         p_f += pf
+        e_f += ef
         if ff > 0.0 and m < room:
             note_friction_row(record, m, i, -1, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
-        ftx = -ff * tx
-        fty = -ff * ty
-        ftz = -ff * tz
         fx = fn * nx + ftx
         fy = fn * ny + fty
         fz = fn * nz + ftz
@@ -244,18 +274,21 @@ def compute_forces(bodies, pairs, walls, table, dt, record):
         fwz += fz
     if collect:
         record.ends[2] = m
-    return fwx, fwy, fwz, p_n, p_f, status, culprit
+    return fwx, fwy, fwz, p_n, p_f, e_f, status, culprit
 
 
 @njit
 def elastic_energy(bodies, pairs, walls):
-    """Energy [J] stored in the Hertz springs: the sum of :func:`~pdamper.contact.hertz.hertz_energy`
-    over the touching contacts."""
+    """Energy [J] stored in the contacts' springs: the sum of
+    :func:`~pdamper.contact.hertz.hertz_energy` over the touching contacts, plus the energy of the
+    tangential springs in the tangential history (:func:`~pdamper.contact.tangential_spring.spring_energy`;
+    none under a law without history, whose history stays zero)."""
     pos = bodies.position
     rad = bodies.radius
     first = pairs.first
     second = pairs.second
     pk = pairs.stiffness
+    pth = pairs.tangential
     cand_i = walls.candidate_body
     cand_w = walls.candidate_wall
     wall_kind = walls.kind
@@ -285,4 +318,13 @@ def elastic_energy(bodies, pairs, walls):
             delta = rad[i] - pos[i, 1]
             if delta > 0.0:
                 e += hertz_energy(wk[i, floor], delta)
-    return e
+    # the tangential springs: every listed pair's row and every (sphere, wall) row
+    et = 0.0
+    for a in range(pairs.row[n]):
+        if pth[a, 3] > 0.0:
+            et += spring_energy(pth[a, 0], pth[a, 1], pth[a, 2], pth[a, 3])
+    wth = walls.tangential.reshape((-1, walls.tangential.shape[2]))
+    for r in range(wth.shape[0]):
+        if wth[r, 3] > 0.0:
+            et += spring_energy(wth[r, 0], wth[r, 1], wth[r, 2], wth[r, 3])
+    return e + et

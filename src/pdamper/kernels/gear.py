@@ -32,6 +32,15 @@ when it is visited, not after the sweep (taking it after the sweep does not impr
 docs/integrators.md). The explicit step's friction cap
 (:data:`~pdamper.kernels.contact.FRICTION_CAP`) is off for Gear's steps.
 
+**The tangential spring** (``contact.tangential = "spring"``, :mod:`pdamper.contact.tangential_spring`)
+records no friction rows, so the implicit pass does nothing: the spring is not the stiff slope
+``mu F_N tau`` that pass exists for, but a stiffness like the normal one, which the error control
+resolves as it resolves the Hertz spring. Each force evaluation advances the springs by the
+contact points' displacement from the predicted state they were last advanced at to the step's
+prediction (``gear.anchor``, ``gear.moved``), so the springs follow the positions the forces are
+evaluated at; a rejected step restores them with the rest of the contact history, and the energy a
+spring dissipates in a step is added to the ledger as it is (not by the trapezoid of the powers).
+
 **Error control.** ``|Delta|`` estimates the local error of a step [m] (spin DOFs are scaled by
 the radius). A step whose error exceeds 4x the tolerance is rejected and retried shorter; after
 an accepted step the next is ``h (tol/err)^(1/6)``, times 0.9, within [0.2, 1.5] h and within
@@ -54,7 +63,7 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
-from .contact import corrected_friction, floor_slip, pair_point_velocity, scatter, wall_point_velocity
+from .contact import corrected_friction, floor_slip, keeps_history, pair_point_velocity, scatter, wall_point_velocity
 from .drive import drive_motion, is_coupled
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
@@ -258,6 +267,40 @@ def _copy_wall_history(src_v, src_d, dst_v, dst_d, walls):
 
 
 @njit
+def _copy_tangential(hp, hw, npair, pairs, walls, save):
+    """Save the tangential history that a step can change (the first ``npair`` pairs' rows, the
+    floor column, the wall candidates) into rows 2... of Gear's saved pair and wall history
+    ``hp``, ``hw``, or restore it from there (``save`` false)."""
+    pt = pairs.tangential
+    wt = walls.tangential
+    nt = pt.shape[1]
+    for a in range(npair):
+        for c in range(nt):
+            if save:
+                hp[2 + c, a] = pt[a, c]
+            else:
+                pt[a, c] = hp[2 + c, a]
+    floor = walls.floor
+    if floor >= 0:
+        for i in range(wt.shape[0]):
+            for c in range(nt):
+                if save:
+                    hw[2 + c, i, floor] = wt[i, floor, c]
+                else:
+                    wt[i, floor, c] = hw[2 + c, i, floor]
+    cand_i = walls.candidate_body
+    cand_w = walls.candidate_wall
+    for q in range(walls.n_candidates[0]):
+        i = cand_i[q]
+        w = cand_w[q]
+        for c in range(nt):
+            if save:
+                hw[2 + c, i, w] = wt[i, w, c]
+            else:
+                wt[i, w, c] = hw[2 + c, i, w]
+
+
+@njit
 def _copy_structure(src, dst):
     for r in range(src.shape[0]):
         for c in range(src.shape[1]):
@@ -298,6 +341,9 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
     gvec = drive.gravity
     dvec = drive.direction
     coupled = is_coupled(drive)
+    spring = keeps_history(table.tangential)
+    anchor = gear.anchor.reshape(-1)
+    mvf = gear.moved.reshape(-1)
     sums = samples.sums
     ts = span.interval
     tol = span.tolerance
@@ -318,7 +364,9 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         r = rebuild_lists(bodies, pairs, walls, search, table)
         if r < 0:
             return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), 0, -1, t, h, 0
-        compute_forces(bodies, pairs, walls, table, h, no_friction_record())
+        for m in range(mvf.shape[0]):
+            mvf[m] = 0.0
+        compute_forces(bodies, pairs, walls, table, h, 0.0, gear.moved, no_friction_record())
         xc, vc, ac = drive_motion(drive, t)
         hs = h
         for i in range(n):
@@ -332,6 +380,10 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
                 for k in range(3, 6):
                     nord[k, i, c] = 0.0
                     nord[k, i, 3 + c] = 0.0
+        if spring:
+            a0 = nord[0].reshape(-1)
+            for m in range(anchor.shape[0]):
+                anchor[m] = a0[m]
     while t < t_end - 1e-12 * ts and steps < span.max_steps:
         # step length: end on the next sample boundary or t_end
         # (a step that would stop just short of the boundary is stretched onto it, so no
@@ -361,6 +413,11 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         # it was, so a rejected step has nothing to restore) and unpack the prediction
         inv_h = 1.0 / hs
         _predict(nord, pred, ratio, inv_h, bodies)
+        if spring:
+            # what the springs advance by: this prediction against the one they were last advanced at
+            p0 = pred[0].reshape(-1)
+            for m in range(mvf.shape[0]):
+                mvf[m] = p0[m] - anchor[m]
         # contact history as it was, in case the step is rejected
         npair = pairs.row[n]
         pvin = pairs.approach_speed
@@ -369,8 +426,11 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             hist_p[0, a] = pvin[a]
             hist_p[1, a] = pd[a]
         _copy_wall_history(walls.approach_speed, walls.damping, hist_w[0], hist_w[1], walls)
+        if spring:
+            _copy_tangential(hist_p, hist_w, npair, pairs, walls, True)
         tn = t + hs
-        fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(bodies, pairs, walls, table, _NO_CAP, record)
+        fwx, fwy, fwz, p_n, p_f, e_f, status, culprit = compute_forces(bodies, pairs, walls, table, _NO_CAP, hs,
+                                                                       gear.moved, record)
         if coupled:
             _copy_structure(drive.state, gear.saved_structure)
             advance_structure(drive, tn, hs, fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2])
@@ -411,6 +471,8 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
                 pvin[a] = hist_p[0, a]
                 pd[a] = hist_p[1, a]
             _copy_wall_history(hist_w[0], hist_w[1], walls.approach_speed, walls.damping, walls)
+            if spring:
+                _copy_tangential(hist_p, hist_w, npair, pairs, walls, False)
             if coupled:
                 _copy_structure(gear.saved_structure, drive.state)
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
@@ -423,6 +485,10 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             continue
         # accept: correct the prediction into the Nordsieck vector
         _correct(nord, pred, dlt)
+        if spring:
+            p0 = pred[0].reshape(-1)
+            for m in range(anchor.shape[0]):
+                anchor[m] = p0[m]
         t = tn
         steps += 1
         # trapezoidal sums over the (variable) steps: with unequal steps the end-point rule
@@ -431,6 +497,8 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         sums[0] += 0.5 * (vc * fd + q_w) * hs
         sums[1] += 0.5 * (p_n + q_n) * hs
         sums[2] += 0.5 * (p_f + q_f) * hs
+        if spring:
+            sums[2] += e_f
         sums[3] += 0.5 * (fd + q_i) * hs
         q_w = vc * fd
         q_n = p_n

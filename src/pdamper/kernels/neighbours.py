@@ -1,8 +1,9 @@
 """Verlet neighbour lists (pairs within r_i + r_j + skin), built by direct all-pairs search or
 by link cells, stored as CSR rows (``row[i]:row[i+1]`` hold the partners j > i of particle i).
 
-Contact history (approach speed at first touch, damping parameter) lives in arrays aligned with
-the list; :func:`transfer_history` carries it over when the list is rebuilt.
+Contact history (approach speed at first touch, damping parameter, the tangential law's history)
+lives in arrays aligned with the list; :func:`transfer_history` carries it over when the list is
+rebuilt.
 
 The link-cell grid is fixed in the container frame (the walls do not move there), so it is
 set up once per run (:class:`~pdamper.kernels.bundles.Search`: ``origin`` the grid corner,
@@ -138,21 +139,28 @@ def build_cells(pos, rad, search, row, pj):
 
 
 @njit
-def transfer_history(old_row, old_pj, old_vin, old_d, row, pj, vin, d):
-    """Copy contact history of pairs present in both the old and the new list; new pairs start clean."""
+def transfer_history(old_row, old_pj, old_vin, old_d, old_t, row, pj, vin, d, t):
+    """Copy contact history -- approach speed, damping parameter, the rows of the tangential
+    history ``t`` (capacity, columns) -- of pairs present in both the old and the new list; new
+    pairs start clean."""
     n = row.shape[0] - 1
+    nt = t.shape[1]
     for i in range(n):
         for a in range(row[i], row[i + 1]):
             j = pj[a]
             v = 0.0
             dd = 0.0
+            b_old = -1
             for b in range(old_row[i], old_row[i + 1]):
                 if old_pj[b] == j:
                     v = old_vin[b]
                     dd = old_d[b]
+                    b_old = b
                     break
             vin[a] = v
             d[a] = dd
+            for c in range(nt):
+                t[a, c] = old_t[b_old, c] if b_old >= 0 else 0.0
 
 
 @njit
@@ -225,8 +233,9 @@ def rebuild_lists(bodies, pairs, walls, search, table):
                          walls.floor)
     if nw < 0:
         return -2
-    transfer_history(pairs.row, pairs.second, pairs.approach_speed, pairs.damping,
-                     pairs.next_row, pairs.next_second, pairs.next_approach_speed, pairs.next_damping)
+    transfer_history(pairs.row, pairs.second, pairs.approach_speed, pairs.damping, pairs.tangential,
+                     pairs.next_row, pairs.next_second, pairs.next_approach_speed, pairs.next_damping,
+                     pairs.next_tangential)
     n = pos.shape[0]
     row = pairs.row
     pj = pairs.second
@@ -236,12 +245,16 @@ def rebuild_lists(bodies, pairs, walls, search, table):
     next_pvin = pairs.next_approach_speed
     pd = pairs.damping
     next_pd = pairs.next_damping
+    pt = pairs.tangential
+    next_pt = pairs.next_tangential
     for i in range(n + 1):
         row[i] = next_row[i]
     for a in range(m):
         pj[a] = next_pj[a]
         pvin[a] = next_pvin[a]
         pd[a] = next_pd[a]
+        for c in range(pt.shape[1]):
+            pt[a, c] = next_pt[a, c]
     mass = bodies.mass
     mat = bodies.material
     nmat = table.n_materials

@@ -8,7 +8,10 @@ The container's acceleration enters as the pseudo-force ``-m a_c(t) d``.
 
 The loop also accumulates what the recorders need: the impulse of the wall forces along the
 drive over each sample interval, and the energy ledger (work of the container, dissipation by
-normal damping and by friction), in ``samples.sums``.
+normal damping and by friction -- the tanh law's power times the step, a tangential spring's
+loss of the step as it is), in ``samples.sums``. A tangential spring advances by the displacement
+the drift gives the contact point (``state.moved``), so it follows the positions exactly; the
+priming evaluation does not advance it.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from __future__ import annotations
 import math
 
 from ..jit import njit
+from .contact import keeps_history
 from .drive import drive_motion, is_coupled
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
@@ -61,13 +65,18 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
     skin2 = 0.25 * search.skin * search.skin
     # loop-invariant, so the compiled loop of a prescribed drive carries no structure step
     coupled = is_coupled(drive)
+    spring = keeps_history(table.tangential)
+    mv = state.moved
     if span.prime:
         r = rebuild_lists(bodies, pairs, walls, search, table)
         if r == -1:
             return STATUS_LIST_OVERFLOW, 0, -1
         if r == -2:
             return STATUS_WALL_OVERFLOW, 0, -1
-        compute_forces(bodies, pairs, walls, table, dt, no_record)
+        for i in range(n):
+            for c in range(6):
+                mv[i, c] = 0.0
+        compute_forces(bodies, pairs, walls, table, dt, 0.0, mv, no_record)
         xc, vc, ac = drive_motion(drive, t0)
         for i in range(n):
             for c in range(3):
@@ -102,6 +111,12 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         # -- drift with the half-step velocity v + dt/2 a; the velocities the damping and
         #    friction see are predicted to the full step with a linearly extrapolated
         #    acceleration: v + dt/2 a + dt/2 (2 a - a_prev)
+        if spring:
+            # what the drift moves and turns each sphere by: the springs advance by it
+            for i in range(n):
+                for c in range(3):
+                    mv[i, c] = dt * (vel[i, c] + half * acc[i, c])
+                    mv[i, 3 + c] = dt * (omg[i, c] + half * alp[i, c])
         disp = 0.0
         for k in range(m3):
             x[k] += dt * (v[k] + half * a[k])
@@ -111,7 +126,8 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
             disp = max(disp, dd * dd)
         # a component moved more than skin/(2 sqrt 3) in some direction: rebuild next step
         moved = 3.0 * disp > skin2
-        fwx, fwy, fwz, p_n, p_f, status, culprit = compute_forces(bodies, pairs, walls, table, dt, no_record)
+        fwx, fwy, fwz, p_n, p_f, e_f, status, culprit = compute_forces(bodies, pairs, walls, table, dt, dt, mv,
+                                                                       no_record)
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         if coupled:
             advance_structure(drive, t, dt, fd)
@@ -144,6 +160,8 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         sums[0] += vc * fd * dt
         sums[1] += p_n * dt
         sums[2] += p_f * dt
+        if spring:
+            sums[2] += e_f
         sums[3] += fd * dt
         if bad:
             return STATUS_NAN, s + 1, culprit

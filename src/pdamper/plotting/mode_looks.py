@@ -20,6 +20,10 @@ MODE_COLOURS = {
     "swaying": "#c7e9c0",
     "single-sided": "#fd8d3c",
     "lift-off": "#de2d26",
+    "compartment-collect-and-collide": "#1b9e77",
+    "bouncing-collect-and-collide": "#006d2c",
+    "bouncing-bed": "#8c510a",
+    "fluidised": "#9e9ac8",
     "unknown": "#ffffff",
     "failed": "#000000",
 }
@@ -31,10 +35,14 @@ MODE_MARKERS = {
     "swaying": "v",
     "single-sided": "^",
     "lift-off": "D",
+    "compartment-collect-and-collide": "P",
+    "bouncing-collect-and-collide": "h",
+    "bouncing-bed": "<",
+    "fluidised": "*",
     "unknown": "o",
     "failed": "X",
 }
-#: Hatching of each mode on the design map (rolling collect-and-collide plain).
+#: Hatching of each mode on the design map (the collect-and-collide modes plain).
 MODE_HATCHES = {
     "locked": "++",
     "scattered": "..",
@@ -42,12 +50,16 @@ MODE_HATCHES = {
     "swaying": "--",
     "single-sided": "//",
     "lift-off": "oo",
+    "compartment-collect-and-collide": "",
+    "bouncing-collect-and-collide": "",
+    "bouncing-bed": "\\\\",
+    "fluidised": "**",
     "unknown": "",
     "failed": "xx",
 }
 _SPARE_COLOURS = ("#756bb1", "#e7ba52", "#8c6d31", "#e377c2", "#17becf", "#bcbd22")
-_SPARE_MARKERS = ("v", "P", "h", "<", ">", "*")
-_SPARE_HATCHES = ("\\\\", "--", "++", "||", "oo..", "**")
+_SPARE_MARKERS = (">", "d", "8", "H", "1", "2")
+_SPARE_HATCHES = ("||", "x.", "oo..", "..--", "|*", "O")
 
 
 def mode_order() -> list[str]:

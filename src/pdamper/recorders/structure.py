@@ -62,12 +62,12 @@ class StructureRecord:
     def from_channel(cls, case, data) -> "StructureRecord":
         """From the kernel channel ``"structure"`` of a run (:class:`~pdamper.recorders.base.Recorded`)."""
         out = data.channels["structure"]
-        return cls.from_array(case.drive, (np.arange(out.shape[0]) + 1) * data.info.interval, out)
+        return cls.from_array(case.running_drive, (np.arange(out.shape[0]) + 1) * data.info.interval, out)
 
     @classmethod
     def from_array(cls, structure, time, out) -> "StructureRecord":
         """From the kernels' rows ``out`` (columns ``STRUCTURE_COLUMNS``) at ``time`` [s] of ``structure``
-        (a coupled drive of :mod:`pdamper.excitation`)."""
+        (a structure of :mod:`pdamper.structure`)."""
         info = structure.record_info()
         energy = out[:, 4].copy() if info.get("initial_energy_J") is not None else None
         return cls(time=time, displacement=out[:, 0].copy(), velocity=out[:, 1].copy(),

@@ -182,7 +182,7 @@ def calibrate(campaign, base, fits, *, out, seeds=(0,), cycles=None, points=None
     if len({f.key for f in fits}) != len(fits):
         raise InputError("a key is fitted twice")
     strokes, meas, s_meas = _measured(campaign)
-    if base.drive.kind != "harmonic":
+    if not base.drive.sweepable:
         raise InputError("the config must have a harmonic drive ([drive]): the DEM is run at the campaign's strokes")
     f_meas = float(campaign.attrs.get("frequency_hz", base.drive.frequency))
     if abs(f_meas - base.drive.frequency) > 5e-3 * f_meas:  # the rig's frequency, not the config's

@@ -15,10 +15,10 @@ ranking needs only relative costs, so :func:`expected_cost` is a model in arbitr
   small and light spheres and a stiffer material), and shortened by impacts as the drive's speed
   bound V grows (1 + ln(1 + V / 0.04 m/s): the step counts of the 36-sphere cuboid at 3, 14, 30 mm
   grow as the log of V, docs/integrators.md) and by friction (mu = 1 takes ~2.6x the steps of
-  mu = 0.1, docs/performance.md).
+  mu = 0.1; CHANGELOG.md, "Performance history").
 
 Its exponents come from the benchmark's sample of every DEM curve of the paper (27 curves x 5
-strokes, CPU seconds per curve; docs/performance.md, "Cases scheduled by their cost"). A resumed
+strokes, CPU seconds per curve; CHANGELOG.md, "Performance history", "Cases scheduled by their cost"). A resumed
 study can do better than the model: :func:`learned_costs` scales it by the wall time its finished
 cases took (per setting). The order changes no number of any case (each case is independent and
 seeded, tests/studies/test_cost.py).

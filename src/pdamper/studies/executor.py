@@ -20,7 +20,11 @@ import logging
 import os
 import warnings
 
-__all__ = ["execute", "RetryWarning"]
+__all__ = ["execute", "execute_batches", "RetryWarning", "GPU_CHUNK"]
+
+#: Cases of one GPU batch at most (a study's cases run in chunks of this many, each stored as it
+#: finishes; 2048 blocks fill an H100's 132 multiprocessors many times over).
+GPU_CHUNK = 2048
 
 
 class RetryWarning(UserWarning):
@@ -135,3 +139,47 @@ def _retries(client, keys) -> dict:
         return client.run_on_scheduler(count)
     except Exception:  # an older or foreign scheduler: no report, the results stand
         return {}
+
+
+def execute_batches(items, batch, on_result, *, progress=None, total=None, done=0, costs=None, chunk=None):
+    """Run ``batch(cases) -> results`` (one result per case, in order) over ``items`` in chunks of at
+    most ``chunk`` cases (default :data:`GPU_CHUNK`) and call ``on_result(key, point, seed, result)``
+    for every case of a chunk as soon as the chunk finishes: the GPU engine's path
+    (:func:`pdamper.run.run_cases`), where one batch advances many cases at once.
+
+    The cases are ranked longest first (``costs``, as :func:`execute`) and cut into chunks of
+    similar cost (a batch lasts as long as its longest case). If a chunk fails (a GPU that runs out
+    of memory or faults), every case of the chunks before it is stored already; the error says how
+    many and how to resume.
+    """
+    from ..errors import InputError
+    from ._progress import progress_bar, show_progress
+    from .cost import ranked
+
+    progress = show_progress(progress)
+    order = ranked(items, costs)
+    size = max(1, int(chunk or os.environ.get("PDAMPER_GPU_CHUNK") or GPU_CHUNK))
+    parts = -(-len(order) // size)
+    per = -(-len(order) // max(parts, 1)) if order else 1
+    bar = progress_bar(total=total or len(items), initial=done, unit="case", desc="sweep (GPU)",
+                       disable=not progress, dynamic_ncols=True)
+    finished = 0
+    try:
+        for start in range(0, len(order), per):
+            part = order[start:start + per]
+            try:
+                results = batch([it[3] for it in part])
+            except InputError:
+                raise
+            except Exception as exc:  # the GPU ran out of memory or faulted: say so, keep what is stored
+                raise InputError(f"the GPU batch of {len(part)} cases failed after {finished} of {len(order)} cases "
+                                 f"were stored ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); re-run the "
+                                 "same command to resume (smaller batches: PDAMPER_GPU_CHUNK=256), or run on the CPU "
+                                 "without --device cuda") from None
+            for (key, point, seed, _), res in zip(part, results):
+                on_result(key, point, seed, res)
+                finished += 1
+                bar.update(1)
+    finally:
+        bar.close()
+    return {"retried": {}}

@@ -44,11 +44,11 @@ def _example(name: str):
     """The paper's case ``cuboid_36``, ``cuboid_44``, ``cylinder_30`` or ``cylinder_42``: Table 1
     materials, mu = 0.1, eps = 0.9, 0.1 deg tilt, 2 Hz, 20 cycles (the defaults of
     :mod:`pdamper.params`; ``examples/<name>.toml`` spell out the same cases)."""
-    from ..geometry import Cylinder
+    from ..geometry import SHAPES
     from ..params import Case, Container, ParticleSet
 
     shape, n = name.split("_")
-    container = Container(geometry=Cylinder()) if shape == "cylinder" else Container()
+    container = Container(geometry=SHAPES[shape]())  # the paper's size is each shape's default
     return Case(particles=(ParticleSet(count=int(n)),), container=container)
 
 
@@ -174,21 +174,21 @@ def _slug(label: str) -> str:
 
 
 def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, workers=None, scheduler=None,
-              progress=None, only=None, keep="signals", until_steady=None):
+              progress=None, only=None, keep="signals", until_steady=None, device=None):
     """Sweep every setting of study ``name`` (a name of :data:`STUDIES` or a study file; one store
     per setting under ``out``) on one cluster; return the combined dataset with a ``setting``
     dimension. ``strokes`` replaces the study's stroke axis; ``only``: a list of setting labels
     to run (default: all); ``until_steady``: every case stops early at this error of eta*
-    (:func:`pdamper.run.run_case`)."""
+    (:func:`pdamper.run.run_case`); ``device``: ``"cuda"`` runs every case of every setting
+    together on the GPU engine (:func:`pdamper.run.run_cases`)."""
     import functools
 
     import numpy as np
     import xarray as xr
 
     from .cost import finished, learned_costs
-    from .executor import execute
     from .store import ResultStore
-    from .sweep import STROKE, SweepSpec, add_theory, parse_axis, run_one, theory_attrs
+    from .sweep import STROKE, SweepSpec, add_theory, parse_axis, run_cases_of, run_one, theory_attrs
 
     study = load_study(name)
     settings = list(study.settings)
@@ -202,7 +202,13 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         axes = [a for a in axes if a.key != STROKE]
     out = Path(out)
     stores, items, total, group_of, measured = [], [], 0, {}, {}
+    if device is not None:
+        from ..run import check_device, on_device
+
+        check_device(device)
     for label, case, _ in settings:
+        if device is not None:
+            case = on_device(case, device)
         if cycles is not None:
             case = dataclasses.replace(case, cycles=cycles)
         if drop_cycles is not None:
@@ -224,9 +230,9 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         by_slug[slug].save(k, point, seed, result)
 
     if items:
-        execute(items, functools.partial(run_one, keep=keep, until_steady=until_steady), save, workers=workers,
-                scheduler=scheduler, progress=progress, total=total, done=total - len(items),
-                costs=learned_costs(items, group_of, measured))
+        run_cases_of(items, functools.partial(run_one, keep=keep, until_steady=until_steady), save, workers=workers,
+                     scheduler=scheduler, progress=progress, total=total, done=total - len(items),
+                     costs=learned_costs(items, group_of, measured), keep=keep, until_steady=until_steady)
     panels = {label: panel for label, _, panel in settings}
     parts = []
     for label, store, case in stores:

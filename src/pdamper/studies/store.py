@@ -147,6 +147,12 @@ def _merge(old: list, new) -> list:
     return vals
 
 
+
+def _shortest(v) -> str:
+    """A number as the CSV holds it: the shortest text that reads back to the same float
+    (``repr`` of a numpy scalar says ``np.float64(...)`` under numpy 2)."""
+    return repr(float(v))
+
 class ResultStore:
     """A sweep's result directory (see the module docstring)."""
 
@@ -419,7 +425,7 @@ class ResultStore:
                              for n in table.index.names]
         with self._resumable("the results"):
             atomic_write(self.path / "results.nc", bytes(ds.to_netcdf(engine="h5netcdf")))
-            atomic_write(self.path / "results.csv", table.to_csv(float_format=repr))
+            atomic_write(self.path / "results.csv", table.to_csv(float_format=_shortest))
 
     @contextlib.contextmanager
     def _resumable(self, what: str):

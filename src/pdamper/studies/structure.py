@@ -20,22 +20,24 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis.decay import decay_damping, extrema, harmonic_amplitude
+from ..analysis.decay import decay_damping, extrema, harmonic_amplitude, harmonic_phasor
 from ..errors import InputError
-from ..excitation import CoupledStructure, ModalStructure
+from ..structure import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
 
 __all__ = ["DecayResult", "ResponseResult", "FieldsResponseResult", "run_decay", "run_response",
            "run_response_fields", "fields_decay", "response_case", "parse_frequencies", "default_frequencies",
-           "grid_warnings", "start_phasors", "steadiness", "STARTS", "STEADY_TOLERANCE"]
+           "grid_warnings", "start_phasors", "steadiness", "frequency_format", "STARTS", "STEADY_TOLERANCE"]
 
 
 def _structure(case: Case) -> CoupledStructure | ModalStructure:
+    """The case's structure as its runs move it: with the empty container's mass at the damper
+    (:attr:`pdamper.params.Case.running_drive`)."""
     if not case.drive.coupled:
         raise InputError("this study needs a [structure] section in the config (the container riding on a "
                          "structure); see examples/structure_36.toml")
-    return case.drive
+    return case.running_drive
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -78,8 +80,8 @@ def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = Fal
 
     s = _structure(case)
     if s.force_amplitude > 0:
-        case = dataclasses.replace(case, drive=dataclasses.replace(s, force_amplitude=0.0))
-        s = case.drive
+        case = dataclasses.replace(case, drive=dataclasses.replace(case.drive, force_amplitude=0.0))
+        s = _structure(case)
     res = Simulation(case).run(progress=progress)
     rec = res.structure
     fs = case.recording.sample_rate
@@ -165,9 +167,9 @@ def response_case(case: Case, frequency: float, force_amplitude: float, phasor: 
     with ``phasor`` x^ [m] (complex amplitude of the damper point, ``x(t) = Im(x^ e^{i Omega t})``
     against the force ``F0 sin(Omega t)``) on that orbit: x(0) = Im x^, v(0) = Omega Re x^ (a
     modal structure takes them in its static shape of a load at the damper)."""
-    s = _structure(case)
+    _structure(case)
     x0, v0 = (0.0, 0.0) if phasor == 0 else (float(phasor.imag), float(2.0 * math.pi * frequency * phasor.real))
-    drive = dataclasses.replace(s, force_amplitude=force_amplitude, force_frequency=frequency,
+    drive = dataclasses.replace(case.drive, force_amplitude=force_amplitude, force_frequency=frequency,
                                 displacement=x0, velocity=v0)
     return dataclasses.replace(case, drive=drive)
 
@@ -213,26 +215,65 @@ def default_frequencies(case: Case, mode: int = 1, *, points: int = 9, spread: f
 def mode_frequency(case: Case, mode: int = 1) -> float:
     """The natural frequency [Hz] of mode ``mode`` (1-based) of the case's structure (without the bed)."""
     s = _structure(case)
-    fs = np.atleast_1d(getattr(s, "mode_frequencies", [s.natural_frequency]))
+    fs = np.atleast_1d(s.mode_frequencies)
     if isinstance(mode, bool) or not isinstance(mode, (int, np.integer)) or not 1 <= mode <= fs.size:
         raise InputError(f"--mode {mode!r}; the structure has {fs.size} mode{'s' if fs.size > 1 else ''}: "
                          f"give 1{f' to {fs.size}' if fs.size > 1 else ''}")
     return float(fs[mode - 1])
 
 
+def _resonance(s, force_amplitude: float, near: float) -> dict:
+    """The bare structure's resonance at the damper for the mode nearest ``near`` [Hz]: its peak
+    steady amplitude [m] (the largest of the closed form, found to 1e-9 of the frequency, not the
+    grid's value) and frequency [Hz]."""
+    from scipy.optimize import minimize_scalar
+
+    fs, zs = s.mode_frequencies, s.mode_damping_ratios
+    j = int(np.argmin(np.abs(fs - near)))
+    fn, z = float(fs[j]), float(zs[j])
+    if not z > 0:
+        return {"resonance_bare_m": math.inf, "resonance_bare_frequency_hz": fn}
+    span = fn * min(0.5, 4.0 * z + 1e-3)
+    res = minimize_scalar(lambda f: -float(s.steady_amplitude([f], force_amplitude)[0]), method="bounded",
+                          bounds=(fn - span, fn + span), options={"xatol": 1e-9 * fn})
+    at = float(res.x)
+    peak = float(s.steady_amplitude([at], force_amplitude)[0])
+    return {"resonance_bare_m": peak, "resonance_bare_frequency_hz": at}
+
+
+def frequency_format(frequencies):
+    """A formatter of frequencies [Hz] with the fewest decimals (2 to 6) that show every value of
+    ``frequencies`` as it is (a grid 2.2955 Hz apart is not printed as 2.296).
+
+    >>> f = frequency_format([2.29, 2.2955, 2.301])
+    >>> f(2.2955), f(2.29)
+    ('2.2955', '2.2900')
+    """
+    f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    d = next((d for d in range(2, 7) if np.all(np.abs(np.round(f, d) - f) <= 1e-9 * np.maximum(np.abs(f), 1.0))), 6)
+    return lambda x: f"{x:.{d}f}"
+
+
 def grid_warnings(case: Case, frequencies, mode: int = 1) -> list[str]:
-    """A warning when ``frequencies`` [Hz] miss the resonance of mode ``mode`` (the bare mode's
-    natural frequency and the one with the bed as a solid mass both outside the grid's range)."""
+    """A warning when ``frequencies`` [Hz] miss the resonance of mode ``mode``: the damped peak
+    lies between the mode's frequency with the bed as a solid mass and without the bed, so a grid
+    that reaches into that band has it (its end points included); one wholly below or above it
+    does not."""
     fn = mode_frequency(case, mode)
     s = _structure(case)
-    f_solid = fn * math.sqrt(s.mass / (s.mass + case.bed_mass)) if mode == 1 else fn
+    _, _, _, pd, _, _ = s.modal_arrays()
+    # the bed as a rigid mass at the damper: the mode's frequency falls as its mass at the damper grows
+    m_mode = s.modal_arrays()[0][mode - 1] / pd[mode - 1] ** 2
+    f_solid = fn * math.sqrt(m_mode / (m_mode + case.bed_mass))
     f = np.asarray(frequencies, dtype=float)
     lo, hi = float(f.min()), float(f.max())
-    if lo <= fn <= hi or lo <= f_solid <= hi:
+    if hi >= f_solid and lo <= fn:
         return []
-    return [f"the frequencies {lo:g}-{hi:g} Hz miss the resonance of mode {mode} at {fn:.4g} Hz "
-            f"({f_solid:.4g} Hz with the bed as a solid mass): the peak is not on this grid; leave --frequencies "
-            f"out (a grid around the mode) or include it"]
+    fmt = frequency_format(f)
+    side = "below" if hi < f_solid else "above"
+    return [f"the frequencies {fmt(lo)}-{fmt(hi)} Hz lie {side} the resonance of mode {mode} (between "
+            f"{f_solid:.5g} Hz, the bed as a solid mass, and {fn:.5g} Hz, without the bed): the peak is not on "
+            "this grid; leave --frequencies out (a grid around the mode) or reach into that band"]
 
 
 def response_point(case: Case, measure_cycles: int) -> dict:
@@ -247,6 +288,7 @@ def response_point(case: Case, measure_cycles: int) -> dict:
     rec = res.structure
     f = case.drive.force_frequency
     return {"amplitude_m": harmonic_amplitude(rec.time, rec.displacement, f, cycles=measure_cycles),
+            "phase_rad": float(np.angle(harmonic_phasor(rec.time, rec.displacement, f, cycles=measure_cycles))),
             "peak_m": float(np.max(np.abs(rec.displacement[-int(measure_cycles / f * case.recording.sample_rate):]))),
             "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps,
             "wall_time_s": res.wall_time_s, **steadiness(rec.time, rec.displacement, f, measure_cycles)}
@@ -348,7 +390,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     damped = np.array([p.get("amplitude_m", math.nan) for p in points])
     bare_run, bare_steady = [], []
     for c in cases:
-        rec = run_bare_structure(c.drive, c.duration, sample_rate=c.recording.sample_rate)
+        rec = run_bare_structure(c.running_drive, c.duration, sample_rate=c.recording.sample_rate)
         bare_run.append(harmonic_amplitude(rec.time, rec.displacement, c.drive.force_frequency, cycles=measure_cycles))
         bare_steady.append(bool(abs(bare_run[-1] / float(s.steady_amplitude([c.drive.force_frequency],
                                                                              force_amplitude)[0]) - 1.0)
@@ -361,6 +403,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         "force_amplitude_N": force_amplitude, "particles": case.n_particles, "bed_mass_kg": case.bed_mass,
         "mass_ratio": case.bed_mass / s.mass, "cycles": case.cycles, "measure_cycles": measure_cycles,
         "frequencies_hz": freqs.tolist(), "amplitude_damped_m": damped.tolist(),
+        "phase_damped_rad": [float(p.get("phase_rad", math.nan)) for p in points],
         "amplitude_bare_run_m": list(map(float, bare_run)), "amplitude_bare_m": bare.tolist(),
         "amplitude_solid_mass_m": solid.tolist(),
         "peak_damped_m": float(damped[k]), "peak_damped_frequency_hz": float(freqs[k]),
@@ -371,15 +414,15 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         "window_change": [float(p.get("window_change", math.nan)) for p in points],
         "bare_run_steady": bare_steady,
         "peak_steady": bool(points[k].get("steady", False)),
-        "resonance_bare_m": float(s.steady_amplitude([s.natural_frequency], force_amplitude)[0])
-        if s.modal_damping_ratio > 0 else math.inf,
+        **_resonance(s, force_amplitude, float(freqs[k])),
         "energy_balance_error_max": float(max((p.get("energy_balance_error", math.nan) for p in points),
                                               default=math.nan)),
         "failed": {f"{f:g}": p["failed"] for f, p in zip(freqs, points) if "failed" in p},
         "wall_time_s": float(sum(p.get("wall_time_s", 0.0) for p in points)),
         **s.structure_summary(),
     }
-    summary["peak_reduction"] = summary["peak_damped_m"] / summary["peak_bare_m"]
+    summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
+    summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return ResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, damped=damped,
                           bare_run=np.asarray(bare_run), bare=bare, solid=solid, points=points, summary=summary)
 
@@ -448,15 +491,15 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
         "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
         "peak_damped_m": float(peak), "peak_damped_frequency_hz": float(f_peak),
         "peak_bare_m": float(np.max(bare)),
-        "resonance_bare_m": float(s.steady_amplitude([s.natural_frequency], force_amplitude)[0])
-        if s.modal_damping_ratio > 0 else math.inf,
+        **_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
         "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
         "fields_box": fields.box(), "fields_source": str(fields.dataset.attrs.get("source", "")),
         "solve_time_per_frequency_s": sol.time_s.tolist(),
         "solve_time_median_s": float(np.median(sol.time_s)),
         **s.structure_summary(),
     }
-    summary["peak_reduction"] = summary["peak_damped_m"] / summary["peak_bare_m"]
+    summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
+    summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
                                 bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
 

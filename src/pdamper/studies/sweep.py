@@ -206,6 +206,9 @@ class SweepSpec:
         SweepSpec(base=case, strokes=[0.005, 0.012], seeds=[0, 1])
         SweepSpec(base=case, axes=[Axis(key="drive.stroke", values=[0.005, 0.012]),
                                    Axis(key="drive.frequency", values=[1.0, 2.0])], seeds=[0])
+
+    A base case with a rig drive beside its structure (:attr:`pdamper.params.Case.rig`) is swept
+    on its rig (:attr:`~pdamper.params.Case.on_rig`): a sweep characterises the damper.
     """
 
     base: Case
@@ -214,6 +217,7 @@ class SweepSpec:
     strokes: tuple | None = None
 
     def __post_init__(self):
+        object.__setattr__(self, "base", self.base.on_rig)
         axes = list(self.axes)
         if self.strokes is not None:
             strokes = tuple(float(x) for x in np.atleast_1d(_si_values(self.strokes, "length", "strokes")))
@@ -230,7 +234,7 @@ class SweepSpec:
         names = [a.name for a in axes]
         if len(set(names)) != len(names) or "seed" in names:
             raise InputError(f"two axes would share a dimension name ({names}); vary them in separate sweeps")
-        if any(k.startswith("drive.") for k in keys) and self.base.drive.kind != "harmonic":
+        if any(k.startswith("drive.") for k in keys) and not self.base.drive.sweepable:
             raise InputError("a sweep over drive keys needs a harmonic drive ([drive] stroke and frequency)")
         seeds = tuple(int(s) for s in np.atleast_1d(self.seeds))
         if not seeds or any(s < 0 for s in seeds):
@@ -292,12 +296,27 @@ def run_one(case: Case, keep: str = "signals", until_steady: float | None = None
     """
     from ..errors import SimulationError
     from ..run import run_case
-    from .store import signal_arrays
 
     try:
         res = run_case(case, until_steady=until_steady)
     except SimulationError as exc:
         return {"failed": str(exc)}
+    return _summary(res, keep)
+
+
+def run_many(cases, keep: str = "signals", until_steady: float | None = None) -> list[dict]:
+    """:func:`run_one` of every case of ``cases``, the GPU's cases together in one batch
+    (:func:`pdamper.run.run_cases`); a failed case is ``{"failed": message}``."""
+    from ..run import run_cases
+
+    return [{"failed": str(r)} if isinstance(r, Exception) else _summary(r, keep)
+            for r in run_cases(cases, until_steady=until_steady)]
+
+
+def _summary(res, keep: str) -> dict:
+    """What the store keeps of a run (:func:`run_one`)."""
+    from .store import signal_arrays
+
     s = res.summary()
     out = {
         "eta_star": s["eta_star"],
@@ -319,6 +338,32 @@ def run_one(case: Case, keep: str = "signals", until_steady: float | None = None
     if keep != "none":
         out["signals"] = signal_arrays(res.signals, res.energy, keep)
     return out
+
+
+def run_cases_of(items, run, on_result, **kw):
+    """Run the ``(key, point, seed, case)`` items: the GPU's cases in batches
+    (:func:`~pdamper.studies.executor.execute_batches` over :func:`run_many`), the others on the
+    Dask executor (:func:`~pdamper.studies.executor.execute` of ``run``, a one-case function);
+    ``kw`` are the executor's options (``workers``, ``scheduler``, ``progress``, ``total``, ``done``,
+    ``costs``, ``keep``, ``until_steady``)."""
+    import functools
+
+    from ..run import on_gpu
+    from .executor import execute, execute_batches
+
+    keep = kw.pop("keep", "signals")
+    until_steady = kw.pop("until_steady", None)
+    gpu = [it for it in items if on_gpu(it[3])]
+    cpu = [it for it in items if not on_gpu(it[3])]
+    if gpu:
+        from ..run import check_device
+
+        check_device("cuda")
+        execute_batches(gpu, functools.partial(run_many, keep=keep, until_steady=until_steady), on_result,
+                        progress=kw.get("progress"), total=kw.get("total"), done=kw.get("done", 0),
+                        costs=kw.get("costs"))
+    if cpu:
+        execute(cpu, run, on_result, **kw)
 
 
 def theory_attrs(case: Case) -> dict:
@@ -370,7 +415,6 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
     import functools
 
     from .cost import finished, learned_costs
-    from .executor import execute
     from .store import ResultStore
 
     import warnings
@@ -384,8 +428,9 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
     todo = [(k, p, s, spec.case(p, s)) for k, p, s in items if not store.has(k)]
     if todo:
         costs = learned_costs(todo, {}, {None: finished(store, spec)} if len(todo) < len(items) else {})
-        execute(todo, functools.partial(run_one, keep=keep, until_steady=until_steady), store.save, workers=workers,
-                scheduler=scheduler, progress=progress, total=len(items), done=len(items) - len(todo), costs=costs)
+        run_cases_of(todo, functools.partial(run_one, keep=keep, until_steady=until_steady), store.save,
+                     workers=workers, scheduler=scheduler, progress=progress, total=len(items),
+                     done=len(items) - len(todo), costs=costs, keep=keep, until_steady=until_steady)
     ds = add_theory(store.dataset(), store.case())
     store.write_outputs(ds)
     return ds

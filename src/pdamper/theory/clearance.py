@@ -21,14 +21,21 @@ from ._common import positive
 
 __all__ = ["SHAPES", "container_length", "clearance"]
 
-#: Container shapes the clearance formula knows.
-SHAPES = ("cuboid", "cylinder")
+#: The paper's two containers and the size their L along the drive is read from: (the size's
+#: keyword, L over it, an example). Any other shape answers its own L
+#: (:attr:`pdamper.geometry.ShapeBase.drive_length`); ``pdamper theory`` and ``design`` ask it.
+_PAPER_LENGTHS = {"cuboid": ("length", 1.0, "0.12 (120 mm)", "its inner length along the drive"),
+                  "cylinder": ("container_radius", 2.0, "0.039 (39 mm)", "its inner radius; the clearance uses L = 2R")}
+#: Container shapes the clearance formula of the paper names (eq. 6, Sect. 6.3).
+SHAPES = tuple(_PAPER_LENGTHS)
 
 
 @quantities(length="length", container_radius="length", radius="length")
 def container_length(shape: str, length: float | None = None, container_radius: float | None = None, *,
                      radius: float | None = None) -> float:
-    """Inner length L [m] of the container along the drive, as used in eq. (6).
+    """Inner length L [m] of the paper's containers along the drive, as used in eq. (6): the
+    cuboid's ``length``, the cylinder's ``2 container_radius`` (Sect. 6.3). A container of any
+    registered shape answers its own (``shape.drive_length``, :mod:`pdamper.geometry`).
 
     Parameters
     ----------
@@ -59,24 +66,17 @@ def container_length(shape: str, length: float | None = None, container_radius: 
         warnings.warn("container_length(radius=...) is deprecated; use container_radius=...",
                       DeprecationWarning, stacklevel=3)
         container_radius = radius
-    radius = container_radius
-    if shape not in SHAPES:
+    if shape not in _PAPER_LENGTHS:
         raise InputError(f"shape = {shape!r} is unknown; use one of {', '.join(SHAPES)}")
-    if shape == "cuboid":
-        if radius is not None:
-            raise InputError(f"container_radius = {radius!r} applies to the cylinder only; "
-                             "for the cuboid give its inner length along the drive")
-        if length is None:
-            raise InputError("the cuboid needs its inner length along the drive "
-                             "(length, e.g. 0.12 m = 120 mm)")
-        return positive("length", length, "m", "0.12 (120 mm)")
-    if length is not None:
-        raise InputError(f"length = {length!r} applies to the cuboid only; the cylinder takes "
-                         "its container_radius R and uses L = 2R")
-    if radius is None:
-        raise InputError("the cylinder needs its inner radius (container_radius, e.g. 0.039 m = 39 mm); "
-                         "the clearance uses L = 2R")
-    return 2.0 * positive("container_radius", radius, "m", "0.039 (39 mm)")
+    key, factor, example, what = _PAPER_LENGTHS[shape]
+    sizes = {"length": length, "container_radius": container_radius}
+    for other, value in sizes.items():
+        if other != key and value is not None:
+            owner = next(s for s, spec in _PAPER_LENGTHS.items() if spec[0] == other)
+            raise InputError(f"{other} = {value!r} applies to the {owner} only; the {shape} takes {key} ({what})")
+    if sizes[key] is None:
+        raise InputError(f"the {shape} needs {key} ({what}, e.g. {example} m)")
+    return factor * positive(key, sizes[key], "m", example)
 
 
 @quantities(length="length")

@@ -1,0 +1,588 @@
+"""The GPU engine's benchmark: one command on one NVIDIA GPU (issue 29's targets).
+
+    PYTHONUNBUFFERED=1 python benchmarks/gpu.py --out gpu.json [--budget-s 450] [--only PART ...]
+
+What it runs, the most important first, writing ``--out`` (JSON) after every part and a markdown
+summary at the end (also ``--out`` with ``.md``):
+
+1. ``env``: the GPU, numba and numba-cuda, the commit.
+2. ``compile``: the first GPU launch of the kernel (numba-cuda typing, NVVM, the driver's PTX JIT;
+   a launch with no steps) and the compiled kernel's registers per thread, shared and local memory
+   per block, the blocks an SM can hold.
+3. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
+   (40 strokes x 20 cycles, 36 and 44 spheres, one seed, from an empty store): wall time, the
+   longest case's steps and the per-step cost of a block, and eta* of every stroke against the CPU
+   engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``).
+4. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
+   threads) for a few seconds: microseconds per step and per particle-step.
+5. ``paper``: every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at
+   the paper's 40 strokes, 20 cycles, one seed, as one GPU batch: wall time, cases finished and
+   failed. Stopped at the budget (``--budget-s``, counted from the start): then what was done is
+   said (steps done of all steps), never extrapolated into a figure.
+
+``--tiny`` runs the same parts on tiny cases (a few soft spheres, a few hundred steps) in
+numba-cuda's simulator (``NUMBA_ENABLE_CUDASIM=1``): the test suite's check that this script works
+(tests/kernels/gpu/test_benchmark_gpu.py). ``--ptx`` needs no GPU: it compiles the kernel to PTX for
+sm_90 with the local CUDA toolkit's NVVM and reads ``ptxas -v`` (registers, spills, shared memory).
+
+**On the project's GPU machines** (numba, numba-cuda, numpy, scipy, xarray, pandas, matplotlib, h5py
+there; no package registry), the rest of pdamper's dependencies travel as wheels in the git-ignored
+folder ``.whl/`` of the repository, fetched here by ``bash benchmarks/gpu_wheels.sh``; the device
+call then runs::
+
+    pip install -q --no-index --no-deps --target /tmp/site .whl/*.whl && \\
+    export PYTHONPATH=/tmp/site:$PWD/src && \\
+    PYTHONUNBUFFERED=1 python benchmarks/gpu.py --out $OUT/gpu.json
+
+(``carry`` names ``.whl``). The figures go into docs/performance.md with the GPU's name.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import dataclasses
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+BENCH = Path(__file__).resolve().parent
+ROOT = BENCH.parent
+REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
+PARTS = ("env", "compile", "fig4", "bed", "paper")
+#: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
+#: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
+#: still measures something, and says so).
+FALLBACK = {"integrator": None}
+#: The issue's targets on one H100.
+TARGET_FIG4_S = 10.0
+TARGET_PAPER_S = 120.0
+TARGET_COMPILE_S = 30.0
+
+
+class Report:
+    """The results so far, written to ``path`` (JSON) after every part."""
+
+    def __init__(self, path):
+        self.path = Path(path) if path else None
+        self.data = {"started": time.strftime("%Y-%m-%d %H:%M:%S"), "parts": {}}
+
+    def put(self, part, value):
+        self.data["parts"][part] = value
+        if self.path is not None:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.path.write_text(json.dumps(self.data, indent=1, default=_plain))
+
+
+def _plain(v):
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return str(v)
+
+
+def env_info():
+    import numba
+    import numpy
+
+    out = {"python": platform.python_version(), "numpy": numpy.__version__, "numba": numba.__version__,
+           "machine": platform.machine(), "cpus": os.cpu_count()}
+    try:
+        import importlib.metadata as md
+
+        out["numba_cuda"] = md.version("numba-cuda")
+    except Exception as exc:  # noqa: BLE001
+        out["numba_cuda"] = f"not found ({exc})"
+    try:
+        out["commit"] = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                                       text=True, timeout=10).stdout.strip()
+    except Exception:  # noqa: BLE001
+        out["commit"] = "?"
+    from pdamper.engine.cuda import unavailable
+
+    out["gpu_unavailable"] = unavailable()
+    try:
+        from numba import cuda
+
+        if not cuda.jit.__module__.startswith("numba.cuda.simulator"):
+            dev = cuda.get_current_device()
+            out["gpu"] = dev.name.decode() if isinstance(dev.name, bytes) else str(dev.name)
+            out["compute_capability"] = list(dev.compute_capability)
+            out["multiprocessors"] = int(dev.MULTIPROCESSOR_COUNT)
+        else:
+            out["gpu"] = "numba-cuda simulator"
+    except Exception as exc:  # noqa: BLE001
+        out["gpu"] = f"? ({exc})"
+    try:
+        smi = subprocess.run(["nvidia-smi", "--query-gpu=name,driver_version,memory.total", "--format=csv,noheader"],
+                             capture_output=True, text=True, timeout=20)
+        out["nvidia_smi"] = smi.stdout.strip()
+    except Exception:  # noqa: BLE001
+        pass
+    print("env:", json.dumps(out), flush=True)
+    return out
+
+
+# ---------------------------------------------------------------------------------------------- cases
+def _soft(case):
+    """A tiny stand-in of ``case`` for the simulator: at most 4 soft spheres (long contacts, a 1 ms
+    step), a 2 mm stroke at 5 Hz, 2 cycles sampled at 100 Hz, with Verlet (the simulator's barriers
+    are slow, and Gear's step has more of them): about 400 steps."""
+    from pdamper.materials import Material
+    from pdamper.schema import replace
+
+    soft = Material(name="soft", youngs_modulus=3e4, poisson_ratio=0.3, density=7800.0)
+    parts = tuple(dataclasses.replace(p, material=soft, count=min(p.count, 4)) for p in case.particles)
+    case = dataclasses.replace(case, particles=parts, cycles=2, drop_cycles=1)
+    return replace(case, {"drive.stroke": 0.002, "drive.frequency": 5.0, "recording.sample_rate": 100.0,
+                          "numerics.time_step": 1e-3, "numerics.overlap_limit": 0.45, "initial.settle_time": 0.01,
+                          "numerics.integrator": "verlet"})
+
+
+def _integrator(case):
+    """``case`` with the fallback integrator when there is one (:data:`FALLBACK`)."""
+    if FALLBACK["integrator"] is None:
+        return case
+    return dataclasses.replace(case, numerics=dataclasses.replace(case.numerics, integrator=FALLBACK["integrator"]))
+
+
+def fig4_cases(tiny):
+    """fig4's ``(setting label, stroke, case)`` at seed 0."""
+    from pdamper.schema import replace
+    from pdamper.studies.named import load_study
+    from pdamper.studies.sweep import STROKE, parse_axis
+
+    study = load_study("fig4")
+    strokes = next(a for a in map(parse_axis, study.vary) if a.key == STROKE).values
+    if tiny:
+        strokes = strokes[:1]
+    out = []
+    for label, case, _ in study.settings:
+        for x in strokes:
+            c = replace(case, {STROKE: float(x), "initial.seed": 0})
+            out.append((label, float(x), _soft(c) if tiny else c))
+    return out
+
+
+def make_reference(study_dir):
+    """``benchmarks/data/fig4_cpu_reference.csv`` from the study directory of
+    ``pdamper study fig4 --seeds 3 --out DIR`` (the CPU engine): per setting and stroke, eta* of each
+    seed, their mean, min and max."""
+    import numpy as np
+    import xarray as xr
+
+    ds = xr.load_dataset(Path(study_dir) / "study.nc", engine="h5netcdf")
+    seeds = [int(s) for s in ds.seed.values]
+    REFERENCE.parent.mkdir(parents=True, exist_ok=True)
+    with REFERENCE.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["setting", "stroke_m", "eta_mean", "eta_min", "eta_max", "seeds"] + [f"eta_seed{s}" for s in seeds])
+        for k, label in enumerate(ds.setting.values.tolist()):
+            for j, x in enumerate(ds.stroke.values.tolist()):
+                e = np.asarray(ds.eta_star.values[k, j, :], dtype=float)
+                w.writerow([label, repr(float(x)), f"{np.nanmean(e):.6f}", f"{np.nanmin(e):.6f}", f"{np.nanmax(e):.6f}",
+                            int(np.sum(np.isfinite(e)))] + [f"{v:.6f}" for v in e])
+    print(f"wrote {REFERENCE} ({ds.sizes['setting']} settings x {ds.sizes['stroke']} strokes x {len(seeds)} seeds)")
+
+
+def read_reference():
+    """The CPU engine's fig4: ``{(setting, stroke rounded): row}``."""
+    if not REFERENCE.exists():
+        return {}
+    with REFERENCE.open() as f:
+        rows = list(csv.DictReader(f))
+    return {(r["setting"], round(float(r["stroke_m"]), 9)): r for r in rows}
+
+
+# ---------------------------------------------------------------------------------------------- parts
+def part_compile(tiny):
+    """The first launch (compiling) and the compiled kernel's resources."""
+    from pdamper.run import on_device
+    from pdamper.simulation import Simulation, run_on_gpu
+
+    label, x, case = fig4_cases(tiny)[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sim = Simulation(on_device(case, "cuda"))
+    t = time.perf_counter()
+    out = {}
+    try:
+        run_on_gpu([sim], compile_only=True)
+    except Exception as exc:  # noqa: BLE001  (Gear's kernel did not compile here: measure Verlet's)
+        import traceback
+
+        traceback.print_exc()
+        out["gear_failed"] = f"{type(exc).__name__}: {' '.join(str(exc).split())[:400]}"
+        print(f"compile: Gear's kernel failed ({out['gear_failed']}); the parts run with Verlet", flush=True)
+        FALLBACK["integrator"] = "verlet"
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sim = Simulation(_integrator(on_device(case, "cuda")))
+        t = time.perf_counter()
+        run_on_gpu([sim], compile_only=True)
+    out.update(first_launch_s=time.perf_counter() - t, target_s=TARGET_COMPILE_S)
+    out.update(kernel_resources(sim))
+    print(f"compile: first launch {out['first_launch_s']:.1f} s; {json.dumps({k: v for k, v in out.items() if k != 'first_launch_s'})}",
+          flush=True)
+    return out
+
+
+def kernel_resources(sim):
+    """Registers per thread, shared and local memory of the compiled kernel, and the blocks of
+    ``threads`` an SM holds by each limit (H100: 65,536 registers, 228 KiB shared memory, 2,048
+    threads, 32 blocks per SM)."""
+    from pdamper.engine.cuda import threads_for
+    from pdamper.kernels.gpu.gear import gear_kernel
+    from pdamper.kernels.gpu.verlet import verlet_kernel
+
+    out = {"kernel": "gear" if sim.stepper.rejected is not None else "verlet"}
+    try:
+        k = gear_kernel() if out["kernel"] == "gear" else verlet_kernel()
+        regs = k.get_regs_per_thread()
+        smem = k.get_shared_mem_per_block()
+        local = k.get_local_mem_per_thread()
+        regs = list(regs.values())[0] if isinstance(regs, dict) else regs
+        smem = list(smem.values())[0] if isinstance(smem, dict) else smem
+        local = list(local.values())[0] if isinstance(local, dict) else local
+        out.update(registers_per_thread=int(regs), shared_bytes_per_block=int(smem), local_bytes_per_thread=int(local))
+        for n, label in ((36, "36 spheres"), (44, "44 spheres"), (176, "176 spheres"), (5000, "5,000 spheres")):
+            t = threads_for(n)
+            by_regs = 65536 // max(1, int(regs) * t)
+            by_smem = (228 * 1024) // max(1, int(smem) + 1024)
+            out[f"blocks_per_sm_{label.split()[0].replace(',', '')}"] = {
+                "threads": t, "by_registers": by_regs, "by_shared": by_smem, "by_threads": 2048 // t,
+                "blocks": min(32, by_regs, by_smem, 2048 // t)}
+    except Exception as exc:  # noqa: BLE001  (the simulator has no compiled kernel)
+        out["resources"] = f"not available ({type(exc).__name__}: {exc})"
+    return out
+
+
+def _tiny_study(workdir):
+    """fig4's study file with each setting's case made tiny (:func:`_soft`) and one stroke: the
+    same ``run_study`` path, a few hundred steps a case."""
+    from pdamper.config import dumps_case
+    from pdamper.studies.named import load_study
+
+    work = Path(workdir)
+    study = load_study("fig4")
+    rows = []
+    for k, (label, case, panel) in enumerate(study.settings):
+        (work / f"tiny{k}.toml").write_text(dumps_case(_soft(case)))
+        rows.append(f'[[setting]]\nlabel = "{label}"\nconfig = "tiny{k}.toml"\npanel = "{panel}"\n')
+    path = work / "fig4_tiny.toml"
+    path.write_text('title = "fig4, tiny"\nfigure = "sweep"\nvary = ["drive.stroke=2mm"]\n\n' + "\n".join(rows))
+    return path
+
+
+def _fallback_study(workdir):
+    """fig4's study file with every setting on the fallback integrator."""
+    from pdamper.studies.named import load_study
+
+    study = load_study("fig4")
+    text = Path(study.source).read_text()
+    text = text.replace('base = "cuboid_36"', f'base = "cuboid_36"\nset = {{ "numerics.integrator" = "{FALLBACK["integrator"]}" }}')
+    text = text.replace('base = "cuboid_44"', f'base = "cuboid_44"\nset = {{ "numerics.integrator" = "{FALLBACK["integrator"]}" }}')
+    path = Path(workdir) / "fig4_fallback.toml"
+    path.write_text(text)
+    return path
+
+
+def part_fig4(tiny, workdir):
+    """``pdamper study fig4 --device cuda``, timed, and its eta* against the CPU reference."""
+    import numpy as np
+
+    from pdamper.studies.named import run_study
+
+    name = _tiny_study(workdir) if tiny else ("fig4" if FALLBACK["integrator"] is None else _fallback_study(workdir))
+    t = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = run_study(name, Path(workdir) / "fig4", seeds=(0,), device="cuda", progress=False)
+    wall = time.perf_counter() - t
+    etas = {}
+    for k, label in enumerate(ds.setting.values.tolist()):
+        for j, x in enumerate(ds.stroke.values.tolist()):
+            etas[(str(label), round(float(x), 9))] = float(ds.eta_star.values[k, j, 0])
+    steps = [int(v) for v in np.ravel(ds["steps"].values) if np.isfinite(v)] if "steps" in ds else []
+    ref = read_reference()
+    within, devs, compared, within3 = 0, [], 0, 0
+    table = []
+    for (label, x), eta in sorted(etas.items()):
+        r = ref.get((label, x))
+        if r is None:
+            table.append({"setting": label, "stroke_m": x, "eta_gpu": eta})
+            continue
+        lo, hi, mean = float(r["eta_min"]), float(r["eta_max"]), float(r["eta_mean"])
+        seeds = [float(v) for k, v in r.items() if k.startswith("eta_seed")]
+        std = float(np.std(seeds, ddof=1)) if len(seeds) > 1 else math.nan
+        compared += 1
+        ok = lo <= eta <= hi
+        within += ok
+        # a fourth sample of the same spread falls inside three seeds' range only half the time: say
+        # also how many strokes are within 3 standard deviations of the seeds' mean
+        z = (eta - mean) / max(std, 1e-12)
+        within3 += abs(z) <= 3.0
+        devs.append(z)
+        table.append({"setting": label, "stroke_m": x, "eta_gpu": eta, "eta_cpu_mean": mean, "eta_cpu_min": lo,
+                      "eta_cpu_max": hi, "eta_cpu_std": std, "within": ok, "z": z})
+    longest = max(steps) if steps else 0
+    out = {"wall_s": wall, "cases": len(etas), "target_s": TARGET_FIG4_S, "longest_case_steps": longest,
+           "us_per_step_per_block": 1e6 * wall / longest if longest else math.nan,
+           "compared_with_cpu": compared, "within_cpu_seed_range": within, "within_3_std": within3,
+           "max_abs_z": max((abs(d) for d in devs), default=math.nan),
+           "mean_z": float(np.mean(devs)) if devs else math.nan, "strokes": table}
+    print(f"fig4: {len(etas)} cases in {wall:.1f} s (target {TARGET_FIG4_S:g} s); longest case {longest} steps "
+          f"= {out['us_per_step_per_block']:.2f} us/step per block; eta* within the CPU's seeds 0-2 range at {within} "
+          f"of {compared} strokes, within 3 std of their mean at {within3} (max |z| {out['max_abs_z']:.2f}, mean z "
+          f"{out['mean_z']:+.2f})", flush=True)
+    return out
+
+
+def part_bed(tiny, seconds):
+    """The 5,000-sphere bed for about ``seconds``: the cost of a step."""
+    from pdamper.run import on_device
+    from pdamper.simulation import Simulation, run_on_gpu
+
+    sys.path.insert(0, str(BENCH))
+    from run import big_bed  # noqa: E402  (benchmarks/run.py's bed)
+
+    case = big_bed(12 if tiny else 5000)
+    case = dataclasses.replace(case, cycles=1.0, drop_cycles=0)
+    if tiny:
+        case = _soft(case)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sim = Simulation(_integrator(on_device(case, "cuda")))
+    t0 = time.perf_counter()
+    seen = {}
+
+    def stop(done, total):
+        seen.update(done=done, total=total, t=time.perf_counter() - t0)
+        return time.perf_counter() - t0 < seconds
+
+    rec = run_on_gpu([sim], progress=stop)[0]
+    wall = time.perf_counter() - t0
+    steps = sim.stepper.steps
+    out = {"particles": sim.n, "steps": steps, "wall_s": wall, "finished": not isinstance(rec, Exception),
+           "us_per_step": 1e6 * wall / max(steps, 1), "ns_per_particle_step": 1e9 * wall / max(steps, 1) / sim.n}
+    print(f"bed: {sim.n} spheres, {steps} steps in {wall:.1f} s = {out['us_per_step']:.1f} us/step "
+          f"({out['ns_per_particle_step']:.1f} ns per particle-step)", flush=True)
+    return out
+
+
+def part_paper(tiny, deadline):
+    """Every distinct DEM curve of the paper at its 40 strokes, one batch, stopped at ``deadline``."""
+    from pdamper.run import run_cases
+    from pdamper.schema import replace
+    from pdamper.studies.sweep import stroke_grid
+
+    sys.path.insert(0, str(BENCH))
+    from run import paper_curves  # noqa: E402
+
+    curves = paper_curves()
+    strokes = stroke_grid(0.5e-3, 50e-3, 40)
+    if tiny:
+        curves, strokes = curves[:2], strokes[:1]
+    cases, labels = [], []
+    for label, case in curves:
+        for x in strokes:
+            c = replace(case, {"drive.stroke": float(x), "initial.seed": 0, "numerics.device": "cuda"})
+            cases.append(_soft(c) if tiny else _integrator(c))
+            labels.append(label)
+    t0 = time.perf_counter()
+    seen = {"done": 0, "total": 0}
+
+    def stop(done, total):
+        seen.update(done=done, total=total)
+        return time.perf_counter() < deadline
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = run_cases(cases, progress=stop)
+    wall = time.perf_counter() - t0
+    failed = [str(r) for r in res if isinstance(r, Exception)]
+    stopped = sum("was stopped" in f for f in failed)
+    per_curve = {}
+    for label, r in zip(labels, res):
+        d = per_curve.setdefault(label, {"cases": 0, "finished": 0, "max_steps": 0})
+        d["cases"] += 1
+        if not isinstance(r, Exception):
+            d["finished"] += 1
+            d["max_steps"] = max(d["max_steps"], r.steps)
+    out = {"curves": len(curves), "cases": len(cases), "wall_s": wall, "target_s": TARGET_PAPER_S,
+           "finished": len(cases) - len(failed), "failed": len(failed) - stopped, "stopped_by_budget": stopped,
+           "steps_done_of_total": [seen["done"], seen["total"]], "per_curve": per_curve,
+           "failures": [f for f in failed if "was stopped" not in f][:5]}
+    print(f"paper: {out['finished']} of {len(cases)} cases ({len(curves)} curves) finished in {wall:.0f} s (target "
+          f"{TARGET_PAPER_S:g} s); {out['failed']} failed; {stopped} stopped by the budget", flush=True)
+    return out
+
+
+def part_ptx(kernels=("gear", "verlet")):
+    """The kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
+    local CUDA toolkit's NVVM), and ``ptxas -v``'s registers, spills and shared memory (when ptxas
+    is on PATH)."""
+    import dataclasses as dc
+    import re
+    import shutil
+
+    import numba
+    import numpy as np
+    from numba import types
+
+    import numba.cuda.dispatcher as dispatcher
+
+    class _Hopper:  # device functions compile for the current device's cc: say it is sm_90
+        compute_capability = (9, 0)
+
+    dispatcher.get_current_device = lambda: _Hopper()
+    from numba import cuda
+
+    from pdamper.engine.cuda import _pack, _pack_gear
+    from pdamper.kernels.gpu.gear import batch_gear
+    from pdamper.kernels.gpu.verlet import batch_verlet
+    from pdamper.run import on_device
+    from pdamper.simulation import Simulation
+
+    _, _, case = fig4_cases(False)[0]
+    out = {}
+    for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet")):
+        if name not in kernels:
+            continue
+        c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sim = Simulation(on_device(c, "cuda"))
+        job, _ = sim._gpu_job()
+        sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack([job], None)
+        # the output arrays as the GPU has them (C-contiguous; _pack leaves only their shapes off the simulator)
+        rec = rec._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)), frames=np.zeros((1, 1, 1, 9)))
+        args = [sp, li, wl, tb, sim.engine.table.law, mo, ct, rec, nmat, row0]
+        if integrator == "gear":
+            args += list(_pack_gear([job], sp, li, wl, bd))
+        sig = tuple(numba.typeof(a) for a in args) + (types.int64,)
+        t = time.perf_counter()
+        try:
+            ptx, _ = cuda.compile_ptx(kernel, sig, cc=(9, 0))
+        except Exception as exc:  # noqa: BLE001  (no NVVM / NVRTC here)
+            if "NVVM" in str(exc) or "nvrtc" in str(exc).lower() or "DynamicLibNotFound" in type(exc).__name__:
+                out = {"skipped": f"no CUDA toolkit's NVVM here ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"}
+                print("ptx:", json.dumps(out), flush=True)
+                return out
+            raise
+        k = {"ptx_compile_s": time.perf_counter() - t, "ptx_bytes": len(ptx), "entry": ".entry" in ptx}
+        if shutil.which("ptxas"):
+            with tempfile.TemporaryDirectory() as d:
+                p = Path(d) / "k.ptx"
+                p.write_text(ptx)
+                r = subprocess.run(["ptxas", "--gpu-name", "sm_90", "-v", str(p), "-o", str(Path(d) / "k.cubin")],
+                                   capture_output=True, text=True, timeout=600)
+            text = r.stdout + r.stderr
+            m = re.findall(r"Used (\d+) registers.*?(\d+) bytes smem", text)
+            sp_ = re.findall(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads", text)
+            if m:
+                k.update(registers_per_thread=int(m[-1][0]), shared_bytes_per_block=int(m[-1][1]))
+            if sp_:
+                k.update(stack_bytes=max(int(x[0]) for x in sp_), spill_store_bytes=max(int(x[1]) for x in sp_),
+                         spill_load_bytes=max(int(x[2]) for x in sp_))
+            k["ptxas_ok"] = r.returncode == 0
+        out[name] = k
+        print(f"ptx ({name}):", json.dumps(k), flush=True)
+    return out
+
+
+def markdown(data):
+    p = {k: v for k, v in data["parts"].items() if isinstance(v, dict) and "error" not in v and "skipped" not in v}
+    failed = {k: v for k, v in data["parts"].items() if isinstance(v, dict) and ("error" in v or "skipped" in v)}
+    lines = [f"GPU benchmark ({data['started']}): {p.get('env', {}).get('gpu', '?')}", ""]
+    if "compile" in p:
+        c = p["compile"]
+        lines.append(f"- first GPU launch (compile): {c['first_launch_s']:.1f} s (target {TARGET_COMPILE_S:g} s); "
+                     f"{c.get('registers_per_thread', '?')} registers/thread, {c.get('shared_bytes_per_block', '?')} "
+                     "B shared/block")
+    if "fig4" in p:
+        f = p["fig4"]
+        lines.append(f"- study fig4: {f['cases']} cases in {f['wall_s']:.1f} s (target {TARGET_FIG4_S:g} s); longest "
+                     f"case {f['longest_case_steps']} steps, {f['us_per_step_per_block']:.2f} us/step per block; eta* "
+                     f"within the CPU's seed range at {f['within_cpu_seed_range']} of {f['compared_with_cpu']} strokes, "
+                     f"within 3 std at {f['within_3_std']} (max |z| {f['max_abs_z']:.2f}, mean z {f['mean_z']:+.2f})")
+    if "bed" in p:
+        b = p["bed"]
+        lines.append(f"- {b['particles']}-sphere bed: {b['us_per_step']:.1f} us/step "
+                     f"({b['ns_per_particle_step']:.1f} ns per particle-step)")
+    if "paper" in p:
+        q = p["paper"]
+        lines.append(f"- the paper's {q['curves']} curves: {q['finished']} of {q['cases']} cases in {q['wall_s']:.0f} s "
+                     f"(target {TARGET_PAPER_S:g} s); {q['failed']} failed, {q['stopped_by_budget']} stopped by the budget")
+    for k, v in failed.items():
+        lines.append(f"- {k}: {v.get('error') or v.get('skipped')}")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default="gpu.json", help="JSON result (written after every part); .md beside it")
+    ap.add_argument("--budget-s", type=float, default=450.0, help="stop the paper part at this many seconds")
+    ap.add_argument("--only", nargs="+", choices=PARTS, help="run only these parts")
+    ap.add_argument("--tiny", action="store_true", help="tiny cases (numba-cuda's simulator: the test suite)")
+    ap.add_argument("--ptx", action="store_true", help="compile to PTX for sm_90 without a GPU; ptxas -v")
+    ap.add_argument("--ptx-kernels", default="gear,verlet", help="the kernels --ptx compiles (gear, verlet)")
+    ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
+    ap.add_argument("--make-reference", metavar="STUDY_DIR",
+                    help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
+    args = ap.parse_args(argv)
+    if args.make_reference:
+        make_reference(args.make_reference)
+        return 0
+    t0 = time.perf_counter()
+    report = Report(args.out)
+    if args.ptx:
+        report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(","))))
+        return 0
+    parts = args.only or PARTS
+    report.put("env", env_info())
+    if report.data["parts"]["env"].get("gpu_unavailable"):
+        print("no GPU: " + report.data["parts"]["env"]["gpu_unavailable"], flush=True)
+        return 2
+    with tempfile.TemporaryDirectory() as work:
+        for part in parts:
+            if part == "env":
+                continue
+            left = args.budget_s - (time.perf_counter() - t0)
+            if left <= 0:
+                report.put(part, {"skipped": "the budget was spent"})
+                continue
+            try:
+                if part == "compile":
+                    report.put(part, part_compile(args.tiny))
+                elif part == "fig4":
+                    report.put(part, part_fig4(args.tiny, work))
+                elif part == "bed":
+                    report.put(part, part_bed(args.tiny, min(args.bed_seconds, left)))
+                elif part == "paper":
+                    report.put(part, part_paper(args.tiny, t0 + args.budget_s))
+            except Exception as exc:  # noqa: BLE001  (one part failing does not lose the others)
+                import traceback
+
+                traceback.print_exc()
+                print(f"{part}: failed: {type(exc).__name__}: {exc}", flush=True)
+                report.put(part, {"error": f"{type(exc).__name__}: {exc}"})
+    report.data["integrator"] = FALLBACK["integrator"] or "each case's own (gear)"
+    report.data["total_s"] = time.perf_counter() - t0
+    report.put("done", True)
+    text = markdown(report.data)
+    if report.path is not None:
+        report.path.with_suffix(".md").write_text(text + "\n")
+    print(text, flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

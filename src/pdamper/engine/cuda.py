@@ -1,0 +1,459 @@
+"""The GPU engine from Python: cases packed into one batch, advanced together on one NVIDIA GPU
+(:mod:`pdamper.kernels.gpu`), their recorded channels handed back.
+
+A :class:`GpuJob` is one case as the CPU engine has built it (:func:`pdamper.engine.build.build`:
+the same initial positions, contact table and walls), with its output arrays
+(:class:`~pdamper.kernels.bundles.Samples`) and its clock. :func:`run_jobs` groups the jobs that one
+launch can take together (the same integrator, damping law, contact-table constants and block size),
+packs each group into the batch bundles (:mod:`pdamper.kernels.gpu.batch`), launches the groups'
+kernels side by side (:mod:`pdamper.kernels.gpu.gear`, :mod:`pdamper.kernels.gpu.verlet`) until
+every case is done, and copies each case's channels and final state back into its own arrays.
+
+numba-cuda is imported here only when a batch runs: ``import pdamper`` never needs it.
+:func:`unavailable` says why no GPU can run (no numba-cuda, no driver, no device).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..kernels.bundles import PrescribedMotion
+from ..kernels.drive import DRIVE_HARMONIC, DRIVE_STILL
+
+__all__ = ["GpuJob", "GpuOutcome", "run_jobs", "STATUS_STOPPED", "unavailable", "require", "refusal", "row_capacity",
+           "threads_for", "GPU_HINT"]
+
+#: How to get the GPU engine, for messages.
+GPU_HINT = 'pip install -e ".[gpu]"'
+#: :attr:`GpuOutcome.status` of a case whose batch was stopped (``progress`` returned False) before its end.
+STATUS_STOPPED = -1
+#: The drive kinds the GPU kernels compute (the kernels' own numbers).
+_GPU_DRIVES = (DRIVE_STILL, DRIVE_HARMONIC)
+
+
+@dataclass
+class GpuJob:
+    """One case for the GPU: its CPU-built engine (:class:`~pdamper.engine.build.Engine`), its
+    output arrays and its clock (Verlet's ``dt`` and ``sub`` steps per sample, the settling and
+    driven samples, the sample interval, the samples of one of the CPU engine's segments) and the
+    velocity jump at the drive's start."""
+
+    engine: object
+    samples: object
+    dt: float
+    sub: int
+    settle_samples: int
+    n_samples: int
+    interval: float
+    segment_samples: int
+    jump: np.ndarray
+    #: "verlet" or "gear"; Gear's first step, tolerance, shortest and longest step [s, m, s, s]
+    integrator: str = "verlet"
+    h0: float = 0.0
+    tolerance: float = 0.0
+    h_min: float = 0.0
+    h_max: float = 0.0
+
+
+@dataclass
+class GpuOutcome:
+    """How a job went: steps taken, the kernels' status (0: ok), the sphere concerned, the time of a
+    failed step [s], the batch's wall time [s] and the batch's size."""
+
+    steps: int
+    status: int
+    culprit: int
+    t_fail: float
+    wall_time_s: float
+    batch: int
+    sums: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rejected: int = 0
+    h_next: float = math.nan
+
+
+def unavailable() -> str | None:
+    """Why the GPU engine cannot run here (None: it can): numba-cuda missing, or no GPU. numba-cuda's
+    simulator (``NUMBA_ENABLE_CUDASIM=1``) counts as a GPU."""
+    import importlib.util
+
+    if importlib.util.find_spec("numba_cuda") is None:
+        return "numba-cuda is not installed"
+    try:
+        from numba import cuda
+
+        if cuda.jit.__module__.startswith("numba.cuda.simulator"):
+            return None
+        if not cuda.is_available():
+            return "no CUDA driver or GPU (numba.cuda.is_available() is False)"
+    except Exception as exc:  # a broken driver or toolkit: say what numba-cuda said
+        return f"{type(exc).__name__}: {' '.join(str(exc).split())[:200]}"
+    return None
+
+
+def require() -> None:
+    """Raise :class:`~pdamper.errors.InputError` (one line) when the GPU engine cannot run here."""
+    why = unavailable()
+    if why is not None:
+        raise InputError(f"--device cuda needs an NVIDIA GPU and numba-cuda ({GPU_HINT}); none found: {why}")
+
+
+def refusal(engine, python_recorders: bool = False) -> str | None:
+    """Why the GPU engine does not run this case (None: it does), and how to run it on the CPU."""
+    how = "; run it on the CPU (device = \"cpu\", the default)"
+    if not isinstance(engine.drive.coupling, PrescribedMotion) or engine.drive.kind not in _GPU_DRIVES:
+        return ("the GPU engine runs harmonic drives (and a container at rest); a coupled structure or a motion "
+                "given as samples is not on the GPU yet" + how)
+    if python_recorders:
+        return "the GPU engine records the kernel channels only; a Python recorder (every > 0) is not on the GPU" + how
+    return None
+
+
+def row_capacity(radius: np.ndarray, skin: float) -> int:
+    """Entries per sphere of the GPU's neighbour rows: the spheres of the smallest radius that fit,
+    packed at 74 %, in the shell a pair is listed within around the largest one (and at most the
+    other spheres), plus two."""
+    r1 = float(np.max(radius))
+    r0 = float(np.min(radius))
+    shell = (r1 + 2.0 * r0 + skin) ** 3 - r1 ** 3
+    k = int(math.ceil(0.74 * shell / r0 ** 3)) + 2
+    return max(1, min(int(radius.size) - 1, k))
+
+
+def threads_for(n: int) -> int:
+    """Threads of a block for ``n`` spheres: one a sphere, whole warps, at most
+    :data:`~pdamper.kernels.gpu.verlet.MAX_THREADS` (each thread then takes several). In numba-cuda's
+    simulator, where every thread is a Python thread, at most 4."""
+    from ..kernels.gpu.targets import SIMULATOR
+    from ..kernels.gpu.verlet import MAX_THREADS
+
+    if SIMULATOR:
+        return int(max(1, min(n, 4)))
+    return int(min(MAX_THREADS, max(32, 32 * math.ceil(n / 32))))
+
+
+def _group_key(job):
+    t = job.engine.table
+    return (job.integrator, type(t.law), t.coefficient.shape[1], float(t.log_speed0), float(t.dlog_speed), float(t.tau),
+            float(t.v_floor), float(t.overlap_limit))
+
+
+def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
+             progress=None, compile_only: bool = False) -> list[GpuOutcome]:
+    """Run every job to its end on the GPU (or numba-cuda's simulator); fill its samples and leave
+    its final state in its engine's bodies.
+
+    The jobs are grouped by what one launch can take together (the damping law and the contact
+    table's constants, and the block size: a 36-sphere bed does not wait in a block sized for 176
+    spheres); each group is one batch on its own CUDA stream, and the groups' launches run side by
+    side. ``threads`` per block (default :func:`threads_for` each group's largest bed);
+    ``launch_seconds``: a round of launches' target length (the steps per launch adapt to it; after
+    each round ``progress(done, total)`` is called with the steps done, and returning False stops:
+    the unfinished cases end with :data:`STATUS_STOPPED`); ``max_launch_steps`` caps the steps of a
+    launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
+    """
+    groups = {}
+    for k, job in enumerate(jobs):
+        key = _group_key(job) + (threads or threads_for(job.engine.n),)
+        groups.setdefault(key, []).append(k)
+    batches = [_Batch([jobs[k] for k in idx], threads or key[-1]) for key, idx in groups.items()]
+    t_start = time.perf_counter()
+    if compile_only:
+        for b in batches:
+            b.launch(0)
+        _sync()
+        return [GpuOutcome(steps=0, status=0, culprit=-1, t_fail=math.nan, wall_time_s=time.perf_counter() - t_start,
+                           batch=len(jobs)) for _ in jobs]
+    chunk = 200
+    while True:
+        t0 = time.perf_counter()
+        live = [b for b in batches if not b.finished]
+        for b in live:
+            b.launch(chunk)
+        _sync()
+        dt = time.perf_counter() - t0
+        for b in live:
+            b.poll()
+        if all(b.finished for b in batches):
+            break
+        if progress is not None:
+            done = sum(int(np.minimum(b.done, b.total).sum()) for b in batches)
+            if progress(done, sum(int(b.total.sum()) for b in batches)) is False:
+                break  # the caller stops the batch: the unfinished cases say so
+        # aim each round at about launch_seconds
+        chunk = int(min(max_launch_steps, max(chunk, chunk * min(8.0, launch_seconds / max(dt, 1e-6)))))
+    wall = time.perf_counter() - t_start
+    out = [None] * len(jobs)
+    for b, idx in zip(batches, groups.values()):
+        for k, r in zip(idx, b.unpack(wall, len(jobs))):
+            out[k] = r
+    return out
+
+
+class _Batch:
+    """One group of jobs packed for one kernel: its bundles on the GPU, its stream, its progress."""
+
+    def __init__(self, jobs, threads):
+        from ..kernels.gpu.targets import SIMULATOR
+        from ..kernels.gpu.verlet import verlet_kernel
+
+        self.jobs = jobs
+        sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
+        self.types = (type(sp), type(ct), type(rec))
+        self.bd = bd
+        self.total = ct.total_steps.copy()
+        self.done = np.zeros_like(self.total)
+        self.status = np.zeros_like(self.total)
+        self.finished = False
+        self.stream = None if SIMULATOR else _stream()
+        self.args = [_device(sp), _device(li), _device(wl), _device_tuple(tb), jobs[0].engine.table.law,
+                     _device(mo), _device(ct), _device_record(rec), _device_array(nmat), _device_array(row0)]
+        self.gear = jobs[0].integrator == "gear"
+        if self.gear:
+            from ..kernels.gpu.gear import gear_kernel
+
+            gs, gc = _pack_gear(jobs, sp, li, wl, bd)
+            self.gear_types = (type(gc),)
+            self.args += [_device(gs), _device(gc)]
+            self.total = gc.spans.copy()
+            self.kernel = gear_kernel()
+        else:
+            self.kernel = verlet_kernel()
+
+    def launch(self, steps):
+        C = len(self.jobs)
+        if self.stream is None:
+            self.kernel[C, self.bd](*self.args, int(steps))
+        else:
+            self.kernel[C, self.bd, self.stream](*self.args, int(steps))
+
+    def poll(self):
+        ct = self.args[6]
+        self.done = _host(self.args[11].span) if self.gear else _host(ct.step)
+        self.status = _host(ct.status)
+        self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
+
+    def unpack(self, wall, batch):
+        """Each job's channels, final state and outcome."""
+        sp_t, ct_t, rec_t = self.types
+        rec_h = rec_t(*[_host(a) for a in self.args[7]])
+        sp_h = sp_t(*[_host(a) for a in self.args[0]])
+        ct_h = ct_t(*[_host(a) for a in self.args[6]])
+        gc_h = self.gear_types[0](*[_host(a) for a in self.args[11]]) if self.gear else None
+        out = []
+        for c, job in enumerate(self.jobs):
+            e = job.engine
+            n = e.n
+            s = job.samples
+            s.wall_force[:] = rec_h.wall_force[c, : s.wall_force.shape[0]]
+            s.energy[:] = rec_h.energy[c, : s.energy.shape[0]]
+            if s.frames.shape[0]:
+                s.frames[:] = rec_h.frames[c, : s.frames.shape[0], :n]
+            for name in ("position", "velocity", "spin"):
+                getattr(e.bodies, name)[:] = getattr(sp_h, name)[c, :n]
+            sums = ct_h.partials[c].sum(axis=0)
+            s.sums[:3] = sums[:3]
+            status = int(ct_h.status[c])
+            if self.gear:
+                if status == 0 and gc_h.span[c] < self.total[c]:
+                    status = STATUS_STOPPED
+                out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
+                                      t_fail=float(gc_h.t[c]), wall_time_s=wall, batch=batch, sums=sums[:3],
+                                      rejected=int(gc_h.rejected[c]), h_next=float(gc_h.h[c])))
+                continue
+            fail = int(ct_h.fail_step[c])
+            if status == 0 and ct_h.step[c] < self.total[c]:
+                status, fail = STATUS_STOPPED, int(ct_h.step[c])
+            out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
+                                  t_fail=_time_of(job, fail), wall_time_s=wall, batch=batch, sums=sums[:3]))
+        return out
+
+
+def _pack_gear(jobs, sp, li, wl, bd):
+    """Gear's state and clock of every job: the Nordsieck vectors (filled by the kernel's priming),
+    the saved history, the clock at the start of the first span."""
+    from ..kernels.gpu.batch import GearClock, GearState
+
+    C, N = sp.position.shape[:2]
+    K = li.partner.shape[3]
+    W = wl.kind.shape[1]
+    gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), predicted=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
+                   saved_pair=np.zeros((C, 2, N, K)), saved_wall=np.zeros((C, 2, N, W)),
+                   integrands=np.zeros((C, bd, 4)))
+    settle = np.array([j.settle_samples for j in jobs], dtype=np.int64)
+    n = np.array([j.n_samples for j in jobs], dtype=np.int64)
+    seg = np.array([j.segment_samples for j in jobs], dtype=np.int64)
+    interval = np.array([j.interval for j in jobs])
+    spans = (settle > 0).astype(np.int64) + -(-n // seg)
+    # the first span's start: the settling's, (-S) x interval, or the drive's, 0
+    t0 = np.array([float(-j.settle_samples) * j.interval if j.settle_samples > 0 else 0.0 for j in jobs])
+    h0 = np.array([j.h0 for j in jobs])
+    gc = GearClock(interval=interval, tolerance=np.array([j.tolerance for j in jobs]),
+                   h_min=np.array([j.h_min for j in jobs]), h_max=np.array([j.h_max for j in jobs]),
+                   settle_samples=settle, n_samples=n, segment_samples=seg, spans=spans,
+                   span=np.zeros(C, dtype=np.int64), t=t0, h=h0.copy(), hs=h0.copy(),
+                   rejected=np.zeros(C, dtype=np.int64))
+    return gs, gc
+
+
+def _stream():
+    from numba import cuda
+
+    return cuda.stream()
+
+
+def _device_record(rec):
+    """The record bundle on the GPU: its large output arrays allocated there, not copied (every row a
+    case records is written before it is read; the rows beyond are never read)."""
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return rec
+    from numba import cuda
+
+    big = ("wall_force", "energy", "frames")
+    return type(rec)(*[cuda.device_array(a.shape, dtype=a.dtype) if name in big else cuda.to_device(a)
+                       for name, a in zip(rec._fields, rec)])
+
+
+def _device(bundle):
+    """The bundle with its arrays on the GPU (in the simulator: as they are; the simulator passes a
+    bundle's arrays to the kernel untouched, so the CPU-compiled functions the kernel calls get
+    plain arrays)."""
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return bundle
+    from numba import cuda
+
+    return type(bundle)(*[cuda.to_device(np.ascontiguousarray(a)) if isinstance(a, np.ndarray) else a
+                          for a in bundle])
+
+
+def _host(a):
+    return a if isinstance(a, np.ndarray) else a.copy_to_host()
+
+
+def _pack(jobs, threads):
+    from ..kernels.gpu.batch import (CONTROL_FLAGS, PAIR_RESULT, PARTIALS, WALL_ROW, Control, Lists, Motion, Record,
+                                     Spheres, Walls)
+
+    C = len(jobs)
+    engines = [j.engine for j in jobs]
+    N = max(e.n for e in engines)
+    W = max(e.walls.kind.shape[0] for e in engines)
+    K = max(row_capacity(e.bodies.radius, e.search.skin) for e in engines)
+    bd = threads or threads_for(N)
+    zeros3 = np.zeros((C, N, 3))
+    sp = Spheres(position=zeros3.copy(), velocity=zeros3.copy(), spin=zeros3.copy(), acceleration=zeros3.copy(),
+                 angular_acceleration=zeros3.copy(), previous_acceleration=zeros3.copy(),
+                 previous_angular_acceleration=zeros3.copy(), reference=np.full((C, N, 3), np.inf),
+                 radius=np.ones((C, N)), mass=np.ones((C, N)), inv_mass=np.ones((C, N)), inv_inertia=np.ones((C, N)),
+                 material=np.zeros((C, N), dtype=np.int64), count=np.array([e.n for e in engines], dtype=np.int64))
+    wl = Walls(kind=np.zeros((C, W), dtype=np.int64), data=np.zeros((C, W, 7)),
+               count=np.array([e.walls.kind.shape[0] for e in engines], dtype=np.int64),
+               floor=np.array([e.walls.floor for e in engines], dtype=np.int64), stiffness=np.zeros((C, N, W)),
+               material_pair=np.zeros((C, N, W), dtype=np.int64), effective_radius=np.ones((C, N, W)),
+               approach_speed=np.zeros((C, N, W)), damping=np.zeros((C, N, W)), row=np.zeros((C, N, W, WALL_ROW)))
+    li = Lists(partner=np.zeros((C, 2, N, K), dtype=np.int64), length=np.zeros((C, 2, N), dtype=np.int64),
+               slot=np.zeros((C, N, K), dtype=np.int64), approach_speed=np.zeros((C, 2, N, K)),
+               damping=np.zeros((C, 2, N, K)), stiffness=np.zeros((C, N, K)),
+               material_pair=np.zeros((C, N, K), dtype=np.int64), friction_cap=np.zeros((C, N, K)),
+               result=np.zeros((C, N, K, PAIR_RESULT)), buffer=np.zeros(C, dtype=np.int64),
+               skin=np.array([e.search.skin for e in engines]))
+    rows0, nmat = [], []
+    row = 0
+    for c, (job, e) in enumerate(zip(jobs, engines)):
+        b = e.bodies
+        n = e.n
+        for name in ("position", "velocity", "spin"):
+            getattr(sp, name)[c, :n] = getattr(b, name)
+        for name in ("radius", "mass", "inv_mass", "inv_inertia", "material"):
+            getattr(sp, name)[c, :n] = getattr(b, name)
+        w = e.walls
+        nw = w.kind.shape[0]
+        wl.kind[c, :nw] = w.kind
+        wl.data[c, :nw] = w.data
+        wl.stiffness[c, :n, :nw] = w.stiffness
+        wl.material_pair[c, :n, :nw] = w.material_pair + row
+        wl.effective_radius[c, :n, :nw] = w.effective_radius
+        rows0.append(row)
+        nmat.append(e.table.n_materials)
+        row += e.table.modulus.shape[0]
+    tables = [e.table for e in engines]
+    t0 = tables[0]
+    tb = (np.concatenate([t.modulus for t in tables]), np.concatenate([t.friction for t in tables]),
+          np.ascontiguousarray(np.concatenate([t.coefficient for t in tables])),
+          np.concatenate([t.yield_pressure for t in tables]), float(t0.log_speed0), float(t0.dlog_speed),
+          float(t0.tau), float(t0.v_floor), float(t0.overlap_limit))
+    mo = Motion(harmonic=np.array([int(e.drive.kind == DRIVE_HARMONIC) for e in engines], dtype=np.int64),
+                par=np.array([np.resize(np.asarray(e.drive.par, dtype=float), 3) for e in engines]),
+                gravity=np.array([e.drive.gravity for e in engines]),
+                direction=np.array([e.drive.direction for e in engines]), jump=np.array([j.jump for j in jobs]))
+    settle = np.array([j.settle_samples * j.sub for j in jobs], dtype=np.int64)
+    ct = Control(dt=np.array([j.dt for j in jobs]), sub=np.array([j.sub for j in jobs], dtype=np.int64),
+                 settle_steps=settle, total_steps=settle + np.array([j.n_samples * j.sub for j in jobs], dtype=np.int64),
+                 segment_steps=np.array([j.segment_samples * j.sub for j in jobs], dtype=np.int64),
+                 segment_samples=np.array([j.segment_samples for j in jobs], dtype=np.int64),
+                 interval=np.array([j.interval for j in jobs]), sample_interval=np.array([j.samples.interval for j in jobs]),
+                 step=np.zeros(C, dtype=np.int64), status=np.zeros(C, dtype=np.int64),
+                 culprit=np.full(C, -1, dtype=np.int64), fail_step=np.zeros(C, dtype=np.int64),
+                 flags=np.zeros((C, CONTROL_FLAGS), dtype=np.int64), partials=np.zeros((C, bd, PARTIALS)))
+    S = max(1, max(max(j.samples.wall_force.shape[0], j.samples.energy.shape[0]) for j in jobs))
+    F = max(1, max(j.samples.frames.shape[0] for j in jobs))
+    from ..kernels.gpu.targets import SIMULATOR
+
+    # on the GPU the output arrays are allocated there (_device_record): here only their shapes
+    alloc = np.zeros if SIMULATOR else (lambda shape: np.lib.stride_tricks.as_strided(np.zeros(1), shape, [0] * len(shape)))
+    rec = Record(wall_force=alloc((C, S)), energy=alloc((C, S, 7)), frames=alloc((C, F, N, 9)),
+                 wall_force_rows=np.array([j.samples.wall_force.shape[0] for j in jobs], dtype=np.int64),
+                 energy_rows=np.array([j.samples.energy.shape[0] for j in jobs], dtype=np.int64),
+                 frame_rows=np.array([j.samples.frames.shape[0] for j in jobs], dtype=np.int64),
+                 frame_every=np.array([j.samples.frame_every for j in jobs], dtype=np.int64),
+                 settle_samples=np.array([j.settle_samples for j in jobs], dtype=np.int64),
+                 bed_mass=np.array([float(np.sum(e.bodies.mass)) for e in engines]))
+    return sp, li, wl, tb, mo, ct, rec, np.array(nmat, dtype=np.int64), np.array(rows0, dtype=np.int64), bd
+
+
+def _time_of(job, g):
+    """The time [s] at the end of step ``g`` (the kernel's clock, :func:`pdamper.kernels.gpu.verlet._case_time`)."""
+    settle = job.settle_samples * job.sub
+    if g <= settle:
+        return float(-settle) * job.dt + float(g) * job.dt
+    q = g - settle
+    seg = job.segment_samples * job.sub
+    j = (q - 1) // seg
+    return float(j * job.segment_samples) * job.interval + float(q - j * seg) * job.dt
+
+
+def _device_tuple(tb):
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return tb
+    from numba import cuda
+
+    return tuple(cuda.to_device(a) if isinstance(a, np.ndarray) else a for a in tb)
+
+
+def _device_array(a):
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return a
+    from numba import cuda
+
+    return cuda.to_device(a)
+
+
+def _sync():
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if not SIMULATOR:
+        from numba import cuda
+
+        cuda.synchronize()

@@ -1,0 +1,169 @@
+"""A batch of cases as bundles of arrays with a leading case axis (``C`` cases, at most ``N``
+spheres, ``K`` list entries per sphere, ``W`` walls): the GPU kernels' state.
+
+The bundles are ``typing.NamedTuple`` s of arrays, as the CPU kernels' (:mod:`pdamper.kernels.bundles`);
+numba-cuda passes them to a kernel field by field. :func:`pdamper.engine.cuda` packs them from the
+CPU engine's own bundles of each case (:func:`pdamper.engine.build.build`), so a case starts on the
+GPU from exactly the state it starts from on the CPU.
+
+**The neighbour list** is per sphere: row ``i`` lists every partner ``j != i`` within
+``r_i + r_j + skin``, ascending, in one of two buffers (the rebuild writes the other, then swaps, so
+the history can be carried over). The pair ``(i, j)`` with ``i < j`` is *owned* by ``i``: its
+constants, its contact history and the result of its contact law (the force on ``i``, the normal and
+the friction force: what :func:`~pdamper.kernels.contact.scatter` takes) live in ``i``'s row; ``j``'s
+row points to it (``slot``). Every sphere sums its pairs in ascending partner order, then the floor,
+then the other walls: the CPU pair loop's order for that sphere (its list is sorted by ``(i, j)``).
+
+**A tangential history** (a spring law's 3-vector per contact) would be one more array
+``(C, 2, N, K, 3)`` beside ``approach_speed`` and ``damping`` in :class:`Lists` (carried over by the
+rebuild the same way) and ``(C, N, W, 3)`` in :class:`Walls`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["Spheres", "Lists", "Walls", "Motion", "Control", "Record", "PAIR_RESULT", "CONTROL_FLAGS",
+           "FLAG_STARTED", "FLAG_MOVED", "FLAG_PRIMED", "PARTIALS", "WALL_ROW", "GearState", "GearClock"]
+
+#: Values stored per owned pair after its contact law: the force on the owner (3), the unit normal
+#: from the owner to its partner (3), the friction force on the owner (3); then its friction row
+#: (Gear's implicit pass): the slip (3), the friction coefficient c and the Coulomb limit.
+PAIR_RESULT = 14
+#: Values stored per sphere-wall contact: its friction row, the unit normal (3), the slip (3), c and
+#: the Coulomb limit.
+WALL_ROW = 8
+#: Running sums each thread keeps (and saves between launches): work done by the container, loss
+#: by normal damping, loss by friction [J], impulse along the drive since the last sample [N s].
+PARTIALS = 4
+#: :attr:`Control.flags` columns: the drive has started (the velocities jumped), a rebuild is due,
+#: the initial accelerations are computed.
+FLAG_STARTED = 0
+FLAG_MOVED = 1
+FLAG_PRIMED = 2
+CONTROL_FLAGS = 3
+
+
+class Spheres(NamedTuple):
+    """The spheres of every case (container frame), padded to ``N`` rows."""
+
+    position: np.ndarray          #: (C, N, 3) [m]
+    velocity: np.ndarray          #: (C, N, 3) relative to the container [m/s]
+    spin: np.ndarray              #: (C, N, 3) [rad/s]
+    acceleration: np.ndarray      #: (C, N, 3) Verlet's accelerations now and one step back
+    angular_acceleration: np.ndarray
+    previous_acceleration: np.ndarray
+    previous_angular_acceleration: np.ndarray
+    reference: np.ndarray         #: (C, N, 3) positions at the last list build [m]
+    radius: np.ndarray            #: (C, N) [m]
+    mass: np.ndarray              #: (C, N) [kg]
+    inv_mass: np.ndarray          #: (C, N)
+    inv_inertia: np.ndarray       #: (C, N)
+    material: np.ndarray          #: (C, N) int: the sphere's material in its case's table
+    count: np.ndarray             #: (C,) int: spheres of each case
+
+
+class Lists(NamedTuple):
+    """The per-sphere neighbour lists (module docstring), their constants and contact history."""
+
+    partner: np.ndarray           #: (C, 2, N, K) int32: partners in ascending order, per buffer
+    length: np.ndarray            #: (C, 2, N) int32: entries of each row, per buffer
+    slot: np.ndarray              #: (C, N, K) int32: for j's entry of a pair (i, j), i < j, the entry in i's row
+    approach_speed: np.ndarray    #: (C, 2, N, K) history of the owned pairs (0: not touching), per buffer
+    damping: np.ndarray           #: (C, 2, N, K) history: the damping law's parameter, per buffer
+    stiffness: np.ndarray         #: (C, N, K) Hertz k of the owned pairs [N/m^1.5]
+    material_pair: np.ndarray     #: (C, N, K) int: row in the batch's contact table
+    friction_cap: np.ndarray      #: (C, N, K) FRICTION_CAP x m* [kg]
+    result: np.ndarray            #: (C, N, K, PAIR_RESULT) the owned pairs' contact results
+    buffer: np.ndarray            #: (C,) int32: the buffer in use
+    skin: np.ndarray              #: (C,) list skin [m]
+
+
+class Walls(NamedTuple):
+    """The walls of every case (:mod:`pdamper.geometry.walls`) and each sphere-wall contact."""
+
+    kind: np.ndarray              #: (C, W) int
+    data: np.ndarray              #: (C, W, 7)
+    count: np.ndarray             #: (C,) int: walls of each case
+    floor: np.ndarray             #: (C,) int: the floor's index, -1 if none
+    stiffness: np.ndarray         #: (C, N, W) [N/m^1.5]
+    material_pair: np.ndarray     #: (C, N, W) int: row in the batch's contact table
+    effective_radius: np.ndarray  #: (C, N, W) [m]
+    approach_speed: np.ndarray    #: (C, N, W) history
+    damping: np.ndarray           #: (C, N, W) history
+    row: np.ndarray               #: (C, N, W, WALL_ROW) each contact's friction row (Gear's implicit pass)
+
+
+class Motion(NamedTuple):
+    """Each case's drive: a harmonic motion (or none) along ``direction``."""
+
+    harmonic: np.ndarray          #: (C,) int: 1 harmonic, 0 still
+    par: np.ndarray               #: (C, 3) X [m], Omega [rad/s], phase [rad]
+    gravity: np.ndarray           #: (C, 3) [m/s^2], container frame
+    direction: np.ndarray         #: (C, 3) unit drive direction, container frame
+    jump: np.ndarray              #: (C, 3) the velocity jump -v_c(0+) d at the drive's start [m/s]
+
+
+class Control(NamedTuple):
+    """Each case's clock, progress and status (kept between launches)."""
+
+    dt: np.ndarray                #: (C,) Verlet's step [s]
+    sub: np.ndarray               #: (C,) int: steps per sample
+    settle_steps: np.ndarray      #: (C,) int: steps of the settling, before the drive
+    total_steps: np.ndarray       #: (C,) int: settling and drive
+    segment_steps: np.ndarray     #: (C,) int: steps of one of the CPU engine's segments (its clock restarts there)
+    segment_samples: np.ndarray   #: (C,) int: samples of one segment
+    interval: np.ndarray          #: (C,) 1 / sample rate [s]
+    sample_interval: np.ndarray   #: (C,) sub x dt [s]: what a sample's impulse is divided by
+    step: np.ndarray              #: (C,) int: steps done
+    status: np.ndarray            #: (C,) int: STATUS_* of pdamper.kernels.forces
+    culprit: np.ndarray           #: (C,) int: the sphere concerned
+    fail_step: np.ndarray         #: (C,) int: the step that failed
+    flags: np.ndarray             #: (C, CONTROL_FLAGS) int
+    partials: np.ndarray          #: (C, threads, PARTIALS) the threads' running sums
+
+
+class Record(NamedTuple):
+    """What is recorded at the end of each sample of the drive (the CPU kernels' channels,
+    :class:`pdamper.kernels.bundles.Samples`); a case's channel with no rows is not recorded."""
+
+    wall_force: np.ndarray        #: (C, S) [N]
+    energy: np.ndarray            #: (C, S, 7) [J]
+    frames: np.ndarray            #: (C, F, N, 9)
+    wall_force_rows: np.ndarray   #: (C,) int
+    energy_rows: np.ndarray       #: (C,) int
+    frame_rows: np.ndarray        #: (C,) int
+    frame_every: np.ndarray       #: (C,) int: samples per frame (0: none)
+    settle_samples: np.ndarray    #: (C,) int
+    bed_mass: np.ndarray          #: (C,) [kg]
+
+
+class GearState(NamedTuple):
+    """Gear's Nordsieck vectors of every case and what a rejected step restores."""
+
+    nordsieck: np.ndarray         #: (C, 6, N, 6) scaled derivatives of position and angle
+    predicted: np.ndarray         #: (C, 6, N, 6) the prediction of the current step
+    increments: np.ndarray        #: (C, N, 6) the corrector's increments (position, angle)
+    saved_pair: np.ndarray        #: (C, 2, N, K) the rows' history before the step
+    saved_wall: np.ndarray        #: (C, 2, N, W) the walls' history before the step
+    integrands: np.ndarray        #: (C, threads, 4) each thread's ledger integrands at the last accepted step
+
+
+class GearClock(NamedTuple):
+    """Each case's Gear clock over the CPU stepper's spans (the settling, then the drive's segments)."""
+
+    interval: np.ndarray          #: (C,) 1 / sample rate [s]
+    tolerance: np.ndarray         #: (C,) local position error per step [m]
+    h_min: np.ndarray             #: (C,) [s]
+    h_max: np.ndarray             #: (C,) [s]
+    settle_samples: np.ndarray    #: (C,) int
+    n_samples: np.ndarray         #: (C,) int: samples of the drive
+    segment_samples: np.ndarray   #: (C,) int
+    spans: np.ndarray             #: (C,) int: spans of the run
+    span: np.ndarray              #: (C,) int: the span under way (spans: done)
+    t: np.ndarray                 #: (C,) time [s]
+    h: np.ndarray                 #: (C,) the next step to try [s]
+    hs: np.ndarray                #: (C,) the step the Nordsieck vector is scaled to [s]
+    rejected: np.ndarray          #: (C,) int: rejected steps

@@ -1,0 +1,575 @@
+"""Gear's variable-step predictor-corrector for a batch of cases on the GPU: one thread block per
+case, each case with its own adaptive step (its error norm reduced over the block, its rejections
+its own).
+
+The step is :func:`pdamper.kernels.gear.run_gear`'s: the Nordsieck vector rescaled and predicted
+(each thread its spheres' degrees of freedom), the neighbour rows rebuilt when a sphere moved more
+than half the skin, the contact forces at the predicted state (:mod:`.verlet`'s pair and sphere
+functions, with no friction cap), the corrector's increments, the friction of every touching
+contact evaluated again at the corrected slip (the CPU's Gauss-Seidel sweep, in its order: the pairs,
+walked by one thread of the block, then the floor and the other walls, each sphere's by its own
+thread, which gives the same increments since a wall row changes its own sphere alone; calling the
+CPU kernels' ``corrected_friction``, kinematics and ``scatter``), the block's largest increment as the error, a
+rejected step retried shorter with the contact history restored, an accepted one corrected, its
+ledger summed by the trapezoid, a sample written where it ends on a sample boundary. The clock
+follows the CPU stepper's spans (the settling, then segments of the drive, each starting at its
+exact time).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import cuda, float64, int64
+
+from ..bundles import ContactTable
+from ..contact import corrected_friction, floor_slip, pair_point_velocity, scatter, wall_point_velocity
+from ..forces import STATUS_NAN, STATUS_OK
+from ..gear import GEAR_C
+from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
+from .batch import FLAG_PRIMED, FLAG_STARTED
+from .verlet import MAX_THREADS, REDUCED, _motion, _pair_laws, _rebuild, _record_sample, _sphere_force
+
+__all__ = ["gear_kernel", "batch_gear", "NO_CAP"]
+
+#: The force loops' step argument that switches the explicit friction cap off (as the CPU's Gear).
+NO_CAP = 1e-300
+_C0, _C1, _C2, _C3, _C4, _C5 = GEAR_C
+
+_KERNEL = []
+
+
+def gear_kernel():
+    """The batch Gear kernel (compiled when first launched, once per damping law; disk-cached)."""
+    if not _KERNEL:
+        _KERNEL.append(cuda.jit(cache=True)(batch_gear))
+    return _KERNEL[0]
+
+
+@cuda.jit(device=True)
+def _span(k, settle, n_samples, seg, interval):
+    """Span ``k`` of the CPU stepper's clock: ``(t0, t_end, records)``: the settling first (when
+    there is one), then the drive's segments."""
+    if settle > 0:
+        if k == 0:
+            return float(-settle) * interval, 0.0, False
+        k -= 1
+    a = k * seg
+    b = min(n_samples, a + seg)
+    return float(a) * interval, float(b) * interval, True
+
+
+@cuda.jit(device=True)
+def _implicit_pairs(c, n, sp, li, dlt, hs):
+    """The friction of every touching sphere pair at its corrected slip: the first part of the CPU's
+    :func:`pdamper.kernels.gear._implicit_friction`, the same rows in the same order, walked by one
+    thread (a pair's row changes the increments of two spheres, which the next rows read).
+    Returns the change of the friction power [W]."""
+    rad = sp.radius
+    inv_m = sp.inv_mass
+    inv_i = sp.inv_inertia
+    dv = dlt[c, :, 0:3]
+    dw = dlt[c, :, 3:6]
+    b = li.buffer[c]
+    g = _C1 / hs
+    a = 0.5 * _C1 * hs
+    hh = 0.5 * hs * hs
+    dpf = 0.0
+    for i in range(n):
+        ri = rad[c, i]
+        for e in range(li.length[c, b, i]):
+            j = li.partner[c, b, i, e]
+            if j < i or li.approach_speed[c, b, i, e] == 0.0:
+                continue
+            r = li.result[c, i, e]
+            cf = r[12]
+            if not (cf > 0.0):
+                continue
+            rj = rad[c, j]
+            nx = r[3]
+            ny = r[4]
+            nz = r[5]
+            tx = r[9]
+            ty = r[10]
+            tz = r[11]
+            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+            dcx, dcy, dcz, dcn = pair_point_velocity(
+                g * (dv[i, 0] - dv[j, 0]), g * (dv[i, 1] - dv[j, 1]), g * (dv[i, 2] - dv[j, 2]),
+                g * (ri * dw[i, 0] + rj * dw[j, 0]), g * (ri * dw[i, 1] + rj * dw[j, 1]),
+                g * (ri * dw[i, 2] + rj * dw[j, 2]), nx, ny, nz)
+            kk = inv_m[c, i] + inv_m[c, j] + ri * ri * inv_i[c, i] + rj * rj * inv_i[c, j]
+            gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[13], kk, a, tx, ty, tz,
+                                                        dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
+            dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
+                     + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
+            scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], hh * inv_m[c, j],
+                    hh * inv_i[c, i] * ri, hh * inv_i[c, j] * rj)
+    return dpf
+
+
+@cuda.jit(device=True)
+def _implicit_walls(c, i, sp, wl, dlt, hs):
+    """The friction of sphere ``i``'s floor and other walls at their corrected slip: the rest of the
+    CPU's :func:`pdamper.kernels.gear._implicit_friction`. A wall row changes its own sphere's
+    increments alone, so each thread takes its spheres after all pair rows, in the CPU's order for
+    each sphere (the floor, then the walls): the same increments as the CPU's one sweep. Returns
+    ``(dfx, dfy, dfz, dp_f)`` of this sphere's rows."""
+    rad = sp.radius
+    inv_m = sp.inv_mass
+    inv_i = sp.inv_inertia
+    dv = dlt[c, :, 0:3]
+    dw = dlt[c, :, 3:6]
+    g = _C1 / hs
+    a = 0.5 * _C1 * hs
+    hh = 0.5 * hs * hs
+    dfx = 0.0
+    dfy = 0.0
+    dfz = 0.0
+    dpf = 0.0
+    ri = rad[c, i]
+    floor = wl.floor[c]
+    if floor >= 0 and wl.approach_speed[c, i, floor] != 0.0:
+        r = wl.row[c, i, floor]
+        cf = r[6]
+        if cf > 0.0:
+            tx = r[3]
+            tz = r[5]
+            vt = math.sqrt(tx * tx + tz * tz)
+            ux = dv[i, 0]
+            ez = dw[i, 2]
+            uz = dv[i, 2]
+            ex = dw[i, 0]
+            sx, sz = floor_slip(ux, uz, ex, ez, ri)
+            dcx = g * sx
+            dcz = g * sz
+            kk = inv_m[c, i] + ri * ri * inv_i[c, i]
+            gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[7], kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
+            dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - cf * vt * vt
+            scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * inv_m[c, i], 0.0,
+                    -(hh * inv_i[c, i] * ri), 0.0)
+            dfx += gx
+            dfz += gz
+    for w in range(wl.count[c]):
+        if w == floor or wl.approach_speed[c, i, w] == 0.0:
+            continue
+        r = wl.row[c, i, w]
+        cf = r[6]
+        if not (cf > 0.0):
+            continue
+        nx = r[0]
+        ny = r[1]
+        nz = r[2]
+        tx = r[3]
+        ty = r[4]
+        tz = r[5]
+        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        dcx, dcy, dcz, dcn = wall_point_velocity(g * dv[i, 0], g * dv[i, 1], g * dv[i, 2], g * dw[i, 0],
+                                                 g * dw[i, 1], g * dw[i, 2], ri, nx, ny, nz)
+        dcx -= dcn * nx
+        dcy -= dcn * ny
+        dcz -= dcn * nz
+        kk = inv_m[c, i] + ri * ri * inv_i[c, i]
+        gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[7], kk, a, tx, ty, tz, dcx, dcy, dcz)
+        dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
+            - cf * vt * vt
+        scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], 0.0, -(hh * inv_i[c, i] * ri),
+                0.0)
+        dfx += gx
+        dfy += gy
+        dfz += gz
+    return dfx, dfy, dfz, dpf
+
+
+@cuda.jit(device=True)
+def _block_max(red, tid, bd, v):
+    """The largest ``v`` of the block's threads (every thread calls it; all get the result)."""
+    red[0, tid] = v
+    cuda.syncthreads()
+    h = 1
+    while h < bd:
+        h *= 2
+    h //= 2
+    while h > 0:
+        if tid < h and tid + h < bd:
+            if red[0, tid + h] > red[0, tid] or not (red[0, tid + h] == red[0, tid + h]):
+                red[0, tid] = red[0, tid + h]
+        cuda.syncthreads()
+        h //= 2
+    out = red[0, 0]
+    cuda.syncthreads()
+    return out
+
+
+def batch_gear(sp, li, wl, tb, law, mo, ct, rec, nmat, row0, gs, gc, max_steps):
+    """Advance every case of the batch by at most ``max_steps`` attempted steps (block ``c`` is case
+    ``c``), as :func:`pdamper.kernels.gear.run_gear` does over the CPU stepper's spans.
+
+    ``gs``: the Nordsieck vectors and what a rejected step restores; ``gc``: each case's Gear clock
+    (:class:`pdamper.engine.cuda`); the rest as :func:`.verlet.batch_verlet`."""
+    c = cuda.blockIdx.x
+    tid = cuda.threadIdx.x
+    bd = cuda.blockDim.x
+    flags = cuda.shared.array(6, int64)
+    red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
+    lin = cuda.local.array((1, 3), float64)
+    ang = cuda.local.array((1, 3), float64)
+    table = ContactTable(law, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
+    n = sp.count[c]
+    pos = sp.position
+    vel = sp.velocity
+    omg = sp.spin
+    rad = sp.radius
+    inv_m = sp.inv_mass
+    inv_i = sp.inv_inertia
+    nord = gs.nordsieck
+    pred = gs.predicted
+    dlt = gs.increments
+    gvx = mo.gravity[c, 0]
+    gvy = mo.gravity[c, 1]
+    gvz = mo.gravity[c, 2]
+    dvx = mo.direction[c, 0]
+    dvy = mo.direction[c, 1]
+    dvz = mo.direction[c, 2]
+    ts = gc.interval[c]
+    tol = gc.tolerance[c]
+    h_min = gc.h_min[c]
+    h_max = gc.h_max[c]
+    settle = gc.settle_samples[c]
+    n_samples = gc.n_samples[c]
+    seg = gc.segment_samples[c]
+    n_spans = gc.spans[c]
+    skin2 = 0.25 * li.skin[c] * li.skin[c]
+    span = gc.span[c]
+    t = gc.t[c]
+    h = gc.h[c]
+    hs = gc.hs[c]
+    steps = ct.step[c]
+    rejected = gc.rejected[c]
+    s_w = ct.partials[c, tid, 0]
+    s_n = ct.partials[c, tid, 1]
+    s_f = ct.partials[c, tid, 2]
+    s_i = ct.partials[c, tid, 3]
+    q_w = gs.integrands[c, tid, 0]
+    q_n = gs.integrands[c, tid, 1]
+    q_f = gs.integrands[c, tid, 2]
+    q_i = gs.integrands[c, tid, 3]
+    if tid == 0:
+        flags[0] = ct.status[c]
+        flags[3] = -1
+        flags[4] = ct.flags[c, FLAG_PRIMED]
+        flags[5] = ct.flags[c, FLAG_STARTED]
+    cuda.syncthreads()
+    if flags[0] != STATUS_OK:
+        return
+    status = STATUS_OK
+    culprit = -1
+    done = 0
+    t0, t_end, recording = _span(span, settle, n_samples, seg, ts)
+    while span < n_spans and done < max_steps:
+        # ---- a span ends: the next one starts at its exact time (the CPU stepper's next call)
+        if not (t < t_end - 1e-12 * ts):
+            span += 1
+            if span >= n_spans:
+                break
+            t0, t_end, recording = _span(span, settle, n_samples, seg, ts)
+            t = t0
+        # ---- the drive starts (after the settling): velocities jump, the sums restart
+        if recording and flags[5] == 0:
+            if flags[4] != 0:
+                i = tid
+                while i < n:
+                    for k in range(3):
+                        nord[c, 1, i, k] = nord[c, 1, i, k] - hs * mo.jump[c, k]
+                    i += bd
+            i = tid
+            while i < n:
+                for k in range(3):
+                    vel[c, i, k] = vel[c, i, k] - mo.jump[c, k]
+                i += bd
+            s_w = 0.0
+            s_n = 0.0
+            s_f = 0.0
+            s_i = 0.0
+            cuda.syncthreads()
+            if tid == 0:
+                flags[5] = 1
+            cuda.syncthreads()
+        # ---- the Nordsieck vector at the start (run_gear's priming), forces with the capped friction
+        if flags[4] == 0:
+            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
+            if st != STATUS_OK:
+                status = st
+                culprit = cu
+            _pair_laws(c, tid, bd, n, sp, li, table, h)
+            cuda.syncthreads()
+            xc, vc, ac = _motion(mo, c, t)
+            hs = h
+            i = tid
+            while i < n:
+                _sphere_force(c, i, sp, li, wl, table, h, lin, ang)
+                im = inv_m[c, i]
+                ii = inv_i[c, i]
+                for k in range(3):
+                    gk = gvx if k == 0 else (gvy if k == 1 else gvz)
+                    dk = dvx if k == 0 else (dvy if k == 1 else dvz)
+                    nord[c, 0, i, k] = pos[c, i, k]
+                    nord[c, 1, i, k] = hs * vel[c, i, k]
+                    nord[c, 2, i, k] = 0.5 * hs * hs * (lin[0, k] * im + gk - ac * dk)
+                    nord[c, 0, i, 3 + k] = 0.0
+                    nord[c, 1, i, 3 + k] = hs * omg[c, i, k]
+                    nord[c, 2, i, 3 + k] = 0.5 * hs * hs * ang[0, k] * ii
+                    for q in range(3, 6):
+                        nord[c, q, i, k] = 0.0
+                        nord[c, q, i, 3 + k] = 0.0
+                i += bd
+            if status != STATUS_OK:
+                flags[0] = status
+                flags[3] = culprit
+            cuda.syncthreads()
+            if tid == 0:
+                flags[4] = 1
+            cuda.syncthreads()
+            if flags[0] != STATUS_OK:
+                break
+        # ---- the step: end on the next sample boundary or the span's end
+        kb = int(math.floor(t / ts + 1e-9)) + 1
+        tb = kb * ts
+        hh = h
+        if hh > tb - t or tb - t - hh < 1e-3 * hh:
+            hh = tb - t
+        if hh > t_end - t:
+            hh = t_end - t
+        ratio = 1.0
+        if hh != hs:
+            ratio = hh / hs
+            hs = hh
+        # ---- neighbour rows at the current positions (the Nordsieck vector's first row)
+        disp = 0.0
+        i = tid
+        while i < n:
+            dx = nord[c, 0, i, 0] - sp.reference[c, i, 0]
+            dy = nord[c, 0, i, 1] - sp.reference[c, i, 1]
+            dz = nord[c, 0, i, 2] - sp.reference[c, i, 2]
+            disp = max(disp, dx * dx + dy * dy + dz * dz)
+            i += bd
+        if _block_max(red, tid, bd, disp) > skin2:
+            i = tid
+            while i < n:
+                for k in range(3):
+                    pos[c, i, k] = nord[c, 0, i, k]
+                i += bd
+            cuda.syncthreads()
+            st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c])
+            if st != STATUS_OK:
+                status = st
+                culprit = cu
+        # ---- rescale, predict, unpack; the contact history as it was
+        inv_h = 1.0 / hs
+        b = li.buffer[c]
+        i = tid
+        while i < n:
+            for d in range(6):
+                if ratio != 1.0:
+                    f = 1.0
+                    for k in range(1, 6):
+                        f *= ratio
+                        nord[c, k, i, d] *= f
+                r0 = nord[c, 0, i, d]
+                r1 = nord[c, 1, i, d]
+                r2 = nord[c, 2, i, d]
+                r3 = nord[c, 3, i, d]
+                r4 = nord[c, 4, i, d]
+                r5 = nord[c, 5, i, d]
+                pred[c, 0, i, d] = r0 + r1 + r2 + r3 + r4 + r5
+                pred[c, 1, i, d] = r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5
+                pred[c, 2, i, d] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5
+                pred[c, 3, i, d] = r3 + 4.0 * r4 + 10.0 * r5
+                pred[c, 4, i, d] = r4 + 5.0 * r5
+                pred[c, 5, i, d] = r5
+            for k in range(3):
+                pos[c, i, k] = pred[c, 0, i, k]
+                vel[c, i, k] = pred[c, 1, i, k] * inv_h
+                omg[c, i, k] = pred[c, 1, i, 3 + k] * inv_h
+            for e in range(li.length[c, b, i]):
+                gs.saved_pair[c, 0, i, e] = li.approach_speed[c, b, i, e]
+                gs.saved_pair[c, 1, i, e] = li.damping[c, b, i, e]
+            for w in range(wl.count[c]):
+                gs.saved_wall[c, 0, i, w] = wl.approach_speed[c, i, w]
+                gs.saved_wall[c, 1, i, w] = wl.damping[c, i, w]
+            i += bd
+        tn = t + hs
+        cuda.syncthreads()
+        # ---- forces at the prediction (no friction cap), the corrector's increments
+        p_n, p_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP)
+        if st != STATUS_OK:
+            status = st
+            culprit = cu
+        cuda.syncthreads()
+        xc, vc, ac = _motion(mo, c, tn)
+        half_h2 = 0.5 * hs * hs
+        fwx = 0.0
+        fwy = 0.0
+        fwz = 0.0
+        i = tid
+        while i < n:
+            pn, pf, wx, wy, wz, st = _sphere_force(c, i, sp, li, wl, table, NO_CAP, lin, ang)
+            if st != STATUS_OK:
+                status = st
+                culprit = i
+            p_n += pn
+            p_f += pf
+            fwx += wx
+            fwy += wy
+            fwz += wz
+            im = inv_m[c, i]
+            ii = inv_i[c, i]
+            for k in range(3):
+                gk = gvx if k == 0 else (gvy if k == 1 else gvz)
+                dk = dvx if k == 0 else (dvy if k == 1 else dvz)
+                dlt[c, i, k] = half_h2 * (lin[0, k] * im + gk - ac * dk) - pred[c, 2, i, k]
+                dlt[c, i, 3 + k] = half_h2 * ang[0, k] * ii - pred[c, 2, i, 3 + k]
+            i += bd
+        cuda.syncthreads()
+        # ---- the friction at the corrected slip, in the CPU's order: the pairs walked by one
+        #      thread, then each sphere's floor and walls by its own thread
+        if tid == 0:
+            p_f += _implicit_pairs(c, n, sp, li, dlt, hs)
+        cuda.syncthreads()
+        i = tid
+        while i < n:
+            dfx, dfy, dfz, dpf = _implicit_walls(c, i, sp, wl, dlt, hs)
+            fwx += dfx
+            fwy += dfy
+            fwz += dfz
+            p_f += dpf
+            i += bd
+        cuda.syncthreads()
+        # ---- the error: the block's largest increment
+        err = 0.0
+        i = tid
+        while i < n:
+            ri = rad[c, i]
+            for k in range(3):
+                if math.fabs(dlt[c, i, k]) > err:
+                    err = math.fabs(dlt[c, i, k])
+                if math.fabs(dlt[c, i, 3 + k]) * ri > err:
+                    err = math.fabs(dlt[c, i, 3 + k]) * ri
+            i += bd
+        if not (err < 1e300):
+            err = math.inf
+        err = _block_max(red, tid, bd, err)
+        done += 1
+        if not (err < 1e300):
+            status = STATUS_NAN
+            if tid == 0:
+                flags[0] = status
+            cuda.syncthreads()
+            break
+        if err > 4.0 * tol and hs > h_min * 1.000001:
+            # reject: the contact history as it was, a shorter step (the Nordsieck vector is untouched)
+            i = tid
+            while i < n:
+                for e in range(li.length[c, b, i]):
+                    li.approach_speed[c, b, i, e] = gs.saved_pair[c, 0, i, e]
+                    li.damping[c, b, i, e] = gs.saved_pair[c, 1, i, e]
+                for w in range(wl.count[c]):
+                    wl.approach_speed[c, i, w] = gs.saved_wall[c, 0, i, w]
+                    wl.damping[c, i, w] = gs.saved_wall[c, 1, i, w]
+                i += bd
+            fac = 0.9 * (tol / err) ** (1.0 / 6.0)
+            if fac < 0.2:
+                fac = 0.2
+            h = hs * fac
+            if h < h_min:
+                h = h_min
+            rejected += 1
+            cuda.syncthreads()
+            continue
+        # ---- accept: correct the prediction into the Nordsieck vector
+        i = tid
+        while i < n:
+            for d in range(6):
+                dd = dlt[c, i, d]
+                nord[c, 0, i, d] = pred[c, 0, i, d] + _C0 * dd
+                nord[c, 1, i, d] = pred[c, 1, i, d] + _C1 * dd
+                nord[c, 2, i, d] = pred[c, 2, i, d] + _C2 * dd
+                nord[c, 3, i, d] = pred[c, 3, i, d] + _C3 * dd
+                nord[c, 4, i, d] = pred[c, 4, i, d] + _C4 * dd
+                nord[c, 5, i, d] = pred[c, 5, i, d] + _C5 * dd
+            i += bd
+        t = tn
+        steps += 1
+        fd = fwx * dvx + fwy * dvy + fwz * dvz
+        s_w += 0.5 * (vc * fd + q_w) * hs
+        s_n += 0.5 * (p_n + q_n) * hs
+        s_f += 0.5 * (p_f + q_f) * hs
+        s_i += 0.5 * (fd + q_i) * hs
+        q_w = vc * fd
+        q_n = p_n
+        q_f = p_f
+        q_i = fd
+        if status != STATUS_OK:
+            flags[0] = status
+            flags[3] = culprit
+        fac = 1.5 if err <= 0.0 else 0.9 * (tol / err) ** (1.0 / 6.0)
+        if fac > 1.5:
+            fac = 1.5
+        if fac < 0.2:
+            fac = 0.2
+        if not (hs < h and fac >= 1.0):
+            h = hs * fac
+        if h > h_max:
+            h = h_max
+        if h < h_min:
+            h = h_min
+        cuda.syncthreads()
+        if flags[0] != STATUS_OK:
+            break
+        # ---- a sample ends on this step: the block's sums, the energies, a frame
+        if recording and math.fabs(t - tb) <= 1e-9 * ts:
+            kk = kb - 1
+            i = tid
+            while i < n:
+                for k in range(3):
+                    pos[c, i, k] = nord[c, 0, i, k]
+                    vel[c, i, k] = nord[c, 1, i, k] * inv_h
+                    omg[c, i, k] = nord[c, 1, i, 3 + k] * inv_h
+                i += bd
+            cuda.syncthreads()
+            _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc)
+            s_i = 0.0
+    # ---- the state in the bodies (once there is a Nordsieck vector); the clock, the flags and the
+    #      running sums for the next launch
+    if flags[4] != 0:
+        i = tid
+        while i < n:
+            for k in range(3):
+                pos[c, i, k] = nord[c, 0, i, k]
+                vel[c, i, k] = nord[c, 1, i, k] * (1.0 / hs)
+                omg[c, i, k] = nord[c, 1, i, 3 + k] * (1.0 / hs)
+            i += bd
+    ct.partials[c, tid, 0] = s_w
+    ct.partials[c, tid, 1] = s_n
+    ct.partials[c, tid, 2] = s_f
+    ct.partials[c, tid, 3] = s_i
+    gs.integrands[c, tid, 0] = q_w
+    gs.integrands[c, tid, 1] = q_n
+    gs.integrands[c, tid, 2] = q_f
+    gs.integrands[c, tid, 3] = q_i
+    cuda.syncthreads()
+    if tid == 0:
+        if span >= n_spans or not (t < t_end - 1e-12 * ts) and span == n_spans - 1:
+            span = n_spans
+        gc.span[c] = span
+        gc.t[c] = t
+        gc.h[c] = h
+        gc.hs[c] = hs
+        gc.rejected[c] = rejected
+        ct.step[c] = steps
+        ct.flags[c, FLAG_STARTED] = flags[5]
+        ct.flags[c, FLAG_PRIMED] = flags[4]
+        if flags[0] != STATUS_OK:
+            ct.status[c] = flags[0]
+            ct.culprit[c] = flags[3]
+            ct.fail_step[c] = steps
+            gc.t[c] = t

@@ -1,0 +1,51 @@
+"""Shared pieces of the GPU engine's simulator tests (tests/kernels/gpu): tiny, violent cases and
+running them on both engines."""
+
+import numpy as np
+
+from pdamper.excitation import HarmonicDrive
+from pdamper.geometry import Cylinder
+from pdamper.materials import Material
+from pdamper.params import Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording
+from pdamper.simulation import Simulation
+
+STEEL_COATED = Material(name="coated", youngs_modulus=5e9, poisson_ratio=0.35, density=1200.0, restitution=0.6)
+
+
+def tiny_case(shape="cuboid", n=4, damping="calibrated", direction=None, tilt=(0.02, 0.0, 0.05), baffles=(),
+              coated=False, seed=0, time_step=None, cycles=0.02):
+    """A short, violent case: a 30 mm, 20 Hz drive (48 g: the spheres fly), 1 ms of it sampled at
+    10 kHz after 0.2 ms of settling; about 900 Verlet steps."""
+    geometry = Cylinder() if shape == "cylinder" else None
+    kw = {"geometry": geometry} if geometry is not None else {}
+    walls = {"floor": STEEL_COATED} if coated else {}
+    container = Container(tilt=tilt, baffles=baffles, wall_materials=walls, **kw)
+    drive = HarmonicDrive(stroke=0.03, frequency=20.0, **({"direction": direction} if direction else {}))
+    return Case(particles=(ParticleSet(count=n),), container=container, drive=drive, cycles=cycles, drop_cycles=0,
+                contact=ContactModel(damping=damping), recording=Recording(sample_rate=10000.0),
+                numerics=Numerics(integrator="verlet", time_step=time_step),
+                initial=InitialState(settle_time=2e-4, seed=seed))
+
+
+def on_both(cases, threads=None):
+    """Each case on the CPU engine and, all together, on the GPU engine (simulator)."""
+    import warnings
+
+    from pdamper.engine.cuda import run_jobs
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # lift-off: intended
+        cpu = [Simulation(c) for c in cases]
+        gpu = [Simulation(c) for c in cases]
+    for s in cpu:
+        s.run()
+    jobs = [s._gpu_job()[0] for s in gpu]
+    outcomes = run_jobs(jobs, threads=threads)
+    for s, o in zip(gpu, outcomes):
+        s._gpu_done(o)
+    return cpu, gpu, outcomes
+
+
+def close(a, b, rel=1e-12):
+    scale = max(float(np.max(np.abs(a))), 1e-300)
+    return float(np.max(np.abs(a - b))) <= rel * scale

@@ -1,0 +1,53 @@
+"""benchmarks/gpu.py runs: its --tiny mode in numba-cuda's simulator (the same ``run_study(...,
+device="cuda")`` path as on a GPU, on tiny cases), and its --ptx mode, which compiles the real kernel
+to PTX for sm_90 with the local CUDA toolkit's NVVM (skipped without one)."""
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[3]
+SCRIPT = ROOT / "benchmarks" / "gpu.py"
+
+
+def _module():
+    spec = importlib.util.spec_from_file_location("gpu_benchmark", SCRIPT)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_tiny_study_runs_in_the_simulator(tmp_path):
+    """The fig4 part on tiny cases: a study through the GPU engine, its JSON and markdown written."""
+    out = tmp_path / "gpu.json"
+    assert _module().main(["--tiny", "--only", "fig4", "--out", str(out)]) == 0
+    data = json.loads(out.read_text())
+    fig4 = data["parts"]["fig4"]
+    assert fig4["cases"] == 2 and fig4["longest_case_steps"] > 100
+    assert all(0.0 < s["eta_gpu"] < 1.0 for s in fig4["strokes"])
+    assert "study fig4: 2 cases" in out.with_suffix(".md").read_text()
+
+
+@pytest.mark.slow
+def test_kernel_compiles_to_ptx_for_hopper(tmp_path):
+    """The default integrator's real kernel (Gear's) through numba-cuda and NVVM to PTX for sm_90 (no GPU
+    needed; a minute or two of compiling), and through ptxas when it is on PATH: within the register
+    file. (Both kernels: python benchmarks/gpu.py --ptx.)"""
+    pytest.importorskip("numba_cuda", reason="numba-cuda is not installed")
+    out = tmp_path / "ptx.json"
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
+    r = subprocess.run([sys.executable, str(SCRIPT), "--ptx", "--ptx-kernels", "gear", "--out", str(out)], env=env,
+                       capture_output=True, text=True, timeout=900)
+    if "NVVM" in r.stdout + r.stderr and not out.exists() or "skipped" in (out.read_text() if out.exists() else ""):
+        pytest.skip("no libNVVM here (the CUDA toolkit's NVVM): the PTX compile is not tested")
+    assert r.returncode == 0, r.stderr[-2000:]
+    ptx = json.loads(out.read_text())["parts"]["ptx"]["gear"]
+    assert ptx["entry"] and ptx["ptx_bytes"] > 10_000
+    if "ptxas_ok" in ptx:  # within the register file (it spills some: docs/performance.md)
+        assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["stack_bytes"] < 4096

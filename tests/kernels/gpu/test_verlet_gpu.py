@@ -1,0 +1,116 @@
+"""The GPU engine's Verlet kernel in numba-cuda's simulator against the CPU engine's Verlet: the same
+trajectory to rounding, the same recorded channels, per-case failures, refusals.
+
+The simulator runs each GPU thread as a Python thread (the CPU-compiled physics functions do the
+arithmetic, without the FMA contraction of compiled code in the kernel's own loops), so the two
+agree to rounding, not bit for bit. The cases are tiny (a few spheres, a few hundred steps) and
+start with the spheres in motion so that pairs, the floor and the other walls all touch.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from gpu_helpers import close as _close
+from gpu_helpers import on_both as _both
+from gpu_helpers import tiny_case as _case
+from pdamper.errors import InputError, SimulationError
+from pdamper.excitation import CoupledStructure, HarmonicDrive
+from pdamper.geometry.baffles import Baffle
+from pdamper.materials import Material
+from pdamper.params import Case, InitialState, Numerics, ParticleSet, Recording
+from pdamper.simulation import Simulation, run_on_gpu
+
+def test_same_trajectory_as_the_cpu_engine_in_one_batch():
+    """A tilted cuboid with a baffle and a coated floor, driven along a direction with a vertical part,
+    and a cylinder of another size in the same batch (padding, per-case tables and walls): the same
+    positions, velocities and spins after ~900 steps, the same wall force and ledger to rounding."""
+    cases = [_case("cuboid", n=4, direction=(1.0, 0.3, 0.2), coated=True,
+                   baffles=(Baffle(position=0.02, gap_below=0.004),)),
+             _case("cylinder", n=3, seed=1)]
+    cpu, gpu, outcomes = _both(cases, threads=2)
+    for c, g, o in zip(cpu, gpu, outcomes):
+        assert o.status == 0
+        assert o.steps == c.stepper.steps > 800
+        for name in ("position", "velocity", "spin"):
+            assert _close(getattr(c.engine.bodies, name), getattr(g.engine.bodies, name)), name
+        assert _close(c.samples.wall_force, g.samples.wall_force, 1e-9)
+        assert np.max(np.abs(c.samples.wall_force)) > 1.0  # the walls were struck
+        for col in range(7):
+            assert _close(c.samples.energy[:, col], g.samples.energy[:, col], 1e-9), col
+        assert g.finalize().steps == c.finalize().steps
+
+
+def test_same_trajectory_with_tsuji_damping():
+    """The other damping law (its own kernel): the same trajectory."""
+    cpu, gpu, outcomes = _both([_case("cuboid", n=3, damping="tsuji", seed=2, cycles=0.01)], threads=3)
+    assert outcomes[0].status == 0
+    for name in ("position", "velocity", "spin"):
+        assert _close(getattr(cpu[0].engine.bodies, name), getattr(gpu[0].engine.bodies, name)), name
+
+
+def test_a_failed_case_stops_alone():
+    """A step far too long makes one case overlap: that case fails with the CPU engine's message,
+    the other of the batch finishes."""
+    import warnings
+
+    cases = [_case("cuboid", n=3, time_step=2e-4), _case("cuboid", n=3, seed=3, cycles=0.006)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sims = [Simulation(c) for c in cases]
+    out = run_on_gpu(sims)
+    assert isinstance(out[0], SimulationError)
+    assert "became unstable" in str(out[0]) and "numerics.time_step" in str(out[0])
+    assert not isinstance(out[1], Exception)
+    assert out[1].signals.force.size == sims[1].n_samples
+
+
+def test_eta_star_of_a_short_ensemble():
+    """Three seeds of a short run on both engines (soft spheres, so that a few hundred steps make three
+    cycles): the GPU's eta* of every seed within the CPU's seed spread of it; the mean inside the
+    CPU's range of seeds."""
+    import warnings
+
+    from pdamper.run import run_case, run_cases
+
+    soft = Material(name="soft", youngs_modulus=1e5, poisson_ratio=0.3, density=7800.0)
+
+    def case(seed, device):
+        return Case(particles=(ParticleSet(count=4, material=soft),), drive=HarmonicDrive(stroke=0.005, frequency=5.0),
+                    cycles=3, drop_cycles=1, recording=Recording(sample_rate=100.0),
+                    numerics=Numerics(integrator="verlet", time_step=5e-4, overlap_limit=0.4, device=device),
+                    initial=InitialState(settle_time=0.02, seed=seed))
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cpu = np.array([run_case(case(s, "cpu")).eta_star for s in range(3)])
+        gpu = np.array([r.eta_star for r in run_cases([case(s, "cuda") for s in range(3)])])
+    spread = cpu.max() - cpu.min()
+    assert spread > 0.0 and np.all(np.isfinite(gpu))
+    assert np.all(np.abs(gpu - cpu) <= 0.1 * spread)
+    assert cpu.min() <= gpu.mean() <= cpu.max()
+
+
+def test_refuses_what_the_gpu_does_not_run():
+    """A coupled structure is refused before anything runs, saying how to run it."""
+    import warnings
+
+    structure = CoupledStructure(mass=7.0, stiffness=1105.0, displacement=0.012)
+    case = Case(particles=(ParticleSet(count=3),), drive=structure, cycles=0.02, drop_cycles=0,
+                numerics=Numerics(integrator="verlet"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sim = Simulation(case)
+    with pytest.raises(InputError, match="coupled structure.*CPU"):
+        run_on_gpu([sim])
+
+
+def test_row_capacity_holds_a_dense_shell():
+    """Equal spheres: the rows hold the 12 touching neighbours and the skin's; unequal ones more."""
+    from pdamper.engine.cuda import row_capacity
+
+    assert 14 <= row_capacity(np.full(100, 0.005), 0.001) <= 40
+    assert row_capacity(np.array([0.01] + [0.002] * 300), 0.0004) > row_capacity(np.full(301, 0.01), 0.002)
+    assert row_capacity(np.full(3, 0.005), 0.001) == 2
+    assert math.isfinite(row_capacity(np.full(2, 0.005), 0.0))

@@ -1,0 +1,111 @@
+"""One case for a design (issue 30, item 5): a ``[drive]`` beside a ``[structure]`` is the damper's
+rig drive (``Case.rig``); ``pdamper design --write-case`` writes the design as one such case, which
+reads back as the same Case and on which sweep, fields and response run unchanged."""
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+from pdamper.cli.common import main
+from pdamper.config import case_from_dict, case_to_dict, dumps_case, load_case, loads_case
+from pdamper.design import design_case, design_for_structure, load_structure
+from pdamper.errors import InputError
+from pdamper.excitation import HarmonicDrive
+from pdamper.schema import replace
+from pdamper.studies import SweepSpec
+
+from design_helpers import FRAME
+
+JOINT = FRAME.read_text(encoding="utf-8") + '\n[drive]\nstroke = "15mm"\nfrequency = "2.995Hz"\n'
+
+
+def test_a_drive_beside_a_structure_is_the_rig_and_round_trips():
+    case = loads_case(JOINT)
+    assert case.drive.coupled and case.drive.force_amplitude == pytest.approx(1.5)
+    assert case.rig == HarmonicDrive(stroke=0.015, frequency=2.995)
+    text = dumps_case(case)
+    assert text.index("[drive]") < text.index("[structure]")  # the rig after [particles], the structure last
+    assert loads_case(text) == case and dumps_case(loads_case(text)) == text
+    # the damper alone on its rig: what a sweep runs
+    rig = case.on_rig
+    assert rig.drive == case.rig and rig.rig is None and rig.particles == case.particles
+    assert loads_case(FRAME.read_text(encoding="utf-8")).on_rig.rig is None  # no rig: the case itself
+    spec = SweepSpec(base=case, strokes=[0.012, 0.015])
+    assert spec.base == rig and spec.case({"drive.stroke": 0.012}, 0).drive.stroke == 0.012
+    # a key of the rig by replace, as the config reader takes it
+    point = {"drive.stroke": 0.012}
+    assert replace(case, point) == case_from_dict(case_to_dict(case), point)
+    assert replace(case, point).rig.stroke == 0.012 and replace(case, point).drive == case.drive
+
+
+def test_a_rig_stands_only_beside_a_structure():
+    with pytest.raises(InputError, match="rig drive stands beside a structure only"):
+        replace(loads_case(JOINT), {"drive": load_case(FRAME).drive}).on_rig  # noqa: B018
+    structure_only = load_case(FRAME)
+    with pytest.raises(InputError, match=r"this case's drive is a \[structure\], not a \[drive\]"):
+        replace(structure_only, {"drive.stroke": 0.012})
+    with pytest.raises(InputError, match=r"drive is its \[structure\]; a \[drive\] beside it .* written in the file"):
+        load_case(FRAME, {"drive.stroke": 0.012})
+
+
+def _design(tmp_path, *extra):
+    out = tmp_path / "frame_design.toml"
+    args = ["design", "--structure", str(FRAME), "--force", "1.5N", "--target-ratio", "0.6", "--length",
+            "100mm:130mm", "--write-case", str(out), *extra]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    return out, r
+
+
+def test_the_written_case_is_the_design_and_says_how_it_was_made(tmp_path):
+    out, r = _design(tmp_path, "--json")
+    d = json.loads(r.stdout)
+    assert d["case_file"] == str(out)
+    sd = design_for_structure(load_structure(FRAME).drive, force=1.5, target_ratio=0.6, length_range=(0.1, 0.13))
+    expected = design_case(sd, load_structure(FRAME))
+    case = load_case(out)
+    assert case == expected  # reading it back gives the design's Case
+    text = out.read_text(encoding="utf-8")
+    assert text.endswith(dumps_case(case, name=out.name))  # the config after the header, as pdamper writes it
+    fill = d["filling"]
+    assert case.particles[0].count == fill["particles"]
+    assert case.container.geometry.drive_length == pytest.approx(fill["length_m"])
+    assert case.drive.force_amplitude == 1.5
+    assert case.drive.force_frequency == pytest.approx(d["frequency_hz"], abs=1e-4)  # rounded to 0.1 mHz
+    assert (case.drive.displacement, case.drive.velocity) == (0.0, 0.0)  # forced from rest
+    assert case.rig.stroke == pytest.approx(d["damper_stroke_m"], abs=1e-7)  # rounded to 0.1 um
+    assert case.rig.frequency == case.drive.force_frequency
+    head = text.split("\n\n# pdamper case configuration")[0]
+    assert all(line.startswith("#") for line in head.splitlines() if line)
+    assert "--target-ratio 0.6" in head and "--length 100mm:130mm" in head
+    assert f"ratio {d['reduction']:.3g}" in head and f"kept >= {d['margin']:.3g} X_opt" in head
+    assert "DEM check:    not run" in head and "pdamper sweep frame_design.toml" in head
+
+
+def test_sweep_fields_and_response_run_on_the_written_case(tmp_path):
+    out, _ = _design(tmp_path)
+    store, fields = tmp_path / "sweep", tmp_path / "fields.nc"
+    case = load_case(out)
+    x, f = case.rig.stroke, case.rig.frequency
+    runner = CliRunner()
+    r = runner.invoke(main, ["sweep", str(out), "--vary", f"drive.stroke={0.6 * x}m,{1.2 * x}m", "--vary",
+                             f"drive.frequency={0.98 * f}Hz,{1.02 * f}Hz", "--cycles", "3", "--set",
+                             "run.drop_cycles=1", "--workers", "1", "--out", str(store), "--json"])
+    assert r.exit_code == 0, r.output
+    swept = json.loads(r.stdout)
+    assert swept["failed_cases"] == 0 and len(swept["points"]) == 4
+    assert all(p["eta_star_mean"] > 0 for p in swept["points"])  # the damper on its rig: eta* (a structure has none)
+    r = runner.invoke(main, ["fields", str(store), "--out", str(fields), "--json"])
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.stdout)["bed_mass_kg"] == pytest.approx(case.bed_mass)
+    r = runner.invoke(main, ["response", str(out), "--fields", str(fields), "--frequencies",
+                             f"{0.99 * f}Hz:{1.01 * f}Hz:3", "--extrapolate", "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    assert s["peak_reduction"] < 1.0 and len(s["frequencies_hz"]) == 3
+    r = runner.invoke(main, ["response", str(out), "--frequencies", f"{f}Hz", "--cycles", "3", "--measure-cycles", "1",
+                             "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    assert s["frequencies_hz"] == [pytest.approx(f)] and s["amplitude_damped_m"][0] > 0
