@@ -118,7 +118,8 @@ def starting(case, start: str):
 #: pdamper's laws (``--laws``): name -> the config keys that choose it (a name not listed here
 #: is taken as a value of ``contact.tangential``).
 PDAMPER_LAWS = {"tanh": {"contact.tangential": "tanh"}, "spring": {"contact.tangential": "spring"},
-                "spring_tdoff": {"contact.tangential": "spring", "contact.tangential_damping": False}}
+                "spring_tdoff": {"contact.tangential": "spring", "contact.tangential_damping": False},
+                "spring_tsuji": {"contact.tangential": "spring", "contact.damping": "tsuji"}}
 
 
 def with_law(case, law: str):
@@ -331,10 +332,12 @@ def figure(results: Path, case: str, path: Path) -> None:
 
     _, rows = table([r for r in stored(results) if r["spec"]["case"] == case and r["spec"]["friction"] == "case"])
     fig, ax = plt.subplots(figsize=(7, 4.2))
-    colours = {"liggghts": "C0", "liggghts_tdoff": "C2", "tanh": "C3", "spring": "C1", "spring_tdoff": "C4"}
+    colours = {"liggghts": "C0", "liggghts_tdoff": "C2", "tanh": "C3", "spring": "C1", "spring_tdoff": "C4",
+               "spring_tsuji": "C5"}
     names = {"liggghts": "LIGGGHTS (tangential damping on, its default)",
              "liggghts_tdoff": "LIGGGHTS (tangential_damping off)", "tanh": "pdamper, tanh (default)",
-             "spring": "pdamper, spring", "spring_tdoff": "pdamper, spring, tangential_damping off"}
+             "spring": "pdamper, spring", "spring_tdoff": "pdamper, spring, tangential_damping off",
+             "spring_tsuji": "pdamper, spring, Tsuji normal damping"}
     for (law, tilt), style in (((law, tilt), "-" if tilt == "paper" else "--")
                                for law in colours for tilt in ("paper", "none")):
         pts = sorted((r["stroke_mm"], r["eta_mean"], r["eta_min"], r["eta_max"]) for r in rows

@@ -255,47 +255,65 @@ def fold(t, values, frequency, bins=40):
 
 
 def run_pdamper(stroke_mm, seed, tilt, sample_rate, fps, out: Path, law="tanh", friction="case", start="layers") -> dict:
+    """One diagnostic pdamper run of vertical96. With the tanh law the ledger is split by contact
+    class (:class:`ContactDissipation`); with another law (``crosscheck.PDAMPER_LAWS``) only the
+    layers and the order are recorded: the split writes out the tanh friction only."""
     import crosscheck
     from pdamper.run import run_case
     from pdamper.schema import replace
 
     case = crosscheck.starting(crosscheck.build_case("vertical96", stroke_mm, seed, tilt, friction), start)
     case = crosscheck.with_law(case, law)
+    if case is None:
+        raise SystemExit(f"--law {law}: this pdamper has no such tangential law")
     fast = replace(case, {"recording.sample_rate": sample_rate, "recording.trajectory_fps": fps})
     t0 = time.perf_counter()
+    split = law == "tanh"
     rec = ContactDissipation()
-    res = run_case(fast, recorders=[rec])
-    cd = res.recorded[rec.name]
+    res = run_case(fast, recorders=[rec] if split else [])
     tr = res.trajectory
     lay = layers(tr, case.particles[0].radius)
     f = case.drive.frequency
-    t_end = cd["time_end"]
-    first = t_end > case.drop_cycles / f
-    per_cycle = (case.cycles - case.drop_cycles)
     e = res.energy
-    totals = {"damping": dict(zip(CLASSES + ("unassigned",), cd["damping"][first].sum(axis=0) / per_cycle)),
-              "friction": dict(zip(CLASSES + ("unassigned",), cd["friction"][first].sum(axis=0) / per_cycle)),
-              "direct_damping": dict(zip(CLASSES, cd["direct"][first, 0].sum(axis=0) / per_cycle)),
-              "direct_friction": dict(zip(CLASSES, cd["direct"][first, 1].sum(axis=0) / per_cycle))}
-    vel = res.signals.velocity
-    power = {c: float(np.mean(cd["force"][first, k] * vel[first])) for k, c in enumerate(CLASSES)}
     ft = tr["time"]
     keep = ft > case.drop_cycles / f
     summary = {"stroke_mm": stroke_mm, "seed": seed, "tilt": tilt, "law": law, "friction": friction, "start": start,
                "sample_rate_hz": sample_rate, "eta_star": res.eta_star, "mode": res.mode,
                "ledger_per_cycle_J": e.dissipated_per_cycle(case), "energy_balance_error": e.balance_error(),
-               "per_cycle_J": totals, "wall_power_W": power, "wall_time_s": time.perf_counter() - t0,
+               "wall_time_s": time.perf_counter() - t0,
                "columns_mean": float(lay["columns"][keep].mean()),
-               "columns_first_cycle": float(lay["columns"][ft < 1 / f].mean())}
+               "columns_first_cycle": float(lay["columns"][ft < 1 / f].mean()),
+               "order_end": float(lay["order"][-1]), "order_min": float(lay["order"].min()),
+               "melt_cycle": _melt_cycle(ft, lay["order"], f)}
+    arrays = {}
+    if split:
+        cd = res.recorded[rec.name]
+        t_end = cd["time_end"]
+        first = t_end > case.drop_cycles / f
+        per_cycle = (case.cycles - case.drop_cycles)
+        summary["per_cycle_J"] = {
+            "damping": dict(zip(CLASSES + ("unassigned",), cd["damping"][first].sum(axis=0) / per_cycle)),
+            "friction": dict(zip(CLASSES + ("unassigned",), cd["friction"][first].sum(axis=0) / per_cycle)),
+            "direct_damping": dict(zip(CLASSES, cd["direct"][first, 0].sum(axis=0) / per_cycle)),
+            "direct_friction": dict(zip(CLASSES, cd["direct"][first, 1].sum(axis=0) / per_cycle))}
+        vel = res.signals.velocity
+        summary["wall_power_W"] = {c: float(np.mean(cd["force"][first, k] * vel[first])) for k, c in enumerate(CLASSES)}
+        arrays = {"time_end": t_end, "damping": cd["damping"], "friction": cd["friction"], "force": cd["force"]}
     out.mkdir(parents=True, exist_ok=True)
     tag = f"X{stroke_mm:g}_s{seed}_tilt-{tilt}_{law}" + ("" if friction == "case" else f"_mu{friction}") \
         + ("" if start == "layers" else f"_{start}")
-    np.savez_compressed(out / f"{tag}.npz", time_end=t_end, damping=cd["damping"], friction=cd["friction"],
-                        force=cd["force"], frame_time=ft, position=tr["position"].astype(np.float32),
+    np.savez_compressed(out / f"{tag}.npz", **arrays, frame_time=ft, position=tr["position"].astype(np.float32),
                         velocity=tr["velocity"].astype(np.float32), container_position=tr["container_position"],
                         **{f"layer_{k}": v for k, v in lay.items()})
     (out / f"{tag}.json").write_text(json.dumps(summary, indent=1, default=float))
     return summary
+
+
+def _melt_cycle(t, psi, frequency, threshold=0.5):
+    """The drive cycle in which the x-lattice order first falls below ``threshold`` (None: it
+    never does, the crystal held)."""
+    below = np.flatnonzero(psi < threshold)
+    return None if below.size == 0 else float(t[below[0]] * frequency)
 
 
 def run_liggghts(stroke_mm, seed, tilt, variant, fps, out: Path, dt=1e-6, start="layers") -> dict:
@@ -463,6 +481,9 @@ def main(argv=None):
     ap.add_argument("--seeds", default="1")
     ap.add_argument("--tilt", choices=("paper", "none", "both"), default="both")
     ap.add_argument("--friction", default="case")
+    ap.add_argument("--law", default="tanh",
+                    help="pdamper's tangential law (crosscheck.PDAMPER_LAWS; default tanh): another law "
+                         "records the layers and the order only, not the split by contact class")
     ap.add_argument("--sample-rate", type=float, default=100e3)
     ap.add_argument("--fps", type=float, default=1000.0)
     ap.add_argument("--start", default="layers", help="layers (pdamper's stacked start) and/or dropped (no columns)")
@@ -482,8 +503,8 @@ def main(argv=None):
                     for code in args.code.split(","):
                         if code == "pdamper":
                             for fr in args.friction.split(","):
-                                s = run_pdamper(x, seed, tilt, args.sample_rate, args.fps, args.results, friction=fr,
-                                                start=start)
+                                s = run_pdamper(x, seed, tilt, args.sample_rate, args.fps, args.results, law=args.law,
+                                                friction=fr, start=start)
                                 print(json.dumps(s, default=float), flush=True)
                         else:
                             s = run_liggghts(x, seed, tilt, code, args.fps, args.results, start=start)
