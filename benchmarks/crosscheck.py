@@ -331,7 +331,7 @@ def figure(results: Path, case: str, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     _, rows = table([r for r in stored(results) if r["spec"]["case"] == case and r["spec"]["friction"] == "case"])
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+    fig, ax = plt.subplots(figsize=(10, 4.4))
     colours = {"liggghts": "C0", "liggghts_tdoff": "C2", "tanh": "C3", "spring": "C1", "spring_tdoff": "C4",
                "spring_tsuji": "C5"}
     names = {"liggghts": "LIGGGHTS (tangential damping on, its default)",
@@ -355,7 +355,7 @@ def figure(results: Path, case: str, path: Path) -> None:
     ax.set_xlabel("stroke X [mm]")
     ax.set_ylabel("η* [-]")
     ax.set_title(f"{case}: seed mean, bars = range over seeds")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))  # beside the axes: no data hidden
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
