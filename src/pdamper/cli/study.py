@@ -9,6 +9,7 @@ import click
 import numpy as np
 
 from .common import device_option, echo_json, main, until_steady_option, user_errors
+from .run import parse_set
 
 __all__ = ["study_command"]
 
@@ -23,6 +24,10 @@ QUICK = dict(strokes=(0.5e-3, 50e-3, 8), cycles=6, drop_cycles=2)
               "0.5mm:50mm:40; --quick: 0.5mm:50mm:8).")
 @click.option("--seeds", type=click.IntRange(min=1), default=1, show_default=True, help="Seeds per stroke.")
 @click.option("--cycles", type=click.FloatRange(min=0, min_open=True), help="Drive cycles per case (default 20).")
+@click.option("--set", "settings", multiple=True, metavar="SECTION.KEY=VALUE",
+              help="Override a config key in every setting, e.g. --set contact.tangential=spring (repeatable; "
+                   "not a key the study varies or its settings set). Part of each store's configuration: "
+                   "give the same --set to resume, another --out for other values.")
 @click.option("--out", type=click.Path(), help="Study directory (default study_<NAME>[_quick]).")
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes (default: all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
@@ -31,7 +36,8 @@ QUICK = dict(strokes=(0.5e-3, 50e-3, 8), cycles=6, drop_cycles=2)
 @device_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
 @user_errors
-def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, plot, until_steady, device, as_json):
+def study_command(name, quick, strokes, seeds, cycles, settings, out, workers, scheduler, plot, until_steady, device,
+                  as_json):
     """Run a study (one of the paper's, or your study file) and write its dataset and figure.
 
     NAME is one of: fig4, friction, modulus, density, restitution, radius, tilt, cylinder,
@@ -40,7 +46,8 @@ def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, 
     directory; study.nc holds them all with a 'setting' dimension; studies with two fillings
     draw two panels.
 
-    Example: pdamper study fig4 --quick
+    Examples: pdamper study fig4 --quick; pdamper study fig4 --seeds 3 --set contact.tangential=spring
+    --out study_fig4_spring
     """
     from ..errors import InputError
     from ..plotting.sweep import study_figure
@@ -50,6 +57,7 @@ def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, 
     if workers and scheduler:
         raise InputError("--workers and --scheduler exclude each other: local processes, or a Dask cluster")
     study = load_study(name)  # unknown names fail here, with a suggestion
+    overrides = parse_set(settings)
     name = study.name
     if strokes:
         xs = tuple(parse_strokes(strokes))
@@ -63,7 +71,7 @@ def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, 
     out = Path(out) if out else Path(f"study_{name}{'_quick' if quick else ''}")
     ds = run_study(study.source, out, strokes=xs, seeds=tuple(range(seeds)), cycles=cycles, drop_cycles=drop,
                    workers=workers, scheduler=scheduler, progress=False if as_json else None, until_steady=until_steady,
-                   device=device)
+                   device=device, overrides=overrides)
     plot = Path(plot) if plot else out / f"{name}.png"
     study_figure(ds, plot)
     mean = ds.eta_star.mean("seed", skipna=True)
@@ -75,7 +83,7 @@ def study_command(name, quick, strokes, seeds, cycles, out, workers, scheduler, 
         i = int(np.nanargmax(m))
         rows.append({"setting": label, "eta_star_peak": float(m[i]), "stroke_at_peak_m": float(ds.stroke.values[i]),
                      "x_opt_theory_m": float(ds.x_opt.values[k]), "clearance_m": float(ds.clearance.values[k])})
-    summary = {"study": name, "title": ds.attrs.get("title", ""), "dataset": str(out / "study.nc"),
+    summary = {"study": name, "title": ds.attrs.get("title", ""), "overrides": overrides, "dataset": str(out / "study.nc"),
                "plot": str(plot), "strokes_m": ds.stroke.values.tolist(), "seeds": ds.seed.values.tolist(),
                "settings": rows, "eta_star_mean": {r: mean.sel(setting=r).values.tolist()
                                                    for r in ds.setting.values.tolist()},

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from .common import echo_json, main, user_errors
+from .run import parse_set
 
 __all__ = ["validate_command"]
 
@@ -25,9 +26,12 @@ __all__ = ["validate_command"]
 @click.option("--part", type=click.Choice(["paper", "vertical"]), default="paper", show_default=True,
               help="paper: the checks against the paper; vertical: a vertically driven bed against the bouncing "
                    "law (its own section of the report, beyond the paper).")
+@click.option("--set", "settings", multiple=True, metavar="SECTION.KEY=VALUE",
+              help="Override a config key in every study's settings, e.g. --set contact.tangential=spring "
+                   "(repeatable; as pdamper study --set). Give another --out than the default law's.")
 @click.option("--json", "as_json", is_flag=True, help="Print the checks as JSON.")
 @user_errors
-def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, part, as_json):
+def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, part, settings, as_json):
     """Run the paper-level validation (Fig. 4, friction, tilt, E, rho, eps) and report pass/fail.
 
     Takes tens of minutes on two cores (--quick: a few); resumable like every study. --part vertical
@@ -36,13 +40,16 @@ def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, 
     from ..plotting.sweep import sweep_figure
     from ..studies.validate import run_validation, write_report
 
+    overrides = parse_set(settings)
+    sets = "".join(f" --set {item}" for item in settings)
     if part == "vertical":
-        _vertical(quick, max(seeds, 2) if not quick else seeds, out, report, workers, scheduler, as_json)
+        _vertical(quick, max(seeds, 2) if not quick else seeds, out, report, workers, scheduler, as_json, overrides,
+                  sets)
         return
 
     checks, datasets, seconds = run_validation(out, quick=quick, seeds=seeds, fig4_seeds=None if quick else fig4_seeds,
                                                workers=workers, scheduler=scheduler,
-                                               progress=False if as_json else None)
+                                               progress=False if as_json else None, overrides=overrides)
     report, img = _report_paths(report, out)
     figures = []
     for name, ds in datasets.items():
@@ -50,7 +57,7 @@ def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, 
         sweep_figure(ds, f)
         figures.append((ds.attrs.get("title", name), f.relative_to(report.parent).as_posix()))
     cmd = "pdamper validate" + (" --quick" if quick else "") + (f" --seeds {seeds}" if seeds != 1 else "") \
-        + (f" --fig4-seeds {fig4_seeds}" if fig4_seeds != 3 and not quick else "")
+        + (f" --fig4-seeds {fig4_seeds}" if fig4_seeds != 3 and not quick else "") + sets
     write_report(report, checks, figures, cmd, seconds)
     if as_json:
         echo_json({"checks": [c.__dict__ for c in checks], "passed": sum(c.passed for c in checks),
@@ -62,16 +69,16 @@ def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, 
     click.echo(f"{sum(c.passed for c in checks)} of {len(checks)} checks pass ({seconds / 60:.1f} min); report: {report}")
 
 
-def _vertical(quick, seeds, out, report, workers, scheduler, as_json):
+def _vertical(quick, seeds, out, report, workers, scheduler, as_json, overrides, sets):
     """``--part vertical``: the study, the table, the figure and the report's section."""
     from ..plotting.validation import bouncing_figure
     from ..studies.validate import run_vertical, vertical_section, write_section
 
     rows, h, case, _, seconds = run_vertical(out, seeds=seeds, quick=quick, workers=workers, scheduler=scheduler,
-                                             progress=False if as_json else None)
+                                             progress=False if as_json else None, overrides=overrides)
     report, img = _report_paths(report, out)
     bouncing_figure(rows, h, img / "vertical.png")
-    cmd = "pdamper validate --part vertical" + (" --quick" if quick else "") + (f" --seeds {seeds}" if seeds != 2 else "")
+    cmd = "pdamper validate --part vertical" + (" --quick" if quick else "") + (f" --seeds {seeds}" if seeds != 2 else "") + sets
     write_section(report, vertical_section(rows, h, case, (img / "vertical.png").relative_to(report.parent).as_posix(),
                                            cmd, seconds))
     if as_json:

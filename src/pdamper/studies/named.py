@@ -30,7 +30,8 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["STUDIES", "PAPER_STUDIES", "Study", "load_study", "study_settings", "run_study", "PAPER_CASES"]
+__all__ = ["STUDIES", "PAPER_STUDIES", "Study", "load_study", "study_settings", "run_study", "PAPER_CASES",
+           "describe_overrides"]
 
 _DATA = Path(__file__).parent / "data"
 #: The paper's four cases a setting can start from (``base = ...``).
@@ -63,6 +64,8 @@ class Study:
     figure: str
     settings: tuple
     source: str
+    #: ``(label, keys)`` pairs: the config keys each setting's ``set`` names (they tell the settings apart).
+    set_keys: tuple = ()
 
 
 def _suggest(word, allowed) -> str:
@@ -108,7 +111,7 @@ def load_study(name_or_path) -> Study:
     if not isinstance(rows, list) or not rows:
         raise InputError(f"{where}: no settings; give one or more [[setting]] tables with label = ... and "
                          "base = 'cuboid_36' (or config = 'case.toml')")
-    settings, labels = [], set()
+    settings, labels, set_keys = [], set(), []
     for k, row in enumerate(rows):
         what = f"{where}, setting #{k + 1}"
         if not isinstance(row, dict):
@@ -143,8 +146,9 @@ def load_study(name_or_path) -> Study:
         except InputError as exc:
             raise InputError(f"{what} ({label}): {exc}") from None
         settings.append((label, case, str(row.get("panel", ""))))
+        set_keys.append((label, tuple(sets)))
     return Study(name=path.stem, title=str(data.get("title", path.stem)), vary=tuple(vary), figure=figure,
-                 settings=tuple(settings), source=str(path))
+                 settings=tuple(settings), source=str(path), set_keys=tuple(set_keys))
 
 
 def _builder(name):
@@ -169,18 +173,55 @@ def study_settings(name: str):
     return [(label, case) for label, case, _ in load_study(name).settings]
 
 
+def describe_overrides(overrides: dict) -> str:
+    """``{"contact.tangential": "spring"}`` -> ``"contact.tangential = spring"`` (several: joined
+    with ", "), as a study's title and dataset say them."""
+    return ", ".join(f"{k} = {v}" for k, v in overrides.items())
+
+
+def _check_overrides(study: Study, overrides: dict, axes) -> None:
+    """Refuse an override of a key the study varies or one of its settings sets."""
+    varied = {a.key for a in axes}
+    for key in overrides:
+        if key in varied:
+            hint = " (give --strokes instead)" if key == "drive.stroke" else ""
+            raise InputError(f"--set {key}: study {study.name!r} varies {key}; it cannot be set for every "
+                             f"setting{hint}")
+        for label, keys in study.set_keys:
+            if key in keys:
+                raise InputError(f"--set {key}: setting {label!r} of study {study.name!r} sets {key} itself; "
+                                 "setting it for every setting would erase what the study compares (write "
+                                 "your own study file instead, docs/sweeps.md)")
+
+
+def _overridden(case, overrides: dict, label: str):
+    """``case`` with the command's overrides set; an error names the setting."""
+    from ..schema import replace
+
+    if not overrides:
+        return case
+    try:
+        return replace(case, overrides)
+    except InputError as exc:
+        raise InputError(f"--set, setting {label!r}: {exc}") from None
+
+
 def _slug(label: str) -> str:
     return re.sub(r"[^A-Za-z0-9.]+", "_", label).strip("_")
 
 
 def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, workers=None, scheduler=None,
-              progress=None, only=None, keep="signals", until_steady=None, device=None):
+              progress=None, only=None, keep="signals", until_steady=None, device=None, overrides=None):
     """Sweep every setting of study ``name`` (a name of :data:`STUDIES` or a study file; one store
     per setting under ``out``) on one cluster; return the combined dataset with a ``setting``
     dimension. ``strokes`` replaces the study's stroke axis; ``only``: a list of setting labels
     to run (default: all); ``until_steady``: every case stops early at this error of eta*
     (:func:`pdamper.run.run_case`); ``device``: ``"cuda"`` runs every case of every setting
-    together on the GPU engine (:func:`pdamper.run.run_cases`)."""
+    together on the GPU engine (:func:`pdamper.run.run_cases`); ``overrides``: config keys set in
+    every setting's case (``{"contact.tangential": "spring"}``, ``pdamper study --set``), after the
+    setting's own ``set``. A key the study varies or a setting sets is refused (it would erase what
+    the study compares). The overrides are part of each store's configuration: a store made
+    without them (or with others) is refused, never mixed."""
     import functools
 
     import numpy as np
@@ -198,6 +239,8 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
             raise InputError(f"study {study.name!r} has no setting {sorted(unknown)}")
         settings = [s for s in settings if s[0] in only]
     axes = [parse_axis(v) for v in study.vary]
+    overrides = dict(overrides or {})
+    _check_overrides(study, overrides, axes)
     if strokes is not None:
         axes = [a for a in axes if a.key != STROKE]
     out = Path(out)
@@ -207,6 +250,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
 
         check_device(device)
     for label, case, _ in settings:
+        case = _overridden(case, overrides, label)
         if device is not None:
             case = on_device(case, device)
         if cycles is not None:
@@ -244,7 +288,9 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
     combined = xr.concat(parts, dim="setting", combine_attrs="drop_conflicts")
     combined = combined.assign_coords(panel=("setting", [panels[str(s)] for s in combined.setting.values]))
     combined.attrs["study"] = study.name
-    combined.attrs["title"] = study.title
+    combined.attrs["title"] = study.title + (f" ({describe_overrides(overrides)})" if overrides else "")
+    if overrides:
+        combined.attrs["overrides"] = describe_overrides(overrides)
     combined.attrs["configs"] = "\n\n".join(f"# setting: {lbl}\n{st.meta['config']}" for lbl, st, _ in stores)
     combined["x_opt"] = ("setting", np.array([p.attrs["x_opt_m"] for p in parts]), {"units": "m"})
     buf = combined.to_netcdf(engine="h5netcdf")

@@ -515,7 +515,13 @@ def _first_difference(old_text: str, new_case) -> str:
     except Exception:  # an older or damaged store: say so instead of guessing
         return "its stored configuration cannot be read"
     new = _flat(case_to_dict(new_case))
+
+    absent = object()  # a key a config leaves out is at its default
+
+    def said(d, k):
+        return repr(d[k]) if k in d else "the default"
+
     for k in sorted(set(old) | set(new)):
-        if old.get(k) != new.get(k):
-            return f"{k} = {old.get(k)!r} there, {new.get(k)!r} now"
+        if old.get(k, absent) != new.get(k, absent):
+            return f"{k} = {said(old, k)} there, {said(new, k)} now"
     return "a setting differs"

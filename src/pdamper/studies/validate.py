@@ -55,16 +55,19 @@ def _peak(ds, label):
     return float(m[i]), float(ds.stroke.values[i])
 
 
-def run_validation(out, *, quick=False, seeds=1, fig4_seeds=None, workers=None, scheduler=None, progress=None):
+def run_validation(out, *, quick=False, seeds=1, fig4_seeds=None, workers=None, scheduler=None, progress=None,
+                   overrides=None):
     """Run the studies (fig4 on the paper's 40 strokes, the others on 20; ``quick``: 12 strokes
     and 8 cycles everywhere) into ``out`` and return ``(checks, datasets, seconds)``.
 
     ``seeds`` initial states per stroke for every study; ``fig4_seeds`` (default: ``seeds``) for
     Fig. 4 alone, whose per-stroke checks judge the seed mean: near and above X_opt one seeded
-    start can take another motion, so one seed is no fair test there."""
+    start can take another motion, so one seed is no fair test there. ``overrides``: config keys
+    set in every study's settings (``pdamper validate --set``; :func:`~pdamper.studies.named.run_study`)."""
     out = Path(out)
     t0 = time.perf_counter()
-    kw = dict(seeds=tuple(range(seeds)), workers=workers, scheduler=scheduler, progress=progress)
+    kw = dict(seeds=tuple(range(seeds)), workers=workers, scheduler=scheduler, progress=progress,
+              overrides=overrides)
     kw4 = {**kw, "seeds": tuple(range(fig4_seeds or seeds))}
     if quick:
         fine = coarse = tuple(stroke_grid(0.5e-3, 50e-3, 12))
@@ -210,17 +213,19 @@ def vertical_rows(ds, h: float, frequency: float, gravity: float) -> list:
     return rows
 
 
-def run_vertical(out, *, seeds=2, quick=False, workers=None, scheduler=None, progress=None):
+def run_vertical(out, *, seeds=2, quick=False, workers=None, scheduler=None, progress=None, overrides=None):
     """Run the study ``vertical`` into ``out`` and compare it with the bouncing law; returns
-    ``(rows, h, case, dataset, seconds)`` (see :func:`vertical_rows`)."""
+    ``(rows, h, case, dataset, seconds)`` (see :func:`vertical_rows`). ``overrides``: config keys
+    set in the study's case (``pdamper validate --set``)."""
+    from ..schema import replace
     from .named import load_study
 
     t0 = time.perf_counter()
     kw = dict(cycles=8, drop_cycles=3) if quick else {}
     strokes = tuple(stroke_grid(4e-3, 30e-3, 5)) if quick else None
     ds = run_study("vertical", Path(out) / "vertical", strokes=strokes, seeds=tuple(range(seeds)), workers=workers,
-                   scheduler=scheduler, progress=progress, **kw)
-    case = load_study("vertical").settings[0][1]
+                   scheduler=scheduler, progress=progress, overrides=overrides, **kw)
+    case = replace(load_study("vertical").settings[0][1], overrides or {})
     h = settled_clearance(case)
     rows = vertical_rows(ds, h, case.drive.frequency, case.gravity)
     # the cases' own simulation time (a resumed study has computed them before)
