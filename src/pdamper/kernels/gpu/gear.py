@@ -361,8 +361,21 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             cuda.syncthreads()
             st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c], tlaw)
             if st != STATUS_OK:
-                status = st
-                culprit = cu
+                flags[0] = st
+                flags[3] = cu
+            cuda.syncthreads()
+            if flags[0] != STATUS_OK:
+                # a full row stops the case at once (run_gear returns): the vector rescaled to the step
+                if ratio != 1.0:
+                    i = tid
+                    while i < n:
+                        for d in range(6):
+                            f = 1.0
+                            for k in range(1, 6):
+                                f *= ratio
+                                nord[c, k, i, d] *= f
+                        i += bd
+                break
         # ---- rescale, predict, unpack; the contact history as it was
         inv_h = 1.0 / hs
         b = li.buffer[c]
@@ -404,11 +417,10 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             i += bd
         tn = t + hs
         cuda.syncthreads()
-        # ---- forces at the prediction (no friction cap), the corrector's increments
-        p_n, p_f, e_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP, hs)
-        if st != STATUS_OK:
-            status = st
-            culprit = cu
+        # ---- forces at the prediction (no friction cap), the corrector's increments; this attempt's
+        #      own status (compute_forces' on the CPU): an overlap at a rejected step's prediction is
+        #      forgotten with the step, it stops the case only when the step is accepted
+        p_n, p_f, e_f, status, culprit = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP, hs)
         cuda.syncthreads()
         xc, vc, ac = _motion(mo, c, tn)
         half_h2 = 0.5 * hs * hs
