@@ -182,6 +182,16 @@ def _implicit_walls(c, i, sp, wl, dlt, hs):
 
 
 @cuda.jit(device=True)
+def _rescale(nord, c, i, d, ratio):
+    """Degree of freedom ``d`` of sphere ``i``'s Nordsieck vector rescaled to a step ``ratio`` times
+    the last (row q by ``ratio**q``, the CPU's ``_rescale``)."""
+    f = 1.0
+    for k in range(1, 6):
+        f *= ratio
+        nord[c, k, i, d] *= f
+
+
+@cuda.jit(device=True)
 def _block_max(red, tid, bd, v):
     """The largest ``v`` of the block's threads (every thread calls it; all get the result)."""
     red[0, tid] = v
@@ -370,10 +380,7 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
                     i = tid
                     while i < n:
                         for d in range(6):
-                            f = 1.0
-                            for k in range(1, 6):
-                                f *= ratio
-                                nord[c, k, i, d] *= f
+                            _rescale(nord, c, i, d, ratio)
                         i += bd
                 break
         # ---- rescale, predict, unpack; the contact history as it was
@@ -383,10 +390,7 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
         while i < n:
             for d in range(6):
                 if ratio != 1.0:
-                    f = 1.0
-                    for k in range(1, 6):
-                        f *= ratio
-                        nord[c, k, i, d] *= f
+                    _rescale(nord, c, i, d, ratio)
                 p0, p1, p2, p3, p4, p5 = predict_dof(nord[c, 0, i, d], nord[c, 1, i, d], nord[c, 2, i, d],
                                                      nord[c, 3, i, d], nord[c, 4, i, d], nord[c, 5, i, d])
                 pred[c, 0, i, d] = p0
