@@ -182,6 +182,16 @@ def _implicit_walls(c, i, sp, wl, dlt, hs):
 
 
 @cuda.jit(device=True)
+def _rescale(nord, c, i, d, ratio):
+    """Degree of freedom ``d`` of sphere ``i``'s Nordsieck vector rescaled to a step ``ratio`` times
+    the last (row q by ``ratio**q``, the CPU's ``_rescale``)."""
+    f = 1.0
+    for k in range(1, 6):
+        f *= ratio
+        nord[c, k, i, d] *= f
+
+
+@cuda.jit(device=True)
 def _block_max(red, tid, bd, v):
     """The largest ``v`` of the block's threads (every thread calls it; all get the result)."""
     red[0, tid] = v
@@ -361,8 +371,18 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             cuda.syncthreads()
             st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c], tlaw)
             if st != STATUS_OK:
-                status = st
-                culprit = cu
+                flags[0] = st
+                flags[3] = cu
+            cuda.syncthreads()
+            if flags[0] != STATUS_OK:
+                # a full row stops the case at once (run_gear returns): the vector rescaled to the step
+                if ratio != 1.0:
+                    i = tid
+                    while i < n:
+                        for d in range(6):
+                            _rescale(nord, c, i, d, ratio)
+                        i += bd
+                break
         # ---- rescale, predict, unpack; the contact history as it was
         inv_h = 1.0 / hs
         b = li.buffer[c]
@@ -370,10 +390,7 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
         while i < n:
             for d in range(6):
                 if ratio != 1.0:
-                    f = 1.0
-                    for k in range(1, 6):
-                        f *= ratio
-                        nord[c, k, i, d] *= f
+                    _rescale(nord, c, i, d, ratio)
                 p0, p1, p2, p3, p4, p5 = predict_dof(nord[c, 0, i, d], nord[c, 1, i, d], nord[c, 2, i, d],
                                                      nord[c, 3, i, d], nord[c, 4, i, d], nord[c, 5, i, d])
                 pred[c, 0, i, d] = p0
@@ -404,11 +421,10 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             i += bd
         tn = t + hs
         cuda.syncthreads()
-        # ---- forces at the prediction (no friction cap), the corrector's increments
-        p_n, p_f, e_f, st, cu = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP, hs)
-        if st != STATUS_OK:
-            status = st
-            culprit = cu
+        # ---- forces at the prediction (no friction cap), the corrector's increments; this attempt's
+        #      own status (compute_forces' on the CPU): an overlap at a rejected step's prediction is
+        #      forgotten with the step, it stops the case only when the step is accepted
+        p_n, p_f, e_f, status, culprit = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP, hs)
         cuda.syncthreads()
         xc, vc, ac = _motion(mo, c, tn)
         half_h2 = 0.5 * hs * hs
