@@ -89,3 +89,14 @@ def test_every_shipped_study_takes_the_spring_law_in_every_setting(name):
     assert {c.contact.tangential for c in cases} == {"spring"}
     # only the law changed: with it set back, every setting is the study's own
     assert [_overridden(c, {"contact.tangential": "tanh"}, "") for c in cases] == [c for _, c, _ in study.settings]
+
+
+@pytest.mark.parametrize("key, words", [
+    ("contact.tangentail=spring", "did you mean 'tangential'"),
+    ("drive.stroke=3mm", "study 'fig4' varies drive.stroke"),
+])
+def test_validate_set_refuses_an_unknown_or_compared_key_before_anything_runs(tmp_path, key, words):
+    out = tmp_path / "v"
+    r = CliRunner().invoke(main, ["validate", "--quick", "--set", key, "--out", str(out)])
+    assert r.exit_code == 2 and r.output.startswith("Error: --set") and words in r.output
+    assert not out.exists()
