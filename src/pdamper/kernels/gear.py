@@ -203,6 +203,36 @@ def _record_row(rows, q):
     return rows[q, 0], rows[q, 1], rows[q, 2], tx, ty, tz, rows[q, 6], math.sqrt(tx * tx + ty * ty + tz * tz)
 
 
+@njit(inline="always")
+def floor_friction_step(cf, lim, tx, tz, ux, uz, ex, ez, ri, g, a, kk):
+    """The implicit friction correction of one floor contact (n = +y): the corrected force's
+    increment ``(gx, gz)`` and its power term, for the slip ``(tx, 0, tz)``, secant coefficient
+    ``cf``, limit ``lim``, the sphere's velocity and spin increments ``(ux, uz)``, ``(ex, ez)``,
+    Gear's ``g`` and ``a`` and the contact's inverse mass ``kk``. The CPU's pass and the GPU's
+    kernel both call it."""
+    vt = math.sqrt(tx * tx + tz * tz)
+    sx, sz = floor_slip(ux, uz, ex, ez, ri)
+    dcx = g * sx
+    dcz = g * sz
+    gx, gy, gz, fx, fy, fz = corrected_friction(cf, lim, kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
+    return gx, gz, -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - cf * vt * vt
+
+
+@njit(inline="always")
+def wall_friction_step(cf, lim, nx, ny, nz, tx, ty, tz, ux, uy, uz, ex, ey, ez, ri, g, a, kk):
+    """The implicit friction correction of one contact with a wall of normal ``n`` (into the
+    container): as :func:`floor_friction_step`, with the slip ``(tx, ty, tz)`` and the sphere's
+    velocity and spin increments ``u``, ``e``; returns ``(gx, gy, gz, power term)``."""
+    vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+    dcx, dcy, dcz, dcn = wall_point_velocity(g * ux, g * uy, g * uz, g * ex, g * ey, g * ez, ri, nx, ny, nz)
+    dcx -= dcn * nx
+    dcy -= dcn * ny
+    dcz -= dcn * nz
+    gx, gy, gz, fx, fy, fz = corrected_friction(cf, lim, kk, a, tx, ty, tz, dcx, dcy, dcz)
+    return gx, gy, gz, (-(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz))
+                        - cf * vt * vt)
+
+
 @njit
 def _implicit_friction(bodies, dv, dw, hs, record):
     """Re-evaluate the friction of every contact that :func:`~pdamper.kernels.forces.compute_forces`
@@ -257,20 +287,10 @@ def _implicit_friction(bodies, dv, dw, hs, record):
     for q in range(ends[0], ends[1]):
         i = ids[q, 0]
         ri = rad[i]
-        tx = fr[q, 3]
-        tz = fr[q, 5]
-        c = fr[q, 6]
-        vt = math.sqrt(tx * tx + tz * tz)
-        ux = dv[i, 0]
-        ez = dw[i, 2]
-        uz = dv[i, 2]
-        ex = dw[i, 0]
-        sx, sz = floor_slip(ux, uz, ex, ez, ri)
-        dcx = g * sx
-        dcz = g * sz
         kk = inv_m[i] + ri * ri * inv_i[i]
-        gx, gy, gz, fx, fy, fz = corrected_friction(c, fr[q, 7], kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
-        dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - c * vt * vt
+        gx, gz, dp = floor_friction_step(fr[q, 6], fr[q, 7], fr[q, 3], fr[q, 5], dv[i, 0], dv[i, 2], dw[i, 0],
+                                         dw[i, 2], ri, g, a, kk)
+        dpf += dp
         scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
         dfz += gz
@@ -278,16 +298,13 @@ def _implicit_friction(bodies, dv, dw, hs, record):
     for q in range(ends[1], ends[2]):
         i = ids[q, 0]
         ri = rad[i]
-        nx, ny, nz, tx, ty, tz, c, vt = _record_row(fr, q)
-        dcx, dcy, dcz, dcn = wall_point_velocity(g * dv[i, 0], g * dv[i, 1], g * dv[i, 2], g * dw[i, 0],
-                                                 g * dw[i, 1], g * dw[i, 2], ri, nx, ny, nz)
-        dcx -= dcn * nx
-        dcy -= dcn * ny
-        dcz -= dcn * nz
+        nx = fr[q, 0]
+        ny = fr[q, 1]
+        nz = fr[q, 2]
         kk = inv_m[i] + ri * ri * inv_i[i]
-        gx, gy, gz, fx, fy, fz = corrected_friction(c, fr[q, 7], kk, a, tx, ty, tz, dcx, dcy, dcz)
-        dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
-            - c * vt * vt
+        gx, gy, gz, dp = wall_friction_step(fr[q, 6], fr[q, 7], nx, ny, nz, fr[q, 3], fr[q, 4], fr[q, 5], dv[i, 0],
+                                            dv[i, 1], dv[i, 2], dw[i, 0], dw[i, 1], dw[i, 2], ri, g, a, kk)
+        dpf += dp
         scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
         dfy += gy

@@ -23,9 +23,10 @@ import math
 from numba import cuda, float64, int64
 
 from ..bundles import ContactTable
-from ..contact import corrected_friction, floor_slip, keeps_history, pair_point_velocity, scatter, wall_point_velocity
+from ..contact import corrected_friction, keeps_history, pair_point_velocity, scatter
 from ..forces import STATUS_NAN, STATUS_OK
-from ..gear import GEAR_C, next_step, predict_dof, shorter_step, step_to_boundary
+from ..gear import (GEAR_C, floor_friction_step, next_step, predict_dof, shorter_step, step_to_boundary,
+                    wall_friction_step)
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_PRIMED, FLAG_STARTED
 from .verlet import (MAX_THREADS, REDUCED, _motion, _pair_laws, _prime_contacts, _rebuild, _record_sample,
@@ -133,19 +134,10 @@ def _implicit_walls(c, i, sp, wl, dlt, hs):
         r = wl.row[c, i, floor]
         cf = r[6]
         if cf > 0.0:
-            tx = r[3]
-            tz = r[5]
-            vt = math.sqrt(tx * tx + tz * tz)
-            ux = dv[i, 0]
-            ez = dw[i, 2]
-            uz = dv[i, 2]
-            ex = dw[i, 0]
-            sx, sz = floor_slip(ux, uz, ex, ez, ri)
-            dcx = g * sx
-            dcz = g * sz
             kk = inv_m[c, i] + ri * ri * inv_i[c, i]
-            gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[7], kk, a, tx, 0.0, tz, dcx, 0.0, dcz)
-            dpf += -(fx * (tx + dcx + a * kk * gx) + fz * (tz + dcz + a * kk * gz)) - cf * vt * vt
+            gx, gz, dp = floor_friction_step(cf, r[7], r[3], r[5], dv[i, 0], dv[i, 2], dw[i, 0], dw[i, 2], ri, g, a,
+                                             kk)
+            dpf += dp
             scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * inv_m[c, i], 0.0,
                     -(hh * inv_i[c, i] * ri), 0.0)
             dfx += gx
@@ -160,19 +152,10 @@ def _implicit_walls(c, i, sp, wl, dlt, hs):
         nx = r[0]
         ny = r[1]
         nz = r[2]
-        tx = r[3]
-        ty = r[4]
-        tz = r[5]
-        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-        dcx, dcy, dcz, dcn = wall_point_velocity(g * dv[i, 0], g * dv[i, 1], g * dv[i, 2], g * dw[i, 0],
-                                                 g * dw[i, 1], g * dw[i, 2], ri, nx, ny, nz)
-        dcx -= dcn * nx
-        dcy -= dcn * ny
-        dcz -= dcn * nz
         kk = inv_m[c, i] + ri * ri * inv_i[c, i]
-        gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[7], kk, a, tx, ty, tz, dcx, dcy, dcz)
-        dpf += -(fx * (tx + dcx + a * kk * gx) + fy * (ty + dcy + a * kk * gy) + fz * (tz + dcz + a * kk * gz)) \
-            - cf * vt * vt
+        gx, gy, gz, dp = wall_friction_step(cf, r[7], nx, ny, nz, r[3], r[4], r[5], dv[i, 0], dv[i, 1], dv[i, 2],
+                                            dw[i, 0], dw[i, 1], dw[i, 2], ri, g, a, kk)
+        dpf += dp
         scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], 0.0, -(hh * inv_i[c, i] * ri),
                 0.0)
         dfx += gx
