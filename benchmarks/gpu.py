@@ -6,17 +6,20 @@ What it runs, the bounded parts first (a part that overruns the device call's li
 what follows it), writing ``--out`` (JSON) after every part and a markdown summary at the end (also
 ``--out`` with ``.md``):
 
-1. ``env``: the GPU, numba and numba-cuda, the commit.
+1. ``env``: the GPU, numba and numba-cuda, the commit, the profilers on PATH (``ncu``, ``nsys``).
 2. ``compile``: the first GPU launch of the kernel (numba-cuda typing, NVVM, the driver's PTX JIT;
    a launch with no steps) and the compiled kernel's registers per thread, shared and local memory
    per block, the blocks an SM can hold.
-3. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
+3. ``steps``: where a step's time goes: fig4's cases as one batch for ``--steps-seconds`` (10) under
+   Gear with the tanh law (the default), Gear with the tangential spring (no implicit friction
+   pass), Verlet, and the default's longest case alone: microseconds per step per block of each.
+4. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
    threads) for ``--bed-seconds`` (20): microseconds per step and per particle-step.
-4. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
+5. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
    (40 strokes x 20 cycles, 36 and 44 spheres, one seed, from an empty store): wall time, the
    longest case's steps and the per-step cost of a block, and eta* of every stroke against the CPU
    engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``). It runs to its end (no budget).
-5. ``paper``: every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at
+6. ``paper``: every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at
    the paper's 40 strokes, 20 cycles, one seed, as one GPU batch: wall time, cases finished and
    failed. Stopped at the budget (``--budget-s``, counted from the start): then what was done is
    said (steps done of all steps), never extrapolated into a figure.
@@ -58,7 +61,8 @@ from pathlib import Path
 BENCH = Path(__file__).resolve().parent
 ROOT = BENCH.parent
 REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
-PARTS = ("env", "compile", "bed", "fig4", "paper")
+PAPER_REFERENCE = BENCH / "data" / "paper_cpu_reference.csv"
+PARTS = ("env", "compile", "steps", "bed", "fig4", "paper")
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
 #: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
 #: still measures something, and says so).
@@ -128,6 +132,9 @@ def env_info():
         out["nvidia_smi"] = smi.stdout.strip()
     except Exception:  # noqa: BLE001
         pass
+    import shutil
+
+    out["profilers"] = {p: shutil.which(p) for p in ("ncu", "nsys")}
     print("env:", json.dumps(out), flush=True)
     return out
 
@@ -379,9 +386,57 @@ def part_bed(tiny, seconds):
     return out
 
 
-def part_paper(tiny, deadline):
-    """Every distinct DEM curve of the paper at its 40 strokes, one batch, stopped at ``deadline``."""
-    from pdamper.run import run_cases
+#: The variants of :func:`part_steps`: (name, integrator, tangential law, cases).
+STEP_VARIANTS = (("gear, tanh (the default)", "gear", "tanh", "all"),
+                 ("gear, spring (no implicit friction pass)", "gear", "spring", "all"),
+                 ("verlet, tanh (no error control, no pass)", "verlet", "tanh", "all"),
+                 ("gear, tanh, one case alone", "gear", "tanh", "one"))
+
+
+def part_steps(tiny, seconds, variants=STEP_VARIANTS):
+    """Where a step's time goes, by what changes it: fig4's cases (seed 0, as one batch) run for
+    ``seconds`` under each of :data:`STEP_VARIANTS`: Gear with the tanh law (the default), Gear with
+    the tangential spring (whose law leaves no rows for the implicit friction pass: the difference is
+    the pass's share), Verlet (no error reduction, no pass, no rejected steps), and the default's
+    longest case alone on the GPU (the batch's step against one block's: what sharing the GPU costs).
+    Each variant's kernel compiles first (timed on its own); then microseconds per step of the
+    batch's most advanced case. The window is each batch's first ``seconds`` (the settling and the
+    drive's start), the same for every variant; the tangential laws' runs are other physics, so only
+    their step cost is compared."""
+    from pdamper.run import on_device
+    from pdamper.simulation import Simulation, run_on_gpu
+
+    base = fig4_cases(tiny)
+    out = {"seconds": seconds, "variants": {}}
+    for name, integrator, tangential, which in variants:
+        chosen = base if which == "all" else [max(base, key=lambda c: c[1])]
+        cases = []
+        for _, _, case in chosen:
+            c = dataclasses.replace(case, numerics=dataclasses.replace(case.numerics, integrator=integrator),
+                                    contact=dataclasses.replace(case.contact, tangential=tangential))
+            cases.append(on_device(c, "cuda"))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sims = [Simulation(c) for c in cases]
+            t = time.perf_counter()
+            run_on_gpu(sims[:1], compile_only=True)
+            compile_s = time.perf_counter() - t
+            sims = [Simulation(c) for c in cases]
+            t0 = time.perf_counter()
+            run_on_gpu(sims, progress=lambda done, total: time.perf_counter() - t0 < seconds)
+            wall = time.perf_counter() - t0
+        steps = max(sim.stepper.steps for sim in sims)
+        v = {"cases": len(sims), "compile_s": compile_s, "wall_s": wall, "steps": steps,
+             "us_per_step_per_block": 1e6 * wall / max(steps, 1)}
+        out["variants"][name] = v
+        print(f"steps: {name}: {len(sims)} cases, {steps} steps in {wall:.1f} s = {v['us_per_step_per_block']:.2f} "
+              f"us/step per block (compile {compile_s:.1f} s)", flush=True)
+    return out
+
+
+def paper_cases(tiny, device="cuda"):
+    """Every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at the
+    paper's 40 strokes, seed 0, on ``device``: ``[(curve label, stroke, case)]``."""
     from pdamper.schema import replace
     from pdamper.studies.sweep import stroke_grid
 
@@ -392,12 +447,61 @@ def part_paper(tiny, deadline):
     strokes = stroke_grid(0.5e-3, 50e-3, 40)
     if tiny:
         curves, strokes = curves[:2], strokes[:1]
-    cases, labels = [], []
+    out = []
     for label, case in curves:
         for x in strokes:
-            c = replace(case, {"drive.stroke": float(x), "initial.seed": 0, "numerics.device": "cuda"})
-            cases.append(_soft(c) if tiny else _integrator(c))
-            labels.append(label)
+            c = replace(case, {"drive.stroke": float(x), "initial.seed": 0, "numerics.device": device})
+            out.append((label, float(x), _soft(c) if tiny else _integrator(c)))
+    return out
+
+
+def make_paper_reference(path=None):
+    """``benchmarks/data/paper_cpu_reference.csv``: every case of :func:`paper_cases` on the CPU
+    engine (all cores, as ``pdamper study``), a row written as each case finishes; a rerun skips the
+    rows already there (an interrupted run keeps what finished)."""
+    from pdamper.studies.executor import execute
+    from pdamper.studies.sweep import run_one
+
+    path = Path(path) if path else PAPER_REFERENCE
+    done = set(read_paper_reference(path))
+    items = [((label, x), x, 0, case) for label, x, case in paper_cases(False, device="cpu")
+             if (label, round(x, 9)) not in done]
+    new = not path.exists()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    with path.open("a", newline="") as f:
+        w = csv.writer(f)
+        if new:
+            w.writerow(["curve", "stroke_m", "eta_star", "steps", "wall_time_s", "failed"])
+
+        def store(key, x, seed, r):
+            w.writerow([key[0], repr(key[1]), f"{r['eta_star']:.6f}" if "eta_star" in r else "nan",
+                        r.get("steps", ""), f"{r['wall_time_s']:.2f}" if "wall_time_s" in r else "",
+                        " ".join(r.get("failed", "").split())])
+            f.flush()
+
+        if items:
+            execute(items, lambda c: run_one(c, keep="none"), store)
+    print(f"{path}: {len(items)} cases run in {time.perf_counter() - t0:.0f} s ({len(done)} were there)")
+
+
+def read_paper_reference(path=None):
+    """The CPU engine's paper cases: ``{(curve, stroke rounded): row}``."""
+    path = Path(path) if path else PAPER_REFERENCE
+    if not path.exists():
+        return {}
+    with path.open() as f:
+        return {(r["curve"], round(float(r["stroke_m"]), 9)): r for r in csv.DictReader(f)}
+
+
+def part_paper(tiny, deadline):
+    """Every distinct DEM curve of the paper at its 40 strokes, one batch, stopped at ``deadline``."""
+    from pdamper.run import run_cases
+
+    both = paper_cases(tiny)
+    curves = sorted({label for label, _, _ in both})
+    cases = [c for _, _, c in both]
+    labels = [label for label, _, _ in both]
     t0 = time.perf_counter()
     seen = {"done": 0, "total": 0}
 
@@ -412,18 +516,35 @@ def part_paper(tiny, deadline):
     failed = [str(r) for r in res if isinstance(r, Exception)]
     stopped = sum("was stopped" in f for f in failed)
     per_curve = {}
-    for label, r in zip(labels, res):
-        d = per_curve.setdefault(label, {"cases": 0, "finished": 0, "max_steps": 0})
+    ref = read_paper_reference()
+    diffs = []
+    for (label, x, _), r in zip(both, res):
+        d = per_curve.setdefault(label, {"cases": 0, "finished": 0, "max_steps": 0, "compared": 0, "dev": []})
         d["cases"] += 1
         if not isinstance(r, Exception):
             d["finished"] += 1
             d["max_steps"] = max(d["max_steps"], r.steps)
+            cpu = ref.get((label, round(x, 9)))
+            if cpu is not None and math.isfinite(float(cpu["eta_star"])):
+                dev = float(r.summary()["eta_star"]) - float(cpu["eta_star"])
+                d["compared"] += 1
+                d["dev"].append(dev)
+                diffs.append(dev)
+    for d in per_curve.values():
+        # eta* of seed 0 on both engines: one sample each of a chaotic run, so the difference is
+        # a seed-to-seed scatter unless it leans one way over a curve (its mean)
+        dev = d.pop("dev")
+        d["mean_dev_vs_cpu"] = sum(dev) / len(dev) if dev else math.nan
+        d["rms_dev_vs_cpu"] = math.sqrt(sum(v * v for v in dev) / len(dev)) if dev else math.nan
     out = {"curves": len(curves), "cases": len(cases), "wall_s": wall, "target_s": TARGET_PAPER_S,
            "finished": len(cases) - len(failed), "failed": len(failed) - stopped, "stopped_by_budget": stopped,
-           "steps_done_of_total": [seen["done"], seen["total"]], "per_curve": per_curve,
-           "failures": [f for f in failed if "was stopped" not in f][:5]}
+           "steps_done_of_total": [seen["done"], seen["total"]], "compared_with_cpu": len(diffs),
+           "mean_dev_vs_cpu": sum(diffs) / len(diffs) if diffs else math.nan,
+           "rms_dev_vs_cpu": math.sqrt(sum(v * v for v in diffs) / len(diffs)) if diffs else math.nan,
+           "per_curve": per_curve, "failures": [f for f in failed if "was stopped" not in f][:5]}
     print(f"paper: {out['finished']} of {len(cases)} cases ({len(curves)} curves) finished in {wall:.0f} s (target "
-          f"{TARGET_PAPER_S:g} s); {out['failed']} failed; {stopped} stopped by the budget", flush=True)
+          f"{TARGET_PAPER_S:g} s); {out['failed']} failed; {stopped} stopped by the budget; eta* - the CPU's seed 0 "
+          f"over {len(diffs)} cases: mean {out['mean_dev_vs_cpu']:+.3f}, rms {out['rms_dev_vs_cpu']:.3f}", flush=True)
     return out
 
 
@@ -515,6 +636,10 @@ def markdown(data):
                      f"case {f['longest_case_steps']} steps, {f['us_per_step_per_block']:.2f} us/step per block; eta* "
                      f"within the CPU's seed range at {f['within_cpu_seed_range']} of {f['compared_with_cpu']} strokes, "
                      f"within 3 std at {f['within_3_std']} (max |z| {f['max_abs_z']:.2f}, mean z {f['mean_z']:+.2f})")
+    if "steps" in p:
+        for name, v in p["steps"]["variants"].items():
+            lines.append(f"- steps, {name}: {v['us_per_step_per_block']:.2f} us/step per block ({v['cases']} cases, "
+                         f"{v['steps']} steps in {v['wall_s']:.1f} s; compile {v['compile_s']:.1f} s)")
     if "bed" in p:
         b = p["bed"]
         lines.append(f"- {b['particles']}-sphere bed: {b['us_per_step']:.1f} us/step "
@@ -538,12 +663,19 @@ def main(argv=None):
     ap.add_argument("--ptx-kernels", default="gear,verlet", help="the kernels --ptx compiles (gear, verlet)")
     ap.add_argument("--ptx-tangential", default="tanh", choices=("tanh", "spring"),
                     help="the tangential law --ptx compiles the kernels for (contact.tangential)")
+    ap.add_argument("--steps-seconds", type=float, default=10.0,
+                    help="how long each variant of the steps part runs")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
+    ap.add_argument("--make-paper-reference", action="store_true",
+                    help="write benchmarks/data/paper_cpu_reference.csv: every paper case, seed 0, on the CPU engine")
     ap.add_argument("--make-reference", metavar="STUDY_DIR",
                     help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
     args = ap.parse_args(argv)
     if args.make_reference:
         make_reference(args.make_reference)
+        return 0
+    if args.make_paper_reference:
+        make_paper_reference()
         return 0
     t0 = time.perf_counter()
     report = Report(args.out)
@@ -568,6 +700,8 @@ def main(argv=None):
                     report.put(part, part_compile(args.tiny))
                 elif part == "fig4":
                     report.put(part, part_fig4(args.tiny, work))
+                elif part == "steps":
+                    report.put(part, part_steps(args.tiny, min(args.steps_seconds, left)))
                 elif part == "bed":
                     report.put(part, part_bed(args.tiny, min(args.bed_seconds, left)))
                 elif part == "paper":

@@ -51,3 +51,31 @@ def test_kernel_compiles_to_ptx_for_hopper(tmp_path):
     assert ptx["entry"] and ptx["ptx_bytes"] > 10_000
     if "ptxas_ok" in ptx:  # within the register file (it spills some: docs/performance.md)
         assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["stack_bytes"] < 4096
+
+
+def test_step_cost_part_runs_in_the_simulator():
+    """The steps part on a tiny case, one variant (Verlet, one case: the cheapest in the simulator):
+    it compiles, runs for its window and reports the steps and the cost of one."""
+    mod = _module()
+    out = mod.part_steps(True, 0.5, variants=(("verlet alone", "verlet", "tanh", "one"),))
+    v = out["variants"]["verlet alone"]
+    assert v["cases"] == 1 and v["steps"] > 0
+    assert v["us_per_step_per_block"] == pytest.approx(1e6 * v["wall_s"] / v["steps"])
+
+
+def test_paper_part_compares_with_the_cpu_reference(tmp_path, monkeypatch):
+    """The paper part on tiny cases (two curves, one stroke) against a CPU reference file: each
+    finished case compared, the deviation the GPU's eta* minus the file's."""
+    import time
+
+    mod = _module()
+    cases = mod.paper_cases(True)
+    ref = tmp_path / "paper.csv"
+    ref.write_text("curve,stroke_m,eta_star,steps,wall_time_s,failed\n"
+                   + "".join(f"{label},{x!r},0.5,1,0.1,\n" for label, x, _ in cases))
+    monkeypatch.setattr(mod, "PAPER_REFERENCE", ref)
+    out = mod.part_paper(True, time.perf_counter() + 600)
+    assert out["finished"] == len(cases) == 2 and out["compared_with_cpu"] == 2
+    for d in out["per_curve"].values():
+        assert d["compared"] == 1 and -0.5 < d["mean_dev_vs_cpu"] < 0.5
+        assert d["rms_dev_vs_cpu"] == pytest.approx(abs(d["mean_dev_vs_cpu"]))
