@@ -129,15 +129,18 @@ def summarise(path, gpu):
             key = (r["setting"], round(float(r["stroke_m"]), 9))
             groups.setdefault(key, {"seed": [], "nudge": []})[r["kind"]].append(float(r["eta_star"]))
     print(f"{'setting':10s} {'X [mm]':>7s} {'GPU':>6s} {'seeds 0-2':>13s} {'seeds (n)':>20s} {'nudged seed 0 (n)':>22s}")
+    def spread(v):
+        v = np.array(v)
+        v = v[np.isfinite(v)]
+        if len(v) < 2:
+            return f"{'-':>20s}" if not len(v) else f"{v[0]:.3f} (1)".rjust(20)
+        return f"{v.min():.3f}-{v.max():.3f} sd {v.std(ddof=1):.3f} ({len(v)})".rjust(20)
+
     for (setting, x), g in sorted(groups.items()):
-        s = np.array(g["seed"])
-        n = np.array(g["nudge"])
         r = ref.get((setting, x))
         r3 = f"{float(r['eta_min']):.3f}-{float(r['eta_max']):.3f}" if r else "-"
         eg = gpu.get((setting, x), math.nan)
-        print(f"{setting:10s} {x * 1e3:7.3g} {eg:6.3f} {r3:>13s} "
-              f"{s.min():.3f}-{s.max():.3f} sd {s.std(ddof=1):.3f} ({len(s)})  "
-              f"{n.min():.3f}-{n.max():.3f} sd {n.std(ddof=1):.3f} ({len(n)})")
+        print(f"{setting:10s} {x * 1e3:7.3g} {eg:6.3f} {r3:>13s} {spread(g['seed'])}  {spread(g['nudge'])}")
 
 
 if __name__ == "__main__":
