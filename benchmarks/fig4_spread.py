@@ -6,8 +6,8 @@
 The GPU engine's fig4 (``benchmarks/gpu.py``) is compared with the CPU engine's seeds 0-2
 (``benchmarks/data/fig4_cpu_reference.csv``); a stroke where the GPU's eta* falls outside that range
 is either a GPU fault or a bed whose outcome three seeds do not span. This script tells the two apart
-on the CPU engine alone, at the strokes named (default: every stroke where ``--gpu-json``'s fig4
-lies beyond three standard deviations of the three seeds):
+on the CPU engine alone, at the strokes named (``--stroke``; with ``--gpu-json``, every stroke where
+its fig4 lies beyond three standard deviations of the three seeds; ``--all``: all 80):
 
 * ``seed``: seeds 0 .. ``--seeds``-1 (other initial beds);
 * ``nudge``: seed 0 (the bed the GPU ran) with Gear's tolerance changed by k parts in 10^12,
@@ -49,6 +49,16 @@ def gpu_values(gpu_json):
     return {(r["setting"], round(r["stroke_m"], 9)): r["eta_gpu"] for r in rows}
 
 
+def all_strokes():
+    """Every ``(setting, stroke)`` of fig4."""
+    from pdamper.studies.named import load_study
+    from pdamper.studies.sweep import STROKE, parse_axis
+
+    study = load_study("fig4")
+    grid = next(a for a in map(parse_axis, study.vary) if a.key == STROKE).values
+    return [(label, float(x)) for label, _, _ in study.settings for x in grid]
+
+
 def fig4_case(setting, stroke):
     """fig4's case of ``setting`` at the grid stroke nearest ``stroke`` [m]: ``(stroke, case)``."""
     from pdamper.errors import InputError
@@ -74,6 +84,7 @@ def main(argv=None):
     ap.add_argument("--nudges", type=int, default=6)
     ap.add_argument("--gpu-json", help="benchmarks/gpu.py's output: its fig4 outliers are the strokes run")
     ap.add_argument("--stroke", nargs=2, action="append", metavar=("SETTING", "MM"), default=[])
+    ap.add_argument("--all", action="store_true", help="every stroke of both settings (80)")
     args = ap.parse_args(argv)
 
     from pdamper.schema import replace
@@ -81,8 +92,10 @@ def main(argv=None):
     from pdamper.studies.sweep import run_one
 
     wanted = [(s, float(mm) * 1e-3) for s, mm in args.stroke]
-    if args.gpu_json:
+    if args.gpu_json and not args.all:
         wanted += outliers(args.gpu_json)
+    if args.all:
+        wanted += all_strokes()
     if not wanted:
         ap.error("name strokes with --stroke or give --gpu-json")
     out = Path(args.out)
@@ -91,8 +104,12 @@ def main(argv=None):
         with out.open() as f:
             done = {(r["setting"], round(float(r["stroke_m"]), 9), r["kind"], int(r["k"])) for r in csv.DictReader(f)}
     items = []
+    seen = set()
     for setting, stroke in wanted:
         x, case = fig4_case(setting, stroke)
+        if (setting, x) in seen:
+            continue
+        seen.add((setting, x))
         tol = case.numerics.gear_tolerance
         runs = [("seed", s, {"initial.seed": s}) for s in range(args.seeds)]
         runs += [("nudge", k, {"initial.seed": 0, "numerics.gear_tolerance": tol * (1.0 + k * NUDGE)})

@@ -22,14 +22,29 @@ def _module():
     return mod
 
 
-def test_tiny_study_runs_in_the_simulator(tmp_path):
-    """The fig4 part on tiny cases: a study through the GPU engine, its JSON and markdown written."""
+def test_tiny_study_runs_in_the_simulator(tmp_path, monkeypatch):
+    """The fig4 part on tiny cases: a study through the GPU engine, its JSON and markdown written,
+    eta* compared with a CPU reference (seeds 0-2) and with further CPU runs of the same stroke: a
+    reference spanning (0, 1) holds every GPU value, one above every CPU run none."""
+    mod = _module()
+    labels = [label for label, _, _ in mod.fig4_cases(True)]
+    ref = tmp_path / "ref.csv"
+    ref.write_text("setting,stroke_m,eta_mean,eta_min,eta_max,seeds,eta_seed0,eta_seed1,eta_seed2\n"
+                   f"{labels[0]},0.002,0.5,0.01,0.99,3,0.01,0.5,0.99\n"
+                   f"{labels[1]},0.002,1.5,1.4,1.6,3,1.4,1.5,1.6\n")
+    spread = tmp_path / "spread.csv"
+    spread.write_text("setting,stroke_m,kind,k,eta_star,steps,failed\n"
+                      f"{labels[1]},0.002,nudge,1,1.7,1,\n")
+    monkeypatch.setattr(mod, "REFERENCE", ref)
+    monkeypatch.setattr(mod, "SPREAD", spread)
     out = tmp_path / "gpu.json"
-    assert _module().main(["--tiny", "--only", "fig4", "--out", str(out)]) == 0
+    assert mod.main(["--tiny", "--only", "fig4", "--out", str(out)]) == 0
     data = json.loads(out.read_text())
     fig4 = data["parts"]["fig4"]
     assert fig4["cases"] == 2 and fig4["longest_case_steps"] > 100
     assert all(0.0 < s["eta_gpu"] < 1.0 for s in fig4["strokes"])
+    assert fig4["compared_with_cpu"] == 2 and fig4["cpu_runs_per_stroke"] == [3, 4]
+    assert fig4["within_cpu_seed_range"] == 1 and fig4["within_every_cpu_run"] == 1
     assert "study fig4: 2 cases" in out.with_suffix(".md").read_text()
 
 
