@@ -1,6 +1,8 @@
 """Shared pieces of the GPU engine's simulator tests (tests/kernels/gpu): tiny, violent cases and
 running them on both engines."""
 
+import math
+
 import numpy as np
 
 from pdamper.excitation import HarmonicDrive
@@ -49,3 +51,27 @@ def on_both(cases, threads=None):
 def close(a, b, rel=1e-12):
     scale = max(float(np.max(np.abs(a))), 1e-300)
     return float(np.max(np.abs(a - b))) <= rel * scale
+
+
+def pile_case(columns=3, rows=3, seed=0, cycles=0.004):
+    """A resting pile under :func:`tiny_case`'s drive: a square layer of ``columns x rows`` spheres
+    on the floor, each touching its neighbours, and a second layer in its hollows, each sphere of it
+    touching the four below it and its neighbours; every sphere moving and spinning a little
+    (seeded), so that every contact slips. Many touching pairs from the first step (a 3 x 3 layer:
+    13 spheres, 32 pairs)."""
+    import dataclasses
+
+    r = 0.005
+    s = 2 * r * (1 - 1e-6)  # centres 10 nm closer than touching: within check_positions' tolerance
+    lo = [(-s * (columns - 1) / 2 + s * a, r * (1 - 1e-6), -s * (rows - 1) / 2 + s * b)
+          for a in range(columns) for b in range(rows)]
+    up = r * (1 - 1e-6) + math.sqrt(s * s - s * s / 2)
+    hi = [(-s * (columns - 2) / 2 + s * a, up, -s * (rows - 2) / 2 + s * b)
+          for a in range(columns - 1) for b in range(rows - 1)]
+    pos = tuple(lo + hi)
+    rng = np.random.default_rng(seed)
+    vel = tuple(map(tuple, rng.normal(0.0, 0.05, (len(pos), 3))))
+    spin = tuple(map(tuple, rng.normal(0.0, 10.0, (len(pos), 3))))
+    case = tiny_case("cuboid", n=len(pos), direction=(1.0, 0.3, 0.2), cycles=cycles)
+    return dataclasses.replace(case, initial=dataclasses.replace(case.initial, positions=pos, velocities=vel,
+                                                                 spins=spin))

@@ -310,15 +310,18 @@ def _pack_gear(jobs, sp, li, wl, bd, history):
     """Gear's state and clock of every job: the Nordsieck vectors (filled by the kernel's priming),
     the saved history (with the tangential history's rows under a law that keeps one), the clock at
     the start of the first span."""
-    from ..kernels.gpu.batch import GearClock, GearState
+    from ..kernels.gpu.batch import PAIR_ROW, GearClock, GearState, pair_row_capacity
 
     C, N = sp.position.shape[:2]
     K = li.partner.shape[3]
     W = wl.kind.shape[1]
     rows = SAVED_HISTORY_ROWS if history else 2
+    # the implicit friction pass's compact rows (none under a law with history: that pass is skipped)
+    P = 1 if history else pair_row_capacity(N, K)
     gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), predicted=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
                    saved_pair=np.zeros((C, rows, N, K)), saved_wall=np.zeros((C, rows, N, W)),
-                   anchor=np.zeros((C, N, 6)), integrands=np.zeros((C, bd, 4)))
+                   anchor=np.zeros((C, N, 6)), integrands=np.zeros((C, bd, 4)), pair_rows=np.zeros((C, P, PAIR_ROW)),
+                   pair_ends=np.zeros((C, P, 2), dtype=np.int64))
     settle = np.array([j.settle_samples for j in jobs], dtype=np.int64)
     n = np.array([j.n_samples for j in jobs], dtype=np.int64)
     seg = np.array([j.segment_samples for j in jobs], dtype=np.int64)

@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 
 from gpu_helpers import on_both as _both
+from gpu_helpers import pile_case as _pile
 from gpu_helpers import tiny_case as _case
 
 
@@ -74,6 +75,26 @@ def test_gear_step_by_step_as_the_cpu():
         _gear(_case("cuboid", n=4, direction=(1.0, 0.3, 0.2), coated=True, cycles=0.004)), k)
     assert status == 0 and steps == k and int(batch.gc.rejected[0]) == rejected >= 1
     _same_nordsieck(st, batch, t)
+
+
+def test_gear_implicit_pair_rows_in_the_cpus_order():
+    """A resting pile (13 spheres, two layers) set moving: many touching pairs with friction, whose
+    rows the implicit pass corrects one after another (Gauss-Seidel). After ten accepted steps, the
+    GPU's compact list of those rows (gathered by every thread, walked by one) holds the CPU's
+    friction record's pair rows: the same pairs in the same order, the same normal, slip, secant
+    coefficient and limit to rounding; and the Nordsieck vectors agree to rounding (a row missed or
+    walked out of order would move the increments of its spheres by far more)."""
+    k = 10
+    status, steps, t, rejected, st, e, batch = _step_by_step(_gear(_pile()), k)
+    assert status == 0 and steps == k and int(batch.gc.rejected[0]) == rejected
+    rec = st.state.friction
+    m = int(rec.ends[0])
+    assert m >= 12  # many touching pairs
+    assert np.array_equal(batch.gs.pair_ends[0, :m], rec.bodies[:m])
+    ours, ref = batch.gs.pair_rows[0, :m, 2:10], rec.rows[:m, :8]
+    for col in range(8):
+        assert np.max(np.abs(ours[:, col] - ref[:, col])) <= 1e-9 * np.max(np.abs(ref[:, col])), col
+    _same_nordsieck(st, batch, t, 1e-10)  # (the step control amplifies rounding: 1.6e-11 here)
 
 
 def test_gear_step_by_step_with_the_tangential_spring():

@@ -29,7 +29,8 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["Spheres", "Lists", "Walls", "Motion", "Control", "Record", "PAIR_RESULT", "CONTROL_FLAGS",
-           "FLAG_STARTED", "FLAG_MOVED", "FLAG_PRIMED", "PARTIALS", "WALL_ROW", "GearState", "GearClock"]
+           "FLAG_STARTED", "FLAG_MOVED", "FLAG_PRIMED", "PARTIALS", "WALL_ROW", "PAIR_ROW", "GearState", "GearClock",
+           "pair_row_capacity"]
 
 #: Values stored per owned pair after its contact law: the force on the owner (3), the unit normal
 #: from the owner to its partner (3), the friction force on the owner (3); then its friction row
@@ -38,6 +39,12 @@ PAIR_RESULT = 14
 #: Values stored per sphere-wall contact: its friction row, the unit normal (3), the slip (3), c and
 #: the Coulomb limit.
 WALL_ROW = 8
+#: Values of a touching pair's row in Gear's compact list for the implicit friction pass: what does not
+#: depend on the increments, gathered by every thread before one thread walks the rows: the radii
+#: r_i, r_j, the unit normal (3), the slip (3), c, the Coulomb limit, the inverse tangential mass kk,
+#: the slip's magnitude, and the factors that turn a force into increments (h^2/2 of 1/m_i, 1/m_j,
+#: r_i/I_i, r_j/I_j).
+PAIR_ROW = 16
 #: Running sums each thread keeps (and saves between launches): work done by the container, loss
 #: by normal damping, loss by friction [J], impulse along the drive since the last sample [N s].
 PARTIALS = 4
@@ -159,6 +166,15 @@ class GearState(NamedTuple):
     saved_wall: np.ndarray        #: (C, R, N, W) the walls' history before the step
     anchor: np.ndarray            #: (C, N, 6) the predicted position and angle the springs were last advanced at
     integrands: np.ndarray        #: (C, threads, 4) each thread's ledger integrands at the last accepted step
+    pair_rows: np.ndarray         #: (C, P, PAIR_ROW) scratch: this step's touching pairs for the implicit
+                                  #: friction pass, in the CPU's order (P = pair_row_capacity)
+    pair_ends: np.ndarray         #: (C, P, 2) int: the spheres (i, j) of each of those rows
+
+
+def pair_row_capacity(n: int, k: int) -> int:
+    """Rows of :attr:`GearState.pair_rows` that every owned pair of ``n`` spheres with ``k`` list
+    entries each fits in: row ``i`` owns at most ``min(k, n - 1 - i)`` (its partners ``j > i``)."""
+    return max(1, sum(min(k, n - 1 - i) for i in range(n)))
 
 
 class GearClock(NamedTuple):

@@ -6,14 +6,15 @@ The step is :func:`pdamper.kernels.gear.run_gear`'s: the Nordsieck vector rescal
 (each thread its spheres' degrees of freedom), the neighbour rows rebuilt when a sphere moved more
 than half the skin, the contact forces at the predicted state (:mod:`.verlet`'s pair and sphere
 functions, with no friction cap), the corrector's increments, the friction of every touching
-contact evaluated again at the corrected slip (the CPU's Gauss-Seidel sweep, in its order: the pairs,
-walked by one thread of the block, then the floor and the other walls, each sphere's by its own
-thread, which gives the same increments since a wall row changes its own sphere alone; calling the
-CPU kernels' ``corrected_friction``, kinematics and ``scatter``), the block's largest increment as the error, a
-rejected step retried shorter with the contact history restored, an accepted one corrected, its
-ledger summed by the trapezoid, a sample written where it ends on a sample boundary. The clock
-follows the CPU stepper's spans (the settling, then segments of the drive, each starting at its
-exact time).
+contact evaluated again at the corrected slip (the CPU's Gauss-Seidel sweep, in its order: the
+touching pairs' rows gathered by every thread into a compact list with what does not depend on the
+increments, then walked by one thread of the block, then the floor and the other walls, each
+sphere's by its own thread, which gives the same increments since a wall row changes its own sphere
+alone; calling the CPU kernels' ``corrected_friction``, kinematics and ``scatter``), the block's
+largest increment as the error, a rejected step retried shorter with the contact history restored,
+an accepted one corrected, its ledger summed by the trapezoid, a sample written where it ends on a
+sample boundary. The clock follows the CPU stepper's spans (the settling, then segments of the
+drive, each starting at its exact time).
 """
 
 from __future__ import annotations
@@ -62,50 +63,132 @@ def _span(k, settle, n_samples, seg, interval):
 
 
 @cuda.jit(device=True)
-def _implicit_pairs(c, n, sp, li, dlt, hs):
-    """The friction of every touching sphere pair at its corrected slip: the first part of the CPU's
-    :func:`pdamper.kernels.gear._implicit_friction`, the same rows in the same order, walked by one
-    thread (a pair's row changes the increments of two spheres, which the next rows read).
-    Returns the change of the friction power [W]."""
+def _touching(c, b, i, e, li):
+    """Whether entry ``e`` of sphere ``i``'s row is a pair the implicit friction pass corrects: owned
+    (``j > i``), touching, with friction (``c > 0``)."""
+    return li.partner[c, b, i, e] > i and li.approach_speed[c, b, i, e] != 0.0 and li.result[c, i, e, 12] > 0.0
+
+
+@cuda.jit(device=True)
+def _block_offset(red, tid, bd, m):
+    """The block's exclusive prefix sum of ``m`` over the threads, in thread order, and its total
+    (every thread calls it; a scan by doubling, one barrier a level, in two rows of ``red``)."""
+    red[0, tid] = float(m)
+    cuda.syncthreads()
+    src = 0
+    h = 1
+    while h < bd:
+        v = red[src, tid]
+        if tid >= h:
+            v += red[src, tid - h]
+        red[1 - src, tid] = v
+        cuda.syncthreads()
+        src = 1 - src
+        h *= 2
+    before = int(red[src, tid]) - m
+    total = int(red[src, bd - 1])
+    cuda.syncthreads()
+    return before, total
+
+
+@cuda.jit(device=True)
+def _gather_pairs(c, tid, bd, n, sp, li, gs, red, hs):
+    """The touching pairs' rows of the implicit friction pass, in the CPU's order (``i`` ascending,
+    then its row's entries), into the compact list ``gs.pair_rows``/``gs.pair_ends``, with what does
+    not depend on the increments (:data:`~.batch.PAIR_ROW`), each by the CPU's expression. Every
+    thread takes its spheres, a block's width of them at a time: it counts their rows, a scan over
+    the block places them after the rows of the spheres before, then it writes them. Every thread
+    of the block calls it; returns the number of rows."""
     rad = sp.radius
     inv_m = sp.inv_mass
     inv_i = sp.inv_inertia
+    rows = gs.pair_rows
+    ends = gs.pair_ends
+    b = li.buffer[c]
+    hh = 0.5 * hs * hs
+    base = 0
+    start = 0
+    while start < n:
+        i = start + tid
+        m = 0
+        if i < n:
+            for e in range(li.length[c, b, i]):
+                if _touching(c, b, i, e, li):
+                    m += 1
+        before, total = _block_offset(red, tid, bd, m)
+        if m > 0:
+            k = base + before
+            ri = rad[c, i]
+            for e in range(li.length[c, b, i]):
+                if not _touching(c, b, i, e, li):
+                    continue
+                j = li.partner[c, b, i, e]
+                r = li.result[c, i, e]
+                rj = rad[c, j]
+                tx = r[9]
+                ty = r[10]
+                tz = r[11]
+                q = rows[c, k]
+                q[0] = ri
+                q[1] = rj
+                q[2] = r[3]
+                q[3] = r[4]
+                q[4] = r[5]
+                q[5] = tx
+                q[6] = ty
+                q[7] = tz
+                q[8] = r[12]
+                q[9] = r[13]
+                q[10] = inv_m[c, i] + inv_m[c, j] + ri * ri * inv_i[c, i] + rj * rj * inv_i[c, j]
+                q[11] = math.sqrt(tx * tx + ty * ty + tz * tz)
+                q[12] = hh * inv_m[c, i]
+                q[13] = hh * inv_m[c, j]
+                q[14] = hh * inv_i[c, i] * ri
+                q[15] = hh * inv_i[c, j] * rj
+                ends[c, k, 0] = i
+                ends[c, k, 1] = j
+                k += 1
+        base += total
+        start += bd
+    return base
+
+
+@cuda.jit(device=True)
+def _implicit_pairs(c, rows, gs, dlt, hs):
+    """The friction of every touching sphere pair at its corrected slip: the first part of the CPU's
+    :func:`pdamper.kernels.gear._implicit_friction`, the same rows (:func:`_gather_pairs`' first
+    ``rows`` of the compact list) in the same order, walked by one thread (a pair's row changes the
+    increments of two spheres, which the next rows read): only what depends on the increments.
+    Returns the change of the friction power [W]."""
     dv = dlt[c, :, 0:3]
     dw = dlt[c, :, 3:6]
-    b = li.buffer[c]
     g = _C1 / hs
     a = 0.5 * _C1 * hs
-    hh = 0.5 * hs * hs
     dpf = 0.0
-    for i in range(n):
-        ri = rad[c, i]
-        for e in range(li.length[c, b, i]):
-            j = li.partner[c, b, i, e]
-            if j < i or li.approach_speed[c, b, i, e] == 0.0:
-                continue
-            r = li.result[c, i, e]
-            cf = r[12]
-            if not (cf > 0.0):
-                continue
-            rj = rad[c, j]
-            nx = r[3]
-            ny = r[4]
-            nz = r[5]
-            tx = r[9]
-            ty = r[10]
-            tz = r[11]
-            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-            dcx, dcy, dcz, dcn = pair_point_velocity(
-                g * (dv[i, 0] - dv[j, 0]), g * (dv[i, 1] - dv[j, 1]), g * (dv[i, 2] - dv[j, 2]),
-                g * (ri * dw[i, 0] + rj * dw[j, 0]), g * (ri * dw[i, 1] + rj * dw[j, 1]),
-                g * (ri * dw[i, 2] + rj * dw[j, 2]), nx, ny, nz)
-            kk = inv_m[c, i] + inv_m[c, j] + ri * ri * inv_i[c, i] + rj * rj * inv_i[c, j]
-            gx, gy, gz, fx, fy, fz = corrected_friction(cf, r[13], kk, a, tx, ty, tz,
-                                                        dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
-            dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
-                     + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
-            scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], hh * inv_m[c, j],
-                    hh * inv_i[c, i] * ri, hh * inv_i[c, j] * rj)
+    for k in range(rows):
+        i = gs.pair_ends[c, k, 0]
+        j = gs.pair_ends[c, k, 1]
+        q = gs.pair_rows[c, k]
+        ri = q[0]
+        rj = q[1]
+        nx = q[2]
+        ny = q[3]
+        nz = q[4]
+        tx = q[5]
+        ty = q[6]
+        tz = q[7]
+        cf = q[8]
+        kk = q[10]
+        vt = q[11]
+        dcx, dcy, dcz, dcn = pair_point_velocity(
+            g * (dv[i, 0] - dv[j, 0]), g * (dv[i, 1] - dv[j, 1]), g * (dv[i, 2] - dv[j, 2]),
+            g * (ri * dw[i, 0] + rj * dw[j, 0]), g * (ri * dw[i, 1] + rj * dw[j, 1]),
+            g * (ri * dw[i, 2] + rj * dw[j, 2]), nx, ny, nz)
+        gx, gy, gz, fx, fy, fz = corrected_friction(cf, q[9], kk, a, tx, ty, tz,
+                                                    dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
+        dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
+                 + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
+        scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, q[12], q[13], q[14], q[15])
     return dpf
 
 
@@ -435,12 +518,15 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
                 dlt[c, i, 3 + k] = half_h2 * ang[0, k] * ii - pred[c, 2, i, 3 + k]
             i += bd
         cuda.syncthreads()
-        # ---- the friction at the corrected slip, in the CPU's order: the pairs walked by one
-        #      thread, then each sphere's floor and walls by its own thread (a law with history, the
-        #      spring, leaves no friction rows: nothing to correct, and no block waits for the walk)
+        # ---- the friction at the corrected slip, in the CPU's order: the touching pairs' rows
+        #      gathered by every thread into a compact list, then walked by one thread, then each
+        #      sphere's floor and walls by its own thread (a law with history, the spring, leaves no
+        #      friction rows: nothing to correct, and no block waits for the walk)
         if not spring:
-            if tid == 0:
-                p_f += _implicit_pairs(c, n, sp, li, dlt, hs)
+            rows = _gather_pairs(c, tid, bd, n, sp, li, gs, red, hs)
+            cuda.syncthreads()
+            if tid == 0 and rows > 0:
+                p_f += _implicit_pairs(c, rows, gs, dlt, hs)
             cuda.syncthreads()
             i = tid
             while i < n:
