@@ -97,6 +97,21 @@ def test_gear_implicit_pair_rows_in_the_cpus_order():
     _same_nordsieck(st, batch, t, 1e-10)  # (the step control amplifies rounding: 1.6e-11 here)
 
 
+def test_gear_pair_walk_in_shared_and_in_global_memory_alike(monkeypatch):
+    """The pair walk reads and writes the increments in the block's shared memory when the bed fits
+    (``STAGED_SPHERES``), in global memory when not: the same arithmetic on the same values, so the
+    13-sphere pile's ten steps give the same bits both ways."""
+    from pdamper.kernels.gpu import gear
+
+    assert gear.STAGED_SPHERES >= 13
+    *_, staged = _step_by_step(_gear(_pile()), 10)
+    monkeypatch.setattr(gear, "STAGED_SPHERES", 4)  # (the simulator reads the kernel's globals as it runs)
+    *_, direct = _step_by_step(_gear(_pile()), 10)
+    assert int(staged.gs.pair_ends.shape[1]) > 0 and int(staged.ct.step[0]) == int(direct.ct.step[0]) == 10
+    assert np.array_equal(staged.gs.nordsieck, direct.gs.nordsieck)
+    assert np.array_equal(staged.args[0].velocity, direct.args[0].velocity)
+
+
 def test_gear_step_by_step_with_the_tangential_spring():
     """The tangential spring under Gear (springs advanced by the prediction, restored with a
     rejected step; a tight tolerance makes some): the same accepted and rejected steps and Nordsieck

@@ -37,6 +37,9 @@ __all__ = ["gear_kernel", "batch_gear", "NO_CAP"]
 
 #: The force loops' step argument that switches the explicit friction cap off (as the CPU's Gear).
 NO_CAP = 1e-300
+#: The most spheres whose increments the implicit pair walk stages in shared memory (6 doubles a
+#: sphere, 12 KiB a block); a larger bed is walked in global memory.
+STAGED_SPHERES = 256
 _C0, _C1, _C2, _C3, _C4, _C5 = GEAR_C
 
 _KERNEL = []
@@ -154,14 +157,13 @@ def _gather_pairs(c, tid, bd, n, sp, li, gs, red, hs):
 
 
 @cuda.jit(device=True)
-def _implicit_pairs(c, rows, gs, dlt, hs):
+def _implicit_pairs(c, rows, gs, dv, dw, hs):
     """The friction of every touching sphere pair at its corrected slip: the first part of the CPU's
     :func:`pdamper.kernels.gear._implicit_friction`, the same rows (:func:`_gather_pairs`' first
     ``rows`` of the compact list) in the same order, walked by one thread (a pair's row changes the
-    increments of two spheres, which the next rows read): only what depends on the increments.
-    Returns the change of the friction power [W]."""
-    dv = dlt[c, :, 0:3]
-    dw = dlt[c, :, 3:6]
+    increments of two spheres, which the next rows read): only what depends on the increments
+    ``dv``, ``dw`` (the case's, in the block's shared memory when they fit: each row reads what the
+    rows before it wrote). Returns the change of the friction power [W]."""
     g = _C1 / hs
     a = 0.5 * _C1 * hs
     dpf = 0.0
@@ -288,6 +290,7 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
     bd = cuda.blockDim.x
     flags = cuda.shared.array(6, int64)
     red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
+    inc = cuda.shared.array((STAGED_SPHERES, 6), float64)
     lin = cuda.local.array((1, 3), float64)
     ang = cuda.local.array((1, 3), float64)
     table = ContactTable(law, tlaw, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8], tb[9], tb[10])
@@ -524,10 +527,28 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
         #      friction rows: nothing to correct, and no block waits for the walk)
         if not spring:
             rows = _gather_pairs(c, tid, bd, n, sp, li, gs, red, hs)
+            # the walk's reads wait on its own writes: stage the increments in shared memory
+            staged = rows > 0 and n <= STAGED_SPHERES
+            if staged:
+                i = tid
+                while i < n:
+                    for d in range(6):
+                        inc[i, d] = dlt[c, i, d]
+                    i += bd
             cuda.syncthreads()
             if tid == 0 and rows > 0:
-                p_f += _implicit_pairs(c, rows, gs, dlt, hs)
+                if staged:
+                    p_f += _implicit_pairs(c, rows, gs, inc[:, 0:3], inc[:, 3:6], hs)
+                else:
+                    p_f += _implicit_pairs(c, rows, gs, dlt[c, :, 0:3], dlt[c, :, 3:6], hs)
             cuda.syncthreads()
+            if staged:
+                i = tid
+                while i < n:
+                    for d in range(6):
+                        dlt[c, i, d] = inc[i, d]
+                    i += bd
+                cuda.syncthreads()
             i = tid
             while i < n:
                 dfx, dfy, dfz, dpf = _implicit_walls(c, i, sp, wl, dlt, hs)
