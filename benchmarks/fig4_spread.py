@@ -31,7 +31,7 @@ from pathlib import Path
 BENCH = Path(__file__).resolve().parent
 sys.path.insert(0, str(BENCH))
 
-from gpu import read_reference  # noqa: E402
+from gpu import fig4_cases, read_reference  # noqa: E402
 
 NUDGE = 1e-12
 
@@ -51,30 +51,21 @@ def gpu_values(gpu_json):
 
 def all_strokes():
     """Every ``(setting, stroke)`` of fig4."""
-    from pdamper.studies.named import load_study
-    from pdamper.studies.sweep import STROKE, parse_axis
-
-    study = load_study("fig4")
-    grid = next(a for a in map(parse_axis, study.vary) if a.key == STROKE).values
-    return [(label, float(x)) for label, _, _ in study.settings for x in grid]
+    return [(label, x) for label, x, _ in fig4_cases(False)]
 
 
 def fig4_case(setting, stroke):
-    """fig4's case of ``setting`` at the grid stroke nearest ``stroke`` [m]: ``(stroke, case)``."""
+    """fig4's case of ``setting`` at the grid stroke nearest ``stroke`` [m] (seed 0): ``(stroke, case)``."""
     from pdamper.errors import InputError
-    from pdamper.schema import replace
-    from pdamper.studies.named import load_study
-    from pdamper.studies.sweep import STROKE, parse_axis
 
-    study = load_study("fig4")
-    grid = next(a for a in map(parse_axis, study.vary) if a.key == STROKE).values
-    x = float(min(grid, key=lambda g: abs(g - stroke)))
+    cases = fig4_cases(False)
+    x = min({c[1] for c in cases}, key=lambda g: abs(g - stroke))
     if abs(x - stroke) > 0.02 * stroke:
         raise InputError(f"--stroke {stroke * 1e3:g} mm is not on fig4's grid (nearest {x * 1e3:.4g} mm)")
-    for label, case, _ in study.settings:
-        if label == setting:
-            return x, replace(case, {STROKE: x})
-    raise InputError(f"fig4 has no setting {setting!r}; it has {[s[0] for s in study.settings]}")
+    for label, xc, case in cases:
+        if label == setting and xc == x:
+            return x, case
+    raise InputError(f"fig4 has no setting {setting!r}; it has {sorted({c[0] for c in cases})}")
 
 
 def main(argv=None):
