@@ -31,7 +31,7 @@ from pathlib import Path
 BENCH = Path(__file__).resolve().parent
 sys.path.insert(0, str(BENCH))
 
-from gpu import fig4_cases, read_reference  # noqa: E402
+from gpu import append_runs, fig4_cases, read_reference  # noqa: E402
 
 NUDGE = 1e-12
 
@@ -79,8 +79,6 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     from pdamper.schema import replace
-    from pdamper.studies.executor import execute
-    from pdamper.studies.sweep import run_one
 
     wanted = [(s, float(mm) * 1e-3) for s, mm in args.stroke]
     if args.gpu_json and not args.all:
@@ -109,20 +107,9 @@ def main(argv=None):
             if (setting, round(x, 9), kind, k) in done:
                 continue
             items.append(((setting, x, kind, k), x, 0, replace(case, change)))
-    new = not out.exists()
-    with out.open("a", newline="") as f:
-        w = csv.writer(f)
-        if new:
-            w.writerow(["setting", "stroke_m", "kind", "k", "eta_star", "steps", "failed"])
-
-        def store(key, x, seed, r):
-            setting, x, kind, k = key
-            w.writerow([setting, repr(x), kind, k, r.get("eta_star", math.nan), r.get("steps", ""),
-                        r.get("failed", "")])
-            f.flush()
-
-        if items:
-            execute(items, lambda c: run_one(c, keep="none"), store)
+    append_runs(out, ["setting", "stroke_m", "kind", "k", "eta_star", "steps", "failed"], items,
+                lambda key, r: [key[0], repr(key[1]), key[2], key[3], r.get("eta_star", math.nan),
+                                r.get("steps", ""), r.get("failed", "")])
     summarise(out, gpu_values(args.gpu_json))
 
 

@@ -440,9 +440,9 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
             cases.append(on_device(c, "cuda"))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            sims = [Simulation(c) for c in cases]
+            first = Simulation(cases[0])
             t = time.perf_counter()
-            run_on_gpu(sims[:1], compile_only=True)
+            run_on_gpu([first], compile_only=True)
             compile_s = time.perf_counter() - t
             sims = [Simulation(c) for c in cases]
             t0 = time.perf_counter()
@@ -482,30 +482,40 @@ def make_paper_reference(path=None):
     """``benchmarks/data/paper_cpu_reference.csv``: every case of :func:`paper_cases` on the CPU
     engine (all cores, as ``pdamper study``), a row written as each case finishes; a rerun skips the
     rows already there (an interrupted run keeps what finished)."""
-    from pdamper.studies.executor import execute
-    from pdamper.studies.sweep import run_one
-
     path = Path(path) if path else PAPER_REFERENCE
     done = set(read_paper_reference(path))
     items = [((label, x), x, 0, case) for label, x, case in paper_cases(False, device="cpu")
              if (label, round(x, 9)) not in done]
-    new = not path.exists()
-    path.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    with path.open("a", newline="") as f:
+    append_runs(path, ["curve", "stroke_m", "eta_star", "steps", "wall_time_s", "failed"], items,
+                lambda key, r: [key[0], repr(key[1]), f"{r['eta_star']:.6f}" if "eta_star" in r else "nan",
+                                r.get("steps", ""), f"{r['wall_time_s']:.2f}" if "wall_time_s" in r else "",
+                                " ".join(r.get("failed", "").split())])
+    print(f"{path}: {len(items)} cases run in {time.perf_counter() - t0:.0f} s ({len(done)} were there)")
+
+
+def append_runs(path, header, items, row):
+    """Run the ``(key, point, seed, case)`` of ``items`` on the CPU engine (all cores, as ``pdamper
+    study``: :func:`pdamper.studies.executor.execute`) and append ``row(key, result)`` to the CSV
+    ``path`` as each finishes (``header`` first when the file is new): an interrupted run keeps
+    what finished."""
+    from pdamper.studies.executor import execute
+    from pdamper.studies.sweep import run_one
+
+    new = not Path(path).exists()
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with Path(path).open("a", newline="") as f:
         w = csv.writer(f)
         if new:
-            w.writerow(["curve", "stroke_m", "eta_star", "steps", "wall_time_s", "failed"])
+            w.writerow(header)
+            f.flush()
 
         def store(key, x, seed, r):
-            w.writerow([key[0], repr(key[1]), f"{r['eta_star']:.6f}" if "eta_star" in r else "nan",
-                        r.get("steps", ""), f"{r['wall_time_s']:.2f}" if "wall_time_s" in r else "",
-                        " ".join(r.get("failed", "").split())])
+            w.writerow(row(key, r))
             f.flush()
 
         if items:
             execute(items, lambda c: run_one(c, keep="none"), store)
-    print(f"{path}: {len(items)} cases run in {time.perf_counter() - t0:.0f} s ({len(done)} were there)")
 
 
 def read_paper_reference(path=None):
@@ -524,7 +534,6 @@ def part_paper(tiny, deadline):
     both = paper_cases(tiny)
     curves = sorted({label for label, _, _ in both})
     cases = [c for _, _, c in both]
-    labels = [label for label, _, _ in both]
     t0 = time.perf_counter()
     seen = {"done": 0, "total": 0}
 
