@@ -10,9 +10,14 @@ what follows it), writing ``--out`` (JSON) after every part and a markdown summa
 2. ``compile``: the first GPU launch of the kernel (numba-cuda typing, NVVM, the driver's PTX JIT;
    a launch with no steps) and the compiled kernel's registers per thread, shared and local memory
    per block, the blocks an SM can hold.
-3. ``steps``: where a step's time goes: fig4's cases as one batch for ``--steps-seconds`` (10) under
-   Gear with the tanh law (the default), Gear with the tangential spring (no implicit friction
-   pass), Verlet, and the default's longest case alone: microseconds per step per block of each.
+3. ``profile``: where Gear's step spends its time, phase by phase: fig4's cases as one batch for
+   ``--profile-seconds`` (10) under the probed kernel (``pdamper.kernels.gpu.probe``: the block's
+   cycle counter read at the end of each phase): cycles per attempted step of each phase and its
+   share, the implicit walk's rows per step and cycles per row, the rebuilds.
+   ``steps``: what changes a step's cost: fig4's cases as one batch for ``--steps-seconds`` (10)
+   under Gear with the tanh law (the default), Gear with the tangential spring (no implicit friction
+   pass), Verlet, the default's longest case alone, and the default with 32 threads a block:
+   microseconds per step per block of each.
 4. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
    threads) for ``--bed-seconds`` (20): microseconds per step and per particle-step.
 5. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
@@ -63,7 +68,7 @@ ROOT = BENCH.parent
 REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
 PAPER_REFERENCE = BENCH / "data" / "paper_cpu_reference.csv"
 SPREAD = BENCH / "data" / "fig4_cpu_spread.csv"
-PARTS = ("env", "compile", "steps", "bed", "fig4", "paper")
+PARTS = ("env", "compile", "profile", "steps", "bed", "fig4", "paper")
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
 #: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
 #: still measures something, and says so).
@@ -409,11 +414,13 @@ def part_bed(tiny, seconds):
     return out
 
 
-#: The variants of :func:`part_steps`: (name, integrator, tangential law, cases).
-STEP_VARIANTS = (("gear, tanh (the default)", "gear", "tanh", "all"),
-                 ("gear, spring (no implicit friction pass)", "gear", "spring", "all"),
-                 ("verlet, tanh (no error control, no pass)", "verlet", "tanh", "all"),
-                 ("gear, tanh, one case alone", "gear", "tanh", "one"))
+#: The variants of :func:`part_steps`: (name, integrator, tangential law, cases, threads a block:
+#: None, one a sphere).
+STEP_VARIANTS = (("gear, tanh (the default)", "gear", "tanh", "all", None),
+                 ("gear, spring (no implicit friction pass)", "gear", "spring", "all", None),
+                 ("verlet, tanh (no error control, no pass)", "verlet", "tanh", "all", None),
+                 ("gear, tanh, one case alone", "gear", "tanh", "one", None),
+                 ("gear, tanh, 32 threads a block", "gear", "tanh", "all", 32))
 
 
 def part_steps(tiny, seconds, variants=STEP_VARIANTS):
@@ -421,7 +428,9 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
     ``seconds`` under each of :data:`STEP_VARIANTS`: Gear with the tanh law (the default), Gear with
     the tangential spring (whose law leaves no rows for the implicit friction pass: the difference is
     the pass's share), Verlet (no error reduction, no pass, no rejected steps), and the default's
-    longest case alone on the GPU (the batch's step against one block's: what sharing the GPU costs).
+    longest case alone on the GPU (the batch's step against one block's: what sharing the GPU costs),
+    and the default with one warp a block (two spheres a thread: fewer idle threads and barrier
+    levels, more serial work).
     Each variant's kernel compiles first (timed on its own); then microseconds per step of the
     batch's most advanced case. The window is each batch's first ``seconds`` (the settling and the
     drive's start), the same for every variant; the tangential laws' runs are other physics, so only
@@ -431,7 +440,7 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
 
     base = fig4_cases(tiny)
     out = {"seconds": seconds, "variants": {}}
-    for name, integrator, tangential, which in variants:
+    for name, integrator, tangential, which, threads in variants:
         chosen = base if which == "all" else [max(base, key=lambda c: c[1])]
         cases = []
         for _, _, case in chosen:
@@ -442,11 +451,11 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
             warnings.simplefilter("ignore")
             first = Simulation(cases[0])
             t = time.perf_counter()
-            run_on_gpu([first], compile_only=True)
+            run_on_gpu([first], compile_only=True, threads=threads)
             compile_s = time.perf_counter() - t
             sims = [Simulation(c) for c in cases]
             t0 = time.perf_counter()
-            run_on_gpu(sims, progress=lambda done, total: time.perf_counter() - t0 < seconds)
+            run_on_gpu(sims, progress=lambda done, total: time.perf_counter() - t0 < seconds, threads=threads)
             wall = time.perf_counter() - t0
         steps = max(sim.stepper.steps for sim in sims)
         v = {"cases": len(sims), "compile_s": compile_s, "wall_s": wall, "steps": steps,
@@ -454,6 +463,76 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
         out["variants"][name] = v
         print(f"steps: {name}: {len(sims)} cases, {steps} steps in {wall:.1f} s = {v['us_per_step_per_block']:.2f} "
               f"us/step per block (compile {compile_s:.1f} s)", flush=True)
+    return out
+
+
+def part_profile(tiny, seconds):
+    """Where Gear's step spends its time: fig4's cases (seed 0, one batch, Gear with the tanh law)
+    for ``seconds`` under the probed kernel (:mod:`pdamper.kernels.gpu.probe`), which reads the
+    block's cycle counter at the end of each phase of a step. Per phase: cycles per attempted step
+    (all cases' cycles over all their attempted steps) and share of the step; the implicit walk's
+    rows per attempted step and cycles per row; rebuilds per step. The probed step is a little
+    slower than the production one (a clock read holds the compiler's scheduling at it): the
+    shares are what this tells; the production kernel's time is the steps part's."""
+    import numpy as np
+
+    from pdamper.engine.cuda import run_jobs
+    from pdamper.kernels.gpu.probe import P_REBUILDS, P_ROWS, PHASES
+    from pdamper.run import on_device
+    from pdamper.simulation import Simulation
+
+    cases = []
+    for _, _, case in fig4_cases(tiny):
+        c = dataclasses.replace(case, numerics=dataclasses.replace(case.numerics, integrator="gear"))
+        cases.append(on_device(c, "cuda"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t = time.perf_counter()
+        run_jobs([Simulation(cases[0])._gpu_job()[0]], compile_only=True, probe=True)
+        compile_s = time.perf_counter() - t
+        jobs = [Simulation(c)._gpu_job()[0] for c in cases]
+        t0 = time.perf_counter()
+        outcomes = run_jobs(jobs, probe=True, progress=lambda done, total: time.perf_counter() - t0 < seconds)
+        wall = time.perf_counter() - t0
+    cyc = np.array([o.cycles for o in outcomes], dtype=float)
+    attempted = np.array([o.steps + o.rejected for o in outcomes], dtype=float)
+    tried = max(float(attempted.sum()), 1.0)
+    per_step = cyc[:, :len(PHASES)].sum(axis=0) / tried
+    total = float(per_step.sum())
+    clock_khz = None
+    if not tiny:
+        try:
+            from numba import cuda
+
+            clock_khz = float(cuda.get_current_device().CLOCK_RATE)
+        except Exception:  # noqa: BLE001  (the clock rate is a convenience: cycles are the figure)
+            clock_khz = None
+    walk = PHASES.index("implicit pair walk")
+    rows = float(cyc[:, P_ROWS].sum()) / tried
+    out = {"seconds": seconds, "cases": len(jobs), "compile_s": compile_s, "wall_s": wall,
+           "attempted_steps": int(tried), "most_steps": int(max(o.steps for o in outcomes)),
+           "rejected_share": float(sum(o.rejected for o in outcomes)) / tried,
+           "us_per_step_per_block_probed": 1e6 * wall / max(max(o.steps for o in outcomes), 1),
+           "cycles_per_attempted_step": total, "sm_clock_khz": clock_khz,
+           "us_per_attempted_step_from_cycles": 1e3 * total / clock_khz if clock_khz else None,
+           "walk_rows_per_attempted_step": rows,
+           "walk_cycles_per_row": float(per_step[walk]) / rows if rows > 0 else None,
+           "rebuilds_per_attempted_step": float(cyc[:, P_REBUILDS].sum()) / tried,
+           "phases": {name: {"cycles_per_attempted_step": float(v), "share": float(v) / total if total else 0.0}
+                      for name, v in zip(PHASES, per_step)}}
+    # each case's own step (a launch lasts as long as its slowest block): cycles and walk rows a step
+    own = cyc[:, :len(PHASES)].sum(axis=1) / np.maximum(attempted, 1.0)
+    out["per_case"] = [{"spheres": int(j.engine.n), "cycles_per_attempted_step": float(own[k]),
+                        "walk_rows_per_attempted_step": float(cyc[k, P_ROWS] / max(attempted[k], 1.0)),
+                        "walk_cycles_per_attempted_step": float(cyc[k, walk] / max(attempted[k], 1.0)),
+                        "attempted_steps": int(attempted[k])} for k, j in enumerate(jobs)]
+    out["slowest_case_cycles_per_attempted_step"] = float(own.max())
+    print(f"profile: {len(jobs)} cases, {int(tried)} attempted steps in {wall:.1f} s (probed kernel, compile "
+          f"{compile_s:.1f} s): {total:.0f} cycles per attempted step (slowest case {own.max():.0f}); walk "
+          f"{rows:.1f} rows a step", flush=True)
+    for name, v in out["phases"].items():
+        print(f"profile:   {name:34s} {v['cycles_per_attempted_step']:10.0f} cycles  {100 * v['share']:5.1f} %",
+              flush=True)
     return out
 
 
@@ -601,14 +680,16 @@ def part_ptx(kernels=("gear", "verlet"), tangential="tanh"):
     from numba import cuda
 
     from pdamper.engine.cuda import kernel_arguments
-    from pdamper.kernels.gpu.gear import batch_gear
+    from pdamper.kernels.gpu.gear import batch_gear, gear_kernel
     from pdamper.kernels.gpu.verlet import batch_verlet
     from pdamper.run import on_device
     from pdamper.simulation import Simulation
 
     _, _, case = fig4_cases(False)[0]
     out = {}
-    for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet")):
+    probed = gear_kernel(probed=True).py_func
+    for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet"),
+                                     ("gear_probed", probed, "gear")):
         if name not in kernels:
             continue
         c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator),
@@ -669,6 +750,12 @@ def markdown(data):
                      f"within the CPU's seed range at {f['within_cpu_seed_range']} of {f['compared_with_cpu']} strokes, "
                      f"within 3 std at {f['within_3_std']} (max |z| {f['max_abs_z']:.2f}, mean z {f['mean_z']:+.2f}), "
                      f"within every CPU run's range at {f.get('within_every_cpu_run', '?')}")
+    if "profile" in p:
+        q = p["profile"]
+        lines.append(f"- profile (probed Gear kernel, {q['cases']} cases): {q['cycles_per_attempted_step']:.0f} cycles per "
+                     f"attempted step; walk {q['walk_rows_per_attempted_step']:.1f} rows a step, "
+                     f"{q['walk_cycles_per_row'] or 0:.0f} cycles a row; "
+                     + ", ".join(f"{k} {100 * v['share']:.1f} %" for k, v in q["phases"].items() if v["share"] >= 0.01))
     if "steps" in p:
         for name, v in p["steps"]["variants"].items():
             lines.append(f"- steps, {name}: {v['us_per_step_per_block']:.2f} us/step per block ({v['cases']} cases, "
@@ -693,11 +780,13 @@ def main(argv=None):
     ap.add_argument("--only", nargs="+", choices=PARTS, help="run only these parts")
     ap.add_argument("--tiny", action="store_true", help="tiny cases (numba-cuda's simulator: the test suite)")
     ap.add_argument("--ptx", action="store_true", help="compile to PTX for sm_90 without a GPU; ptxas -v")
-    ap.add_argument("--ptx-kernels", default="gear,verlet", help="the kernels --ptx compiles (gear, verlet)")
+    ap.add_argument("--ptx-kernels", default="gear,verlet",
+                    help="the kernels --ptx compiles (gear, verlet, gear_probed: Gear's with the phase clock)")
     ap.add_argument("--ptx-tangential", default="tanh", choices=("tanh", "spring"),
                     help="the tangential law --ptx compiles the kernels for (contact.tangential)")
     ap.add_argument("--steps-seconds", type=float, default=10.0,
                     help="how long each variant of the steps part runs")
+    ap.add_argument("--profile-seconds", type=float, default=10.0, help="how long the profile part's batch runs")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
     ap.add_argument("--make-paper-reference", action="store_true",
                     help="write benchmarks/data/paper_cpu_reference.csv: every paper case, seed 0, on the CPU engine")
@@ -733,6 +822,8 @@ def main(argv=None):
                     report.put(part, part_compile(args.tiny))
                 elif part == "fig4":
                     report.put(part, part_fig4(args.tiny, work))
+                elif part == "profile":
+                    report.put(part, part_profile(args.tiny, min(args.profile_seconds, left)))
                 elif part == "steps":
                     report.put(part, part_steps(args.tiny, min(args.steps_seconds, left)))
                 elif part == "bed":

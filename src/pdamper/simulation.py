@@ -333,7 +333,7 @@ class Simulation:
         self.sample = self.n_samples
 
 
-def run_on_gpu(sims, *, progress=None, compile_only: bool = False) -> list:
+def run_on_gpu(sims, *, progress=None, compile_only: bool = False, threads: int | None = None) -> list:
     """Run every simulation of ``sims`` to its end together on one GPU (the GPU engine,
     :mod:`pdamper.engine.cuda`): for each, its :class:`RunRecord`, or the
     :class:`~pdamper.errors.SimulationError` of its failed step (the others go on).
@@ -342,11 +342,19 @@ def run_on_gpu(sims, *, progress=None, compile_only: bool = False) -> list:
     simulation is one the GPU engine does not run (a coupled structure, a sampled drive, a Python
     recorder, Gear): before anything runs. ``progress(done, total)`` gets the steps done between
     launches (returning False stops the batch; the unfinished cases end with a SimulationError). ``compile_only``: compile the kernel (a launch with no steps) and return ``[]``.
+    ``threads``: threads per block (default: the smallest multiple of 32 that gives each sphere its
+    own thread, at most the kernels' largest block).
     """
     from .engine.cuda import require, run_jobs
     from .errors import SimulationError
 
     require()
+    if threads is not None:
+        from .kernels.gpu.verlet import MAX_THREADS
+
+        if not (isinstance(threads, int) and 1 <= threads <= MAX_THREADS):
+            raise InputError(f"threads = {threads!r}: a block of the GPU engine has 1 to {MAX_THREADS} threads "
+                             "(whole warps, multiples of 32, use the GPU best); leave it out for one thread a sphere")
     jobs = []
     for k, sim in enumerate(sims):
         job, why = sim._gpu_job()
@@ -355,7 +363,7 @@ def run_on_gpu(sims, *, progress=None, compile_only: bool = False) -> list:
         jobs.append(job)
     if not jobs:
         return []
-    outcomes = run_jobs(jobs, progress=progress, compile_only=compile_only)
+    outcomes = run_jobs(jobs, progress=progress, compile_only=compile_only, threads=threads)
     if compile_only:
         return []
     out = []

@@ -73,6 +73,9 @@ class GpuOutcome:
     sums: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rejected: int = 0
     h_next: float = math.nan
+    #: under ``run_jobs(probe=True)``: the probed Gear kernel's cycles in each phase of a step, then
+    #: its counts (:mod:`pdamper.kernels.gpu.probe`); empty otherwise
+    cycles: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
 
 def numpy_aliases_for_numba_cuda() -> None:
@@ -157,7 +160,7 @@ def _group_key(job):
 
 
 def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
-             progress=None, compile_only: bool = False) -> list[GpuOutcome]:
+             progress=None, compile_only: bool = False, probe: bool = False) -> list[GpuOutcome]:
     """Run every job to its end on the GPU (or numba-cuda's simulator); fill its samples and leave
     its final state in its engine's bodies.
 
@@ -169,12 +172,14 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
     each round ``progress(done, total)`` is called with the steps done, and returning False stops:
     the unfinished cases end with :data:`STATUS_STOPPED`); ``max_launch_steps`` caps the steps of a
     launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
+    ``probe``: Gear's jobs run the probed kernel, which times each phase of a step
+    (:mod:`pdamper.kernels.gpu.probe`; each outcome's ``cycles``): a profile, not a production run.
     """
     groups = {}
     for k, job in enumerate(jobs):
         key = _group_key(job) + (threads or threads_for(job.engine.n),)
         groups.setdefault(key, []).append(k)
-    batches = [_Batch([jobs[k] for k in idx], threads or key[-1]) for key, idx in groups.items()]
+    batches = [_Batch([jobs[k] for k in idx], threads or key[-1], probe) for key, idx in groups.items()]
     t_start = time.perf_counter()
     if compile_only:
         for b in batches:
@@ -211,7 +216,7 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
 class _Batch:
     """One group of jobs packed for one kernel: its bundles on the GPU, its stream, its progress."""
 
-    def __init__(self, jobs, threads):
+    def __init__(self, jobs, threads, probe=False):
         from ..kernels.gpu.targets import SIMULATOR
         from ..kernels.gpu.verlet import verlet_kernel
 
@@ -239,7 +244,7 @@ class _Batch:
             self.gs, self.gc = _device(gs), _device(gc)
             self.args += [self.gs, self.gc]
             self.total = gc.spans.copy()
-            self.kernel = gear_kernel()
+            self.kernel = gear_kernel(probed=probe)
         else:
             self.kernel = verlet_kernel()
 
@@ -282,7 +287,8 @@ class _Batch:
                     status = STATUS_STOPPED
                 out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
                                       t_fail=float(gc_h.t[c]), wall_time_s=wall, batch=batch, sums=sums[:3],
-                                      rejected=int(gc_h.rejected[c]), h_next=float(gc_h.h[c])))
+                                      rejected=int(gc_h.rejected[c]), h_next=float(gc_h.h[c]),
+                                      cycles=gc_h.cycles[c].copy()))
                 continue
             fail = int(ct_h.fail_step[c])
             if status == 0 and ct_h.step[c] < self.total[c]:
@@ -311,6 +317,7 @@ def _pack_gear(jobs, sp, li, wl, bd, history):
     the saved history (with the tangential history's rows under a law that keeps one), the clock at
     the start of the first span."""
     from ..kernels.gpu.batch import PAIR_ROW, GearClock, GearState, pair_row_capacity
+    from ..kernels.gpu.probe import PROBES
 
     C, N = sp.position.shape[:2]
     K = li.partner.shape[3]
@@ -318,7 +325,7 @@ def _pack_gear(jobs, sp, li, wl, bd, history):
     rows = SAVED_HISTORY_ROWS if history else 2
     # the implicit friction pass's compact rows (none under a law with history: that pass is skipped)
     P = 1 if history else pair_row_capacity(N, K)
-    gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), predicted=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
+    gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
                    saved_pair=np.zeros((C, rows, N, K)), saved_wall=np.zeros((C, rows, N, W)),
                    anchor=np.zeros((C, N, 6)), integrands=np.zeros((C, bd, 4)), pair_rows=np.zeros((C, P, PAIR_ROW)),
                    pair_ends=np.zeros((C, P, 2), dtype=np.int64))
@@ -334,7 +341,7 @@ def _pack_gear(jobs, sp, li, wl, bd, history):
                    h_min=np.array([j.h_min for j in jobs]), h_max=np.array([j.h_max for j in jobs]),
                    settle_samples=settle, n_samples=n, segment_samples=seg, spans=spans,
                    span=np.zeros(C, dtype=np.int64), t=t0, h=h0.copy(), hs=h0.copy(),
-                   rejected=np.zeros(C, dtype=np.int64))
+                   rejected=np.zeros(C, dtype=np.int64), cycles=np.zeros((C, PROBES), dtype=np.int64))
     return gs, gc
 
 

@@ -72,7 +72,7 @@ def test_step_cost_part_runs_in_the_simulator():
     """The steps part on a tiny case, one variant (Verlet, one case: the cheapest in the simulator):
     it compiles, runs for its window and reports the steps and the cost of one."""
     mod = _module()
-    out = mod.part_steps(True, 0.5, variants=(("verlet alone", "verlet", "tanh", "one"),))
+    out = mod.part_steps(True, 0.5, variants=(("verlet alone", "verlet", "tanh", "one", None),))
     v = out["variants"]["verlet alone"]
     assert v["cases"] == 1 and v["steps"] > 0
     assert v["us_per_step_per_block"] == pytest.approx(1e6 * v["wall_s"] / v["steps"])
@@ -94,3 +94,16 @@ def test_paper_part_compares_with_the_cpu_reference(tmp_path, monkeypatch):
     for d in out["per_curve"].values():
         assert d["compared"] == 1 and -0.5 < d["mean_dev_vs_cpu"] < 0.5
         assert d["rms_dev_vs_cpu"] == pytest.approx(abs(d["mean_dev_vs_cpu"]))
+
+
+def test_profile_part_runs_in_the_simulator():
+    """The profile part on the tiny case (Gear, the probed kernel): every phase a step runs is
+    counted, the shares add up to the whole step, the walk's rows are counted."""
+    mod = _module()
+    out = mod.part_profile(True, 0.5)
+    assert out["cases"] == 2 and out["attempted_steps"] > 0
+    shares = [v["share"] for v in out["phases"].values()]
+    assert sum(shares) == pytest.approx(1.0)
+    for phase in ("pair laws", "sphere forces, increments", "error norm", "accepted step: correct, ledger"):
+        assert out["phases"][phase]["cycles_per_attempted_step"] > 0, phase
+    assert out["walk_rows_per_attempted_step"] >= 0.0

@@ -97,10 +97,10 @@ def test_gear_implicit_pair_rows_in_the_cpus_order():
     _same_nordsieck(st, batch, t, 1e-10)  # (the step control amplifies rounding: 1.6e-11 here)
 
 
-def test_gear_pair_walk_in_shared_and_in_global_memory_alike(monkeypatch):
-    """The pair walk reads and writes the increments in the block's shared memory when the bed fits
-    (``STAGED_SPHERES``), in global memory when not: the same arithmetic on the same values, so the
-    13-sphere pile's ten steps give the same bits both ways."""
+def test_gear_increments_in_shared_and_in_global_memory_alike(monkeypatch):
+    """The block keeps the corrector's increments (the pair walk reads and writes them) in its
+    shared memory when the bed fits (``STAGED_SPHERES``), in global memory when not: the same
+    arithmetic on the same values, so the 13-sphere pile's ten steps give the same bits both ways."""
     from pdamper.kernels.gpu import gear
 
     assert gear.STAGED_SPHERES >= 13
@@ -161,3 +161,29 @@ def test_an_overlap_in_a_rejected_step_is_forgotten_with_it():
 
 def case_tol(case):
     return case.numerics.gear_tolerance
+
+
+def test_gear_kernel_gives_the_same_bits_run_after_run():
+    """A 4 x 3 pile (18 spheres, up to 23 touching pairs) on 3 threads, 100 steps in launches of 25,
+    twice: the same bits. The simulator runs each GPU thread as a Python thread and switches between
+    them at random, so a missing barrier (a thread reading what another has not written yet) shows
+    as runs that differ: once the pair walk started before every thread had written its rows (the
+    two runs parted at step 75)."""
+    from pdamper.engine.cuda import _Batch
+    from pdamper.simulation import Simulation
+
+    case = _gear(_pile(4, 3))
+    runs = []
+    for _ in range(2):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sim = Simulation(case)
+        batch = _Batch([sim._gpu_job()[0]], 3)
+        for _ in range(4):
+            batch.launch(25)
+        runs.append(batch)
+    a, b = runs
+    assert int(a.ct.step[0]) == int(b.ct.step[0]) >= 90 and int(a.ct.status[0]) == 0
+    assert int(a.gs.pair_ends.shape[1]) >= 20
+    assert np.array_equal(a.gs.nordsieck, b.gs.nordsieck)
+    assert np.array_equal(a.ct.partials, b.ct.partials)

@@ -159,8 +159,8 @@ class GearState(NamedTuple):
     """Gear's Nordsieck vectors of every case and what a rejected step restores."""
 
     nordsieck: np.ndarray         #: (C, 6, N, 6) scaled derivatives of position and angle
-    predicted: np.ndarray         #: (C, 6, N, 6) the prediction of the current step
-    increments: np.ndarray        #: (C, N, 6) the corrector's increments (position, angle)
+    increments: np.ndarray        #: (C, N, 6) the corrector's increments (position, angle) of a bed larger
+                                  #: than gear.STAGED_SPHERES (a smaller one's are in shared memory)
     saved_pair: np.ndarray        #: (C, R, N, K) the rows' history before the step: approach speed, damping,
                                   #: then the tangential history's columns (R = SAVED_HISTORY_ROWS; 2: none)
     saved_wall: np.ndarray        #: (C, R, N, W) the walls' history before the step
@@ -193,3 +193,5 @@ class GearClock(NamedTuple):
     h: np.ndarray                 #: (C,) the next step to try [s]
     hs: np.ndarray                #: (C,) the step the Nordsieck vector is scaled to [s]
     rejected: np.ndarray          #: (C,) int: rejected steps
+    cycles: np.ndarray            #: (C, PROBES) int: the probed kernel's cycles in each phase of a step, and its
+                                  #: counts (:mod:`.probe`; zeros under the production kernel)

@@ -15,6 +15,11 @@ largest increment as the error, a rejected step retried shorter with the contact
 an accepted one corrected, its ledger summed by the trapezoid, a sample written where it ends on a
 sample boundary. The clock follows the CPU stepper's spans (the settling, then segments of the
 drive, each starting at its exact time).
+
+Where the memory is: the corrector's increments live in the block's shared memory when the bed
+fits (:data:`STAGED_SPHERES`; a larger bed's in global memory, with the same arithmetic), and the
+prediction is not stored but recomputed from the Nordsieck vector where the step needs it (the same
+operations on the same values: the same bits), a few additions against a round trip to memory.
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ from ..gear import (GEAR_C, floor_friction_step, next_step, predict_dof, shorter
                     wall_friction_step)
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_PRIMED, FLAG_STARTED
+from .probe import P_REBUILDS, P_ROWS, clock, lap
 from .verlet import (MAX_THREADS, REDUCED, _motion, _pair_laws, _prime_contacts, _rebuild, _record_sample,
                      _sphere_force)
 
@@ -37,19 +43,38 @@ __all__ = ["gear_kernel", "batch_gear", "NO_CAP"]
 
 #: The force loops' step argument that switches the explicit friction cap off (as the CPU's Gear).
 NO_CAP = 1e-300
-#: The most spheres whose increments the implicit pair walk stages in shared memory (6 doubles a
-#: sphere, 12 KiB a block); a larger bed is walked in global memory.
-STAGED_SPHERES = 256
+#: The most spheres whose corrector increments a block keeps in its shared memory (6 doubles a
+#: sphere, 3 KiB a block: the implicit pair walk reads what the rows before it wrote, the error
+#: norm, the walls' pass and the correction read them); a larger bed keeps them in global memory.
+#: Shared memory a block takes is L1 cache its multiprocessor loses, and the step's working set
+#: (the rows, the results, the spills) lives in L1: on an H200, fig4's batch took 51.1 us a step
+#: with 3 KiB here, 51.4 with 12 KiB, 53.8 with the kernel before (12 KiB, the prediction stored in
+#: global memory), and 57.1 against that kernel's 54.0 with 13.5 KiB more for the Nordsieck vector
+#: (docs/performance.md).
+STAGED_SPHERES = 64
 _C0, _C1, _C2, _C3, _C4, _C5 = GEAR_C
+#: Whether the kernel times its phases (:mod:`.probe`): a constant of the compiled kernel, False in
+#: the production kernel (its probes folded away); :func:`gear_kernel` ``(probed=True)`` compiles the
+#: same source with it True.
+PROBED = False
 
-_KERNEL = []
+_KERNEL = {}
 
 
-def gear_kernel():
-    """The batch Gear kernel (compiled when first launched, once per damping law; disk-cached)."""
-    if not _KERNEL:
-        _KERNEL.append(cuda.jit(cache=True)(batch_gear))
-    return _KERNEL[0]
+def gear_kernel(probed: bool = False):
+    """The batch Gear kernel (compiled when first launched, once per damping law; disk-cached), or
+    with ``probed`` its twin that times each phase of a step (:mod:`.probe`; not cached: numba's
+    cache keys a kernel by its function's name and source, which the twins share)."""
+    if probed not in _KERNEL:
+        if probed:
+            import types
+
+            twin = types.FunctionType(batch_gear.__code__, dict(batch_gear.__globals__, PROBED=True),
+                                      "batch_gear_probed")
+            _KERNEL[probed] = cuda.jit(twin)
+        else:
+            _KERNEL[probed] = cuda.jit(cache=True)(batch_gear)
+    return _KERNEL[probed]
 
 
 @cuda.jit(device=True)
@@ -195,7 +220,7 @@ def _implicit_pairs(c, rows, gs, dv, dw, hs):
 
 
 @cuda.jit(device=True)
-def _implicit_walls(c, i, sp, wl, dlt, hs):
+def _implicit_walls(c, i, sp, wl, dl, hs):
     """The friction of sphere ``i``'s floor and other walls at their corrected slip: the rest of the
     CPU's :func:`pdamper.kernels.gear._implicit_friction`. A wall row changes its own sphere's
     increments alone, so each thread takes its spheres after all pair rows, in the CPU's order for
@@ -204,8 +229,8 @@ def _implicit_walls(c, i, sp, wl, dlt, hs):
     rad = sp.radius
     inv_m = sp.inv_mass
     inv_i = sp.inv_inertia
-    dv = dlt[c, :, 0:3]
-    dw = dlt[c, :, 3:6]
+    dv = dl[:, 0:3]
+    dw = dl[:, 3:6]
     g = _C1 / hs
     a = 0.5 * _C1 * hs
     hh = 0.5 * hs * hs
@@ -250,13 +275,22 @@ def _implicit_walls(c, i, sp, wl, dlt, hs):
 
 
 @cuda.jit(device=True)
-def _rescale(nord, c, i, d, ratio):
-    """Degree of freedom ``d`` of sphere ``i``'s Nordsieck vector rescaled to a step ``ratio`` times
-    the last (row q by ``ratio**q``, the CPU's ``_rescale``)."""
+def _rescale(nv, i, d, ratio):
+    """Degree of freedom ``d`` of sphere ``i``'s Nordsieck vector ``nv`` (the case's) rescaled to a
+    step ``ratio`` times the last (row q by ``ratio**q``, the CPU's ``_rescale``)."""
     f = 1.0
     for k in range(1, 6):
         f *= ratio
-        nord[c, k, i, d] *= f
+        nv[k, i, d] *= f
+
+
+@cuda.jit(device=True)
+def _predicted(nv, i, d):
+    """Degree of freedom ``d`` of sphere ``i``'s Nordsieck vector ``nv`` predicted a step on (the
+    CPU's ``predict_dof``): recomputed where the step needs it instead of stored and read back, a
+    few additions against a global-memory round trip (the same operations on the same values: the
+    same bits)."""
+    return predict_dof(nv[0, i, d], nv[1, i, d], nv[2, i, d], nv[3, i, d], nv[4, i, d], nv[5, i, d])
 
 
 @cuda.jit(device=True)
@@ -305,8 +339,6 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
     inv_m = sp.inv_mass
     inv_i = sp.inv_inertia
     nord = gs.nordsieck
-    pred = gs.predicted
-    dlt = gs.increments
     gvx = mo.gravity[c, 0]
     gvy = mo.gravity[c, 1]
     gvz = mo.gravity[c, 2]
@@ -345,9 +377,19 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
     cuda.syncthreads()
     if flags[0] != STATUS_OK:
         return
+    # the case's Nordsieck vector; its increments in shared memory when the bed fits
+    nv = nord[c]
+    if n <= STAGED_SPHERES:
+        dl = inc
+    else:
+        dl = gs.increments[c]
     status = STATUS_OK
     culprit = -1
     done = 0
+    cyc = gc.cycles
+    tick = 0
+    if PROBED:
+        tick = clock()
     t0, t_end, recording = _span(span, settle, n_samples, seg, ts)
     while span < n_spans and done < max_steps:
         # ---- a span ends: the next one starts at its exact time (the CPU stepper's next call)
@@ -363,7 +405,7 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
                 i = tid
                 while i < n:
                     for k in range(3):
-                        nord[c, 1, i, k] = nord[c, 1, i, k] - hs * mo.jump[c, k]
+                        nv[1, i, k] = nv[1, i, k] - hs * mo.jump[c, k]
                     i += bd
             i = tid
             while i < n:
@@ -394,18 +436,18 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
                 for k in range(3):
                     gk = gvx if k == 0 else (gvy if k == 1 else gvz)
                     dk = dvx if k == 0 else (dvy if k == 1 else dvz)
-                    nord[c, 0, i, k] = pos[c, i, k]
-                    nord[c, 1, i, k] = hs * vel[c, i, k]
-                    nord[c, 2, i, k] = 0.5 * hs * hs * (lin[0, k] * im + gk - ac * dk)
-                    nord[c, 0, i, 3 + k] = 0.0
-                    nord[c, 1, i, 3 + k] = hs * omg[c, i, k]
-                    nord[c, 2, i, 3 + k] = 0.5 * hs * hs * ang[0, k] * ii
+                    nv[0, i, k] = pos[c, i, k]
+                    nv[1, i, k] = hs * vel[c, i, k]
+                    nv[2, i, k] = 0.5 * hs * hs * (lin[0, k] * im + gk - ac * dk)
+                    nv[0, i, 3 + k] = 0.0
+                    nv[1, i, 3 + k] = hs * omg[c, i, k]
+                    nv[2, i, 3 + k] = 0.5 * hs * hs * ang[0, k] * ii
                     for q in range(3, 6):
-                        nord[c, q, i, k] = 0.0
-                        nord[c, q, i, 3 + k] = 0.0
+                        nv[q, i, k] = 0.0
+                        nv[q, i, 3 + k] = 0.0
                 if spring:
                     for d in range(6):
-                        anchor[c, i, d] = nord[c, 0, i, d]
+                        anchor[c, i, d] = nv[0, i, d]
                 i += bd
             if status != STATUS_OK:
                 flags[0] = status
@@ -422,20 +464,27 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
         if hh != hs:
             ratio = hh / hs
             hs = hh
+        if PROBED:
+            tick = lap(cyc, c, tid, 0, tick)
         # ---- neighbour rows at the current positions (the Nordsieck vector's first row)
         disp = 0.0
         i = tid
         while i < n:
-            dx = nord[c, 0, i, 0] - sp.reference[c, i, 0]
-            dy = nord[c, 0, i, 1] - sp.reference[c, i, 1]
-            dz = nord[c, 0, i, 2] - sp.reference[c, i, 2]
+            dx = nv[0, i, 0] - sp.reference[c, i, 0]
+            dy = nv[0, i, 1] - sp.reference[c, i, 1]
+            dz = nv[0, i, 2] - sp.reference[c, i, 2]
             disp = max(disp, dx * dx + dy * dy + dz * dz)
             i += bd
-        if _block_max(red, tid, bd, disp) > skin2:
+        rebuild = _block_max(red, tid, bd, disp) > skin2
+        if PROBED:
+            tick = lap(cyc, c, tid, 1, tick)
+        if rebuild:
+            if PROBED and tid == 0:
+                cyc[c, P_REBUILDS] += 1
             i = tid
             while i < n:
                 for k in range(3):
-                    pos[c, i, k] = nord[c, 0, i, k]
+                    pos[c, i, k] = nv[0, i, k]
                 i += bd
             cuda.syncthreads()
             st, cu = _rebuild(c, tid, bd, n, sp, li, table.modulus, nmat[c], row0[c], tlaw)
@@ -449,9 +498,11 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
                     i = tid
                     while i < n:
                         for d in range(6):
-                            _rescale(nord, c, i, d, ratio)
+                            _rescale(nv, i, d, ratio)
                         i += bd
                 break
+            if PROBED:
+                tick = lap(cyc, c, tid, 2, tick)
         # ---- rescale, predict, unpack; the contact history as it was
         inv_h = 1.0 / hs
         b = li.buffer[c]
@@ -459,22 +510,16 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
         while i < n:
             for d in range(6):
                 if ratio != 1.0:
-                    _rescale(nord, c, i, d, ratio)
-                p0, p1, p2, p3, p4, p5 = predict_dof(nord[c, 0, i, d], nord[c, 1, i, d], nord[c, 2, i, d],
-                                                     nord[c, 3, i, d], nord[c, 4, i, d], nord[c, 5, i, d])
-                pred[c, 0, i, d] = p0
-                pred[c, 1, i, d] = p1
-                pred[c, 2, i, d] = p2
-                pred[c, 3, i, d] = p3
-                pred[c, 4, i, d] = p4
-                pred[c, 5, i, d] = p5
+                    _rescale(nv, i, d, ratio)
+                p0, p1, p2, p3, p4, p5 = _predicted(nv, i, d)
+                if d < 3:
+                    pos[c, i, d] = p0
+                    vel[c, i, d] = p1 * inv_h
+                else:
+                    omg[c, i, d - 3] = p1 * inv_h
                 if spring:
                     # what the springs advance by: this prediction against the one they were last advanced at
                     mv[c, i, d] = p0 - anchor[c, i, d]
-            for k in range(3):
-                pos[c, i, k] = pred[c, 0, i, k]
-                vel[c, i, k] = pred[c, 1, i, k] * inv_h
-                omg[c, i, k] = pred[c, 1, i, 3 + k] * inv_h
             for e in range(li.length[c, b, i]):
                 gs.saved_pair[c, 0, i, e] = li.approach_speed[c, b, i, e]
                 gs.saved_pair[c, 1, i, e] = li.damping[c, b, i, e]
@@ -490,11 +535,15 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             i += bd
         tn = t + hs
         cuda.syncthreads()
+        if PROBED:
+            tick = lap(cyc, c, tid, 3, tick)
         # ---- forces at the prediction (no friction cap), the corrector's increments; this attempt's
         #      own status (compute_forces' on the CPU): an overlap at a rejected step's prediction is
         #      forgotten with the step, it stops the case only when the step is accepted
         p_n, p_f, e_f, status, culprit = _pair_laws(c, tid, bd, n, sp, li, table, NO_CAP, hs)
         cuda.syncthreads()
+        if PROBED:
+            tick = lap(cyc, c, tid, 4, tick)
         xc, vc, ac = _motion(mo, c, tn)
         half_h2 = 0.5 * hs * hs
         fwx = 0.0
@@ -517,62 +566,57 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             for k in range(3):
                 gk = gvx if k == 0 else (gvy if k == 1 else gvz)
                 dk = dvx if k == 0 else (dvy if k == 1 else dvz)
-                dlt[c, i, k] = half_h2 * (lin[0, k] * im + gk - ac * dk) - pred[c, 2, i, k]
-                dlt[c, i, 3 + k] = half_h2 * ang[0, k] * ii - pred[c, 2, i, 3 + k]
+                dl[i, k] = half_h2 * (lin[0, k] * im + gk - ac * dk) - _predicted(nv, i, k)[2]
+                dl[i, 3 + k] = half_h2 * ang[0, k] * ii - _predicted(nv, i, 3 + k)[2]
             i += bd
         cuda.syncthreads()
+        if PROBED:
+            tick = lap(cyc, c, tid, 5, tick)
         # ---- the friction at the corrected slip, in the CPU's order: the touching pairs' rows
         #      gathered by every thread into a compact list, then walked by one thread, then each
         #      sphere's floor and walls by its own thread (a law with history, the spring, leaves no
         #      friction rows: nothing to correct, and no block waits for the walk)
         if not spring:
             rows = _gather_pairs(c, tid, bd, n, sp, li, gs, red, hs)
-            # the walk's reads wait on its own writes: stage the increments in shared memory
-            staged = rows > 0 and n <= STAGED_SPHERES
-            if staged:
-                i = tid
-                while i < n:
-                    for d in range(6):
-                        inc[i, d] = dlt[c, i, d]
-                    i += bd
-            cuda.syncthreads()
+            cuda.syncthreads()  # every thread's rows written before the walk reads them
+            if PROBED:
+                tick = lap(cyc, c, tid, 6, tick)
+                if tid == 0:
+                    cyc[c, P_ROWS] += rows
+            # (the walk's reads wait on its own writes: the increments are in shared memory when they fit)
             if tid == 0 and rows > 0:
-                if staged:
-                    p_f += _implicit_pairs(c, rows, gs, inc[:, 0:3], inc[:, 3:6], hs)
-                else:
-                    p_f += _implicit_pairs(c, rows, gs, dlt[c, :, 0:3], dlt[c, :, 3:6], hs)
+                p_f += _implicit_pairs(c, rows, gs, dl[:, 0:3], dl[:, 3:6], hs)
             cuda.syncthreads()
-            if staged:
-                i = tid
-                while i < n:
-                    for d in range(6):
-                        dlt[c, i, d] = inc[i, d]
-                    i += bd
-                cuda.syncthreads()
+            if PROBED:
+                tick = lap(cyc, c, tid, 7, tick)
             i = tid
             while i < n:
-                dfx, dfy, dfz, dpf = _implicit_walls(c, i, sp, wl, dlt, hs)
+                dfx, dfy, dfz, dpf = _implicit_walls(c, i, sp, wl, dl, hs)
                 fwx += dfx
                 fwy += dfy
                 fwz += dfz
                 p_f += dpf
                 i += bd
             cuda.syncthreads()
+            if PROBED:
+                tick = lap(cyc, c, tid, 8, tick)
         # ---- the error: the block's largest increment
         err = 0.0
         i = tid
         while i < n:
             ri = rad[c, i]
             for k in range(3):
-                if math.fabs(dlt[c, i, k]) > err:
-                    err = math.fabs(dlt[c, i, k])
-                if math.fabs(dlt[c, i, 3 + k]) * ri > err:
-                    err = math.fabs(dlt[c, i, 3 + k]) * ri
+                if math.fabs(dl[i, k]) > err:
+                    err = math.fabs(dl[i, k])
+                if math.fabs(dl[i, 3 + k]) * ri > err:
+                    err = math.fabs(dl[i, 3 + k]) * ri
             i += bd
         if not (err < 1e300):
             err = math.inf
         err = _block_max(red, tid, bd, err)
         done += 1
+        if PROBED:
+            tick = lap(cyc, c, tid, 9, tick)
         if not (err < 1e300):
             status = STATUS_NAN
             if tid == 0:
@@ -599,20 +643,23 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             h = shorter_step(hs, tol, err, h_min)
             rejected += 1
             cuda.syncthreads()
+            if PROBED:
+                tick = lap(cyc, c, tid, 10, tick)
             continue
         # ---- accept: correct the prediction into the Nordsieck vector
         i = tid
         while i < n:
             for d in range(6):
-                dd = dlt[c, i, d]
-                nord[c, 0, i, d] = pred[c, 0, i, d] + _C0 * dd
-                nord[c, 1, i, d] = pred[c, 1, i, d] + _C1 * dd
-                nord[c, 2, i, d] = pred[c, 2, i, d] + _C2 * dd
-                nord[c, 3, i, d] = pred[c, 3, i, d] + _C3 * dd
-                nord[c, 4, i, d] = pred[c, 4, i, d] + _C4 * dd
-                nord[c, 5, i, d] = pred[c, 5, i, d] + _C5 * dd
+                dd = dl[i, d]
+                p0, p1, p2, p3, p4, p5 = _predicted(nv, i, d)
+                nv[0, i, d] = p0 + _C0 * dd
+                nv[1, i, d] = p1 + _C1 * dd
+                nv[2, i, d] = p2 + _C2 * dd
+                nv[3, i, d] = p3 + _C3 * dd
+                nv[4, i, d] = p4 + _C4 * dd
+                nv[5, i, d] = p5 + _C5 * dd
                 if spring:
-                    anchor[c, i, d] = pred[c, 0, i, d]
+                    anchor[c, i, d] = p0
             i += bd
         t = tn
         steps += 1
@@ -632,6 +679,8 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             flags[3] = culprit
         h = next_step(hs, h, tol, err, h_min, h_max)
         cuda.syncthreads()
+        if PROBED:
+            tick = lap(cyc, c, tid, 11, tick)
         if flags[0] != STATUS_OK:
             break
         # ---- a sample ends on this step: the block's sums, the energies, a frame
@@ -640,22 +689,24 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             i = tid
             while i < n:
                 for k in range(3):
-                    pos[c, i, k] = nord[c, 0, i, k]
-                    vel[c, i, k] = nord[c, 1, i, k] * inv_h
-                    omg[c, i, k] = nord[c, 1, i, 3 + k] * inv_h
+                    pos[c, i, k] = nv[0, i, k]
+                    vel[c, i, k] = nv[1, i, k] * inv_h
+                    omg[c, i, k] = nv[1, i, 3 + k] * inv_h
                 i += bd
             cuda.syncthreads()
             _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_n, s_f, xc, vc, spring)
             s_i = 0.0
+            if PROBED:
+                tick = lap(cyc, c, tid, 12, tick)
     # ---- the state in the bodies (once there is a Nordsieck vector); the clock, the flags and the
     #      running sums for the next launch
     if flags[4] != 0:
         i = tid
         while i < n:
             for k in range(3):
-                pos[c, i, k] = nord[c, 0, i, k]
-                vel[c, i, k] = nord[c, 1, i, k] * (1.0 / hs)
-                omg[c, i, k] = nord[c, 1, i, 3 + k] * (1.0 / hs)
+                pos[c, i, k] = nv[0, i, k]
+                vel[c, i, k] = nv[1, i, k] * (1.0 / hs)
+                omg[c, i, k] = nv[1, i, 3 + k] * (1.0 / hs)
             i += bd
     ct.partials[c, tid, 0] = s_w
     ct.partials[c, tid, 1] = s_n
