@@ -659,6 +659,21 @@ def part_paper(tiny, deadline):
     return out
 
 
+class _unrefused:
+    """Within it, the GPU engine refuses nothing (``pdamper.engine.cuda.refusal`` says None): for
+    compiling a refused kernel to PTX, which runs nothing."""
+
+    def __enter__(self):
+        import pdamper.engine.cuda as engine
+
+        self.engine, self.refusal = engine, engine.refusal
+        engine.refusal = lambda *args, **kwargs: None
+
+    def __exit__(self, *exc):
+        self.engine.refusal = self.refusal
+        return False
+
+
 def part_ptx(kernels=("gear", "verlet"), tangential="tanh"):
     """The kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
     local CUDA toolkit's NVVM), and ``ptxas -v``'s registers, spills and shared memory (when ptxas
@@ -697,7 +712,10 @@ def part_ptx(kernels=("gear", "verlet"), tangential="tanh"):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sim = Simulation(on_device(c, "cuda"))
-        job, _ = sim._gpu_job()
+        # (the GPU engine refuses Gear with the spring on a GPU, for a fault not yet found; its kernel is
+        # compiled here all the same: reading it is how that fault is studied)
+        with _unrefused():
+            job, _ = sim._gpu_job()
         args, _ = kernel_arguments([job])
         # the output arrays as the GPU has them (C-contiguous; off the simulator the packing leaves only their shapes)
         args[8] = args[8]._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)),

@@ -287,7 +287,7 @@ class Simulation:
 
         if self._settled or self.sample:
             raise InputError("a simulation that has started on the CPU cannot go on on the GPU")
-        why = refusal(self.engine, any(r.every > 0 for r in self.recorders))
+        why = refusal(self.engine, any(r.every > 0 for r in self.recorders), gear=self.stepper.rejected is not None)
         if why is not None:
             return None, why
         if self.n_samples < 2:

@@ -119,14 +119,23 @@ def require() -> None:
         raise InputError(f"--device cuda needs an NVIDIA GPU and numba-cuda ({GPU_HINT}); none found: {why}")
 
 
-def refusal(engine, python_recorders: bool = False) -> str | None:
-    """Why the GPU engine does not run this case (None: it does), and how to run it on the CPU."""
+def refusal(engine, python_recorders: bool = False, gear: bool = False) -> str | None:
+    """Why the GPU engine does not run this case (None: it does), and how to run it on the CPU.
+    ``gear``: the case runs Gear's integrator."""
+    from ..kernels.gpu.targets import SIMULATOR
+
     how = "; run it on the CPU (device = \"cpu\", the default)"
     if not is_parametric(engine.drive.kind):  # the kernels move the container by (kind, parameters, t) alone
         return ("the GPU engine runs harmonic drives (and a container at rest); a coupled structure or a motion "
                 "given as samples is not on the GPU yet" + how)
     if python_recorders:
         return "the GPU engine records the kernel channels only; a Python recorder (every > 0) is not on the GPU" + how
+    if gear and keeps_history(engine.table.tangential) and not SIMULATOR:
+        # the same kernel runs right in numba-cuda's simulator (tests/kernels/gpu); on a GPU it writes out of
+        # bounds in its first launch (compute-sanitizer on an H200, 2026-11-26: docs/performance.md)
+        return ("Gear's GPU kernel with the tangential spring (contact.tangential = \"spring\") is refused: on a GPU "
+                "it faults (an out-of-bounds write, not yet found); run it on the GPU with numerics.integrator = "
+                "\"verlet\", or on the CPU (device = \"cpu\", the default)")
     return None
 
 

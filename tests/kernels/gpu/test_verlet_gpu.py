@@ -132,3 +132,31 @@ def test_row_capacity_holds_a_dense_shell():
     assert row_capacity(np.array([0.01] + [0.002] * 300), 0.0004) > row_capacity(np.full(301, 0.01), 0.002)
     assert row_capacity(np.full(3, 0.005), 0.001) == 2
     assert math.isfinite(row_capacity(np.full(2, 0.005), 0.0))
+
+
+def test_refuses_gear_with_the_tangential_spring_on_a_gpu(monkeypatch):
+    """Gear's kernel with the tangential spring faults on a GPU (an out-of-bounds write in its first
+    launch on an H200; it runs right in the simulator, where the other tests hold it to the CPU):
+    off the simulator it is refused before anything runs, saying what runs instead; Verlet with the
+    spring, and Gear with the tanh law, are not."""
+    import dataclasses
+    import warnings
+
+    from pdamper.engine.cuda import refusal
+    from pdamper.kernels.gpu import targets
+
+    def sim(integrator, tangential):
+        case = Case(particles=(ParticleSet(count=3),), cycles=0.02, drop_cycles=0,
+                    numerics=Numerics(integrator=integrator))
+        case = dataclasses.replace(case, contact=dataclasses.replace(case.contact, tangential=tangential))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return Simulation(case)
+
+    gear_spring = sim("gear", "spring")
+    assert gear_spring._gpu_job()[1] is None  # the simulator runs it
+    monkeypatch.setattr(targets, "SIMULATOR", False)
+    job, why = gear_spring._gpu_job()
+    assert job is None and "spring" in why and 'integrator = "verlet"' in why and "CPU" in why
+    assert refusal(sim("verlet", "spring").engine) is None
+    assert refusal(sim("gear", "tanh").engine, gear=True) is None
