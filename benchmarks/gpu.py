@@ -10,7 +10,13 @@ what follows it), writing ``--out`` (JSON) after every part and a markdown summa
 2. ``compile``: the first GPU launch of the kernel (numba-cuda typing, NVVM, the driver's PTX JIT;
    a launch with no steps) and the compiled kernel's registers per thread, shared and local memory
    per block, the blocks an SM can hold.
-3. ``profile``: where Gear's step spends its time, phase by phase: fig4's cases as one batch for
+3. ``agree``: the GPU's kernels against the CPU engine on the GPU itself (the test suite holds them
+   together only in numba-cuda's simulator, which runs the CPU-compiled functions): two fig4 cases,
+   the settling and half a cycle, under Gear and Verlet with the tanh law, Verlet with the spring,
+   and Gear with the spring (refused on a GPU: run here to see its fault), each variant in a process
+   of its own (``--agree-variants`` picks them): the steps, the first sample at which the wall force
+   parts from the CPU's, the final positions.
+   ``profile``: where Gear's step spends its time, phase by phase: fig4's cases as one batch for
    ``--profile-seconds`` (10) under the probed kernel (``pdamper.kernels.gpu.probe``: the block's
    cycle counter read at the end of each phase): cycles per attempted step of each phase and its
    share, the implicit walk's rows per step and cycles per row, the rebuilds.
@@ -68,7 +74,7 @@ ROOT = BENCH.parent
 REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
 PAPER_REFERENCE = BENCH / "data" / "paper_cpu_reference.csv"
 SPREAD = BENCH / "data" / "fig4_cpu_spread.csv"
-PARTS = ("env", "compile", "profile", "steps", "bed", "fig4", "paper")
+PARTS = ("env", "compile", "agree", "profile", "steps", "bed", "fig4", "paper")
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
 #: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
 #: still measures something, and says so).
@@ -466,6 +472,87 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
     return out
 
 
+#: The variants of :func:`part_agree`: (name, integrator, tangential law). Gear with the spring is
+#: refused on a GPU (it faults there); this part runs it all the same, in its own process, to see.
+AGREE_VARIANTS = (("gear, tanh", "gear", "tanh"), ("verlet, tanh", "verlet", "tanh"),
+                  ("verlet, spring", "verlet", "spring"), ("gear, spring (refused on a GPU)", "gear", "spring"))
+
+
+def agree_one(tiny, k):
+    """Variant ``k`` of :data:`AGREE_VARIANTS` on both engines: two fig4 cases (36 and 44 spheres,
+    seed 0, the settling and half a cycle of the drive; with ``tiny`` the soft stand-ins, no
+    settling and a hundredth of a cycle), each on
+    the CPU engine and both as one GPU batch; per case the steps, the wall force sample by sample
+    and the final positions against the CPU's."""
+    import numpy as np
+
+    from pdamper.run import on_device
+    from pdamper.schema import replace
+    from pdamper.simulation import Simulation, run_on_gpu
+
+    name, integrator, tangential = AGREE_VARIANTS[k]
+    cases = fig4_cases(tiny)
+    picked = [cases[0][2], cases[-1][2]] if tiny else [cases[20][2], cases[60][2]]
+    built = []
+    for case in picked:
+        if tiny:  # (a few hundred steps in the simulator)
+            case = dataclasses.replace(replace(case, {"recording.sample_rate": 5000.0, "initial.settle_time": 0.0}),
+                                       cycles=0.01, drop_cycles=0)
+        c = dataclasses.replace(case, cycles=min(case.cycles, 0.5), drop_cycles=0,
+                                numerics=dataclasses.replace(case.numerics, integrator=integrator),
+                                contact=dataclasses.replace(case.contact, tangential=tangential))
+        built.append(c)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cpu = [Simulation(c) for c in built]
+        for sim in cpu:
+            sim.run()
+        gpu = [Simulation(on_device(c, "cuda")) for c in built]
+        with _unrefused():
+            out = run_on_gpu(gpu)
+    rows = []
+    for a, b, rec in zip(cpu, gpu, out):
+        fa, fb = np.asarray(a.samples.wall_force), np.asarray(b.samples.wall_force)
+        peak = max(float(np.max(np.abs(fa))), 1e-300)
+        apart = np.nonzero(np.abs(fa - fb) > 1e-9 * peak)[0]
+        pa, pb = a.engine.bodies.position, b.engine.bodies.position
+        rows.append({"spheres": int(a.n), "failed": None if not isinstance(rec, Exception) else str(rec)[:200],
+                     "steps_cpu": int(a.stepper.steps), "steps_gpu": int(b.stepper.steps), "samples": int(fa.size),
+                     "first_sample_apart": int(apart[0]) if apart.size else None,
+                     "max_wall_force_diff_over_peak": float(np.max(np.abs(fa - fb))) / peak,
+                     "max_position_diff_over_radius": float(np.max(np.abs(pa - pb)) / np.min(a.engine.bodies.radius))})
+    return {"variant": name, "cases": rows}
+
+
+def part_agree(tiny, variants=None):
+    """Do the GPU's kernels compute what the CPU engine computes, on the GPU itself? (The test suite
+    holds them together in numba-cuda's simulator, which runs the CPU-compiled functions.) Each of
+    :data:`AGREE_VARIANTS` in a process of its own (a kernel that faults takes its CUDA context
+    with it): :func:`agree_one`; a variant whose process fails says how."""
+    out = {}
+    for k, (name, _, _) in enumerate(AGREE_VARIANTS):
+        if variants is not None and k not in variants:
+            continue
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "one.json"
+            cmd = [sys.executable, str(Path(__file__).resolve()), "--agree-one", str(k), "--out", str(path)]
+            r = subprocess.run(cmd + (["--tiny"] if tiny else []), capture_output=True, text=True, timeout=900)
+            if r.returncode == 0 and path.exists():
+                v = json.loads(path.read_text())["parts"]["agree_one"]
+            else:
+                tail = [ln for ln in (r.stdout + r.stderr).splitlines() if ln.strip()][-3:]
+                v = {"variant": name, "fault": f"exit {r.returncode}: " + " | ".join(tail)[:600]}
+        out[name] = v
+        for row in v.get("cases", []):
+            print(f"agree: {name}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU {row['steps_gpu']}; "
+                  f"wall force apart from sample {row['first_sample_apart']} of {row['samples']} (max "
+                  f"{row['max_wall_force_diff_over_peak']:.1e} of its peak); positions "
+                  f"{row['max_position_diff_over_radius']:.1e} radii apart at the end", flush=True)
+        if "fault" in v:
+            print(f"agree: {name}: {v['fault']}", flush=True)
+    return out
+
+
 def part_profile(tiny, seconds):
     """Where Gear's step spends its time: fig4's cases (seed 0, one batch, Gear with the tanh law)
     for ``seconds`` under the probed kernel (:mod:`pdamper.kernels.gpu.probe`), which reads the
@@ -768,6 +855,15 @@ def markdown(data):
                      f"within the CPU's seed range at {f['within_cpu_seed_range']} of {f['compared_with_cpu']} strokes, "
                      f"within 3 std at {f['within_3_std']} (max |z| {f['max_abs_z']:.2f}, mean z {f['mean_z']:+.2f}), "
                      f"within every CPU run's range at {f.get('within_every_cpu_run', '?')}")
+    if "agree" in p:
+        for name, v in p["agree"].items():
+            if "fault" in v:
+                lines.append(f"- agree, {name}: {v['fault']}")
+            for r in v.get("cases", []):
+                lines.append(f"- agree, {name}, {r['spheres']} spheres: steps CPU {r['steps_cpu']} GPU {r['steps_gpu']}, wall "
+                             f"force apart from sample {r['first_sample_apart']} of {r['samples']} (max "
+                             f"{r['max_wall_force_diff_over_peak']:.1e} of its peak), positions "
+                             f"{r['max_position_diff_over_radius']:.1e} radii apart at the end")
     if "profile" in p:
         q = p["profile"]
         lines.append(f"- profile (probed Gear kernel, {q['cases']} cases): {q['cycles_per_attempted_step']:.0f} cycles per "
@@ -804,6 +900,10 @@ def main(argv=None):
                     help="the tangential law --ptx compiles the kernels for (contact.tangential)")
     ap.add_argument("--steps-seconds", type=float, default=10.0,
                     help="how long each variant of the steps part runs")
+    ap.add_argument("--agree-one", type=int, metavar="K", help=argparse.SUPPRESS)
+    ap.add_argument("--agree-variants", default=None,
+                    help="the agree part's variants, by number (0: gear tanh, 1: verlet tanh, 2: verlet spring, "
+                         "3: gear spring), comma-separated; default all")
     ap.add_argument("--profile-seconds", type=float, default=10.0, help="how long the profile part's batch runs")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
     ap.add_argument("--make-paper-reference", action="store_true",
@@ -821,6 +921,9 @@ def main(argv=None):
     report = Report(args.out)
     if args.ptx:
         report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(",")), args.ptx_tangential))
+        return 0
+    if args.agree_one is not None:  # (one variant of the agree part, in its own process)
+        report.put("agree_one", agree_one(args.tiny, args.agree_one))
         return 0
     parts = args.only or PARTS
     report.put("env", env_info())
@@ -840,6 +943,9 @@ def main(argv=None):
                     report.put(part, part_compile(args.tiny))
                 elif part == "fig4":
                     report.put(part, part_fig4(args.tiny, work))
+                elif part == "agree":
+                    chosen = None if args.agree_variants is None else {int(k) for k in args.agree_variants.split(",")}
+                    report.put(part, part_agree(args.tiny, chosen))
                 elif part == "profile":
                     report.put(part, part_profile(args.tiny, min(args.profile_seconds, left)))
                 elif part == "steps":

@@ -107,3 +107,17 @@ def test_profile_part_runs_in_the_simulator():
     for phase in ("pair laws", "sphere forces, increments", "error norm", "accepted step: correct, ledger"):
         assert out["phases"][phase]["cycles_per_attempted_step"] > 0, phase
     assert out["walk_rows_per_attempted_step"] >= 0.0
+
+
+def test_agree_part_runs_in_the_simulator():
+    """The agree part on the tiny cases, one variant (Verlet, the tanh law), in its own process:
+    in the simulator the kernels call the CPU's compiled functions, so the two engines agree to
+    rounding at every sample and end at the same positions."""
+    mod = _module()
+    out = mod.part_agree(True, {1})
+    rows = out["verlet, tanh"]["cases"]
+    assert len(rows) == 2 and all(r["failed"] is None for r in rows)
+    for r in rows:
+        assert r["steps_cpu"] == r["steps_gpu"] > 0 and r["samples"] >= 2
+        assert r["first_sample_apart"] is None and r["max_wall_force_diff_over_peak"] <= 1e-12
+        assert r["max_position_diff_over_radius"] <= 1e-12
