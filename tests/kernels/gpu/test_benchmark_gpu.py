@@ -121,3 +121,23 @@ def test_agree_part_runs_in_the_simulator():
         assert r["steps_cpu"] == r["steps_gpu"] > 0 and r["samples"] >= 2
         assert r["first_sample_apart"] is None and r["max_wall_force_diff_over_peak"] <= 1e-12
         assert r["max_position_diff_over_radius"] <= 1e-12
+
+
+def test_step_cost_part_says_a_refused_variant_and_goes_on(monkeypatch):
+    """A variant the GPU engine refuses (here a coupled structure's stand-in: every refusal) is
+    recorded as refused with the engine's message, and the next variant still runs."""
+    mod = _module()
+    import pdamper.engine.cuda as engine
+
+    real = engine.refusal
+    calls = []
+
+    def refuse_first(*args, **kwargs):
+        calls.append(1)
+        return "refused for the test" if len(calls) == 1 else real(*args, **kwargs)
+
+    monkeypatch.setattr(engine, "refusal", refuse_first)
+    out = mod.part_steps(True, 0.5, variants=(("refused", "verlet", "tanh", "one", None),
+                                              ("verlet alone", "verlet", "tanh", "one", None)))
+    assert "refused for the test" in out["variants"]["refused"]["refused"]
+    assert out["variants"]["verlet alone"]["steps"] > 0
