@@ -337,7 +337,7 @@ def _pack_gear(jobs, sp, li, wl, bd, history):
     gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
                    saved_pair=np.zeros((C, rows, N, K)), saved_wall=np.zeros((C, rows, N, W)),
                    anchor=np.zeros((C, N, 6)), integrands=np.zeros((C, bd, 4)), pair_rows=np.zeros((C, P, PAIR_ROW)),
-                   pair_ends=np.zeros((C, P, 2), dtype=np.int64))
+                   pair_ends=np.zeros((C, P, 3), dtype=np.int64))
     settle = np.array([j.settle_samples for j in jobs], dtype=np.int64)
     n = np.array([j.n_samples for j in jobs], dtype=np.int64)
     seg = np.array([j.segment_samples for j in jobs], dtype=np.int64)

@@ -90,7 +90,7 @@ def test_gear_implicit_pair_rows_in_the_cpus_order():
     rec = st.state.friction
     m = int(rec.ends[0])
     assert m >= 12  # many touching pairs
-    assert np.array_equal(batch.gs.pair_ends[0, :m], rec.bodies[:m])
+    assert np.array_equal(batch.gs.pair_ends[0, :m, :2], rec.bodies[:m])
     ours, ref = batch.gs.pair_rows[0, :m, 2:10], rec.rows[:m, :8]
     for col in range(8):
         assert np.max(np.abs(ours[:, col] - ref[:, col])) <= 1e-9 * np.max(np.abs(ref[:, col])), col
@@ -187,3 +187,26 @@ def test_gear_kernel_gives_the_same_bits_run_after_run():
     assert int(a.gs.pair_ends.shape[1]) >= 20
     assert np.array_equal(a.gs.nordsieck, b.gs.nordsieck)
     assert np.array_equal(a.ct.partials, b.ct.partials)
+
+
+def test_gear_pair_walk_by_levels_as_by_one_thread(monkeypatch):
+    """The implicit pair walk goes level by level (the rows that share no sphere at the same time)
+    for a bed of up to ``LEVEL_SPHERES`` spheres, by one thread beyond: every sphere sees its rows
+    in the CPU's order either way, so the 13-sphere pile's ten steps give the same bits. The levels
+    of the last step: a row's level is above that of every earlier row sharing a sphere with it, so
+    the rows of one level share none, and there are fewer levels than rows."""
+    from pdamper.kernels.gpu import gear
+
+    *_, st, _, levels = _step_by_step(_gear(_pile()), 10)
+    m = int(st.state.friction.ends[0])
+    ends = levels.gs.pair_ends[0, :m]
+    for k in range(m):
+        for q in range(k):
+            if {int(ends[q, 0]), int(ends[q, 1])} & {int(ends[k, 0]), int(ends[k, 1])}:
+                assert ends[k, 2] > ends[q, 2]
+    assert m >= 12 and 1 <= int(ends[:, 2].max()) < m
+    monkeypatch.setattr(gear, "LEVEL_SPHERES", 4)  # (the simulator reads the kernel's globals as it runs)
+    *_, one = _step_by_step(_gear(_pile()), 10)
+    assert int(levels.ct.step[0]) == int(one.ct.step[0]) == 10
+    assert np.array_equal(levels.gs.nordsieck, one.gs.nordsieck)
+    assert np.array_equal(levels.ct.partials, one.ct.partials)

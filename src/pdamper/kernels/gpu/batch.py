@@ -43,8 +43,8 @@ WALL_ROW = 8
 #: depend on the increments, gathered by every thread before one thread walks the rows: the radii
 #: r_i, r_j, the unit normal (3), the slip (3), c, the Coulomb limit, the inverse tangential mass kk,
 #: the slip's magnitude, and the factors that turn a force into increments (h^2/2 of 1/m_i, 1/m_j,
-#: r_i/I_i, r_j/I_j).
-PAIR_ROW = 16
+#: r_i/I_i, r_j/I_j); last, the row's change of the friction power once walked.
+PAIR_ROW = 17
 #: Running sums each thread keeps (and saves between launches): work done by the container, loss
 #: by normal damping, loss by friction [J], impulse along the drive since the last sample [N s].
 PARTIALS = 4
@@ -168,7 +168,8 @@ class GearState(NamedTuple):
     integrands: np.ndarray        #: (C, threads, 4) each thread's ledger integrands at the last accepted step
     pair_rows: np.ndarray         #: (C, P, PAIR_ROW) scratch: this step's touching pairs for the implicit
                                   #: friction pass, in the CPU's order (P = pair_row_capacity)
-    pair_ends: np.ndarray         #: (C, P, 2) int: the spheres (i, j) of each of those rows
+    pair_ends: np.ndarray         #: (C, P, 3) int: the spheres (i, j) of each of those rows, and its level in the
+                                  #: walk (rows of one level share no sphere)
 
 
 def pair_row_capacity(n: int, k: int) -> int:

@@ -8,9 +8,10 @@ than half the skin, the contact forces at the predicted state (:mod:`.verlet`'s 
 functions, with no friction cap), the corrector's increments, the friction of every touching
 contact evaluated again at the corrected slip (the CPU's Gauss-Seidel sweep, in its order: the
 touching pairs' rows gathered by every thread into a compact list with what does not depend on the
-increments, then walked by one thread of the block, then the floor and the other walls, each
-sphere's by its own thread, which gives the same increments since a wall row changes its own sphere
-alone; calling the CPU kernels' ``corrected_friction``, kinematics and ``scatter``), the block's
+increments, then walked level by level, the rows that share no sphere at the same time, so that
+every sphere sees its rows in the CPU's order, then the floor and the other walls, each sphere's by
+its own thread, which gives the same increments since a wall row changes its own sphere alone;
+calling the CPU kernels' ``corrected_friction``, kinematics and ``scatter``), the block's
 largest increment as the error, a rejected step retried shorter with the contact history restored,
 an accepted one corrected, its ledger summed by the trapezoid, a sample written where it ends on a
 sample boundary. The clock follows the CPU stepper's spans (the settling, then segments of the
@@ -34,7 +35,7 @@ from ..forces import STATUS_NAN, STATUS_OK
 from ..gear import (GEAR_C, floor_friction_step, next_step, predict_dof, shorter_step, step_to_boundary,
                     wall_friction_step)
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
-from .batch import FLAG_PRIMED, FLAG_STARTED
+from .batch import FLAG_PRIMED, FLAG_STARTED, PAIR_ROW
 from .probe import P_REBUILDS, P_ROWS, clock, lap
 from .verlet import (MAX_THREADS, REDUCED, _motion, _pair_laws, _prime_contacts, _rebuild, _record_sample,
                      _sphere_force)
@@ -53,6 +54,9 @@ NO_CAP = 1e-300
 #: (docs/performance.md).
 STAGED_SPHERES = 64
 _C0, _C1, _C2, _C3, _C4, _C5 = GEAR_C
+#: The most spheres the implicit pair walk goes level by level for (the latest level of each
+#: sphere is kept in the block's reduction array); a larger bed is walked by one thread.
+LEVEL_SPHERES = REDUCED * MAX_THREADS
 #: Whether the kernel times its phases (:mod:`.probe`): a constant of the compiled kernel, False in
 #: the production kernel (its probes folded away); :func:`gear_kernel` ``(probed=True)`` compiles the
 #: same source with it True.
@@ -182,40 +186,101 @@ def _gather_pairs(c, tid, bd, n, sp, li, gs, red, hs):
 
 
 @cuda.jit(device=True)
+def _pair_row(c, k, gs, dv, dw, g, a):
+    """Row ``k`` of the compact list at its corrected slip: what depends on the increments ``dv``,
+    ``dw`` (the slip increment, the corrected force, the scatter into the increments of its two
+    spheres); ``g = c1 / h``, ``a = c1 h / 2``. Returns its change of the friction power [W]."""
+    i = gs.pair_ends[c, k, 0]
+    j = gs.pair_ends[c, k, 1]
+    q = gs.pair_rows[c, k]
+    ri = q[0]
+    rj = q[1]
+    nx = q[2]
+    ny = q[3]
+    nz = q[4]
+    tx = q[5]
+    ty = q[6]
+    tz = q[7]
+    cf = q[8]
+    kk = q[10]
+    vt = q[11]
+    dcx, dcy, dcz, dcn = pair_point_velocity(
+        g * (dv[i, 0] - dv[j, 0]), g * (dv[i, 1] - dv[j, 1]), g * (dv[i, 2] - dv[j, 2]),
+        g * (ri * dw[i, 0] + rj * dw[j, 0]), g * (ri * dw[i, 1] + rj * dw[j, 1]),
+        g * (ri * dw[i, 2] + rj * dw[j, 2]), nx, ny, nz)
+    gx, gy, gz, fx, fy, fz = corrected_friction(cf, q[9], kk, a, tx, ty, tz,
+                                                dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
+    dp = -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
+           + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
+    scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, q[12], q[13], q[14], q[15])
+    return dp
+
+
+@cuda.jit(device=True)
 def _implicit_pairs(c, rows, gs, dv, dw, hs):
-    """The friction of every touching sphere pair at its corrected slip: the first part of the CPU's
-    :func:`pdamper.kernels.gear._implicit_friction`, the same rows (:func:`_gather_pairs`' first
-    ``rows`` of the compact list) in the same order, walked by one thread (a pair's row changes the
-    increments of two spheres, which the next rows read): only what depends on the increments
-    ``dv``, ``dw`` (the case's, in the block's shared memory when they fit: each row reads what the
-    rows before it wrote). Returns the change of the friction power [W]."""
+    """The friction of every touching sphere pair at its corrected slip, walked by one thread: the
+    first part of the CPU's :func:`pdamper.kernels.gear._implicit_friction`, the same rows
+    (:func:`_gather_pairs`' first ``rows`` of the compact list) in the same order (a pair's row
+    changes the increments of two spheres, which the next rows read). Returns the change of the
+    friction power [W]."""
     g = _C1 / hs
     a = 0.5 * _C1 * hs
     dpf = 0.0
     for k in range(rows):
-        i = gs.pair_ends[c, k, 0]
-        j = gs.pair_ends[c, k, 1]
-        q = gs.pair_rows[c, k]
-        ri = q[0]
-        rj = q[1]
-        nx = q[2]
-        ny = q[3]
-        nz = q[4]
-        tx = q[5]
-        ty = q[6]
-        tz = q[7]
-        cf = q[8]
-        kk = q[10]
-        vt = q[11]
-        dcx, dcy, dcz, dcn = pair_point_velocity(
-            g * (dv[i, 0] - dv[j, 0]), g * (dv[i, 1] - dv[j, 1]), g * (dv[i, 2] - dv[j, 2]),
-            g * (ri * dw[i, 0] + rj * dw[j, 0]), g * (ri * dw[i, 1] + rj * dw[j, 1]),
-            g * (ri * dw[i, 2] + rj * dw[j, 2]), nx, ny, nz)
-        gx, gy, gz, fx, fy, fz = corrected_friction(cf, q[9], kk, a, tx, ty, tz,
-                                                    dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
-        dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
-                 + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
-        scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, q[12], q[13], q[14], q[15])
+        dpf += _pair_row(c, k, gs, dv, dw, g, a)
+    return dpf
+
+
+@cuda.jit(device=True)
+def _implicit_pairs_by_level(c, tid, bd, n, rows, gs, dv, dw, red, top, hs):
+    """The same walk as :func:`_implicit_pairs`, the rows that share no sphere at the same time.
+
+    A row's level is one more than the last level of either of its spheres, taken in the CPU's
+    order by one thread (the latest level of each sphere kept in the block's reduction array
+    ``red``, which holds ``REDUCED x MAX_THREADS`` of them; ``top[0]`` takes the highest level to
+    the block). The rows of one level touch distinct spheres, so the block's threads take them
+    together, a barrier between levels; every sphere still sees its rows in the CPU's order, each
+    reading what the rows before it wrote, so the increments are the single thread's to the bit.
+    Each row's change of the friction power is kept in its row (column ``PAIR_ROW - 1``) and
+    summed by thread 0 in the CPU's order: the same sum. Every thread of the block calls it;
+    thread 0 gets the power [W], the others 0."""
+    m = red.shape[1]
+    ends = gs.pair_ends
+    i = tid
+    while i < n:
+        red[i // m, i % m] = 0.0
+        i += bd
+    cuda.syncthreads()
+    if tid == 0:
+        high = 0
+        for k in range(rows):
+            i = ends[c, k, 0]
+            j = ends[c, k, 1]
+            li = red[i // m, i % m]
+            lj = red[j // m, j % m]
+            lev = (li if li > lj else lj) + 1.0
+            red[i // m, i % m] = lev
+            red[j // m, j % m] = lev
+            ends[c, k, 2] = int(lev)
+            if int(lev) > high:
+                high = int(lev)
+        top[0] = high
+    cuda.syncthreads()
+    g = _C1 / hs
+    a = 0.5 * _C1 * hs
+    last = PAIR_ROW - 1
+    for lev in range(1, top[0] + 1):
+        k = tid
+        while k < rows:
+            if ends[c, k, 2] == lev:
+                gs.pair_rows[c, k, last] = _pair_row(c, k, gs, dv, dw, g, a)
+            k += bd
+        cuda.syncthreads()
+    dpf = 0.0
+    if tid == 0:
+        for k in range(rows):
+            dpf += gs.pair_rows[c, k, last]
+    cuda.syncthreads()  # (top[0] is read by every thread before anyone writes it again)
     return dpf
 
 
@@ -325,6 +390,7 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
     flags = cuda.shared.array(6, int64)
     red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
     inc = cuda.shared.array((STAGED_SPHERES, 6), float64)
+    top = cuda.shared.array(1, int64)
     lin = cuda.local.array((1, 3), float64)
     ang = cuda.local.array((1, 3), float64)
     table = ContactTable(law, tlaw, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8], tb[9], tb[10])
@@ -584,8 +650,11 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
                 if tid == 0:
                     cyc[c, P_ROWS] += rows
             # (the walk's reads wait on its own writes: the increments are in shared memory when they fit)
-            if tid == 0 and rows > 0:
-                p_f += _implicit_pairs(c, rows, gs, dl[:, 0:3], dl[:, 3:6], hs)
+            if rows > 0:
+                if n <= LEVEL_SPHERES:
+                    p_f += _implicit_pairs_by_level(c, tid, bd, n, rows, gs, dl[:, 0:3], dl[:, 3:6], red, top, hs)
+                elif tid == 0:
+                    p_f += _implicit_pairs(c, rows, gs, dl[:, 0:3], dl[:, 3:6], hs)
             cuda.syncthreads()
             if PROBED:
                 tick = lap(cyc, c, tid, 7, tick)
