@@ -15,7 +15,8 @@ what follows it), writing ``--out`` (JSON) after every part and a markdown summa
    the settling and half a cycle, under Gear and Verlet with the tanh law, Verlet with the spring,
    and Gear with the spring (refused on a GPU: run here to see its fault), each variant in a process
    of its own (``--agree-variants`` picks them): the steps, the first sample at which the wall force
-   parts from the CPU's, the final positions.
+   parts from the CPU's, the final positions; for Gear first the shapes of its arrays as a kernel
+   with its arguments sees them (kept if the run then faults).
    ``profile``: where Gear's step spends its time, phase by phase: fig4's cases as one batch for
    ``--profile-seconds`` (10) under the probed kernel (``pdamper.kernels.gpu.probe``: the block's
    cycle counter read at the end of each phase): cycles per attempted step of each phase and its
@@ -487,7 +488,65 @@ AGREE_VARIANTS = (("gear, tanh", "gear", "tanh"), ("verlet, tanh", "verlet", "ta
                   ("verlet, spring", "verlet", "spring"), ("gear, spring (refused on a GPU)", "gear", "spring"))
 
 
-def agree_one(tiny, k):
+#: The arrays whose shapes :func:`kernel_view` reads inside a kernel: (bundle, field), in the
+#: order of the Gear kernel's arguments.
+VIEWED = (("sp", "position"), ("li", "partner"), ("li", "tangential"), ("wl", "tangential"), ("gs", "nordsieck"),
+          ("gs", "saved_pair"), ("gs", "saved_wall"), ("gs", "pair_rows"), ("gc", "cycles"))
+
+
+def _echo(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_steps, out):
+    """Gear's kernel's arguments, and one more: the shapes of :data:`VIEWED` as a kernel sees them
+    (``cuda`` and ``put``, :func:`_put` for the device, globals of the compiled copy,
+    :func:`kernel_view`)."""
+    if cuda.threadIdx.x == 0 and cuda.blockIdx.x == 0:
+        k = put(out, 0, sp.position.shape)
+        k = put(out, k, li.partner.shape)
+        k = put(out, k, li.tangential.shape)
+        k = put(out, k, wl.tangential.shape)
+        k = put(out, k, gs.nordsieck.shape)
+        k = put(out, k, gs.saved_pair.shape)
+        k = put(out, k, gs.saved_wall.shape)
+        k = put(out, k, gs.pair_rows.shape)
+        put(out, k, gc.cycles.shape)
+
+
+def _put(out, k, shape):
+    """``shape`` into ``out`` from ``k`` on; returns the next free index."""
+    for d in range(len(shape)):
+        out[k + d] = shape[d]
+    return k + len(shape)
+
+
+def kernel_view(jobs):
+    """The shapes of a Gear batch's arrays as a kernel with the Gear kernel's arguments sees them,
+    against the host's: ``{name: [host shape, kernel shape]}`` and whether all agree. (The spring
+    kernel's fault on the H200 wrote where a wrong sphere count would put it: this says whether the
+    kernel receives its arguments right.)"""
+    import numpy as np
+    from numba import cuda
+
+    from pdamper.engine.cuda import _Batch, threads_for
+    from pdamper.kernels.gpu.targets import SIMULATOR
+
+    b = _Batch(jobs, threads_for(max(j.engine.n for j in jobs)))
+    bundles = dict(zip(("sp", "li", "wl"), b.args[:3]), gs=b.gs, gc=b.gc)
+    host = [tuple(int(x) for x in getattr(bundles[bundle], name).shape) for bundle, name in VIEWED]
+    out = np.full(64, -1, dtype=np.int64)
+    dev = out if SIMULATOR else cuda.to_device(out)
+    import types
+
+    put = cuda.jit(device=True)(_put)
+    echo = types.FunctionType(_echo.__code__, dict(_echo.__globals__, cuda=cuda, put=put), "_echo")
+    cuda.jit(echo)[1, 32](*b.args, 0, dev)
+    seen = out if SIMULATOR else dev.copy_to_host()
+    view, k = {}, 0
+    for (bundle, name), shape in zip(VIEWED, host):
+        view[f"{bundle}.{name}"] = [list(shape), [int(x) for x in seen[k:k + len(shape)]]]
+        k += len(shape)
+    return {"shapes": view, "agree": all(h == s for h, s in view.values())}
+
+
+def agree_one(tiny, k, report=None):
     """Variant ``k`` of :data:`AGREE_VARIANTS` on both engines: two fig4 cases (36 and 44 spheres,
     seed 0, the settling and half a cycle of the drive; with ``tiny`` the soft stand-ins, no
     settling and a hundredth of a cycle), each on
@@ -517,6 +576,14 @@ def agree_one(tiny, k):
         for sim in cpu:
             sim.run()
         gpu = [Simulation(on_device(c, "cuda")) for c in built]
+        view = None
+        if integrator == "gear":  # the kernel's view of its arguments first (kept if the run then faults)
+            with _unrefused():
+                view = kernel_view([s._gpu_job()[0] for s in [Simulation(on_device(c, "cuda")) for c in built]])
+            if report is not None:
+                report.put("agree_one", {"variant": name, "kernel_view": view})
+            print(f"agree: {name}: the kernel sees its arrays' shapes as the host made them: {view['agree']}",
+                  flush=True)
         with _unrefused():
             out = run_on_gpu(gpu)
     rows = []
@@ -530,7 +597,7 @@ def agree_one(tiny, k):
                      "first_sample_apart": int(apart[0]) if apart.size else None,
                      "max_wall_force_diff_over_peak": float(np.max(np.abs(fa - fb))) / peak,
                      "max_position_diff_over_radius": float(np.max(np.abs(pa - pb)) / np.min(a.engine.bodies.radius))})
-    return {"variant": name, "cases": rows}
+    return {"variant": name, "cases": rows, "kernel_view": view}
 
 
 def part_agree(tiny, variants=None):
@@ -551,6 +618,9 @@ def part_agree(tiny, variants=None):
             else:
                 tail = [ln for ln in (r.stdout + r.stderr).splitlines() if ln.strip()][-3:]
                 v = {"variant": name, "fault": f"exit {r.returncode}: " + " | ".join(tail)[:600]}
+                if path.exists():  # what it wrote before the fault (the kernel's view of its arguments)
+                    v.update({key: val for key, val in json.loads(path.read_text())["parts"]["agree_one"].items()
+                              if key != "variant"})
         out[name] = v
         for row in v.get("cases", []):
             print(f"agree: {name}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU {row['steps_gpu']}; "
@@ -559,6 +629,9 @@ def part_agree(tiny, variants=None):
                   f"{row['max_position_diff_over_radius']:.1e} radii apart at the end", flush=True)
         if "fault" in v:
             print(f"agree: {name}: {v['fault']}", flush=True)
+        if v.get("kernel_view") and not v["kernel_view"]["agree"]:
+            print(f"agree: {name}: the kernel sees other shapes than the host made: {v['kernel_view']['shapes']}",
+                  flush=True)
     return out
 
 
@@ -935,7 +1008,7 @@ def main(argv=None):
         report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(",")), args.ptx_tangential))
         return 0
     if args.agree_one is not None:  # (one variant of the agree part, in its own process)
-        report.put("agree_one", agree_one(args.tiny, args.agree_one))
+        report.put("agree_one", agree_one(args.tiny, args.agree_one, report))
         return 0
     parts = args.only or PARTS
     report.put("env", env_info())

@@ -110,17 +110,22 @@ def test_profile_part_runs_in_the_simulator():
 
 
 def test_agree_part_runs_in_the_simulator():
-    """The agree part on the tiny cases, one variant (Verlet, the tanh law), in its own process:
+    """The agree part on the tiny cases, Verlet and Gear with the tanh law, each in its own process:
     in the simulator the kernels call the CPU's compiled functions, so the two engines agree to
-    rounding at every sample and end at the same positions."""
+    rounding at every sample and end at the same positions; a kernel with Gear's arguments sees the
+    shapes the host made (the spring law's rows and columns too)."""
     mod = _module()
-    out = mod.part_agree(True, {1})
-    rows = out["verlet, tanh"]["cases"]
-    assert len(rows) == 2 and all(r["failed"] is None for r in rows)
-    for r in rows:
-        assert r["steps_cpu"] == r["steps_gpu"] > 0 and r["samples"] >= 2
-        assert r["first_sample_apart"] is None and r["max_wall_force_diff_over_peak"] <= 1e-12
-        assert r["max_position_diff_over_radius"] <= 1e-12
+    out = mod.part_agree(True, {0, 1})
+    for name in ("verlet, tanh", "gear, tanh"):
+        rows = out[name]["cases"]
+        assert len(rows) == 2 and all(r["failed"] is None for r in rows), name
+        for r in rows:
+            assert r["steps_cpu"] == r["steps_gpu"] > 0 and r["samples"] >= 2
+            assert r["first_sample_apart"] is None and r["max_wall_force_diff_over_peak"] <= 1e-12
+            assert r["max_position_diff_over_radius"] <= 1e-12
+    view = out["gear, tanh"]["kernel_view"]
+    assert view["agree"] and view["shapes"]["gs.saved_pair"][0] == view["shapes"]["gs.saved_pair"][1]
+    assert len(view["shapes"]["li.tangential"][1]) == 5 and out["verlet, tanh"]["kernel_view"] is None
 
 
 def test_step_cost_part_says_a_refused_variant_and_goes_on(monkeypatch):
