@@ -436,21 +436,18 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
     (no error reduction, no pass, no rejected steps) with the tanh law and with the tangential spring
     (Gear's spring kernel is refused on a GPU; the profile part gives the implicit pass's share),
     the default's longest case alone on the GPU (the batch's step against one block's: what sharing
-    the GPU costs),
-    and the default with one warp a block (two spheres a thread: fewer idle threads and barrier
+    the GPU costs), and the default with one warp a block (two spheres a thread: fewer idle threads and barrier
     levels, more serial work).
     Each variant's kernel compiles first (timed on its own); then microseconds per step of the
     batch's most advanced case. The window is each batch's first ``seconds`` (the settling and the
     drive's start), the same for every variant; the tangential laws' runs are other physics, so only
     their step cost is compared."""
+    from pdamper.errors import InputError
     from pdamper.run import on_device
     from pdamper.simulation import Simulation, run_on_gpu
 
-    from pdamper.errors import InputError
-
     base = fig4_cases(tiny)
     out = {"seconds": seconds, "variants": {}}
-
     for name, integrator, tangential, which, threads in variants:
         chosen = base if which == "all" else [max(base, key=lambda c: c[1])]
         cases = []
@@ -522,6 +519,8 @@ def kernel_view(jobs):
     against the host's: ``{name: [host shape, kernel shape]}`` and whether all agree. (The spring
     kernel's fault on the H200 wrote where a wrong sphere count would put it: this says whether the
     kernel receives its arguments right.)"""
+    import types
+
     import numpy as np
     from numba import cuda
 
@@ -533,8 +532,6 @@ def kernel_view(jobs):
     host = [tuple(int(x) for x in getattr(bundles[bundle], name).shape) for bundle, name in VIEWED]
     out = np.full(64, -1, dtype=np.int64)
     dev = out if SIMULATOR else cuda.to_device(out)
-    import types
-
     put = cuda.jit(device=True)(_put)
     echo = types.FunctionType(_echo.__code__, dict(_echo.__globals__, cuda=cuda, put=put), "_echo")
     cuda.jit(echo)[1, 32](*b.args, 0, dev)
@@ -570,16 +567,17 @@ def agree_one(tiny, k, report=None):
                                 numerics=dataclasses.replace(case.numerics, integrator=integrator),
                                 contact=dataclasses.replace(case.contact, tangential=tangential))
         built.append(c)
+    on_gpu = [on_device(c, "cuda") for c in built]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         cpu = [Simulation(c) for c in built]
         for sim in cpu:
             sim.run()
-        gpu = [Simulation(on_device(c, "cuda")) for c in built]
+        gpu = [Simulation(c) for c in on_gpu]
         view = None
         if integrator == "gear":  # the kernel's view of its arguments first (kept if the run then faults)
-            with _unrefused():
-                view = kernel_view([s._gpu_job()[0] for s in [Simulation(on_device(c, "cuda")) for c in built]])
+            with _unrefused():  # (on beds of their own: a job starts its simulation's recorders)
+                view = kernel_view([Simulation(c)._gpu_job()[0] for c in on_gpu])
             if report is not None:
                 report.put("agree_one", {"variant": name, "kernel_view": view})
             print(f"agree: {name}: the kernel sees its arrays' shapes as the host made them: {view['agree']}",
@@ -623,16 +621,21 @@ def part_agree(tiny, variants=None):
                               if key != "variant"})
         out[name] = v
         for row in v.get("cases", []):
-            print(f"agree: {name}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU {row['steps_gpu']}; "
-                  f"wall force apart from sample {row['first_sample_apart']} of {row['samples']} (max "
-                  f"{row['max_wall_force_diff_over_peak']:.1e} of its peak); positions "
-                  f"{row['max_position_diff_over_radius']:.1e} radii apart at the end", flush=True)
+            print("agree: " + _agree_line(name, row), flush=True)
         if "fault" in v:
             print(f"agree: {name}: {v['fault']}", flush=True)
         if v.get("kernel_view") and not v["kernel_view"]["agree"]:
             print(f"agree: {name}: the kernel sees other shapes than the host made: {v['kernel_view']['shapes']}",
                   flush=True)
     return out
+
+
+def _agree_line(name, row):
+    """One case of a variant of the agree part, in words (the log and the markdown summary)."""
+    return (f"{name}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU {row['steps_gpu']}; wall force "
+            f"apart from sample {row['first_sample_apart']} of {row['samples']} (max "
+            f"{row['max_wall_force_diff_over_peak']:.1e} of its peak); positions "
+            f"{row['max_position_diff_over_radius']:.1e} radii apart at the end")
 
 
 def part_profile(tiny, seconds):
@@ -942,10 +945,7 @@ def markdown(data):
             if "fault" in v:
                 lines.append(f"- agree, {name}: {v['fault']}")
             for r in v.get("cases", []):
-                lines.append(f"- agree, {name}, {r['spheres']} spheres: steps CPU {r['steps_cpu']} GPU {r['steps_gpu']}, wall "
-                             f"force apart from sample {r['first_sample_apart']} of {r['samples']} (max "
-                             f"{r['max_wall_force_diff_over_peak']:.1e} of its peak), positions "
-                             f"{r['max_position_diff_over_radius']:.1e} radii apart at the end")
+                lines.append("- agree, " + _agree_line(name, r))
     if "profile" in p:
         q = p["profile"]
         lines.append(f"- profile (probed Gear kernel, {q['cases']} cases): {q['cycles_per_attempted_step']:.0f} cycles per "

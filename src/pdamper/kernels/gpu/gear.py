@@ -256,14 +256,11 @@ def _implicit_pairs_by_level(c, tid, bd, n, rows, gs, dv, dw, red, top, hs):
         for k in range(rows):
             i = ends[c, k, 0]
             j = ends[c, k, 1]
-            li = red[i // m, i % m]
-            lj = red[j // m, j % m]
-            lev = (li if li > lj else lj) + 1.0
+            lev = int(max(red[i // m, i % m], red[j // m, j % m])) + 1
             red[i // m, i % m] = lev
             red[j // m, j % m] = lev
-            ends[c, k, 2] = int(lev)
-            if int(lev) > high:
-                high = int(lev)
+            ends[c, k, 2] = lev
+            high = max(high, lev)
         top[0] = high
     cuda.syncthreads()
     g = _C1 / hs
@@ -639,8 +636,8 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
         if PROBED:
             tick = lap(cyc, c, tid, 5, tick)
         # ---- the friction at the corrected slip, in the CPU's order: the touching pairs' rows
-        #      gathered by every thread into a compact list, then walked by one thread, then each
-        #      sphere's floor and walls by its own thread (a law with history, the spring, leaves no
+        #      gathered by every thread into a compact list, then walked level by level (each sphere's
+        #      rows in the CPU's order), then each sphere's floor and walls by its own thread (a law with history, the spring, leaves no
         #      friction rows: nothing to correct, and no block waits for the walk)
         if not spring:
             rows = _gather_pairs(c, tid, bd, n, sp, li, gs, red, hs)
