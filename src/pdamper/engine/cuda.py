@@ -16,6 +16,7 @@ numba-cuda is imported here only when a batch runs: ``import pdamper`` never nee
 from __future__ import annotations
 
 import math
+import sys
 import time
 from dataclasses import dataclass, field
 
@@ -150,6 +151,14 @@ def row_capacity(radius: np.ndarray, skin: float) -> int:
     return max(1, min(int(radius.size) - 1, k))
 
 
+#: The interpreter's thread switch interval [s] during a launch in numba-cuda's simulator. The simulator
+#: runs each GPU thread as a Python thread, and its scheduler thread polls them, holding the
+#: interpreter until its switch interval ends, whenever they wait at a barrier; at Python's default
+#: (5 ms) every barrier costs milliseconds (the agree part's Gear run of 37 steps: 21.5 s in all, 4.4 s
+#: at this interval). Restored after the launch.
+SIMULATOR_SWITCH_S = 1e-4
+
+
 def threads_for(n: int) -> int:
     """Threads of a block for ``n`` spheres: one a sphere, whole warps, at most
     :data:`~pdamper.kernels.gpu.verlet.MAX_THREADS` (each thread then takes several). In numba-cuda's
@@ -259,8 +268,13 @@ class _Batch:
 
     def launch(self, steps):
         C = len(self.jobs)
-        if self.stream is None:
-            self.kernel[C, self.bd](*self.args, int(steps))
+        if self.stream is None:  # numba-cuda's simulator: its threads switch at every barrier (SIMULATOR_SWITCH_S)
+            old = sys.getswitchinterval()
+            sys.setswitchinterval(min(old, SIMULATOR_SWITCH_S))
+            try:
+                self.kernel[C, self.bd](*self.args, int(steps))
+            finally:
+                sys.setswitchinterval(old)
         else:
             self.kernel[C, self.bd, self.stream](*self.args, int(steps))
 
