@@ -3,7 +3,6 @@ numba.cuda is first imported): no GPU needed. They need numba-cuda (the test ext
 without it they are skipped, saying so."""
 
 import os
-import sys
 
 import pytest
 
@@ -12,9 +11,8 @@ os.environ.setdefault("NUMBA_ENABLE_CUDASIM", "1")
 
 @pytest.fixture(autouse=True)
 def simulator():
-    """numba-cuda's simulator, with a short thread switch interval: the simulator runs each GPU thread
-    as a Python thread and polls them at every barrier, so the default 5 ms switch interval would make
-    every barrier cost milliseconds."""
+    """numba-cuda's simulator (the engine shortens the interpreter's thread switch interval during a
+    launch there: pdamper.engine.cuda.SIMULATOR_SWITCH_S)."""
     pytest.importorskip("numba_cuda", reason="numba-cuda is not installed (pip install -e '.[test]'): "
                         "the GPU engine's simulator tests are skipped")
     from numba import cuda
@@ -22,7 +20,3 @@ def simulator():
     if not cuda.jit.__module__.startswith("numba.cuda.simulator"):
         pytest.skip("numba.cuda was imported before NUMBA_ENABLE_CUDASIM=1 was set: run tests/kernels/gpu in a "
                     "process of its own to use the simulator")
-    old = sys.getswitchinterval()
-    sys.setswitchinterval(1e-4)
-    yield
-    sys.setswitchinterval(old)

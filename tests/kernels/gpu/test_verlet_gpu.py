@@ -70,14 +70,18 @@ def test_same_trajectory_with_the_tangential_spring():
 
 def test_a_failed_case_stops_alone():
     """A step far too long makes one case overlap: that case fails with the CPU engine's message,
-    the other of the batch finishes."""
+    the other of the batch finishes; the interpreter's thread switch interval, shortened during the
+    simulator's launches, is the caller's again."""
+    import sys
     import warnings
 
     cases = [_case("cuboid", n=3, time_step=2e-4), _case("cuboid", n=3, seed=3, cycles=0.006)]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         sims = [Simulation(c) for c in cases]
+    before = sys.getswitchinterval()
     out = run_on_gpu(sims)
+    assert sys.getswitchinterval() == before
     assert isinstance(out[0], SimulationError)
     assert "became unstable" in str(out[0]) and "numerics.time_step" in str(out[0])
     assert not isinstance(out[1], Exception)
