@@ -21,6 +21,13 @@ what follows it), writing ``--out`` (JSON) after every part and a markdown summa
    ``--profile-seconds`` (10) under the probed kernel (``pdamper.kernels.gpu.probe``: the block's
    cycle counter read at the end of each phase): cycles per attempted step of each phase and its
    share, the implicit walk's rows per step and cycles per row, the rebuilds.
+   ``fault`` (only when named: ``--only fault``): Gear with the tangential spring, which faults on a
+   GPU, on four fig4 cases in synchronised launches of 200 steps for ``--fault-seconds`` (10), as the
+   production kernel and compiled twice more with other numba-cuda options (NVVM unoptimised; at most
+   128 registers), each in a process of its own: whether and when each faults (a fault that goes
+   with the options is the compilers'), and the production kernel's PTX and SASS as this machine
+   compiles them, into ``--artifacts`` (default ``fault/`` beside ``--out``). The ``env`` part says
+   the CUDA driver, runtime and libNVVM versions.
    ``steps``: what changes a step's cost: fig4's cases as one batch for ``--steps-seconds`` (10)
    under Gear with the tanh law (the default), Verlet with the tanh law and with the tangential
    spring, the default's longest case alone, and the default with 32 threads a block: microseconds
@@ -76,6 +83,8 @@ REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
 PAPER_REFERENCE = BENCH / "data" / "paper_cpu_reference.csv"
 SPREAD = BENCH / "data" / "fig4_cpu_spread.csv"
 PARTS = ("env", "compile", "agree", "profile", "steps", "bed", "fig4", "paper")
+#: Parts run only when named (--only): ``fault``, the spring kernel's fault under other compiles.
+EXTRA_PARTS = ("fault",)
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
 #: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
 #: still measures something, and says so).
@@ -147,8 +156,35 @@ def env_info():
         pass
     import shutil
 
-    out["profilers"] = {p: shutil.which(p) for p in ("ncu", "nsys")}
+    out["profilers"] = {p: shutil.which(p) for p in ("ncu", "nsys", "compute-sanitizer", "nvdisasm")}
+    out["cuda"] = cuda_stack()
     print("env:", json.dumps(out), flush=True)
+    return out
+
+
+def cuda_stack():
+    """The CUDA software the kernels go through, as far as it answers: the driver's CUDA version,
+    the runtime's, libNVVM's (the compiler from numba's IR to PTX; the driver then compiles the PTX
+    for the GPU) and where it was found, cuda-core and cuda-bindings (numba-cuda's launcher)."""
+    import importlib.metadata as md
+
+    out = {}
+    for name in ("cuda-core", "cuda-bindings"):
+        try:
+            out[name] = md.version(name)
+        except Exception:  # noqa: BLE001
+            out[name] = None
+    probes = {"driver": lambda: __import__("numba.cuda.cudadrv.driver", fromlist=["driver"]).driver.get_version(),
+              "runtime": lambda: __import__("numba.cuda.cudadrv.runtime", fromlist=["runtime"]).runtime.get_version(),
+              "nvvm": lambda: __import__("numba.cuda.cudadrv.nvvm", fromlist=["NVVM"]).NVVM().get_version(),
+              "nvvm_path": lambda: str(__import__("numba.cuda.cuda_paths", fromlist=["get_cuda_paths"])
+                                       .get_cuda_paths()["nvvm"])}
+    for name, probe in probes.items():
+        try:
+            v = probe()
+            out[name] = list(v) if isinstance(v, tuple) else v
+        except Exception as exc:  # noqa: BLE001
+            out[name] = f"? ({type(exc).__name__})"
     return out
 
 
@@ -638,6 +674,133 @@ def _agree_line(name, row):
             f"{row['max_position_diff_over_radius']:.1e} radii apart at the end")
 
 
+#: The spring kernel's fault (Gear with the tangential spring faults on a GPU; docs/performance.md):
+#: the production compile, and two that change only what the compilers do with the same source:
+#: numba-cuda's ``cuda.jit`` options, each in a process of its own. A fault that goes with the
+#: compile options is the compilers' (NVVM, or the driver's PTX compiler); one that stays is the
+#: kernel's or its arguments'.
+FAULT_VARIANTS = (("production", {}), ("NVVM unoptimised", {"opt": False}), ("128 registers", {"max_registers": 128}))
+#: Attempted steps per launch of the fault part (each launch synchronised, so a fault is placed).
+FAULT_CHUNK = 200
+
+
+def fault_one(tiny, k, seconds, artifacts=None, report=None, chunk=FAULT_CHUNK):
+    """Variant ``k`` of :data:`FAULT_VARIANTS`: four fig4 cases (seed 0; with ``tiny`` the soft
+    stand-ins) with Gear and the tangential spring as one batch, in launches of ``chunk`` attempted
+    steps, each synchronised, for ``seconds`` or to the end: the compile, the launches that
+    ran clean and the fault, if one came. With ``artifacts`` (a folder) the kernel's PTX as this
+    machine's NVVM wrote it, and its SASS where ``nvdisasm`` is on PATH, go there (the production
+    compile only). What is known before the run (the compile) is reported first, so a fault that
+    takes the process keeps it."""
+    import numpy as np
+
+    from pdamper.engine.cuda import _Batch, _host, numpy_aliases_for_numba_cuda, threads_for
+    from pdamper.run import on_device
+    from pdamper.simulation import Simulation
+
+    numpy_aliases_for_numba_cuda()
+    from numba import cuda
+
+    from pdamper.kernels.gpu.gear import batch_gear
+    from pdamper.kernels.gpu.targets import SIMULATOR
+
+    name, options = FAULT_VARIANTS[k]
+    cases = [c for _, _, c in fig4_cases(tiny)]
+    if len(cases) > 4:
+        cases = [cases[i] for i in np.linspace(0, len(cases) - 1, 4).astype(int)]
+    jobs = []
+    with warnings.catch_warnings(), _unrefused():
+        warnings.simplefilter("ignore")
+        for case in cases:
+            c = dataclasses.replace(case, contact=dataclasses.replace(case.contact, tangential="spring"),
+                                    numerics=dataclasses.replace(case.numerics, integrator="gear"))
+            jobs.append(Simulation(on_device(c, "cuda"))._gpu_job()[0])
+        b = _Batch(jobs, threads_for(max(j.engine.n for j in jobs)))
+    if options and not SIMULATOR:  # (the simulator compiles nothing: its variants are the same kernel)
+        b.kernel = cuda.jit(**options)(batch_gear)
+    out = {"variant": name, "options": options, "cases": len(jobs), "chunk": chunk}
+    t = time.perf_counter()
+    b.launch(0)
+    if not SIMULATOR:
+        cuda.synchronize()
+    out["compile_s"] = time.perf_counter() - t
+    if artifacts and not options and not SIMULATOR:
+        out["artifacts"] = _kernel_artifacts(b.kernel, Path(artifacts))
+    if report is not None:
+        report.put("fault_one", out)
+    print(f"fault: {name}: compiled in {out['compile_s']:.1f} s", flush=True)
+    clean, t0 = 0, time.perf_counter()
+    out["fault"] = None
+    try:
+        while time.perf_counter() - t0 < seconds:
+            b.launch(chunk)
+            if not SIMULATOR:
+                cuda.synchronize()
+            clean += 1
+            b.poll()
+            if b.finished:
+                break
+    except Exception as exc:  # noqa: BLE001  (the fault is the finding)
+        out["fault"] = f"{type(exc).__name__}: {' '.join(str(exc).split())[:300]}"
+    out["launches_clean"] = clean
+    out["run_s"] = time.perf_counter() - t0
+    if out["fault"] is None:  # (after a fault the context is gone: nothing more comes back)
+        out["steps"] = [int(x) for x in _host(b.ct.step)]
+        out["statuses"] = sorted({int(x) for x in _host(b.ct.status)})
+    return out
+
+
+def _kernel_artifacts(kernel, folder):
+    """The compiled kernel's PTX (and SASS, where nvdisasm is on PATH) into ``folder``: their file names
+    and sizes, or why not."""
+    import shutil
+
+    folder.mkdir(parents=True, exist_ok=True)
+    out = {}
+    for kind, what, suffix in (("ptx", "inspect_asm", "ptx"), ("sass", "inspect_sass", "sass")):
+        if kind == "sass" and shutil.which("nvdisasm") is None:
+            out[kind] = "nvdisasm is not on PATH"
+            continue
+        try:
+            text = "\n".join(getattr(kernel, what)().values())
+            path = folder / f"gear_spring.{suffix}"
+            path.write_text(text)
+            out[kind] = {"file": path.name, "bytes": len(text)}
+        except Exception as exc:  # noqa: BLE001
+            out[kind] = f"? ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"
+    return out
+
+
+def part_fault(tiny, seconds, artifacts=None, variants=None, chunk=FAULT_CHUNK):
+    """Gear with the tangential spring on the GPU under each of :data:`FAULT_VARIANTS` (``variants``:
+    their numbers; default all), each in a process of its own (:func:`fault_one`; a fault takes its
+    process's CUDA context): whether and when it faults."""
+    out = {}
+    for k, (name, _) in enumerate(FAULT_VARIANTS):
+        if variants is not None and k not in variants:
+            continue
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "one.json"
+            cmd = [sys.executable, str(Path(__file__).resolve()), "--fault-one", str(k), "--out", str(path),
+                   "--fault-seconds", str(seconds), "--fault-chunk", str(chunk)]
+            cmd += ["--artifacts", str(artifacts)] if artifacts else []
+            r = subprocess.run(cmd + (["--tiny"] if tiny else []), capture_output=True, text=True, timeout=900)
+            v = json.loads(path.read_text())["parts"]["fault_one"] if path.exists() else {"variant": name}
+            if r.returncode != 0:
+                tail = [ln for ln in (r.stdout + r.stderr).splitlines() if ln.strip()][-3:]
+                v["fault"] = v.get("fault") or f"exit {r.returncode}: " + " | ".join(tail)[:600]
+        out[name] = v
+        print(f"fault: {_fault_line(name, v)}", flush=True)
+    return out
+
+
+def _fault_line(name, v):
+    """One variant of the fault part, in words (the log and the markdown summary)."""
+    compiled = f"compiled in {v['compile_s']:.1f} s" if "compile_s" in v else "not compiled"
+    ran = f"{v.get('launches_clean', 0)} launches of {v.get('chunk', '?')} steps ran clean"
+    return f"{name}: {compiled}; {ran}; " + (f"FAULT: {v['fault']}" if v.get("fault") else "no fault")
+
+
 def part_profile(tiny, seconds):
     """Where Gear's step spends its time: fig4's cases (seed 0, one batch, Gear with the tanh law)
     for ``seconds`` under the probed kernel (:mod:`pdamper.kernels.gpu.probe`), which reads the
@@ -946,6 +1109,9 @@ def markdown(data):
                 lines.append(f"- agree, {name}: {v['fault']}")
             for r in v.get("cases", []):
                 lines.append("- agree, " + _agree_line(name, r))
+    if "fault" in p:
+        for name, v in p["fault"].items():
+            lines.append("- fault, Gear with the spring, " + _fault_line(name, v))
     if "profile" in p:
         q = p["profile"]
         lines.append(f"- profile (probed Gear kernel, {q['cases']} cases): {q['cycles_per_attempted_step']:.0f} cycles per "
@@ -976,7 +1142,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="gpu.json", help="JSON result (written after every part); .md beside it")
     ap.add_argument("--budget-s", type=float, default=450.0, help="stop the paper part at this many seconds")
-    ap.add_argument("--only", nargs="+", choices=PARTS, help="run only these parts")
+    ap.add_argument("--only", nargs="+", choices=PARTS + EXTRA_PARTS,
+                    help="run only these parts (the extra part 'fault' only when named)")
     ap.add_argument("--tiny", action="store_true", help="tiny cases (numba-cuda's simulator: the test suite)")
     ap.add_argument("--ptx", action="store_true", help="compile to PTX for sm_90 without a GPU; ptxas -v")
     ap.add_argument("--ptx-kernels", default="gear,verlet",
@@ -989,6 +1156,12 @@ def main(argv=None):
     ap.add_argument("--agree-variants", default=None,
                     help="the agree part's variants, by number (0: gear tanh, 1: verlet tanh, 2: verlet spring, "
                          "3: gear spring), comma-separated; default all")
+    ap.add_argument("--fault-one", type=int, metavar="K", help=argparse.SUPPRESS)
+    ap.add_argument("--fault-seconds", type=float, default=10.0,
+                    help="how long each variant of the fault part runs (if it does not fault first)")
+    ap.add_argument("--fault-chunk", type=int, default=FAULT_CHUNK, help="attempted steps per launch of the fault part")
+    ap.add_argument("--artifacts", default=None,
+                    help="where the fault part writes the spring kernel's PTX and SASS (default: 'fault' beside --out)")
     ap.add_argument("--profile-seconds", type=float, default=10.0, help="how long the profile part's batch runs")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
     ap.add_argument("--make-paper-reference", action="store_true",
@@ -1009,6 +1182,10 @@ def main(argv=None):
         return 0
     if args.agree_one is not None:  # (one variant of the agree part, in its own process)
         report.put("agree_one", agree_one(args.tiny, args.agree_one, report))
+        return 0
+    if args.fault_one is not None:  # (one variant of the fault part, in its own process)
+        report.put("fault_one", fault_one(args.tiny, args.fault_one, args.fault_seconds, args.artifacts, report,
+                                          args.fault_chunk))
         return 0
     parts = args.only or PARTS
     report.put("env", env_info())
@@ -1031,6 +1208,9 @@ def main(argv=None):
                 elif part == "agree":
                     chosen = None if args.agree_variants is None else {int(k) for k in args.agree_variants.split(",")}
                     report.put(part, part_agree(args.tiny, chosen))
+                elif part == "fault":
+                    artifacts = args.artifacts or (Path(args.out).parent / "fault" if args.out else None)
+                    report.put(part, part_fault(args.tiny, args.fault_seconds, artifacts, chunk=args.fault_chunk))
                 elif part == "profile":
                     report.put(part, part_profile(args.tiny, min(args.profile_seconds, left)))
                 elif part == "steps":

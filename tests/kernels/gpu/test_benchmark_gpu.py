@@ -147,3 +147,17 @@ def test_step_cost_part_says_a_refused_variant_and_goes_on(monkeypatch):
                                               ("verlet alone", "verlet", "tanh", "one", None)))
     assert "refused for the test" in out["variants"]["refused"]["refused"]
     assert out["variants"]["verlet alone"]["steps"] > 0
+
+
+def test_fault_part_runs_in_the_simulator(tmp_path):
+    """The fault part's production variant on the tiny cases, in its own process, in launches of 10
+    attempted steps: Gear with the spring compiles (the refusal lifted for it), runs its launches
+    clean in the simulator, reports the compile, the launches and each case's steps."""
+    mod = _module()
+    out = mod.part_fault(True, 0.5, tmp_path / "fault", variants={0}, chunk=10)
+    assert list(out) == ["production"]
+    v = out["production"]
+    assert v["fault"] is None and v["launches_clean"] >= 1 and v["chunk"] == 10 and v["cases"] == 2
+    # (a launch attempts at most 10 steps of each case: its accepted steps are no more)
+    assert v["compile_s"] >= 0.0 and len(v["steps"]) == 2 and 0 < max(v["steps"]) <= 10 * v["launches_clean"]
+    assert v["statuses"] == [0] and "no fault" in mod._fault_line("production", v)
