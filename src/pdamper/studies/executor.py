@@ -172,7 +172,8 @@ def execute_batches(items, batch, on_result, *, progress=None, total=None, done=
             except InputError:
                 raise
             except Exception as exc:  # the GPU ran out of memory or faulted: say so, keep what is stored
-                raise InputError(f"the GPU batch of {len(part)} cases failed after {finished} of {len(order)} cases "
+                raise InputError(f"the GPU batch of {len(part)} case{'s' if len(part) != 1 else ''} failed after "
+                                 f"{finished} of {len(order)} cases "
                                  f"were stored ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); re-run the "
                                  "same command to resume (smaller batches: PDAMPER_GPU_CHUNK=256), or run on the CPU "
                                  "without --device cuda") from None
