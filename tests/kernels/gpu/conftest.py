@@ -1,6 +1,8 @@
 """The GPU kernels' tests run in numba-cuda's simulator (``NUMBA_ENABLE_CUDASIM=1``, set here before
 numba.cuda is first imported): no GPU needed. They need numba-cuda (the test extra installs it);
-without it they are skipped, saying so."""
+without it they are skipped, saying so. A test module here imports numba.cuda inside its tests,
+never at its top: collected with the whole suite, a module-level import can come before this
+setting takes hold, and every simulator test then skips."""
 
 import os
 
@@ -19,9 +21,9 @@ def simulator():
                         "the GPU engine's simulator tests are skipped")
     from numba import cuda
 
-    if not cuda.jit.__module__.startswith("numba.cuda.simulator"):
-        pytest.skip("numba.cuda was imported before NUMBA_ENABLE_CUDASIM=1 was set: run tests/kernels/gpu in a "
-                    "process of its own to use the simulator")
+    if not cuda.jit.__module__.startswith("numba.cuda.simulator"):  # a failure, not a skip: it loses them all
+        pytest.fail("numba.cuda was imported before NUMBA_ENABLE_CUDASIM=1 was set (a test module importing "
+                    "numba.cuda at its top?), so the simulator tests cannot run in this process")
     from gpu_race_check import locked_shared
 
     with locked_shared():

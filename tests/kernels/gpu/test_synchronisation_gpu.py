@@ -7,14 +7,15 @@ import dataclasses
 import warnings
 
 import numpy as np
-from numba import cuda, float64
+from numba import float64
 
 import gpu_race_check as race_check
 from gpu_helpers import pile_case, tiny_case
 
 
 def _racy(out):
-    """Thread 0 writes what thread 1 reads, with no barrier between; then with one."""
+    """Thread 0 writes what thread 1 reads, with no barrier between; then with one (``cuda``: a
+    global of its compiled copy, the test's)."""
     s = cuda.shared.array(2, float64)
     t = cuda.threadIdx.x
     if t == 0:
@@ -28,9 +29,16 @@ def _racy(out):
 
 def test_the_check_finds_a_missing_barrier():
     """A kernel whose thread 1 reads what thread 0 writes with no barrier between is found (the
-    read after the barrier is not)."""
+    read after the barrier is not). (numba.cuda is imported here, not when the module is: imported
+    at collection it would come before the conftest's NUMBA_ENABLE_CUDASIM=1 took hold, and every
+    simulator test would skip.)"""
+    import types
+
+    from numba import cuda
+
+    racy = types.FunctionType(_racy.__code__, dict(_racy.__globals__, cuda=cuda), "_racy")
     with race_check.tracking() as found:
-        cuda.jit(_racy)[1, 2](np.zeros(2))
+        cuda.jit(racy)[1, 2](np.zeros(2))
     kinds = {what for (_, what, _) in found}
     assert any("another thread's write with no barrier between" in k or "no thread wrote" in k for k in kinds), \
         race_check.findings_text()
