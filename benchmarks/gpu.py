@@ -643,18 +643,7 @@ def part_agree(tiny, variants=None):
     for k, (name, _, _) in enumerate(AGREE_VARIANTS):
         if variants is not None and k not in variants:
             continue
-        with tempfile.TemporaryDirectory() as d:
-            path = Path(d) / "one.json"
-            cmd = [sys.executable, str(Path(__file__).resolve()), "--agree-one", str(k), "--out", str(path)]
-            r = subprocess.run(cmd + (["--tiny"] if tiny else []), capture_output=True, text=True, timeout=900)
-            if r.returncode == 0 and path.exists():
-                v = json.loads(path.read_text())["parts"]["agree_one"]
-            else:
-                tail = [ln for ln in (r.stdout + r.stderr).splitlines() if ln.strip()][-3:]
-                v = {"variant": name, "fault": f"exit {r.returncode}: " + " | ".join(tail)[:600]}
-                if path.exists():  # what it wrote before the fault (the kernel's view of its arguments)
-                    v.update({key: val for key, val in json.loads(path.read_text())["parts"]["agree_one"].items()
-                              if key != "variant"})
+        v = _in_own_process("agree_one", k, name, tiny)
         out[name] = v
         for row in v.get("cases", []):
             print("agree: " + _agree_line(name, row), flush=True)
@@ -664,6 +653,26 @@ def part_agree(tiny, variants=None):
             print(f"agree: {name}: the kernel sees other shapes than the host made: {v['kernel_view']['shapes']}",
                   flush=True)
     return out
+
+
+def _in_own_process(part, k, name, tiny, extra=()):
+    """Variant ``k`` (called ``name``) of ``part`` (``agree_one``, ``fault_one``: run by
+    ``--agree-one K``, ``--fault-one K``) in a process of its own, since a kernel that faults takes
+    its process's CUDA context with it: what that process reported, to its end or up to its fault
+    (each writes what it knows before it runs), and ``fault`` when it did not end well (its own
+    words, else its exit status and last lines)."""
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "one.json"
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--" + part.replace("_", "-"), str(k), "--out", str(path),
+               *extra] + (["--tiny"] if tiny else [])
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+        v = {"variant": name}
+        if path.exists():
+            v.update(json.loads(path.read_text())["parts"][part])
+        if r.returncode != 0 or not path.exists():
+            tail = [ln for ln in (r.stdout + r.stderr).splitlines() if ln.strip()][-3:]
+            v["fault"] = v.get("fault") or f"exit {r.returncode}: " + " | ".join(tail)[:600]
+    return v
 
 
 def _agree_line(name, row):
@@ -694,7 +703,7 @@ def fault_one(tiny, k, seconds, artifacts=None, report=None, chunk=FAULT_CHUNK):
     takes the process keeps it."""
     import numpy as np
 
-    from pdamper.engine.cuda import _Batch, _host, numpy_aliases_for_numba_cuda, threads_for
+    from pdamper.engine.cuda import _Batch, _host, _sync, numpy_aliases_for_numba_cuda, threads_for
     from pdamper.run import on_device
     from pdamper.simulation import Simulation
 
@@ -721,8 +730,7 @@ def fault_one(tiny, k, seconds, artifacts=None, report=None, chunk=FAULT_CHUNK):
     out = {"variant": name, "options": options, "cases": len(jobs), "chunk": chunk}
     t = time.perf_counter()
     b.launch(0)
-    if not SIMULATOR:
-        cuda.synchronize()
+    _sync()
     out["compile_s"] = time.perf_counter() - t
     if artifacts and not options and not SIMULATOR:
         out["artifacts"] = _kernel_artifacts(b.kernel, Path(artifacts))
@@ -734,8 +742,7 @@ def fault_one(tiny, k, seconds, artifacts=None, report=None, chunk=FAULT_CHUNK):
     try:
         while time.perf_counter() - t0 < seconds:
             b.launch(chunk)
-            if not SIMULATOR:
-                cuda.synchronize()
+            _sync()
             clean += 1
             b.poll()
             if b.finished:
@@ -757,13 +764,13 @@ def _kernel_artifacts(kernel, folder):
 
     folder.mkdir(parents=True, exist_ok=True)
     out = {}
-    for kind, what, suffix in (("ptx", "inspect_asm", "ptx"), ("sass", "inspect_sass", "sass")):
+    for kind, what in (("ptx", "inspect_asm"), ("sass", "inspect_sass")):
         if kind == "sass" and shutil.which("nvdisasm") is None:
             out[kind] = "nvdisasm is not on PATH"
             continue
         try:
             text = "\n".join(getattr(kernel, what)().values())
-            path = folder / f"gear_spring.{suffix}"
+            path = folder / f"gear_spring.{kind}"
             path.write_text(text)
             out[kind] = {"file": path.name, "bytes": len(text)}
         except Exception as exc:  # noqa: BLE001
@@ -779,16 +786,8 @@ def part_fault(tiny, seconds, artifacts=None, variants=None, chunk=FAULT_CHUNK):
     for k, (name, _) in enumerate(FAULT_VARIANTS):
         if variants is not None and k not in variants:
             continue
-        with tempfile.TemporaryDirectory() as d:
-            path = Path(d) / "one.json"
-            cmd = [sys.executable, str(Path(__file__).resolve()), "--fault-one", str(k), "--out", str(path),
-                   "--fault-seconds", str(seconds), "--fault-chunk", str(chunk)]
-            cmd += ["--artifacts", str(artifacts)] if artifacts else []
-            r = subprocess.run(cmd + (["--tiny"] if tiny else []), capture_output=True, text=True, timeout=900)
-            v = json.loads(path.read_text())["parts"]["fault_one"] if path.exists() else {"variant": name}
-            if r.returncode != 0:
-                tail = [ln for ln in (r.stdout + r.stderr).splitlines() if ln.strip()][-3:]
-                v["fault"] = v.get("fault") or f"exit {r.returncode}: " + " | ".join(tail)[:600]
+        extra = ["--fault-seconds", str(seconds), "--fault-chunk", str(chunk)]
+        v = _in_own_process("fault_one", k, name, tiny, extra + (["--artifacts", str(artifacts)] if artifacts else []))
         out[name] = v
         print(f"fault: {_fault_line(name, v)}", flush=True)
     return out
