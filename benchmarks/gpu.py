@@ -191,15 +191,15 @@ def cuda_stack():
 # ---------------------------------------------------------------------------------------------- cases
 def _soft(case):
     """A tiny stand-in of ``case`` for the simulator: at most 4 soft spheres (long contacts, a 1 ms
-    step), a 2 mm stroke at 5 Hz, 2 cycles sampled at 100 Hz, with Verlet (the simulator's barriers
-    are slow, and Gear's step has more of them): about 400 steps."""
+    step), a 2 mm stroke at 10 Hz, 2 cycles sampled at 200 Hz, with Verlet (the simulator's barriers
+    are slow, and Gear's step has more of them): about 210 steps."""
     from pdamper.materials import Material
     from pdamper.schema import replace
 
     soft = Material(name="soft", youngs_modulus=3e4, poisson_ratio=0.3, density=7800.0)
     parts = tuple(dataclasses.replace(p, material=soft, count=min(p.count, 4)) for p in case.particles)
     case = dataclasses.replace(case, particles=parts, cycles=2, drop_cycles=1)
-    return replace(case, {"drive.stroke": 0.002, "drive.frequency": 5.0, "recording.sample_rate": 100.0,
+    return replace(case, {"drive.stroke": 0.002, "drive.frequency": 10.0, "recording.sample_rate": 200.0,
                           "numerics.time_step": 1e-3, "numerics.overlap_limit": 0.45, "initial.settle_time": 0.01,
                           "numerics.integrator": "verlet"})
 
@@ -826,7 +826,9 @@ def part_profile(tiny, seconds):
         compile_s = time.perf_counter() - t
         jobs = [Simulation(c)._gpu_job()[0] for c in cases]
         t0 = time.perf_counter()
-        outcomes = run_jobs(jobs, probe=True, progress=lambda done, total: time.perf_counter() - t0 < seconds)
+        # (tiny: launches of 20 steps, so that the simulator stops soon after its window)
+        outcomes = run_jobs(jobs, probe=True, progress=lambda done, total: time.perf_counter() - t0 < seconds,
+                            max_launch_steps=20 if tiny else 10**9)
         wall = time.perf_counter() - t0
     cyc = np.array([o.cycles for o in outcomes], dtype=float)
     attempted = np.array([o.steps + o.rejected for o in outcomes], dtype=float)

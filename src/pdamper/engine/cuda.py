@@ -205,7 +205,7 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
         _sync()
         return [GpuOutcome(steps=0, status=0, culprit=-1, t_fail=math.nan, wall_time_s=time.perf_counter() - t_start,
                            batch=len(jobs)) for _ in jobs]
-    chunk = 200
+    chunk = min(200, max_launch_steps)
     while True:
         t0 = time.perf_counter()
         live = [b for b in batches if not b.finished]

@@ -166,9 +166,10 @@ def case_tol(case):
 def test_gear_kernel_gives_the_same_bits_run_after_run():
     """A 4 x 3 pile (18 spheres, up to 23 touching pairs) on 3 threads, 100 steps in launches of 25,
     twice: the same bits. The simulator runs each GPU thread as a Python thread and switches between
-    them at random, so a missing barrier (a thread reading what another has not written yet) shows
+    them at random, so a missing barrier (a thread reading what another has not written yet) can show
     as runs that differ: once the pair walk started before every thread had written its rows (the
-    two runs parted at step 75)."""
+    two runs parted at step 75). The race check (test_synchronisation_gpu.py) finds such a barrier
+    for certain; this test holds the kernel deterministic."""
     from pdamper.engine.cuda import _Batch
     from pdamper.simulation import Simulation
 

@@ -88,20 +88,41 @@ def test_a_failed_case_stops_alone():
     assert out[1].signals.force.size == sims[1].n_samples
 
 
+def test_a_launch_takes_no_more_steps_than_its_cap():
+    """``max_launch_steps`` caps every launch, the first too (it once took 200 steps whatever the cap);
+    a progress call that returns False stops the batch, the case saying it was stopped."""
+    import warnings
+
+    from pdamper.engine.cuda import STATUS_STOPPED, run_jobs
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sim = Simulation(_case("cuboid", n=2))
+    seen = []
+
+    def progress(done, total):
+        seen.append((done, total))
+        return len(seen) < 3
+
+    (out,) = run_jobs([sim._gpu_job()[0]], max_launch_steps=7, progress=progress)
+    assert [d for d, _ in seen] == [7, 14, 21] and seen[0][1] > 21
+    assert out.steps == 21 and out.status == STATUS_STOPPED
+
+
 def test_eta_star_of_a_short_ensemble():
-    """Three seeds of a short run on both engines (soft spheres, so that 620 steps make three cycles):
+    """Three seeds of a short run on both engines (soft spheres, so that 310 steps make three cycles):
     the GPU's eta* of every seed within a tenth of the CPU's seed spread of it; the mean inside the
     CPU's range of seeds."""
     import warnings
 
     from pdamper.run import run_case, run_cases
 
-    soft = Material(name="soft", youngs_modulus=1e5, poisson_ratio=0.3, density=7800.0)
+    soft = Material(name="soft", youngs_modulus=2e4, poisson_ratio=0.3, density=7800.0)
 
     def case(seed, device):
         return Case(particles=(ParticleSet(count=4, material=soft),), drive=HarmonicDrive(stroke=0.002, frequency=10.0),
                     cycles=3, drop_cycles=1, recording=Recording(sample_rate=100.0),
-                    numerics=Numerics(integrator="verlet", time_step=5e-4, overlap_limit=0.4, device=device),
+                    numerics=Numerics(integrator="verlet", time_step=1e-3, overlap_limit=0.4, device=device),
                     initial=InitialState(settle_time=0.01, seed=seed))
 
     with warnings.catch_warnings():
