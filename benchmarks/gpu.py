@@ -17,10 +17,11 @@ what follows it), writing ``--out`` (JSON) after every part and a markdown summa
    of its own (``--agree-variants`` picks them): the steps, the first sample at which the wall force
    parts from the CPU's, the final positions; for Gear first the shapes of its arrays as a kernel
    with its arguments sees them (kept if the run then faults).
-   ``profile``: where Gear's step spends its time, phase by phase: fig4's cases as one batch for
-   ``--profile-seconds`` (10) under the probed kernel (``pdamper.kernels.gpu.probe``: the block's
-   cycle counter read at the end of each phase): cycles per attempted step of each phase and its
-   share, the implicit walk's rows per step and cycles per row, the rebuilds.
+   ``profile``: where Gear's step spends its time, phase by phase: fig4's cases as one batch
+   (``--profile-cases``: some of them, e.g. the longest alone) for ``--profile-seconds`` (10) under
+   the probed kernel (``pdamper.kernels.gpu.probe``: the block's cycle counter read at the end of
+   each phase): cycles per attempted step of each phase and its share, the implicit walk's rows per
+   step and cycles per row, the rebuilds; each case's own.
    ``fault`` (only when named: ``--only fault``): Gear with the tangential spring, which faults on a
    GPU, on four fig4 cases in synchronised launches of 200 steps for ``--fault-seconds`` (10), as the
    production kernel and compiled twice more with other numba-cuda options (NVVM unoptimised; at most
@@ -800,10 +801,12 @@ def _fault_line(name, v):
     return f"{name}: {compiled}; {ran}; " + (f"FAULT: {v['fault']}" if v.get("fault") else "no fault")
 
 
-def part_profile(tiny, seconds):
-    """Where Gear's step spends its time: fig4's cases (seed 0, one batch, Gear with the tanh law)
-    for ``seconds`` under the probed kernel (:mod:`pdamper.kernels.gpu.probe`), which reads the
-    block's cycle counter at the end of each phase of a step. Per phase: cycles per attempted step
+def part_profile(tiny, seconds, cases=None):
+    """Where Gear's step spends its time: fig4's cases (seed 0, one batch, Gear with the tanh law;
+    ``cases``: only these, by index into :func:`fig4_cases`, e.g. the longest alone, whose late
+    steps a batch's first seconds do not reach) for ``seconds`` under the probed kernel
+    (:mod:`pdamper.kernels.gpu.probe`), which reads the block's cycle counter at the end of each
+    phase of a step. Per phase: cycles per attempted step
     (all cases' cycles over all their attempted steps) and share of the step; the implicit walk's
     rows per attempted step and cycles per row; rebuilds per step. The probed step is a little
     slower than the production one (a clock read holds the compiler's scheduling at it): the
@@ -815,8 +818,15 @@ def part_profile(tiny, seconds):
     from pdamper.run import on_device
     from pdamper.simulation import Simulation
 
+    every = fig4_cases(tiny)
+    picked = range(len(every)) if cases is None else cases
+    bad = [k for k in picked if not 0 <= k < len(every)]
+    if bad:
+        raise SystemExit(f"--profile-cases {bad}: fig4 has cases 0-{len(every) - 1} "
+                         "(36 spheres first, strokes ascending)")
     cases = []
-    for _, _, case in fig4_cases(tiny):
+    for k in picked:
+        case = every[k][2]
         c = dataclasses.replace(case, numerics=dataclasses.replace(case.numerics, integrator="gear"))
         cases.append(on_device(c, "cuda"))
     with warnings.catch_warnings():
@@ -845,7 +855,7 @@ def part_profile(tiny, seconds):
             clock_khz = None
     walk = PHASES.index("implicit pair walk")
     rows = float(cyc[:, P_ROWS].sum()) / tried
-    out = {"seconds": seconds, "cases": len(jobs), "compile_s": compile_s, "wall_s": wall,
+    out = {"seconds": seconds, "cases": len(jobs), "picked": list(picked), "compile_s": compile_s, "wall_s": wall,
            "attempted_steps": int(tried), "most_steps": int(max(o.steps for o in outcomes)),
            "rejected_share": float(sum(o.rejected for o in outcomes)) / tried,
            "us_per_step_per_block_probed": 1e6 * wall / max(max(o.steps for o in outcomes), 1),
@@ -858,9 +868,10 @@ def part_profile(tiny, seconds):
                       for name, v in zip(PHASES, per_step)}}
     # each case's own step (a launch lasts as long as its slowest block): cycles and walk rows a step
     own = cyc[:, :len(PHASES)].sum(axis=1) / np.maximum(attempted, 1.0)
-    out["per_case"] = [{"spheres": int(j.engine.n), "cycles_per_attempted_step": float(own[k]),
+    out["per_case"] = [{"case": picked[k], "spheres": int(j.engine.n), "cycles_per_attempted_step": float(own[k]),
                         "walk_rows_per_attempted_step": float(cyc[k, P_ROWS] / max(attempted[k], 1.0)),
                         "walk_cycles_per_attempted_step": float(cyc[k, walk] / max(attempted[k], 1.0)),
+                        "rebuilds_per_attempted_step": float(cyc[k, P_REBUILDS] / max(attempted[k], 1.0)),
                         "attempted_steps": int(attempted[k])} for k, j in enumerate(jobs)]
     out["slowest_case_cycles_per_attempted_step"] = float(own.max())
     print(f"profile: {len(jobs)} cases, {int(tried)} attempted steps in {wall:.1f} s (probed kernel, compile "
@@ -1164,6 +1175,9 @@ def main(argv=None):
     ap.add_argument("--artifacts", default=None,
                     help="where the fault part writes the spring kernel's PTX and SASS (default: 'fault' beside --out)")
     ap.add_argument("--profile-seconds", type=float, default=10.0, help="how long the profile part's batch runs")
+    ap.add_argument("--profile-cases", type=int, nargs="+", default=None,
+                    help="the profile part's fig4 cases, by index (36 spheres 0-39, 44 spheres 40-79, strokes "
+                         "ascending); default all 80")
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
     ap.add_argument("--make-paper-reference", action="store_true",
                     help="write benchmarks/data/paper_cpu_reference.csv: every paper case, seed 0, on the CPU engine")
@@ -1213,7 +1227,7 @@ def main(argv=None):
                     artifacts = args.artifacts or (Path(args.out).parent / "fault" if args.out else None)
                     report.put(part, part_fault(args.tiny, args.fault_seconds, artifacts, chunk=args.fault_chunk))
                 elif part == "profile":
-                    report.put(part, part_profile(args.tiny, min(args.profile_seconds, left)))
+                    report.put(part, part_profile(args.tiny, min(args.profile_seconds, left), args.profile_cases))
                 elif part == "steps":
                     report.put(part, part_steps(args.tiny, min(args.steps_seconds, left)))
                 elif part == "bed":

@@ -107,6 +107,18 @@ def test_profile_part_runs_in_the_simulator():
     for phase in ("pair laws", "sphere forces, increments", "error norm", "accepted step: correct, ledger"):
         assert out["phases"][phase]["cycles_per_attempted_step"] > 0, phase
     assert out["walk_rows_per_attempted_step"] >= 0.0
+    assert [c["case"] for c in out["per_case"]] == out["picked"] == [0, 1]
+    assert all(c["rebuilds_per_attempted_step"] >= 0.0 for c in out["per_case"])
+
+
+def test_profile_part_takes_the_cases_named():
+    """``--profile-cases``: the profile of the cases named alone, each saying which it is; a case
+    beyond fig4's is refused naming the range."""
+    mod = _module()
+    out = mod.part_profile(True, 0.2, [1])
+    assert out["cases"] == 1 and out["picked"] == [1] and out["per_case"][0]["case"] == 1
+    with pytest.raises(SystemExit, match="fig4 has cases 0-1"):
+        mod.part_profile(True, 0.2, [2])
 
 
 def test_agree_part_runs_in_the_simulator():
