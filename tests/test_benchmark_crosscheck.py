@@ -1,21 +1,17 @@
 """benchmarks/crosscheck.py without running a simulation: the laws it sets, the settling spread of
 ``--settle-step``, and the table's difference with its standard error (a closed form)."""
 
-import importlib.util
 import math
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from script_loader import load_script
+
 
 
 @pytest.fixture(scope="module")
 def crosscheck():
-    spec = importlib.util.spec_from_file_location("crosscheck_benchmark", ROOT / "benchmarks" / "crosscheck.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/crosscheck.py")
 
 
 @pytest.mark.parametrize("law", ["tanh", "spring", "spring_tdoff", "spring_tsuji"])

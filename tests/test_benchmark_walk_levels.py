@@ -1,23 +1,18 @@
 """benchmarks/walk_levels.py: the level rule of the GPU's implicit pair walk on beds whose levels
 are known by hand, the touching pairs it counts, and one short fig4 case on the CPU engine."""
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from script_loader import load_script
+
 R = 0.005
 TOUCH = 2 * R * (1 - 1e-4)  # centres 1 um closer than touching
 
 
 @pytest.fixture(scope="module")
 def walk():
-    spec = importlib.util.spec_from_file_location("walk_levels_benchmark", ROOT / "benchmarks" / "walk_levels.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/walk_levels.py")
 
 
 def test_a_chain_is_one_row_a_level_and_disjoint_pairs_share_one(walk):

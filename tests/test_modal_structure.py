@@ -4,7 +4,6 @@ matrices against the cantilever's closed form, the coupled ledger with a bed, th
 
 from __future__ import annotations
 
-import importlib.util
 import math
 from pathlib import Path
 
@@ -18,6 +17,7 @@ from pdamper.params import Case, Numerics, ParticleSet
 from pdamper.run import run_case
 from pdamper.simulation import run_bare_structure
 from pdamper.theory import oscillator_response
+from script_loader import load_script
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TWO = ({"frequency": 2.0, "damping_ratio": 0.005, "modal_mass": 7.0, "damper": 1.0, "force": 1.0, "response": 0.4},
@@ -25,10 +25,7 @@ TWO = ({"frequency": 2.0, "damping_ratio": 0.005, "modal_mass": 7.0, "damper": 1
 
 
 def _mast():
-    spec = importlib.util.spec_from_file_location("mast_matrices", EXAMPLES / "mast_matrices.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("examples/mast_matrices.py")
 
 
 def _superposition(t, modes, q0, v0, f0=0.0, ff=0.0):

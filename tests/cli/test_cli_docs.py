@@ -3,7 +3,6 @@ example that needs no simulation prints what the page shows."""
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import shlex
 from pathlib import Path
@@ -12,13 +11,12 @@ import pytest
 from click.testing import CliRunner
 
 from pdamper.cli import main
+from script_loader import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 CLI_MD = ROOT / "docs" / "cli.md"
 
-_spec = importlib.util.spec_from_file_location("cli_help", ROOT / "tools" / "cli_help.py")
-cli_help = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(cli_help)
+cli_help = load_script("tools/cli_help.py")
 
 #: Examples that run the DEM: too slow to repeat here (their numbers are measured, see the page).
 SIMULATED = ("pdamper run ",)

@@ -3,7 +3,6 @@ channel reads, and changes nothing about the run; bad recorders are refused clea
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -13,15 +12,13 @@ from pdamper.config import load_case
 from pdamper.recorders import EnergyRecorder, SignalsRecorder, TrajectoryRecorder
 from pdamper.run import run_case
 from pdamper.simulation import Simulation
+from script_loader import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def _example_recorder():
-    spec = importlib.util.spec_from_file_location("kinetic_energy_recorder", ROOT / "examples" / "kinetic_energy_recorder.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod.BedKineticEnergy
+    return load_script("examples/kinetic_energy_recorder.py").BedKineticEnergy
 
 
 def _case(**over):

@@ -2,7 +2,6 @@
 device="cuda")`` path as on a GPU, on tiny cases), and its --ptx mode, which compiles the real kernel
 to PTX for sm_90 with the local CUDA toolkit's NVVM (skipped without one)."""
 
-import importlib.util
 import json
 import os
 import subprocess
@@ -10,16 +9,14 @@ import sys
 from pathlib import Path
 
 import pytest
+from script_loader import load_script
 
 ROOT = Path(__file__).resolve().parents[3]
 SCRIPT = ROOT / "benchmarks" / "gpu.py"
 
 
 def _module():
-    spec = importlib.util.spec_from_file_location("gpu_benchmark", SCRIPT)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/gpu.py")
 
 
 def test_tiny_study_runs_in_the_simulator(tmp_path, monkeypatch):

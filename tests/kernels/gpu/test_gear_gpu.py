@@ -10,17 +10,13 @@ rounding, which is what the second test holds.
 """
 
 import dataclasses
-import importlib.util
 import warnings
-from pathlib import Path
 
 import numpy as np
 
 from gpu_helpers import on_both as _both
 from gpu_helpers import pile_case as _pile
 from gpu_helpers import tiny_case as _case
-
-ROOT = Path(__file__).resolve().parents[3]
 
 
 def _gear(case, mu=0.3):
@@ -211,10 +207,9 @@ def test_gear_pair_walk_by_levels_as_by_one_thread(monkeypatch):
                 assert ends[k, 2] > ends[q, 2]
     assert m >= 12 and 1 <= int(ends[:, 2].max()) < m
     # benchmarks/walk_levels.py counts the walk's depth on the CPU engine by the same rule
-    spec = importlib.util.spec_from_file_location("walk_levels", ROOT / "benchmarks" / "walk_levels.py")
-    walk = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(walk)
-    assert walk.levels_of(ends[:, :2].tolist()) == ends[:, 2].tolist()
+    from script_loader import load_script
+
+    assert load_script("benchmarks/walk_levels.py").levels_of(ends[:, :2].tolist()) == ends[:, 2].tolist()
     monkeypatch.setattr(gear, "LEVEL_SPHERES", 4)  # (the simulator reads the kernel's globals as it runs)
     *_, one = _step_by_step(_gear(_pile()), 10)
     assert int(levels.ct.step[0]) == int(one.ct.step[0]) == 10
