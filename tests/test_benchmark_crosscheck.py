@@ -8,7 +8,6 @@ import pytest
 from script_loader import load_script
 
 
-
 @pytest.fixture(scope="module")
 def crosscheck():
     return load_script("benchmarks/crosscheck.py")
