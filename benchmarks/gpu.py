@@ -806,9 +806,9 @@ def part_profile(tiny, seconds, cases=None):
     ``cases``: only these, by index into :func:`fig4_cases`, e.g. the longest alone, whose late
     steps a batch's first seconds do not reach) for ``seconds`` under the probed kernel
     (:mod:`pdamper.kernels.gpu.probe`), which reads the block's cycle counter at the end of each
-    phase of a step. Per phase: cycles per attempted step
-    (all cases' cycles over all their attempted steps) and share of the step; the implicit walk's
-    rows per attempted step and cycles per row; rebuilds per step. The probed step is a little
+    phase of a step. Per phase: cycles per attempted step (all cases' cycles over all their
+    attempted steps) and share of the step; the implicit walk's rows per attempted step and cycles
+    per row; rebuilds per step; each case's own. The probed step is a little
     slower than the production one (a clock read holds the compiler's scheduling at it): the
     shares are what this tells; the production kernel's time is the steps part's."""
     import numpy as np
@@ -1184,6 +1184,11 @@ def main(argv=None):
     ap.add_argument("--make-reference", metavar="STUDY_DIR",
                     help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
     args = ap.parse_args(argv)
+    if args.profile_cases:  # (said before any part runs: a GPU's time is short)
+        n = len(fig4_cases(args.tiny))
+        bad = [k for k in args.profile_cases if not 0 <= k < n]
+        if bad:
+            ap.error(f"--profile-cases {bad}: fig4 has cases 0-{n - 1} (36 spheres first, strokes ascending)")
     if args.make_reference:
         make_reference(args.make_reference)
         return 0

@@ -118,6 +118,16 @@ def test_profile_part_takes_the_cases_named():
         mod.part_profile(True, 0.2, [2])
 
 
+def test_a_profile_case_beyond_fig4_is_refused_before_any_part_runs(tmp_path, capsys):
+    """The command line's check comes first: nothing runs, nothing is written, the range is named."""
+    mod = _module()
+    out = tmp_path / "gpu.json"
+    with pytest.raises(SystemExit) as err:
+        mod.main(["--tiny", "--only", "env", "profile", "--profile-cases", "5", "--out", str(out)])
+    assert err.value.code == 2 and "fig4 has cases 0-1" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_agree_part_runs_in_the_simulator():
     """The agree part on the tiny cases, Gear with the tanh law, in its own process: in the
     simulator the kernels call the CPU's compiled functions, so the two engines agree to rounding at
