@@ -594,9 +594,9 @@ def agree_one(tiny, k, report=None):
 
     name, integrator, tangential = AGREE_VARIANTS[k]
     cases = fig4_cases(tiny)
-    picked = [cases[0][2], cases[-1][2]] if tiny else [cases[20][2], cases[60][2]]
+    picked = [cases[0], cases[-1]] if tiny else [cases[20], cases[60]]
     built = []
-    for case in picked:
+    for _, _, case in picked:
         if tiny:  # (a few hundred steps in the simulator)
             case = dataclasses.replace(replace(case, {"recording.sample_rate": 5000.0, "initial.settle_time": 0.0}),
                                        cycles=0.01, drop_cycles=0)
@@ -622,12 +622,12 @@ def agree_one(tiny, k, report=None):
         with _unrefused():
             out = run_on_gpu(gpu)
     rows = []
-    for a, b, rec in zip(cpu, gpu, out):
+    for (label, _, _), a, b, rec in zip(picked, cpu, gpu, out):
         fa, fb = np.asarray(a.samples.wall_force), np.asarray(b.samples.wall_force)
         peak = max(float(np.max(np.abs(fa))), 1e-300)
         apart = np.nonzero(np.abs(fa - fb) > 1e-9 * peak)[0]
         pa, pb = a.engine.bodies.position, b.engine.bodies.position
-        rows.append({"spheres": int(a.n), "failed": None if not isinstance(rec, Exception) else str(rec)[:200],
+        rows.append({"setting": label, "spheres": int(a.n), "failed": None if not isinstance(rec, Exception) else str(rec)[:200],
                      "steps_cpu": int(a.stepper.steps), "steps_gpu": int(b.stepper.steps), "samples": int(fa.size),
                      "first_sample_apart": int(apart[0]) if apart.size else None,
                      "max_wall_force_diff_over_peak": float(np.max(np.abs(fa - fb))) / peak,
@@ -678,7 +678,7 @@ def _in_own_process(part, k, name, tiny, extra=()):
 
 def _agree_line(name, row):
     """One case of a variant of the agree part, in words (the log and the markdown summary)."""
-    return (f"{name}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU {row['steps_gpu']}; wall force "
+    return (f"{name}, {row.get('setting', '?')}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU {row['steps_gpu']}; wall force "
             f"apart from sample {row['first_sample_apart']} of {row['samples']} (max "
             f"{row['max_wall_force_diff_over_peak']:.1e} of its peak); positions "
             f"{row['max_position_diff_over_radius']:.1e} radii apart at the end")

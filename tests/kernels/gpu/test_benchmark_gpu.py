@@ -139,6 +139,8 @@ def test_agree_part_runs_in_the_simulator():
     for name in ("gear, tanh",):
         rows = out[name]["cases"]
         assert len(rows) == 2 and all(r["failed"] is None for r in rows), name
+        assert [r["setting"] for r in rows] == ["N_p = 36", "N_p = 44"]  # (each line says its case)
+        assert "N_p = 44, 4 spheres" in mod._agree_line(name, rows[1])
         for r in rows:
             assert r["steps_cpu"] == r["steps_gpu"] > 0 and r["samples"] >= 2
             assert r["first_sample_apart"] is None and r["max_wall_force_diff_over_peak"] <= 1e-12
