@@ -627,7 +627,8 @@ def agree_one(tiny, k, report=None):
         peak = max(float(np.max(np.abs(fa))), 1e-300)
         apart = np.nonzero(np.abs(fa - fb) > 1e-9 * peak)[0]
         pa, pb = a.engine.bodies.position, b.engine.bodies.position
-        rows.append({"setting": label, "spheres": int(a.n), "failed": None if not isinstance(rec, Exception) else str(rec)[:200],
+        rows.append({"setting": label, "spheres": int(a.n),
+                     "failed": None if not isinstance(rec, Exception) else str(rec)[:200],
                      "steps_cpu": int(a.stepper.steps), "steps_gpu": int(b.stepper.steps), "samples": int(fa.size),
                      "first_sample_apart": int(apart[0]) if apart.size else None,
                      "max_wall_force_diff_over_peak": float(np.max(np.abs(fa - fb))) / peak,
@@ -678,8 +679,8 @@ def _in_own_process(part, k, name, tiny, extra=()):
 
 def _agree_line(name, row):
     """One case of a variant of the agree part, in words (the log and the markdown summary)."""
-    return (f"{name}, {row.get('setting', '?')}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU {row['steps_gpu']}; wall force "
-            f"apart from sample {row['first_sample_apart']} of {row['samples']} (max "
+    return (f"{name}, {row['setting']}, {row['spheres']} spheres: steps CPU {row['steps_cpu']} GPU "
+            f"{row['steps_gpu']}; wall force apart from sample {row['first_sample_apart']} of {row['samples']} (max "
             f"{row['max_wall_force_diff_over_peak']:.1e} of its peak); positions "
             f"{row['max_position_diff_over_radius']:.1e} radii apart at the end")
 
