@@ -177,6 +177,24 @@ def _group_key(job):
             float(t.dlog_speed), float(t.tau), float(t.v_floor), float(t.overlap_limit))
 
 
+def launch_cycles(seconds: float) -> int:
+    """``seconds`` of a launch as its blocks' clocks count them: cycles of the GPU's rated clock
+    (the multiprocessors' counter runs at the clock of the moment, which boost and throttling move by
+    some percent: a launch's length, not a measurement; 2 GHz if the driver does not say), the
+    host's nanoseconds in numba-cuda's simulator (:func:`pdamper.kernels.gpu.probe.clock`)."""
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return max(1, int(seconds * 1e9))
+    try:
+        from numba import cuda
+
+        khz = float(cuda.get_current_device().CLOCK_RATE)
+    except Exception:  # noqa: BLE001  (an attribute newer drivers may drop: a length, not a figure)
+        khz = 2e6
+    return max(1, int(seconds * 1e3 * khz))
+
+
 def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
              progress=None, compile_only: bool = False, probe: bool = False) -> list[GpuOutcome]:
     """Run every job to its end on the GPU (or numba-cuda's simulator); fill its samples and leave
@@ -186,10 +204,12 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
     table's constants, and the block size: a 36-sphere bed does not wait in a block sized for 176
     spheres); each group is one batch on its own CUDA stream, and the groups' launches run side by
     side. ``threads`` per block (default :func:`threads_for` each group's largest bed);
-    ``launch_seconds``: a round of launches' target length (the steps per launch adapt to it; after
-    each round ``progress(done, total)`` is called with the steps done, and returning False stops:
-    the unfinished cases end with :data:`STATUS_STOPPED`); ``max_launch_steps`` caps the steps of a
-    launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
+    ``launch_seconds``: a launch's length after the first (which takes 200 steps of every case): each
+    block stops at the step on which its clock has run that long (:func:`launch_cycles`), so every
+    case takes as many steps as its own step's cost allows instead of all waiting for the slowest;
+    after each round ``progress(done, total)`` is called with the steps done, and returning False
+    stops: the unfinished cases end with :data:`STATUS_STOPPED`. ``max_launch_steps`` caps the steps
+    of a launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
     ``probe``: Gear's jobs run the probed kernel, which times each phase of a step
     (:mod:`pdamper.kernels.gpu.probe`; each outcome's ``cycles``): a profile, not a production run.
     """
@@ -205,14 +225,12 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
         _sync()
         return [GpuOutcome(steps=0, status=0, culprit=-1, t_fail=math.nan, wall_time_s=time.perf_counter() - t_start,
                            batch=len(jobs)) for _ in jobs]
-    chunk = min(200, max_launch_steps)
+    chunk, cycles = min(200, max_launch_steps), 0
     while True:
-        t0 = time.perf_counter()
         live = [b for b in batches if not b.finished]
         for b in live:
-            b.launch(chunk)
+            b.launch(chunk, cycles)
         _sync()
-        dt = time.perf_counter() - t0
         for b in live:
             b.poll()
         if all(b.finished for b in batches):
@@ -221,8 +239,8 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
             done = sum(int(np.minimum(b.done, b.total).sum()) for b in batches)
             if progress(done, sum(int(b.total.sum()) for b in batches)) is False:
                 break  # the caller stops the batch: the unfinished cases say so
-        # aim each round at about launch_seconds
-        chunk = int(min(max_launch_steps, max(chunk, chunk * min(8.0, launch_seconds / max(dt, 1e-6)))))
+        # from the second round on, each launch is bounded by time (and by max_launch_steps)
+        chunk, cycles = max_launch_steps, launch_cycles(launch_seconds)
     wall = time.perf_counter() - t_start
     out = [None] * len(jobs)
     for b, idx in zip(batches, groups.values()):
@@ -266,17 +284,19 @@ class _Batch:
         else:
             self.kernel = verlet_kernel()
 
-    def launch(self, steps):
+    def launch(self, steps, cycles=0):
+        """Every case at most ``steps`` further, and with ``cycles`` > 0 no further than the step on
+        which its block's clock has run that many cycles (:func:`launch_cycles`)."""
         C = len(self.jobs)
         if self.stream is None:  # numba-cuda's simulator: its threads switch at every barrier (SIMULATOR_SWITCH_S)
             old = sys.getswitchinterval()
             sys.setswitchinterval(min(old, SIMULATOR_SWITCH_S))
             try:
-                self.kernel[C, self.bd](*self.args, int(steps))
+                self.kernel[C, self.bd](*self.args, int(steps), int(cycles))
             finally:
                 sys.setswitchinterval(old)
         else:
-            self.kernel[C, self.bd, self.stream](*self.args, int(steps))
+            self.kernel[C, self.bd, self.stream](*self.args, int(steps), int(cycles))
 
     def poll(self):
         ct = self.ct

@@ -73,6 +73,7 @@ def test_step_cost_part_runs_in_the_simulator():
     v = out["variants"]["verlet alone"]
     assert v["cases"] == 1 and v["steps"] > 0
     assert v["us_per_step_per_block"] == pytest.approx(1e6 * v["wall_s"] / v["steps"])
+    assert v["us_per_step_least_advanced"] == pytest.approx(1e6 * v["wall_s"] / v["steps_least"])
 
 
 def test_paper_part_compares_with_the_cpu_reference(tmp_path, monkeypatch):

@@ -45,7 +45,7 @@ def test_the_check_finds_a_missing_barrier():
     assert all(":" in where for (_, _, where) in found)
 
 
-def _run_tracked(case, threads, launches, steps):
+def _run_tracked(case, threads, launches, steps, cycles=0):
     from pdamper.engine.cuda import _Batch
     from pdamper.simulation import Simulation
 
@@ -62,7 +62,7 @@ def _run_tracked(case, threads, launches, steps):
         bundles.append(batch.gs)
     for _ in range(launches):
         race_check.new_launch(*bundles)
-        batch.launch(steps)
+        batch.launch(steps, cycles)
     return batch
 
 
@@ -78,11 +78,16 @@ def test_every_kernel_orders_its_threads_by_barriers():
     """Gear with the tanh law (the gathered rows, the walk by levels: an 8-sphere pile on 3 threads,
     so a thread takes several spheres and the rows' scan several rounds), Gear with the spring
     (its history saved and restored), both rebuilding their rows and rejecting steps, and Verlet (a
-    violent 4-sphere bed on 3 threads), each in two launches: no finding in shared or global memory."""
+    violent 4-sphere bed on 3 threads), each in two launches; then Verlet and Gear in launches bounded
+    by time (thread 0 tells the block at a step's last barrier that the launch's time is up: one
+    nanosecond, so every launch ends after its first step): no finding in shared or global memory."""
     with race_check.tracking() as found:
         runs = [_run_tracked(_gear(pile_case(3, 2)), 3, 2, 2), _run_tracked(_gear(pile_case(3, 2), "spring"), 3, 2, 2),
                 _run_tracked(tiny_case("cuboid", n=4, direction=(1.0, 0.3, 0.2)), 3, 2, 5)]
+        timed = [_run_tracked(tiny_case("cuboid", n=4, direction=(1.0, 0.3, 0.2)), 3, 3, 5, cycles=1),
+                 _run_tracked(_gear(pile_case(3, 2)), 3, 3, 5, cycles=1)]
     assert not found, race_check.findings_text()
     for batch in runs:
         assert int(batch.ct.status[0]) == 0 and int(batch.ct.step[0]) >= 2
     assert all(int(b.gc.rejected[0]) > 0 for b in runs[:2])
+    assert int(timed[0].ct.step[0]) == 3 and int(timed[1].ct.step[0]) + int(timed[1].gc.rejected[0]) == 3

@@ -109,6 +109,41 @@ def test_a_launch_takes_no_more_steps_than_its_cap():
     assert out.steps == 21 and out.status == STATUS_STOPPED
 
 
+def test_a_launch_bounded_by_time_stops_each_case_at_its_own_step():
+    """A launch given a time on its blocks' clocks (``cycles``, nanoseconds in the simulator) stops
+    each block at the first step that ends past it: with one nanosecond, every case takes exactly
+    one step whatever the step cap; the steps a case takes do not depend on how launches cut them
+    (the same bits as launches of 25 steps), for Verlet and for Gear (an attempted step each)."""
+    import warnings
+
+    from pdamper.engine.cuda import _Batch, launch_cycles
+
+    assert launch_cycles(0.5) == 500_000_000  # (the simulator's clock: the host's nanoseconds)
+
+    def batch(case):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sims = [Simulation(case), Simulation(dataclasses.replace(case, initial=dataclasses.replace(case.initial,
+                                                                                                       seed=3)))]
+        return _Batch([s._gpu_job()[0] for s in sims], 3)
+
+    for case in (_case("cuboid", n=4, direction=(1.0, 0.3, 0.2)),
+                 dataclasses.replace(_case("cuboid", n=3), numerics=Numerics(integrator="gear"))):
+        by_time, by_steps = batch(case), batch(case)
+        gear = by_time.gear
+        attempted = (lambda b: b.ct.step + b.gc.rejected) if gear else (lambda b: b.ct.step)
+        for k in range(1, 7):
+            by_time.launch(10**6, 1)
+            assert attempted(by_time).tolist() == [k, k]
+        for _ in range(2):
+            by_steps.launch(3)
+        assert np.array_equal(by_time.ct.step, by_steps.ct.step)
+        assert np.array_equal(by_time.sp.position, by_steps.sp.position)
+        assert np.array_equal(by_time.ct.partials, by_steps.ct.partials)
+        if gear:
+            assert np.array_equal(by_time.gs.nordsieck, by_steps.gs.nordsieck)
+
+
 def test_eta_star_of_a_short_ensemble():
     """Three seeds of a short run on both engines (soft spheres, so that 310 steps make three cycles):
     the GPU's eta* of every seed within a tenth of the CPU's seed spread of it; the mean inside the

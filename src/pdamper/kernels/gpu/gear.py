@@ -38,7 +38,7 @@ from . import targets  # noqa: F401  (registers the damping law's dispatch for t
 from .batch import FLAG_PRIMED, FLAG_STARTED, PAIR_ROW
 from .probe import P_REBUILDS, P_ROWS, clock, lap
 from .verlet import (MAX_THREADS, REDUCED, _motion, _pair_laws, _prime_contacts, _rebuild, _record_sample,
-                     _sphere_force)
+                     _sphere_force, out_of_time)
 
 __all__ = ["gear_kernel", "batch_gear", "NO_CAP"]
 
@@ -375,16 +375,18 @@ def _block_max(red, tid, bd, v):
     return out
 
 
-def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_steps):
+def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_steps, max_cycles):
     """Advance every case of the batch by at most ``max_steps`` attempted steps (block ``c`` is case
-    ``c``), as :func:`pdamper.kernels.gear.run_gear` does over the CPU stepper's spans.
+    ``c``), as :func:`pdamper.kernels.gear.run_gear` does over the CPU stepper's spans; with
+    ``max_cycles`` > 0, also no further than the step on which its block's clock passes that many
+    cycles (:func:`.verlet.out_of_time`).
 
     ``gs``: the Nordsieck vectors and what a rejected step restores; ``gc``: each case's Gear clock
     (:class:`pdamper.engine.cuda`); the rest as :func:`.verlet.batch_verlet`."""
     c = cuda.blockIdx.x
     tid = cuda.threadIdx.x
     bd = cuda.blockDim.x
-    flags = cuda.shared.array(6, int64)
+    flags = cuda.shared.array(7, int64)
     red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
     inc = cuda.shared.array((STAGED_SPHERES, 6), float64)
     top = cuda.shared.array(1, int64)
@@ -437,6 +439,7 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
         flags[3] = -1
         flags[4] = ct.flags[c, FLAG_PRIMED]
         flags[5] = ct.flags[c, FLAG_STARTED]
+        flags[6] = 0
     cuda.syncthreads()
     if flags[0] != STATUS_OK:
         return
@@ -454,7 +457,8 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
     if PROBED:
         tick = clock()
     t0, t_end, recording = _span(span, settle, n_samples, seg, ts)
-    while span < n_spans and done < max_steps:
+    start = clock()
+    while span < n_spans and done < max_steps and flags[6] == 0:
         # ---- a span ends: the next one starts at its exact time (the CPU stepper's next call)
         if not (t < t_end - 1e-12 * ts):
             span += 1
@@ -708,6 +712,8 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
                 i += bd
             h = shorter_step(hs, tol, err, h_min)
             rejected += 1
+            if tid == 0 and out_of_time(start, max_cycles):
+                flags[6] = 1
             cuda.syncthreads()
             if PROBED:
                 tick = lap(cyc, c, tid, 10, tick)
@@ -744,6 +750,8 @@ def batch_gear(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_s
             flags[0] = status
             flags[3] = culprit
         h = next_step(hs, h, tol, err, h_min, h_max)
+        if tid == 0 and out_of_time(start, max_cycles):
+            flags[6] = 1
         cuda.syncthreads()
         if PROBED:
             tick = lap(cyc, c, tid, 11, tick)

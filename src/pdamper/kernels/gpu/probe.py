@@ -13,7 +13,8 @@ its phases' shares are what it tells, the production kernel's time is measured o
 
 numba has no clock intrinsic for the CUDA target, so this module writes the one-instruction inline
 PTX itself (as numba-cuda writes ``nanosleep``). In numba-cuda's simulator the clock is the host's
-(nanoseconds), which only the tests of the bookkeeping use.
+(nanoseconds), which only the tests of the bookkeeping use. The production kernels read it too, once
+a step by thread 0, for a launch bounded by time (:func:`.verlet.out_of_time`).
 """
 
 from __future__ import annotations

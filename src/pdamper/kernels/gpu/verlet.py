@@ -24,8 +24,9 @@ added up over the block at the end of each sample (a sum of sums: equal to the C
 sums to rounding, not bit for bit). A failed step (an overlap beyond the limit, a non-finite
 velocity, a full list row) stops its case; the others go on.
 
-A launch advances every case by at most ``max_steps`` steps; the state, the clock and each
-thread's running sums stay in the bundles, so the next launch goes on where it stopped.
+A launch advances every case by at most ``max_steps`` steps, and with ``max_cycles`` no further than
+the step on which its block has run that many cycles; the state, the clock and each thread's
+running sums stay in the bundles, so the next launch goes on where it stopped.
 """
 
 from __future__ import annotations
@@ -44,8 +45,9 @@ from ..drive import parametric_motion
 from ..forces import STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_OVERLAP, pair_geometry
 from . import targets  # noqa: F401  (registers the damping law's dispatch for the CUDA target)
 from .batch import FLAG_MOVED, FLAG_PRIMED, FLAG_STARTED
+from .probe import clock
 
-__all__ = ["verlet_kernel", "batch_verlet", "MAX_THREADS", "REDUCED"]
+__all__ = ["verlet_kernel", "batch_verlet", "out_of_time", "MAX_THREADS", "REDUCED"]
 
 #: Threads of a block at most (the shared buffer of the block sums is sized for it).
 MAX_THREADS = 256
@@ -62,6 +64,16 @@ def verlet_kernel():
     if not _KERNEL:
         _KERNEL.append(cuda.jit(cache=True)(batch_verlet))
     return _KERNEL[0]
+
+
+@cuda.jit(device=True)
+def out_of_time(start, max_cycles):
+    """Whether a launch bounded by time has used its ``max_cycles`` (> 0; 0: bounded by steps alone)
+    since ``start``, both by the block's cycle counter (:func:`.probe.clock`: the host's nanoseconds
+    in the simulator). Bounded by time, each case of a launch takes as many steps as its own step's
+    cost allows, so that a cheap case does not wait for the batch's slowest at every launch, as it
+    does when every case takes the same number of steps. Read by thread 0 once a step."""
+    return max_cycles > 0 and clock() - start >= max_cycles
 
 
 @cuda.jit(device=True)
@@ -528,8 +540,10 @@ def _record_sample(c, tid, bd, n, kk, sp, li, wl, mo, ct, rec, red, s_i, s_w, s_
     cuda.syncthreads()
 
 
-def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps):
-    """Advance every case of the batch by at most ``max_steps`` steps: block ``c`` is case ``c``.
+def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps, max_cycles):
+    """Advance every case of the batch by at most ``max_steps`` steps: block ``c`` is case ``c``;
+    with ``max_cycles`` > 0, also no further than the step on which its block's clock passes that
+    many cycles (:func:`out_of_time`).
 
     ``sp``, ``li``, ``wl``, ``mo``, ``ct``, ``rec``: the batch's bundles (:mod:`.batch`); ``tb`` the
     contact table's arrays and constants of every case (rows ``row0[c]`` on; ``nmat[c]`` materials),
@@ -538,7 +552,7 @@ def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps):
     c = cuda.blockIdx.x
     tid = cuda.threadIdx.x
     bd = cuda.blockDim.x
-    flags = cuda.shared.array(6, int64)
+    flags = cuda.shared.array(7, int64)
     red = cuda.shared.array((REDUCED, MAX_THREADS), float64)
     lin = cuda.local.array((1, 3), float64)
     ang = cuda.local.array((1, 3), float64)
@@ -579,7 +593,9 @@ def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps):
     s_f = ct.partials[c, tid, 2]
     s_i = ct.partials[c, tid, 3]
     # flags: 0 status, 1 + (g % 2) a rebuild is due after step g (two slots: the step after
-    # reads one while this step's drift writes the other), 3 culprit, 4 primed, 5 started
+    # reads one while this step's drift writes the other), 3 culprit, 4 primed, 5 started, 6 the
+    # launch's time is up (thread 0 writes it before a step's last barrier, every thread reads it
+    # at the top of the next, a barrier of that step before thread 0 writes it again)
     if tid == 0:
         flags[0] = ct.status[c]
         flags[1 + (g + 1) % 2] = ct.flags[c, FLAG_MOVED]
@@ -587,13 +603,15 @@ def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps):
         flags[3] = -1
         flags[4] = ct.flags[c, FLAG_PRIMED]
         flags[5] = ct.flags[c, FLAG_STARTED]
+        flags[6] = 0
     cuda.syncthreads()
     if flags[0] != STATUS_OK:
         return
     status = STATUS_OK
     culprit = -1
     done = 0
-    while g < total and done < max_steps:
+    start = clock()
+    while g < total and done < max_steps and flags[6] == 0:
         # ---- the drive starts: velocities relative to the container jump, the sums restart
         if g == settle and flags[5] == 0:
             i = tid
@@ -733,6 +751,8 @@ def batch_verlet(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, max_steps):
         s_i += fd * dt
         g += 1
         done += 1
+        if tid == 0 and out_of_time(start, max_cycles):
+            flags[6] = 1
         cuda.syncthreads()
         if flags[0] != STATUS_OK:
             break
