@@ -47,22 +47,24 @@ def test_tiny_study_runs_in_the_simulator(tmp_path, monkeypatch):
 
 @pytest.mark.slow
 def test_kernel_compiles_to_ptx_for_hopper(tmp_path):
-    """The default integrator's real kernel (Gear's) through numba-cuda and NVVM to PTX for sm_90 (no GPU
+    """Both real kernels (Gear's, the default, and Verlet's; each reads the block's clock through
+    inline PTX for launches bounded by time) through numba-cuda and NVVM to PTX for sm_90 (no GPU
     needed; a minute or two of compiling), and through ptxas when it is on PATH: within the register
-    file. (Both kernels: python benchmarks/gpu.py --ptx.)"""
+    file."""
     pytest.importorskip("numba_cuda", reason="numba-cuda is not installed")
     out = tmp_path / "ptx.json"
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
-    r = subprocess.run([sys.executable, str(SCRIPT), "--ptx", "--ptx-kernels", "gear", "--out", str(out)], env=env,
-                       capture_output=True, text=True, timeout=900)
+    r = subprocess.run([sys.executable, str(SCRIPT), "--ptx", "--ptx-kernels", "gear,verlet", "--out", str(out)],
+                       env=env, capture_output=True, text=True, timeout=900)
     if "NVVM" in r.stdout + r.stderr and not out.exists() or "skipped" in (out.read_text() if out.exists() else ""):
         pytest.skip("no libNVVM here (the CUDA toolkit's NVVM): the PTX compile is not tested")
     assert r.returncode == 0, r.stderr[-2000:]
-    ptx = json.loads(out.read_text())["parts"]["ptx"]["gear"]
-    assert ptx["entry"] and ptx["ptx_bytes"] > 10_000
-    if "ptxas_ok" in ptx:  # within the register file (it spills some: docs/performance.md)
-        assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["stack_bytes"] < 4096
+    for name in ("gear", "verlet"):
+        ptx = json.loads(out.read_text())["parts"]["ptx"][name]
+        assert ptx["entry"] and ptx["ptx_bytes"] > 10_000, name
+        if "ptxas_ok" in ptx:  # within the register file (Gear's spills some: docs/performance.md)
+            assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["stack_bytes"] < 4096, name
 
 
 def test_step_cost_part_runs_in_the_simulator():
