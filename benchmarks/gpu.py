@@ -230,6 +230,13 @@ def fig4_cases(tiny):
     return out
 
 
+def beyond_fig4(indices, n):
+    """What is wrong with ``indices`` into fig4's ``n`` cases (:func:`fig4_cases`), or None: the
+    message of every command line that picks fig4 cases by index."""
+    bad = [k for k in indices if not 0 <= k < n]
+    return f"{bad}: fig4 has cases 0-{n - 1} (36 spheres first, strokes ascending)" if bad else None
+
+
 def make_reference(study_dir):
     """``benchmarks/data/fig4_cpu_reference.csv`` from the study directory of
     ``pdamper study fig4 --seeds 3 --out DIR`` (the CPU engine): per setting and stroke, eta* of each
@@ -826,10 +833,9 @@ def part_profile(tiny, seconds, cases=None):
 
     every = fig4_cases(tiny)
     picked = range(len(every)) if cases is None else cases
-    bad = [k for k in picked if not 0 <= k < len(every)]
-    if bad:
-        raise SystemExit(f"--profile-cases {bad}: fig4 has cases 0-{len(every) - 1} "
-                         "(36 spheres first, strokes ascending)")
+    wrong = beyond_fig4(picked, len(every))
+    if wrong:
+        raise SystemExit(f"--profile-cases {wrong}")
     cases = []
     for k in picked:
         case = every[k][2]
@@ -872,7 +878,8 @@ def part_profile(tiny, seconds, cases=None):
            "rebuilds_per_attempted_step": float(cyc[:, P_REBUILDS].sum()) / tried,
            "phases": {name: {"cycles_per_attempted_step": float(v), "share": float(v) / total if total else 0.0}
                       for name, v in zip(PHASES, per_step)}}
-    # each case's own step (a launch lasts as long as its slowest block): cycles and walk rows a step
+    # each case's own step, cycles and walk rows (a launch of equal step counts lasts as long as its
+    # slowest block; one bounded by time lets each case take its own)
     own = cyc[:, :len(PHASES)].sum(axis=1) / np.maximum(attempted, 1.0)
     out["per_case"] = [{"case": picked[k], "spheres": int(j.engine.n), "cycles_per_attempted_step": float(own[k]),
                         "walk_rows_per_attempted_step": float(cyc[k, P_ROWS] / max(attempted[k], 1.0)),
@@ -1192,10 +1199,9 @@ def main(argv=None):
                     help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
     args = ap.parse_args(argv)
     if args.profile_cases:  # (said before any part runs: a GPU's time is short)
-        n = len(fig4_cases(args.tiny))
-        bad = [k for k in args.profile_cases if not 0 <= k < n]
-        if bad:
-            ap.error(f"--profile-cases {bad}: fig4 has cases 0-{n - 1} (36 spheres first, strokes ascending)")
+        wrong = beyond_fig4(args.profile_cases, len(fig4_cases(args.tiny)))
+        if wrong:
+            ap.error(f"--profile-cases {wrong}")
     if args.make_reference:
         make_reference(args.make_reference)
         return 0

@@ -225,6 +225,7 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
         _sync()
         return [GpuOutcome(steps=0, status=0, culprit=-1, t_fail=math.nan, wall_time_s=time.perf_counter() - t_start,
                            batch=len(jobs)) for _ in jobs]
+    timed = launch_cycles(launch_seconds)  # (a launch after the first: bounded by time and max_launch_steps)
     chunk, cycles = min(200, max_launch_steps), 0
     while True:
         live = [b for b in batches if not b.finished]
@@ -239,8 +240,7 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
             done = sum(int(np.minimum(b.done, b.total).sum()) for b in batches)
             if progress(done, sum(int(b.total.sum()) for b in batches)) is False:
                 break  # the caller stops the batch: the unfinished cases say so
-        # from the second round on, each launch is bounded by time (and by max_launch_steps)
-        chunk, cycles = max_launch_steps, launch_cycles(launch_seconds)
+        chunk, cycles = max_launch_steps, timed
     wall = time.perf_counter() - t_start
     out = [None] * len(jobs)
     for b, idx in zip(batches, groups.values()):
