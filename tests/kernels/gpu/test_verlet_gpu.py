@@ -113,7 +113,7 @@ def test_a_launch_bounded_by_time_stops_each_case_at_its_own_step():
     """A launch given a time on its blocks' clocks (``cycles``, nanoseconds in the simulator) stops
     each block at the first step that ends past it: with one nanosecond, every case takes exactly
     one step whatever the step cap; the steps a case takes do not depend on how launches cut them
-    (the same bits as launches of 25 steps), for Verlet and for Gear (an attempted step each)."""
+    (the same bits as launches of three steps), for Verlet and for Gear (an attempted step each)."""
     import warnings
 
     from pdamper.engine.cuda import _Batch, launch_cycles
