@@ -23,7 +23,7 @@ from .simulation import Simulation, default_recorders
 from .recorders.trajectory import TrajectoryRecorder
 
 __all__ = ["run_case", "run_cases", "on_gpu", "check_device", "on_device", "RunResult", "analyze_signals", "analyse_signals",
-           "MODE_FPS", "MIN_STEADY_CYCLES"]
+           "SteadyJudge", "MODE_FPS", "MIN_STEADY_CYCLES"]
 
 #: Frames per second of the coarse trajectory recorded (and not returned) to classify the motion
 #: mode when no trajectory is asked for (docs/motion.md: 50 frames/s give the same modes as 100);
@@ -152,25 +152,68 @@ def analyze_signals(case: Case, signals):
 analyse_signals = renamed_function(analyze_signals, "analyse_signals")
 
 
-def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=None):
-    """Drive ``sim`` cycle by cycle from ``case.drop_cycles + MIN_STEADY_CYCLES`` cycles on and stop
-    after the first cycle at which the record so far is steady and eta*'s standard error is at
-    most ``tolerance``; never beyond the case's cycles. Returns the cycles driven."""
-    from .recorders.signals import Signals
+def _check_until_steady(case: Case, until_steady, analyze: bool) -> None:
+    """Refuse an ``until_steady`` that cannot be judged (one line each)."""
+    if until_steady is None:
+        return
+    if not (until_steady > 0 and math.isfinite(until_steady)):
+        raise InputError(f"until_steady = {until_steady!r}: give eta*'s standard error to stop at, > 0 (e.g. 0.01)")
+    if not (case.drive.periodic and analyze):
+        raise InputError("until_steady needs a harmonic drive ([drive] stroke and frequency) and the analysis")
 
+
+class SteadyJudge:
+    """When a run of ``case`` may stop early (``until_steady``): from ``case.drop_cycles +
+    MIN_STEADY_CYCLES`` whole cycles on, at the first cycle's end at which the record so far is
+    steady and eta*'s standard error is at most ``tolerance``; never before the run's end otherwise.
+    One rule for both engines: the CPU engine drives to :meth:`next_samples` and asks, the GPU engine
+    asks between its launches with whatever its case has recorded. ``interval``: the sample
+    interval [s]; ``n_samples``: the run's driven samples."""
+
+    def __init__(self, case: Case, tolerance: float, interval: float, n_samples: int):
+        self.case = case
+        self.tolerance = tolerance
+        self.interval = interval
+        self.n_samples = int(n_samples)
+        self.per_cycle = case.recording.sample_rate / case.drive.frequency
+        #: the cycles judged next (once the run is stopped: the cycles it keeps)
+        self.cycles = case.drop_cycles + MIN_STEADY_CYCLES
+        #: the driven samples kept where the run was stopped (None: not stopped)
+        self.kept = None
+
+    def next_samples(self) -> int:
+        """The driven samples the next judgement needs (the run's whole record: no early stop left)."""
+        return min(self.n_samples, int(math.ceil(self.cycles * self.per_cycle - 1e-9)))
+
+    def __call__(self, wall_force: np.ndarray) -> int | None:
+        """Judge the record ``wall_force`` (the driven samples recorded so far) at every cycle's end it
+        holds that is not judged yet, in order: the samples to keep (the run stops there, its cycles
+        :attr:`cycles`, also :attr:`kept`), or None (go on)."""
+        from .recorders.signals import Signals
+
+        while True:
+            target = self.next_samples()
+            if target >= self.n_samples or target > wall_force.shape[0]:
+                return None
+            sig = Signals.from_run(self.case, self.interval, wall_force[:target])
+            st = analyze_signals(self.case, sig).statistics
+            if st.steady and st.eta_star_error <= self.tolerance:
+                self.kept = target
+                return target
+            self.cycles += 1
+
+
+def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=None):
+    """Drive ``sim`` cycle by cycle as :class:`SteadyJudge` asks and stop where it says; never beyond
+    the case's cycles. Returns the cycles driven."""
     sim.settle()
-    per_cycle = case.recording.sample_rate / case.drive.frequency
-    k = case.drop_cycles + MIN_STEADY_CYCLES
+    judge = SteadyJudge(case, tolerance, sim.interval, sim.n_samples)
     while True:
-        target = min(sim.n_samples, int(math.ceil(k * per_cycle - 1e-9)))
-        sim.advance(target - sim.sample, progress=progress)
+        sim.advance(judge.next_samples() - sim.sample, progress=progress)
         if sim.sample >= sim.n_samples:
             return float(case.cycles)
-        sig = Signals.from_run(case, sim.interval, sim.samples.wall_force[:sim.sample])
-        st = analyze_signals(case, sig).statistics
-        if st.steady and st.eta_star_error <= tolerance:
-            return float(k)
-        k += 1
+        if judge(sim.samples.wall_force[:sim.sample]) is not None:
+            return float(judge.cycles)
 
 
 def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
@@ -191,12 +234,7 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
     A case with ``numerics.device = "cuda"`` runs on the GPU engine (:func:`run_cases`).
     """
     analyze = renamed_keyword("run_case", "analyse", "analyze", analyse, analyze)
-    if until_steady is not None:
-        if not (until_steady > 0 and math.isfinite(until_steady)):
-            raise InputError(f"until_steady = {until_steady!r}: give eta*'s standard error to stop at, > 0 "
-                             "(e.g. 0.01)")
-        if not (case.drive.periodic and analyze):
-            raise InputError("until_steady needs a harmonic drive ([drive] stroke and frequency) and the analysis")
+    _check_until_steady(case, until_steady, analyze)
     if on_gpu(case):
         res = run_cases([case], recorders=recorders, analyze=analyze, until_steady=until_steady,
                         progress=None if progress is None else (lambda done, total: progress(done / max(total, 1))))[0]
@@ -248,6 +286,9 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
     ``[[...], ...]``; kernel-channel recorders only on the GPU). ``progress(done, total)``: the
     GPU's steps done between its launches. A GPU that runs out of memory or faults raises: the
     caller keeps what finished before (the studies run a GPU study in chunks for that).
+    ``until_steady`` as :func:`run_case`, on either engine: a GPU case stops at the same cycle as on
+    the CPU (:class:`SteadyJudge`, asked between the GPU's launches, so a case runs on until the
+    launch in which it became steady ends; its steps count them).
     """
     from .errors import SimulationError
     from .simulation import run_on_gpu
@@ -265,17 +306,20 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
                 out[k] = exc
     if not gpu:
         return out
-    if until_steady is not None:
-        raise InputError("until_steady: the GPU engine runs every case for its whole cycles; leave --until-steady "
-                         "out or run on the CPU")
     sims = []
     for k in gpu:
         case = cases[k]
+        _check_until_steady(case, until_steady, analyze)
         sim, recs, classify = _simulation(case, per_case[k], analyze)
         sims.append((k, case, sim, recs, classify))
-    records = run_on_gpu([s for _, _, s, _, _ in sims], progress=progress)
-    for (k, case, sim, recs, classify), rec in zip(sims, records):
-        out[k] = rec if isinstance(rec, Exception) else _result(case, rec, recs, analyze, classify, float(case.cycles))
+    judges = None if until_steady is None else \
+        [SteadyJudge(case, until_steady, sim.interval, sim.n_samples) for _, case, sim, _, _ in sims]
+    records = run_on_gpu([s for _, _, s, _, _ in sims], progress=progress, steady=judges)
+    for n, ((k, case, sim, recs, classify), rec) in enumerate(zip(sims, records)):
+        cycles = float(case.cycles)
+        if judges is not None and judges[n].kept is not None:
+            cycles = float(judges[n].cycles)
+        out[k] = rec if isinstance(rec, Exception) else _result(case, rec, recs, analyze, classify, cycles)
     return out
 
 

@@ -132,6 +132,8 @@ class Simulation:
         self.sample = 0  # driven samples done
         self._settled = False
         self._wall = 0.0
+        #: driven samples the GPU engine simulated past the record it kept (a run stopped early there)
+        self._reached = None
         fps = {r.fps for r in self.recorders if "frames" in r.channels}
         if len(fps) > 1:
             raise ValueError(f"recorders ask for frames at {sorted(fps)} frames/s; one frame rate per run")
@@ -268,8 +270,11 @@ class Simulation:
         data = Recorded(info=self.info, time_end=(np.arange(k) + 1) * self.interval, channels=channels)
         outputs = {r.name: r.finalize(data) for r in self.recorders}
         st = self.stepper
+        # the steps taken over the time they took (a GPU run stopped early went on past its record)
+        simulated = k if self._reached is None else self._reached
         return RunRecord(case=self.case, outputs=outputs, steps=st.steps,
-                         time_step_s=st.mean_step((self.settle_samples + k) * self.interval), wall_time_s=self._wall,
+                         time_step_s=st.mean_step((self.settle_samples + simulated) * self.interval),
+                         wall_time_s=self._wall,
                          neighbour_search=self.engine.search_name, rejected_steps=st.rejected)
 
     def run(self, *, progress=None) -> RunRecord:
@@ -331,19 +336,24 @@ class Simulation:
             step = self.stepper.dt if self.stepper.rejected is None else self.stepper.h_next
             raise SimulationError(failure_message(self.case, outcome.status, outcome.culprit, outcome.t_fail, step))
         self.sample = self.n_samples
+        if outcome.kept >= 0:  # stopped early (run_jobs' ``steady``): the record ends where it was judged steady
+            self.sample = outcome.kept
+            self._reached = outcome.reached
 
 
-def run_on_gpu(sims, *, progress=None, compile_only: bool = False, threads: int | None = None) -> list:
+def run_on_gpu(sims, *, progress=None, compile_only: bool = False, threads: int | None = None, steady=None) -> list:
     """Run every simulation of ``sims`` to its end together on one GPU (the GPU engine,
     :mod:`pdamper.engine.cuda`): for each, its :class:`RunRecord`, or the
     :class:`~pdamper.errors.SimulationError` of its failed step (the others go on).
 
     Raises :class:`~pdamper.errors.InputError` when no GPU can run (one line saying why) or when a
     simulation is one the GPU engine does not run (a coupled structure, a sampled drive, a Python
-    recorder, Gear): before anything runs. ``progress(done, total)`` gets the steps done between
+    recorder, Gear with the tangential spring): before anything runs. ``progress(done, total)`` gets the steps done between
     launches (returning False stops the batch; the unfinished cases end with a SimulationError). ``compile_only``: compile the kernel (a launch with no steps) and return ``[]``.
     ``threads``: threads per block (default: the smallest multiple of 32 that gives each sphere its
-    own thread, at most the kernels' largest block).
+    own thread, at most the kernels' largest block). ``steady``: per simulation, None or a judge
+    that may stop it early (:class:`pdamper.run.SteadyJudge`; :func:`pdamper.engine.cuda.run_jobs`):
+    its record then ends where the judge said.
     """
     from .engine.cuda import require, run_jobs
     from .errors import SimulationError
@@ -363,7 +373,7 @@ def run_on_gpu(sims, *, progress=None, compile_only: bool = False, threads: int 
         jobs.append(job)
     if not jobs:
         return []
-    outcomes = run_jobs(jobs, progress=progress, compile_only=compile_only, threads=threads)
+    outcomes = run_jobs(jobs, progress=progress, compile_only=compile_only, threads=threads, steady=steady)
     if compile_only:
         return []
     out = []

@@ -34,6 +34,9 @@ __all__ = ["GpuJob", "GpuOutcome", "run_jobs", "STATUS_STOPPED", "unavailable", 
 GPU_HINT = 'pip install -e ".[gpu]"'
 #: :attr:`GpuOutcome.status` of a case whose batch was stopped (``progress`` returned False) before its end.
 STATUS_STOPPED = -1
+#: The status :func:`run_jobs` gives a case on the GPU that its judge stopped early (``steady``): the
+#: kernels skip a case whose status is not 0. Its outcome says 0, with the samples it keeps.
+STATUS_JUDGED = -2
 
 
 @dataclass
@@ -77,6 +80,10 @@ class GpuOutcome:
     #: under ``run_jobs(probe=True)``: the probed Gear kernel's cycles in each phase of a step, then
     #: its counts (:mod:`pdamper.kernels.gpu.probe`); empty otherwise
     cycles: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    #: a case stopped early by its judge (``run_jobs(steady=)``): the driven samples its record keeps,
+    #: and the driven samples it had simulated when the judge was asked (-1: not stopped early)
+    kept: int = -1
+    reached: int = -1
 
 
 def numpy_aliases_for_numba_cuda() -> None:
@@ -196,7 +203,7 @@ def launch_cycles(seconds: float) -> int:
 
 
 def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
-             progress=None, compile_only: bool = False, probe: bool = False) -> list[GpuOutcome]:
+             progress=None, compile_only: bool = False, probe: bool = False, steady=None) -> list[GpuOutcome]:
     """Run every job to its end on the GPU (or numba-cuda's simulator); fill its samples and leave
     its final state in its engine's bodies.
 
@@ -212,12 +219,21 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
     of a launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
     ``probe``: Gear's jobs run the probed kernel, which times each phase of a step
     (:mod:`pdamper.kernels.gpu.probe`; each outcome's ``cycles``): a profile, not a production run.
+
+    ``steady``: per job, None or a judge that may stop it early (:class:`pdamper.run.SteadyJudge`:
+    ``judge.next_samples()``, the driven samples it needs next; ``judge(wall_force)``, the samples
+    to keep or None). After each round every case that has recorded what its judge needs (and has
+    not failed) is judged on its record so far; one it stops is skipped by the next launches, and
+    its outcome keeps that many samples (``kept``; ``reached``: how far it had gone). The judge sees
+    the record the CPU engine's run would have had at each of its points, so the case stops where
+    the CPU engine's would, only its last launch's steps past that point are spent for nothing.
     """
     groups = {}
     for k, job in enumerate(jobs):
         key = _group_key(job) + (threads or threads_for(job.engine.n),)
         groups.setdefault(key, []).append(k)
-    batches = [_Batch([jobs[k] for k in idx], threads or key[-1], probe) for key, idx in groups.items()]
+    batches = [_Batch([jobs[k] for k in idx], threads or key[-1], probe,
+                      None if steady is None else [steady[k] for k in idx]) for key, idx in groups.items()]
     t_start = time.perf_counter()
     if compile_only:
         for b in batches:
@@ -234,6 +250,7 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
         _sync()
         for b in live:
             b.poll()
+            b.judge()
         if all(b.finished for b in batches):
             break
         if progress is not None:
@@ -252,11 +269,12 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
 class _Batch:
     """One group of jobs packed for one kernel: its bundles on the GPU, its stream, its progress."""
 
-    def __init__(self, jobs, threads, probe=False):
+    def __init__(self, jobs, threads, probe=False, judges=None):
         from ..kernels.gpu.targets import SIMULATOR
         from ..kernels.gpu.verlet import verlet_kernel
 
         self.jobs = jobs
+        self.judges = judges
         args, bd = kernel_arguments(jobs, threads)
         sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, *gear = args
         self.types = (type(sp), type(ct), type(rec))
@@ -264,6 +282,9 @@ class _Batch:
         self.total = ct.total_steps.copy()
         self.done = np.zeros_like(self.total)
         self.status = np.zeros_like(self.total)
+        #: per case, the driven samples its judge kept (-1: none) and those it had reached then
+        self.kept = np.full(len(jobs), -1, dtype=np.int64)
+        self.reached = np.full(len(jobs), -1, dtype=np.int64)
         self.finished = False
         self.stream = None if SIMULATOR else _stream()
         #: the bundles on the GPU, by name (the kernel's arguments, in order, are :attr:`args`)
@@ -302,6 +323,47 @@ class _Batch:
         ct = self.ct
         self.done = _host(self.gc.span) if self.gear else _host(ct.step)
         self.status = _host(ct.status)
+        self.done = np.where(self.kept >= 0, self.total, self.done)
+        self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
+
+    def recorded(self):
+        """Per case, the driven samples whose record is complete now: up to its clock (Gear: a step
+        that reaches a sample's end records it, but a failed step that reaches one does not: one
+        less) or its steps (Verlet: up to its last whole sample before a failed step)."""
+        n = np.array([j.n_samples for j in self.jobs], dtype=np.int64)
+        if self.gear:
+            ts = np.array([j.interval for j in self.jobs])
+            rows = np.floor(_host(self.gc.t) / ts + 1e-6).astype(np.int64) - (self.status > 0)
+        else:
+            sub = np.array([j.sub for j in self.jobs], dtype=np.int64)
+            settle = np.array([j.settle_samples * j.sub for j in self.jobs], dtype=np.int64)
+            steps = np.where(self.status > 0, _host(self.ct.fail_step) - 1, _host(self.ct.step))
+            rows = (steps - settle) // sub
+        return np.clip(rows, 0, n)
+
+    def judge(self):
+        """Ask each case's judge (``run_jobs(steady=)``) about its record so far, and stop the cases
+        it says are steady: a running one by a status the kernels skip (:data:`STATUS_JUDGED`), a
+        finished or failed one by keeping the record up to there."""
+        if self.judges is None:
+            return
+        rows = self.recorded()
+        stop = []
+        for c, judge in enumerate(self.judges):
+            if judge is None or self.kept[c] >= 0:
+                continue
+            need = judge.next_samples()
+            if need >= judge.n_samples or rows[c] < need:
+                continue
+            kept = judge(_host(self.rec.wall_force[c, : rows[c]]))
+            if kept is not None:
+                self.kept[c], self.reached[c] = kept, rows[c]
+                if self.status[c] == 0 and self.done[c] < self.total[c]:
+                    stop.append(c)
+        if stop:
+            self.status[stop] = STATUS_JUDGED
+            _to_device(self.ct.status, self.status)
+        self.done = np.where(self.kept >= 0, self.total, self.done)
         self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
 
     def unpack(self, wall, batch):
@@ -325,19 +387,23 @@ class _Batch:
             sums = ct_h.partials[c].sum(axis=0)
             s.sums[:3] = sums[:3]
             status = int(ct_h.status[c])
+            kept = dict(kept=int(self.kept[c]), reached=int(self.reached[c]))
+            judged = self.kept[c] >= 0
+            if judged:  # stopped early by its judge, before any failure after that point
+                status = 0
             if self.gear:
-                if status == 0 and gc_h.span[c] < self.total[c]:
+                if status == 0 and not judged and gc_h.span[c] < self.total[c]:
                     status = STATUS_STOPPED
                 out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
                                       t_fail=float(gc_h.t[c]), wall_time_s=wall, batch=batch, sums=sums[:3],
                                       rejected=int(gc_h.rejected[c]), h_next=float(gc_h.h[c]),
-                                      cycles=gc_h.cycles[c].copy()))
+                                      cycles=gc_h.cycles[c].copy(), **kept))
                 continue
             fail = int(ct_h.fail_step[c])
-            if status == 0 and ct_h.step[c] < self.total[c]:
+            if status == 0 and not judged and ct_h.step[c] < self.total[c]:
                 status, fail = STATUS_STOPPED, int(ct_h.step[c])
             out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
-                                  t_fail=_time_of(job, fail), wall_time_s=wall, batch=batch, sums=sums[:3]))
+                                  t_fail=_time_of(job, fail), wall_time_s=wall, batch=batch, sums=sums[:3], **kept))
         return out
 
 
@@ -424,6 +490,16 @@ def _device(bundle):
 
 def _host(a):
     return a if isinstance(a, np.ndarray) else a.copy_to_host()
+
+
+def _to_device(dev, host):
+    """Write the host array ``host`` into ``dev`` (a bundle's array on the GPU; in the simulator the
+    same array)."""
+    if isinstance(dev, np.ndarray):
+        if dev is not host:
+            dev[:] = host
+    else:
+        dev.copy_to_device(np.ascontiguousarray(host, dtype=dev.dtype))
 
 
 def _pack(jobs, threads):
