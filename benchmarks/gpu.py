@@ -22,6 +22,10 @@ what follows it), writing ``--out`` (JSON) after every part and a markdown summa
    the probed kernel (``pdamper.kernels.gpu.probe``: the block's cycle counter read at the end of
    each phase): cycles per attempted step of each phase and its share, the implicit walk's rows per
    step and cycles per row, the rebuilds; each case's own.
+   ``fig4_steady`` (only when named): the ``fig4`` part with ``--until-steady 0.02`` (each case stops
+   once its record is steady, at the CPU engine's cycle): wall time, the longest case's steps, and
+   per stroke the cycles run and eta* against the CPU engine's same command
+   (``benchmarks/data/fig4_cpu_until_steady.csv``, ``--make-steady-reference``).
    ``fault`` (only when named: ``--only fault``): Gear with the tangential spring, which faults on a
    GPU, on four fig4 cases in synchronised launches of 200 steps for ``--fault-seconds`` (10), as the
    production kernel and compiled twice more with other numba-cuda options (NVVM unoptimised; at most
@@ -83,9 +87,13 @@ ROOT = BENCH.parent
 REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
 PAPER_REFERENCE = BENCH / "data" / "paper_cpu_reference.csv"
 SPREAD = BENCH / "data" / "fig4_cpu_spread.csv"
+STEADY_REFERENCE = BENCH / "data" / "fig4_cpu_until_steady.csv"
 PARTS = ("env", "compile", "agree", "profile", "steps", "bed", "fig4", "paper")
-#: Parts run only when named (--only): ``fault``, the spring kernel's fault under other compiles.
-EXTRA_PARTS = ("fault",)
+#: Parts run only when named (--only): ``fault``, the spring kernel's fault under other compiles;
+#: ``fig4_steady``, fig4 with ``--until-steady`` (:data:`STEADY_TOL`).
+EXTRA_PARTS = ("fault", "fig4_steady")
+#: The tolerance of the ``fig4_steady`` part (``pdamper study fig4 --until-steady 0.02``).
+STEADY_TOL = 0.02
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
 #: kernel failed to compile on this GPU (the compile part then tries Verlet's, so one device run
 #: still measures something, and says so).
@@ -256,6 +264,23 @@ def make_reference(study_dir):
                 w.writerow([label, repr(float(x)), f"{np.nanmean(e):.6f}", f"{np.nanmin(e):.6f}", f"{np.nanmax(e):.6f}",
                             int(np.sum(np.isfinite(e)))] + [f"{v:.6f}" for v in e])
     print(f"wrote {REFERENCE} ({ds.sizes['setting']} settings x {ds.sizes['stroke']} strokes x {len(seeds)} seeds)")
+
+
+def make_steady_reference(study_dir):
+    """``benchmarks/data/fig4_cpu_until_steady.csv`` from the study directory of ``pdamper study fig4
+    --until-steady 0.02 --out DIR`` (the CPU engine, seed 0): per setting and stroke, the cycles run,
+    the steps and eta*."""
+    import xarray as xr
+
+    ds = xr.load_dataset(Path(study_dir) / "study.nc", engine="h5netcdf")
+    with STEADY_REFERENCE.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["setting", "stroke_m", "until_steady", "cycles_run", "steps", "eta_star"])
+        for k, label in enumerate(ds.setting.values.tolist()):
+            for j, x in enumerate(ds.stroke.values.tolist()):
+                w.writerow([label, repr(float(x)), STEADY_TOL, f"{float(ds.cycles_run.values[k, j, 0]):g}",
+                            int(ds.steps.values[k, j, 0]), f"{float(ds.eta_star.values[k, j, 0]):.6f}"])
+    print(f"wrote {STEADY_REFERENCE} ({ds.sizes['setting']} settings x {ds.sizes['stroke']} strokes)")
 
 
 def read_spread():
@@ -430,6 +455,47 @@ def part_fig4(tiny, workdir):
           f"of {compared} strokes, within 3 std of their mean at {within3} (max |z| {out['max_abs_z']:.2f}, mean z "
           f"{out['mean_z']:+.2f}); within the range of every CPU run of the stroke ({min(runs, default=0)}-"
           f"{max(runs, default=0)} runs) at {within_all}", flush=True)
+    return out
+
+
+def part_fig4_steady(tiny, workdir):
+    """``pdamper study fig4 --device cuda --until-steady 0.02``, timed: the longest case's steps, and
+    per stroke the cycles run and eta* against the CPU engine's run of the same command."""
+    import numpy as np
+
+    from pdamper.studies.named import run_study
+
+    name = _tiny_study(workdir) if tiny else ("fig4" if FALLBACK["integrator"] is None else _fallback_study(workdir))
+    t = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = run_study(name, Path(workdir) / "fig4_steady", seeds=(0,), device="cuda", progress=False,
+                       until_steady=STEADY_TOL)
+    wall = time.perf_counter() - t
+    ref = {}
+    if STEADY_REFERENCE.exists():
+        with STEADY_REFERENCE.open() as f:
+            ref = {(r["setting"], round(float(r["stroke_m"]), 9)): r for r in csv.DictReader(f)}
+    table, same, devs = [], 0, []
+    for k, label in enumerate(ds.setting.values.tolist()):
+        for j, x in enumerate(ds.stroke.values.tolist()):
+            row = {"setting": str(label), "stroke_m": float(x), "cycles_run": float(ds.cycles_run.values[k, j, 0]),
+                   "steps": float(ds.steps.values[k, j, 0]), "eta_gpu": float(ds.eta_star.values[k, j, 0])}
+            r = ref.get((str(label), round(float(x), 9)))
+            if r is not None:
+                row.update(cycles_cpu=float(r["cycles_run"]), steps_cpu=int(r["steps"]), eta_cpu=float(r["eta_star"]))
+                same += row["cycles_run"] == row["cycles_cpu"]
+                devs.append(row["eta_gpu"] - row["eta_cpu"])
+            table.append(row)
+    steps = [r["steps"] for r in table if math.isfinite(r["steps"])]
+    longest = int(max(steps)) if steps else 0
+    out = {"wall_s": wall, "cases": len(table), "until_steady": STEADY_TOL, "longest_case_steps": longest,
+           "cycles_run": [min(r["cycles_run"] for r in table), max(r["cycles_run"] for r in table)],
+           "compared_with_cpu": len(devs), "same_cycles_as_cpu": same,
+           "mean_abs_eta_dev_vs_cpu": float(np.mean(np.abs(devs))) if devs else math.nan, "strokes": table}
+    print(f"fig4 --until-steady {STEADY_TOL:g}: {len(table)} cases in {wall:.1f} s; longest case {longest} steps; "
+          f"cycles run {out['cycles_run'][0]:g}-{out['cycles_run'][1]:g}; the CPU's cycles at {same} of {len(devs)} "
+          f"strokes, eta* {out['mean_abs_eta_dev_vs_cpu']:.4f} from the CPU's on average", flush=True)
     return out
 
 
@@ -1128,6 +1194,13 @@ def markdown(data):
                      f"within the CPU's seed range at {f['within_cpu_seed_range']} of {f['compared_with_cpu']} strokes, "
                      f"within 3 std at {f['within_3_std']} (max |z| {f['max_abs_z']:.2f}, mean z {f['mean_z']:+.2f}), "
                      f"within every CPU run's range at {f.get('within_every_cpu_run', '?')}")
+    if "fig4_steady" in p:
+        f = p["fig4_steady"]
+        lines.append(f"- study fig4 --until-steady {f['until_steady']:g}: {f['cases']} cases in {f['wall_s']:.1f} s; "
+                     f"longest case {f['longest_case_steps']} steps; cycles run {f['cycles_run'][0]:g}-"
+                     f"{f['cycles_run'][1]:g}; the CPU's cycles at {f['same_cycles_as_cpu']} of "
+                     f"{f['compared_with_cpu']} strokes, eta* {f['mean_abs_eta_dev_vs_cpu']:.4f} from the CPU's on "
+                     "average")
     if "agree" in p:
         for name, v in p["agree"].items():
             if "fault" in v:
@@ -1195,6 +1268,9 @@ def main(argv=None):
     ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
     ap.add_argument("--make-paper-reference", action="store_true",
                     help="write benchmarks/data/paper_cpu_reference.csv: every paper case, seed 0, on the CPU engine")
+    ap.add_argument("--make-steady-reference", metavar="STUDY_DIR",
+                    help="write benchmarks/data/fig4_cpu_until_steady.csv from "
+                         "'pdamper study fig4 --until-steady 0.02 --out STUDY_DIR'")
     ap.add_argument("--make-reference", metavar="STUDY_DIR",
                     help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
     args = ap.parse_args(argv)
@@ -1204,6 +1280,9 @@ def main(argv=None):
             ap.error(f"--profile-cases {wrong}")
     if args.make_reference:
         make_reference(args.make_reference)
+        return 0
+    if args.make_steady_reference:
+        make_steady_reference(args.make_steady_reference)
         return 0
     if args.make_paper_reference:
         make_paper_reference()
@@ -1238,6 +1317,8 @@ def main(argv=None):
                     report.put(part, part_compile(args.tiny))
                 elif part == "fig4":
                     report.put(part, part_fig4(args.tiny, work))
+                elif part == "fig4_steady":
+                    report.put(part, part_fig4_steady(args.tiny, work))
                 elif part == "agree":
                     chosen = None if args.agree_variants is None else {int(k) for k in args.agree_variants.split(",")}
                     report.put(part, part_agree(args.tiny, chosen))

@@ -45,6 +45,26 @@ def test_tiny_study_runs_in_the_simulator(tmp_path, monkeypatch):
     assert "study fig4: 2 cases" in out.with_suffix(".md").read_text()
 
 
+def test_fig4_steady_part_runs_in_the_simulator(tmp_path, monkeypatch):
+    """The fig4_steady part on tiny cases (two cycles: too few to stop early, so each runs them all):
+    a study with --until-steady through the GPU engine, its cycles and eta* against a CPU reference
+    of the same command (one stroke there with the same cycles, one with others)."""
+    mod = _module()
+    labels = [label for label, _, _ in mod.fig4_cases(True)]
+    ref = tmp_path / "steady.csv"
+    ref.write_text("setting,stroke_m,until_steady,cycles_run,steps,eta_star\n"
+                   f"{labels[0]},0.002,0.02,2,200,0.0\n{labels[1]},0.002,0.02,3,300,0.0\n")
+    monkeypatch.setattr(mod, "STEADY_REFERENCE", ref)
+    out = tmp_path / "gpu.json"
+    assert mod.main(["--tiny", "--only", "fig4_steady", "--out", str(out)]) == 0
+    part = json.loads(out.read_text())["parts"]["fig4_steady"]
+    assert part["cases"] == 2 and part["until_steady"] == 0.02 and part["cycles_run"] == [2.0, 2.0]
+    assert part["compared_with_cpu"] == 2 and part["same_cycles_as_cpu"] == 1
+    etas = [s["eta_gpu"] for s in part["strokes"]]
+    assert part["mean_abs_eta_dev_vs_cpu"] == pytest.approx(sum(abs(e) for e in etas) / 2)
+    assert "study fig4 --until-steady 0.02: 2 cases" in out.with_suffix(".md").read_text()
+
+
 @pytest.mark.slow
 def test_kernel_compiles_to_ptx_for_hopper(tmp_path):
     """Both real kernels (Gear's, the default, and Verlet's; each reads the block's clock through
