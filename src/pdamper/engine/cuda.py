@@ -250,7 +250,6 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
         _sync()
         for b in live:
             b.poll()
-            b.judge()
         if all(b.finished for b in batches):
             break
         if progress is not None:
@@ -320,9 +319,11 @@ class _Batch:
             self.kernel[C, self.bd, self.stream](*self.args, int(steps), int(cycles))
 
     def poll(self):
+        """Each case's progress and status after a launch; the cases' judges asked (:meth:`judge`)."""
         ct = self.ct
         self.done = _host(self.gc.span) if self.gear else _host(ct.step)
         self.status = _host(ct.status)
+        self.judge()
         self.done = np.where(self.kept >= 0, self.total, self.done)
         self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
 
@@ -363,8 +364,6 @@ class _Batch:
         if stop:
             self.status[stop] = STATUS_JUDGED
             _to_device(self.ct.status, self.status)
-        self.done = np.where(self.kept >= 0, self.total, self.done)
-        self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
 
     def unpack(self, wall, batch):
         """Each job's channels, final state and outcome."""
