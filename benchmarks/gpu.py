@@ -398,18 +398,25 @@ def _fallback_study(workdir):
     return path
 
 
-def part_fig4(tiny, workdir):
-    """``pdamper study fig4 --device cuda``, timed, and its eta* against the CPU reference."""
-    import numpy as np
-
+def _study_fig4(tiny, workdir, out, **kw):
+    """``pdamper study fig4 --device cuda`` (seed 0; the tiny study, or the fallback integrator's, as
+    the run asks) into ``workdir/out`` from an empty store, with ``kw`` of ``run_study``: its dataset
+    and wall time [s]."""
     from pdamper.studies.named import run_study
 
     name = _tiny_study(workdir) if tiny else ("fig4" if FALLBACK["integrator"] is None else _fallback_study(workdir))
     t = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ds = run_study(name, Path(workdir) / "fig4", seeds=(0,), device="cuda", progress=False)
-    wall = time.perf_counter() - t
+        ds = run_study(name, Path(workdir) / out, seeds=(0,), device="cuda", progress=False, **kw)
+    return ds, time.perf_counter() - t
+
+
+def part_fig4(tiny, workdir):
+    """``pdamper study fig4 --device cuda``, timed, and its eta* against the CPU reference."""
+    import numpy as np
+
+    ds, wall = _study_fig4(tiny, workdir, "fig4")
     etas = {}
     for k, label in enumerate(ds.setting.values.tolist()):
         for j, x in enumerate(ds.stroke.values.tolist()):
@@ -463,15 +470,7 @@ def part_fig4_steady(tiny, workdir):
     per stroke the cycles run and eta* against the CPU engine's run of the same command."""
     import numpy as np
 
-    from pdamper.studies.named import run_study
-
-    name = _tiny_study(workdir) if tiny else ("fig4" if FALLBACK["integrator"] is None else _fallback_study(workdir))
-    t = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        ds = run_study(name, Path(workdir) / "fig4_steady", seeds=(0,), device="cuda", progress=False,
-                       until_steady=STEADY_TOL)
-    wall = time.perf_counter() - t
+    ds, wall = _study_fig4(tiny, workdir, "fig4_steady", until_steady=STEADY_TOL)
     ref = {}
     if STEADY_REFERENCE.exists():
         with STEADY_REFERENCE.open() as f:
