@@ -39,7 +39,7 @@ def campaign_command(records, bed_mass, container_mass, frequency, drop_cycles, 
     Example: pdamper campaign rig/*.csv --bed-mass 149g --plot campaign.png
     """
     from ..errors import InputError
-    from ..io.files import atomic_write
+    from ..io.files import atomic_write, write_dataset
     from ..studies.campaign import analyze_records, campaign_dataset
 
     points, failures = analyze_records(records, bed_mass=bed_mass, frequency=frequency, drop_cycles=drop_cycles,
@@ -56,7 +56,7 @@ def campaign_command(records, bed_mass, container_mass, frequency, drop_cycles, 
                           container_mass=container_mass)
     out = Path(out) if out else Path(points[0].file).parent / "campaign"
     out.mkdir(parents=True, exist_ok=True)
-    atomic_write(out / "campaign.nc", bytes(ds.to_netcdf(engine="h5netcdf")))
+    write_dataset(out / "campaign.nc", ds)
     atomic_write(out / "campaign.csv", ds[["eta_star", "eta_star_error", "energy_per_cycle", "velocity_amplitude",
                                            "effective_mass", "equivalent_damping", "cycles_used", "file"]]
                  .to_dataframe().dropna(subset=["eta_star"])

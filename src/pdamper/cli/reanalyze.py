@@ -29,12 +29,12 @@ def reanalyze_command(store, drop_cycles, out, as_json):
 
     Example: pdamper reanalyze cuboid_36_sweep --drop-cycles 5 --out drop5.nc
     """
-    from ..io.files import atomic_write
+    from ..io.files import write_dataset
     from ..studies.reanalyze import reanalyze
 
     ds = reanalyze(store, drop_cycles=drop_cycles)
     if out:
-        atomic_write(Path(out), bytes(ds.to_netcdf(engine="h5netcdf")))
+        write_dataset(Path(out), ds)
     eta = ds.eta_star.mean("seed", skipna=True)
     dims = [d for d in eta.dims]
     summary = {"store": str(store), "out": out, "drop_cycles": ds.attrs["drop_cycles"],

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["atomic_write", "json_safe", "remove_stale_temporaries"]
+__all__ = ["atomic_write", "json_safe", "netcdf_bytes", "remove_stale_temporaries", "write_dataset"]
 
 
 #: What a failed write means to the user, by errno: (the cause, what to do); the rest: the system's words.
@@ -57,6 +57,27 @@ def atomic_write(path, data) -> Path:
         raise
     _sync_directory(path.parent)
     return path
+
+
+def netcdf_bytes(ds) -> bytes:
+    """An xarray Dataset as netCDF-4 (h5netcdf) bytes, whatever Dask client the process has open.
+
+    xarray picks its write lock by the active Dask scheduler: with a ``dask.distributed.Client``
+    open in the process (``Client(LocalCluster())`` in a notebook) it asks that client for a
+    distributed lock named after the target, which fails for an in-memory buffer ("Semaphore or
+    Lock ... not known"). The datasets pdamper writes hold numpy arrays, so the write is run
+    under Dask's synchronous scheduler, which gives xarray a local lock and leaves the user's
+    client alone."""
+    import dask
+
+    with dask.config.set(scheduler="synchronous"):
+        return bytes(ds.to_netcdf(engine="h5netcdf"))
+
+
+def write_dataset(path, ds) -> Path:
+    """Write an xarray Dataset to ``path`` as netCDF atomically (:func:`netcdf_bytes`,
+    :func:`atomic_write`); safe beside a ``dask.distributed.Client``."""
+    return atomic_write(path, netcdf_bytes(ds))
 
 
 def remove_stale_temporaries(directory) -> list[Path]:

@@ -38,7 +38,7 @@ def _client(workers, scheduler):
 
     if scheduler:
         try:
-            return Client(scheduler, timeout="10s"), None
+            return Client(scheduler, timeout="10s", set_as_default=False), None
         except (OSError, TimeoutError) as exc:
             raise InputError(f"--scheduler {scheduler}: cannot reach a Dask scheduler there ({exc}); "
                              "start one with 'dask scheduler' and 'dask worker ADDRESS', or leave "
@@ -54,7 +54,9 @@ def _client(workers, scheduler):
     with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                                silence_logs=logging.ERROR)
-    return Client(cluster), cluster
+    # not the process's default client: a user's own Client (a notebook's Client(LocalCluster()))
+    # stays the one their dask code uses, during and after the sweep
+    return Client(cluster, set_as_default=False), cluster
 
 
 def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None, total=None, done=0, costs=None):
@@ -94,7 +96,7 @@ def execute(items, fn, on_result, *, workers=None, scheduler=None, progress=None
     finished = 0
     try:
         try:
-            for fut in as_completed(futures):
+            for fut in as_completed(futures, loop=client.loop):
                 key, point, seed, _ = futures[fut]
                 on_result(key, point, seed, fut.result())
                 finished += 1

@@ -73,14 +73,14 @@ def build_fields(source, *, sel: dict | None = None, command: str | None = None)
 
 def write_fields(fields: DamperFields, path) -> Path:
     """Write the fields as CF netCDF to ``path`` (atomically); returns the path."""
-    from ..io.files import atomic_write
+    from ..io.files import write_dataset
 
     path = Path(path)
     if path.suffix.lower() != ".nc":
         raise InputError(f"--out {str(path)!r}: a fields file is netCDF; end its name with .nc")
     if not path.parent.is_dir():
         raise InputError(f"--out {str(path)!r}: folder {str(path.parent)!r} does not exist")
-    return atomic_write(path, bytes(fields.dataset.to_netcdf(engine="h5netcdf")))
+    return write_dataset(path, fields.dataset)
 
 
 def load_fields(path) -> DamperFields:

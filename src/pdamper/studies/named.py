@@ -293,8 +293,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         combined.attrs["overrides"] = describe_overrides(overrides)
     combined.attrs["configs"] = "\n\n".join(f"# setting: {lbl}\n{st.meta['config']}" for lbl, st, _ in stores)
     combined["x_opt"] = ("setting", np.array([p.attrs["x_opt_m"] for p in parts]), {"units": "m"})
-    buf = combined.to_netcdf(engine="h5netcdf")
-    from ..io.files import atomic_write
+    from ..io.files import write_dataset
 
-    atomic_write(out / "study.nc", bytes(buf))
+    write_dataset(out / "study.nc", combined)
     return combined

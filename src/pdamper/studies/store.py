@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..io.files import atomic_write, json_safe, remove_stale_temporaries
+from ..io.files import atomic_write, json_safe, remove_stale_temporaries, write_dataset
 
 __all__ = ["ResultStore", "VARIABLES", "NO_MODE", "UNKNOWN_MODE", "KEEP", "signal_arrays", "FORMAT"]
 
@@ -424,7 +424,7 @@ class ResultStore:
         table.index.names = [f"{n} [{ds[n].attrs['units']}]" if "units" in ds[n].attrs else n
                              for n in table.index.names]
         with self._resumable("the results"):
-            atomic_write(self.path / "results.nc", bytes(ds.to_netcdf(engine="h5netcdf")))
+            write_dataset(self.path / "results.nc", ds)
             atomic_write(self.path / "results.csv", table.to_csv(float_format=_shortest))
 
     @contextlib.contextmanager
