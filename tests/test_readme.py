@@ -33,7 +33,7 @@ def test_exactly_two_single_line_set_up_commands():
         assert len(body.strip().splitlines()) == 1, body
     main_job, tests = (b.strip() for b in blocks)
     assert main_job.startswith("pip install -e . && pdamper ")
-    assert tests == 'pip install -e ".[test]" && pytest'
+    assert tests == 'pip install -e ".[test]" -c constraints/test.txt && pytest'
     # No other install steps anywhere in the README.
     assert README.count("pip install") == 2
     assert "venv" not in README and "apt" not in README.split()
@@ -44,8 +44,29 @@ def test_ci_runs_the_second_set_up_command():
     commands = [ln.split("||")[0].strip() for ln in ci.splitlines()
                 if ln.strip() and not ln.lstrip().startswith("#")]
     install = next(c for c in commands if "pip install" in c)
-    assert shlex.split(install)[-2:] == ["-e", ".[test]"]
+    assert shlex.split(install)[-4:] == ["-e", ".[test]", "-c", "constraints/test.txt"]
     assert any(shlex.split(c)[:3] == ["python", "-m", "pytest"] for c in commands)
+
+
+def test_the_test_environment_is_pinned_for_every_dependency():
+    """constraints/test.txt (tools/refresh_constraints.py) pins each package the test extra pulls in,
+    so a fresh install gets the releases the suite passed with."""
+    import tomllib
+
+    from packaging.requirements import Requirement
+
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    wanted = project["dependencies"] + project["optional-dependencies"]["test"]
+    pins = {}
+    for ln in (ROOT / "constraints" / "test.txt").read_text().splitlines():
+        if ln.strip() and not ln.startswith("#"):
+            name, _, version = ln.partition("==")
+            assert version, f"constraints/test.txt: {ln!r} is not an exact pin"
+            pins[name.lower().replace("_", "-")] = version
+    for req in map(Requirement, wanted):
+        name = req.name.lower().replace("_", "-")
+        assert name in pins, f"{req.name} is a dependency but not pinned: run python tools/refresh_constraints.py"
+        assert req.specifier.contains(pins[name], prereleases=True), (req, pins[name])
 
 
 def test_main_job_arguments_are_valid_and_the_figure_is_in_the_repo(tmp_path):
