@@ -152,3 +152,23 @@ def test_a_store_heals_a_bad_case_file_and_a_lost_store_json(tiny_config, tmp_pa
     assert {f.name: f.stat().st_mtime_ns for f in (store / "cases").glob("*.json")} == stamps  # nothing recomputed
     np.testing.assert_array_equal(repaired.eta_star.values, ds.eta_star.values)
     assert "rebuilt from 2 case files" in repaired.attrs["history"]
+
+
+def test_a_stroke_typed_back_to_15_digits_is_the_stored_stroke_not_a_near_duplicate(tiny_config, tmp_path):
+    """A log-spaced grid holds full-precision strokes; the same strokes typed back from a table are
+    read to 15 significant digits and differ in their last bits. They are the stored points: the
+    store keeps one value per stroke and the cases keep their keys (nothing computed twice)."""
+    from pdamper.studies.sweep import parse_strokes
+
+    case = load_case(tiny_config)
+    grid = parse_strokes("4mm:12mm:3")
+    typed = parse_strokes(",".join(f"{x * 1e3:.15g}mm" for x in grid) + ",20mm")
+    assert not np.array_equal(typed[:3], grid)  # the typed strokes do differ in their last bits
+    first = SweepSpec(base=case, strokes=grid)
+    ResultStore.create_or_open(tmp_path / "s", first)
+    again = SweepSpec(base=case, strokes=typed)
+    store = ResultStore.create_or_open(tmp_path / "s", again)
+    assert store.axes[0]["values"] == list(grid) + [0.02]
+    on_grid = store.on_grid(again)
+    assert on_grid.strokes == tuple(grid) + (0.02,)
+    assert [k for k, _, _ in on_grid.items()][:3] == [k for k, _, _ in first.items()]

@@ -93,3 +93,14 @@ def test_the_report_is_a_markdown_table_with_the_command(tmp_path):
     rows = [ln for ln in text.splitlines() if ln.startswith("| ") and "expected" not in ln]
     assert len(rows) == 16 and all(ln.count("|") == 5 for ln in rows)
     assert "![Fig. 4](img/validation/fig4.png)" in text
+
+
+def test_an_override_of_the_stroke_is_refused_with_what_validate_runs_and_no_option_it_lacks(tmp_path):
+    from pdamper.errors import InputError
+    from pdamper.studies.validate import run_validation
+
+    with pytest.raises(InputError) as err:
+        run_validation(tmp_path, quick=True, overrides={"drive.stroke": "3mm"})
+    msg = str(err.value)
+    assert "paper's strokes" in msg and "give --strokes" not in msg
+    assert not (tmp_path / "fig4").exists()  # refused before anything ran

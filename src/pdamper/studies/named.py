@@ -259,6 +259,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
             case = dataclasses.replace(case, drop_cycles=drop_cycles)
         spec = SweepSpec(base=case, axes=axes, strokes=strokes, seeds=seeds)
         store = ResultStore.create_or_open(out / _slug(label), spec, attrs=theory_attrs(case), until_steady=until_steady)
+        spec = store.on_grid(spec)
         stores.append((label, store, case))
         todo = [(k, p, s) for k, p, s in spec.items() if not store.has(k)]
         total += len(spec.items())

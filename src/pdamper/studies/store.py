@@ -34,6 +34,7 @@ import contextlib
 import dataclasses
 import hashlib
 import json
+import math
 import os
 import sys
 from pathlib import Path
@@ -139,8 +140,30 @@ def _flat(d, prefix=""):
     return out
 
 
+#: Two axis values closer than this (relative) are one value: a number typed on the command line is
+#: read to 15 significant digits (:data:`pdamper.units.SIGNIFICANT_DIGITS`), so a stroke of a
+#: log-spaced grid typed back from a table differs from the stored one in its last digits; no two
+#: strokes a user means to differ are this close.
+SAME_VALUE = 1e-13
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _known(v, old: list):
+    """``v``, or the value of ``old`` that is the same number read to 15 digits (:data:`SAME_VALUE`)."""
+    if _is_number(v):
+        for o in old:
+            if _is_number(o) and math.isclose(float(v), float(o), rel_tol=SAME_VALUE, abs_tol=0.0):
+                return o
+    return v
+
+
 def _merge(old: list, new) -> list:
-    """Values of an axis asked for so far: numbers sorted, text in the order first given."""
+    """Values of an axis asked for so far: numbers sorted, text in the order first given; a new
+    number that is an old one read to 15 digits is the old one (no near-duplicate points)."""
+    new = [_known(v, list(old)) for v in new]
     vals = list(old) + [v for v in new if v not in old]
     if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in vals):
         return sorted(set(vals))
@@ -246,6 +269,21 @@ class ResultStore:
         with store._resumable("the store's description"):
             atomic_write(meta_file, json.dumps(meta, indent=2))
         return store
+
+    def on_grid(self, spec):
+        """``spec`` with each axis value that is a stored one read to 15 digits replaced by the stored
+        value, so that its cases are the stored ones (no near-duplicate points; nothing re-checked)."""
+        import copy
+
+        stored = {a["key"]: a["values"] for a in self.axes}
+        axes = tuple(dataclasses.replace(a, values=tuple(_known(v, stored.get(a.key, [])) for v in a.values))
+                     for a in spec.axes)
+        if axes == spec.axes:
+            return spec
+        out = copy.copy(spec)
+        object.__setattr__(out, "axes", axes)
+        object.__setattr__(out, "strokes", out.axis(STROKE).values if spec.strokes is not None else None)
+        return out
 
     @classmethod
     def open(cls, path) -> "ResultStore":

@@ -421,6 +421,7 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
 
     store = ResultStore.create_or_open(path, spec, attrs=theory_attrs(spec.base), history=history, repair=repair,
                                        until_steady=until_steady)
+    spec = store.on_grid(spec)
     for f, why in store.set_aside_bad():
         warnings.warn(f"{f}: not a case record ({why}); set aside as {Path(f).name}.bad, the case is computed again",
                       stacklevel=2)

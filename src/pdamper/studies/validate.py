@@ -28,8 +28,9 @@ from pathlib import Path
 import numpy as np
 
 from .. import theory
+from ..errors import InputError
 from .named import run_study
-from .sweep import stroke_grid
+from .sweep import STROKE, stroke_grid
 
 __all__ = ["Check", "run_validation", "evaluate_checks", "write_report", "run_vertical", "vertical_rows",
            "vertical_section", "write_section", "settled_clearance"]
@@ -64,6 +65,11 @@ def run_validation(out, *, quick=False, seeds=1, fig4_seeds=None, workers=None, 
     Fig. 4 alone, whose per-stroke checks judge the seed mean: near and above X_opt one seeded
     start can take another motion, so one seed is no fair test there. ``overrides``: config keys
     set in every study's settings (``pdamper validate --set``; :func:`~pdamper.studies.named.run_study`)."""
+    if STROKE in (overrides or {}):
+        raise InputError(f"override {STROKE} = {overrides[STROKE]}: the validation runs every study on the paper's "
+                         "strokes (0.5 mm to 50 mm, 40 for Fig. 4 and 20 for the others; 12 when quick), which its "
+                         "checks judge; leave the stroke out of the overrides (a study of your own strokes: "
+                         "pdamper study NAME --strokes ...)")
     out = Path(out)
     t0 = time.perf_counter()
     kw = dict(seeds=tuple(range(seeds)), workers=workers, scheduler=scheduler, progress=progress,
