@@ -82,7 +82,8 @@ def _spec(cfg, strokes=(0.004, 0.012), seeds=(0,)):
 
 
 def _fail_writes_of(monkeypatch, name, code=errno.ENOSPC):
-    """atomic_write of the store fails with ``code`` for files called ``name`` (others are written)."""
+    """atomic_write of the store (its own and the datasets' write, io.files.write_dataset) fails with
+    ``code`` for files called ``name`` (others are written)."""
     from pdamper.studies import store as store_module
 
     real = store_module.atomic_write
@@ -102,6 +103,7 @@ def _fail_writes_of(monkeypatch, name, code=errno.ENOSPC):
 
     atomic.done = False
     monkeypatch.setattr(store_module, "atomic_write", atomic)
+    monkeypatch.setattr(files, "atomic_write", atomic)
 
 
 def test_a_full_disk_while_results_nc_is_written_keeps_the_store_resumable(tiny_config, tmp_path, monkeypatch):
