@@ -35,6 +35,14 @@ def test_every_docs_page_is_in_the_site(site):
         assert page.is_file(), f"{md} was not built into {page}"
 
 
+def test_every_docs_page_is_in_the_navigation():
+    """A page left out of mkdocs.yml's nav is built but reachable by no menu (docs/names.md was)."""
+    nav = (ROOT / "mkdocs.yml").read_text(encoding="utf-8").split("\nnav:", 1)[1].split("\nmarkdown_extensions:")[0]
+    listed = set(re.findall(r":\s*(\S+\.md)\s*$", nav, flags=re.M))
+    pages = {md.relative_to(ROOT / "docs").as_posix() for md in (ROOT / "docs").rglob("*.md")}
+    assert pages - listed == set(), f"docs pages missing from mkdocs.yml's nav: {sorted(pages - listed)}"
+
+
 def test_api_reference_documents_every_public_name(site):
     html = "".join(p.read_text(encoding="utf-8") for p in (site / "api").rglob("*.html"))
     anchors = set(re.findall(r'id="(pdamper[\w.]*)"', html))
