@@ -12,7 +12,7 @@ from scipy.integrate import solve_ivp
 from pdamper.contact.friction_tanh import TanhFriction
 from pdamper.contact.hertz_tsuji import HertzTsuji, damping_ratio, normal_force, touch
 from pdamper.contact.tangential_spring import SpringFriction
-from pdamper.kernels.bundles import ContactTable
+from pdamper.kernels.bundles import ContactConstants, ContactGeometry, ContactTable
 from pdamper.kernels.contact import contact
 
 
@@ -67,13 +67,15 @@ def test_friction_follows_only_the_pushing_part_of_the_force(tangential):
     hist = np.zeros((1, 5))
     hist[0, :4] = (-0.01, 0.0, 0.0, 1e5)
     # separating fast at a tiny overlap: the damping pulls, F_N < 0, and there is no friction
-    fn, ftx, fty, ftz, ff, lim, v_in, d, p_n, p_f, e_f = contact(table, hist, 0, 0, 0.5, k, 0.005, m, 1.0, 1e-9, -0.3,
-                                                                 0.3, c, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0, 0.01, 1e-8,
-                                                                 0.0, 0.0, 1e-6, 1e-6)
+    constants = ContactConstants(0, 0.5, k, 0.005, m, 1.0)
+    fn, ftx, fty, ftz, ff, lim, v_in, d, p_n, p_f, e_f = contact(
+        table, hist, 0, constants, ContactGeometry(1e-9, -0.3, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0, 0.01, 1e-8, 0.0, 0.0),
+        0.3, c, 1e-6, 1e-6)
     assert fn < 0 and ff == 0.0 and p_f == 0.0 and (ftx, fty, ftz) == (0.0, 0.0, 0.0)
     assert p_n > 0  # the pulling damping still dissipates: F_damp delta_dot > 0
     # approaching: it pushes, and friction acts against the slip
     hist[0, :4] = (-0.01, 0.0, 0.0, 1e5)
-    fn, ftx, *_ = contact(table, hist, 0, 0, 0.5, k, 0.005, m, 1.0, 1e-9, 0.3, 0.3, c, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0,
-                          0.01, 1e-8, 0.0, 0.0, 1e-6, 1e-6)
+    fn, ftx, *_ = contact(table, hist, 0, constants,
+                          ContactGeometry(1e-9, 0.3, 0.0, 1.0, 0.0, 0.01, 0.0, 0.0, 0.01, 1e-8, 0.0, 0.0), 0.3, c, 1e-6,
+                          1e-6)
     assert fn > 0 and ftx < 0

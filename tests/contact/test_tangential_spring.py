@@ -26,7 +26,8 @@ def _step(state, kt, lim, slip, dt, gt=0.0, normal=N):
     point moving by slip dt); returns (force, new state, loss)."""
     (sx, sy, sz), kt_old = state
     ds = np.array(slip) * dt
-    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, sx, sy, sz, kt_old, *normal, *ds, *slip, dt)
+    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, (sx, sy, sz), kt_old, tuple(normal), tuple(ds),
+                                                tuple(slip), dt)
     return np.array([fx, fy, fz]), ((sx, sy, sz), kt), loss
 
 
@@ -181,7 +182,8 @@ def test_the_force_never_exceeds_the_cap_and_the_energy_balance_is_exact(x, lim,
     kt = KT * (1.5 + x[10])
     ds = np.array(x[11:14]) * 1e-6
     dt = 1e-6 * (1.0 + x[14])
-    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, *stored, kt_old, *normal, *ds, *slip, dt)
+    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, gt, lim, tuple(stored), kt_old, tuple(normal), tuple(ds),
+                                                tuple(slip), dt)
     assert math.hypot(fx, fy, fz) <= lim * (1 + 1e-12) + 1e-300
     assert math.hypot(sx, sy, sz) <= lim * (1 + 1e-12) + 1e-300
     u_old, u_new = spring_energy(*stored, kt_old), spring_energy(sx, sy, sz, kt)
@@ -190,5 +192,5 @@ def test_the_force_never_exceeds_the_cap_and_the_energy_balance_is_exact(x, lim,
         ds_t = ds - (ds @ normal) * normal
         work = -0.5 * (stored + np.array([sx, sy, sz])) @ ds_t
         assert u_new - u_old + loss == pytest.approx(work, abs=1e-12 * scale)
-    _, _, _, _, _, _, loss0 = spring_force(kt, gt, lim, *stored, kt_old, *normal, 0.0, 0.0, 0.0, *slip, dt)
+    _, _, _, _, _, _, loss0 = spring_force(kt, gt, lim, tuple(stored), kt_old, tuple(normal), Z, tuple(slip), dt)
     assert loss0 >= -1e-12 * scale

@@ -183,16 +183,16 @@ def spring_energy(fx, fy, fz, kt):
 
 
 @njit
-def spring_force(kt, gt, lim, sx, sy, sz, kt_old, nx, ny, nz, dx, dy, dz, tx, ty, tz, dt):
+def spring_force(kt, gt, lim, stored, kt_old, normal, moved, slip, dt):
     """One step of the tangential spring at one contact (the module docstring's steps 2-6).
 
-    Parameters (all floats): the contact's stiffness ``kt`` [N/m] (:func:`spring_stiffness`) and
-    damping coefficient ``gt`` [N s/m] (:func:`spring_damping`) now; the Coulomb limit
-    ``lim = mu max(F_N, 0)`` [N]; the stored spring force ``(sx, sy, sz)`` [N] on body *i* and the
-    stiffness ``kt_old`` [N/m] it was stored with (both 0 for a new contact); the unit normal
-    ``(nx, ny, nz)``; the displacement ``(dx, dy, dz)`` [m] of *i*'s contact point relative to
-    *j*'s since the spring was stored (its normal part is removed here; zeros: the force at the
-    current state, the spring not advanced); the slip ``(tx, ty, tz)`` [m/s] now (tangential
+    Parameters (floats, and vectors as tuples ``(x, y, z)`` of floats): the contact's stiffness
+    ``kt`` [N/m] (:func:`spring_stiffness`) and damping coefficient ``gt`` [N s/m]
+    (:func:`spring_damping`) now; the Coulomb limit ``lim = mu max(F_N, 0)`` [N]; the stored spring
+    force ``stored`` [N] on body *i* and the stiffness ``kt_old`` [N/m] it was stored with (both 0
+    for a new contact); the unit normal ``normal``; the displacement ``moved`` [m] of *i*'s contact
+    point relative to *j*'s since the spring was stored (its normal part is removed here; zeros: the
+    force at the current state, the spring not advanced); the slip ``slip`` [m/s] now (tangential
     velocity of *i*'s contact point relative to *j*'s, without normal part) and the step ``dt``
     [s], for the damping.
 
@@ -205,6 +205,10 @@ def spring_force(kt, gt, lim, sx, sy, sz, kt_old, nx, ny, nz, dx, dy, dz, tx, ty
     part >= 0) plus the work of the change of the stored force at the step's start over half the
     step, a term of the order of the step that may be negative.
     """
+    sx, sy, sz = stored
+    nx, ny, nz = normal
+    dx, dy, dz = moved
+    tx, ty, tz = slip
     # the displacement on the current tangent plane
     dn = dx * nx + dy * ny + dz * nz
     qx = dx - dn * nx

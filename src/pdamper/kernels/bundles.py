@@ -23,6 +23,9 @@ bundle             holds
 :class:`Drive`     gravity, the drive direction and the prescribed or coupled container motion
 :class:`Samples`   what is recorded at the end of each sample interval, and the running sums
 :class:`FrictionRecord`  the touching friction contacts of one force evaluation (Gear)
+:class:`ContactConstants`, :class:`ContactGeometry`  one contact as a force loop hands it to the
+                   contact law (:func:`pdamper.kernels.contact.contact`): its constants, its
+                   geometry now
 :class:`VerletState`, :class:`GearState`  an integrator's own state
 :class:`VerletSpan`, :class:`GearSpan`  what one call of an integrator advances
 =================  =========================================================================
@@ -42,7 +45,8 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["Bodies", "PairList", "WallList", "Search", "DirectSearch", "CellSearch", "ContactTable", "Drive",
-           "PrescribedMotion", "CoupledMotion", "marker_class", "Samples", "FrictionRecord",
+           "PrescribedMotion", "CoupledMotion", "marker_class", "Samples", "FrictionRecord", "ContactConstants",
+           "ContactGeometry",
            "VerletState", "GearState", "VerletSpan", "GearSpan", "ENERGY_COLUMNS", "STRUCTURE_COLUMNS",
            "FRAME_COLUMNS", "TANGENTIAL_COLUMNS", "SAVED_HISTORY_ROWS", "NO_LOAD"]
 
@@ -223,6 +227,43 @@ class FrictionRecord(NamedTuple):
     bodies: np.ndarray           #: (capacity, 2) int: (i, j), j = -1 at a wall
     rows: np.ndarray             #: (capacity, 8): normal (3), slip (3), secant coefficient c, mu F_N
     ends: np.ndarray             #: (3,) int
+
+
+class ContactConstants(NamedTuple):
+    """What the contact law needs to know of one contact besides its geometry: the constants a force
+    loop reads from its list (a pair's row of :class:`PairList`, a sphere-wall entry of
+    :class:`WallList`). Built in the loop for each touching contact and handed to
+    :func:`pdamper.kernels.contact.contact`; scalars only, so the CPU loops and a GPU device
+    function build and pass it alike (numba and numba-cuda lower it to registers)."""
+
+    material_pair: int           #: row of the contact in the contact table
+    friction: float              #: mu [-]
+    stiffness: float             #: Hertz k [N/m^1.5]
+    radius: float                #: effective radius R* [m]
+    mass: float                  #: effective mass m* [kg]
+    friction_cap: float          #: Verlet's friction guard, FRICTION_CAP x m* [kg]
+
+
+class ContactGeometry(NamedTuple):
+    """What the geometry gives of one touching contact now, in the container frame: the overlap and
+    its rate, the unit normal ``n`` (from sphere i to j; at a wall into the container), the
+    tangential slip ``t`` of i's contact point relative to j's and its length, and the displacement
+    ``d`` of i's contact point relative to j's since a tangential law with history last advanced its
+    spring (zeros under a law without history, which does not read it). Scalars only, as
+    :class:`ContactConstants`."""
+
+    overlap: float               #: delta [m], > 0 touching
+    rate: float                  #: d delta / dt [m/s], > 0 approaching
+    nx: float                    #: unit normal (x, y, z)
+    ny: float
+    nz: float
+    tx: float                    #: slip (x, y, z) [m/s]
+    ty: float
+    tz: float
+    slip: float                  #: |t| [m/s] (the caller's: the floor's slip has no y part)
+    dx: float                    #: contact-point displacement (x, y, z) [m]
+    dy: float
+    dz: float
 
 
 class VerletState(NamedTuple):

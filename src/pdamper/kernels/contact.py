@@ -1,8 +1,9 @@
 """The contact law applied to one contact: one compiled function for every contact loop.
 
 :func:`contact` takes what the geometry of a contact gives -- overlap ``delta``, approach rate
-``delta_dot``, the tangential slip at the contact point -- with the contact's constants and
-history, and returns the normal force, the friction coefficient and its Coulomb limit, the updated history
+``delta_dot``, the tangential slip at the contact point: a
+:class:`~pdamper.kernels.bundles.ContactGeometry` -- with the contact's constants (a
+:class:`~pdamper.kernels.bundles.ContactConstants`) and history, and returns the normal force, the friction coefficient and its Coulomb limit, the updated history
 and the dissipated powers. The pair loop, the floor loop and the wall loop of
 :mod:`pdamper.kernels.forces` all call it; they differ only in geometry (where the normal and the
 slip come from) and in which bodies receive the force, which :func:`scatter` adds to them (and to
@@ -164,21 +165,22 @@ def tabulated(table, tab, v, mp, r_star, m_star):
 
 
 @njit(inline="always")
-def contact(table, hist, row, mp, mu, k, r_star, m_star, cap, delta, delta_dot, v_in, d, nx, ny, nz, tx, ty, tz, vt,
-            dx, dy, dz, dt, step):
+def contact(table, hist, row, constants, geometry, v_in, d, dt, step):
     """The contact law at one contact.
 
     Parameters: the contact table and the contact's row ``row`` of the tangential history ``hist``
-    (:data:`~pdamper.kernels.bundles.TANGENTIAL_COLUMNS`; a law without history leaves it alone), its
-    material pair ``mp``, friction coefficient ``mu`` [-], Hertz stiffness ``k`` [N/m^1.5],
-    effective radius ``r_star`` [m] and mass ``m_star`` [kg], friction guard ``cap`` [kg]
-    (:data:`FRICTION_CAP` x m*); its overlap ``delta`` [m] and approach rate ``delta_dot`` [m/s]
-    (> 0 approaching); its history ``(v_in, d)`` (``v_in = 0``: a new contact); the unit normal
-    ``n`` (from i to j; at a wall into the container) and the tangential slip ``t`` [m/s] at the
-    contact point with its length ``vt`` (the caller's: the floor's slip has no y part); the
-    displacement ``(dx, dy, dz)`` [m] of i's contact point relative to j's since a spring was last
-    advanced (only a law with history reads it); the step ``dt`` [s] of the tanh law's friction
-    guard (Gear passes a vanishing step: no guard) and the step ``step`` [s] of the spring's damping.
+    (:data:`~pdamper.kernels.bundles.TANGENTIAL_COLUMNS`; a law without history leaves it alone); the
+    contact's constants ``constants``, a :class:`~pdamper.kernels.bundles.ContactConstants` (its
+    material pair, friction coefficient mu [-], Hertz stiffness k [N/m^1.5], effective radius R* [m]
+    and mass m* [kg], friction guard [kg], :data:`FRICTION_CAP` x m*); its geometry now ``geometry``,
+    a :class:`~pdamper.kernels.bundles.ContactGeometry` (overlap delta [m] and approach rate [m/s]
+    (> 0 approaching), the unit normal ``n`` (from i to j; at a wall into the container), the
+    tangential slip ``t`` [m/s] at the contact point with its length, and the displacement [m] of
+    i's contact point relative to j's since a spring was last advanced, which only a law with
+    history reads); its history ``(v_in, d)`` (``v_in = 0``: a new contact); the step ``dt`` [s] of
+    the tanh law's friction guard (Gear passes a vanishing step: no guard) and the step ``step`` [s]
+    of the spring's damping. The two bundles are scalars only: every loop, CPU and GPU, builds them
+    where it has worked out the contact and calls this one function.
 
     Returns ``(F_N, ft_x, ft_y, ft_z, c, lim, v_in, d, P_damp, P_friction, E_friction)``: the normal
     force [N] (pushing the bodies apart when positive), the tangential force on body i [N], the
@@ -189,22 +191,24 @@ def contact(table, hist, row, mp, mu, k, r_star, m_star, cap, delta, delta_dot, 
     in this step. Friction follows the pushing part of the normal force (a law that may pull at
     the end of a contact, Tsuji's, has no friction while it pulls).
     """
+    delta_dot = geometry.rate
     touched = v_in == 0.0 or delta_dot > v_in
     if touched:
         # first touch, or struck harder than ever before in this contact
         v_in = max(delta_dot, table.v_floor)
-        d = damping_at_touch(table, delta_dot, mp, k, r_star, m_star)
-    fn, fdamp = law_force(table.law, k, delta, delta_dot, d)
-    ftx, fty, ftz, c, lim, p_f, e_f = friction(table.tangential, table, hist, row, mp, mu, r_star, m_star, cap, fn,
-                                               delta, touched, v_in, nx, ny, nz, tx, ty, tz, vt, dx, dy, dz, dt, step)
+        d = damping_at_touch(table, delta_dot, constants.material_pair, constants.stiffness, constants.radius,
+                             constants.mass)
+    fn, fdamp = law_force(table.law, constants.stiffness, geometry.overlap, delta_dot, d)
+    ftx, fty, ftz, c, lim, p_f, e_f = friction(table.tangential, table, hist, row, constants, geometry, fn, touched,
+                                               v_in, dt, step)
     return fn, ftx, fty, ftz, c, lim, v_in, d, fdamp * delta_dot, p_f, e_f
 
 
-def friction(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-             vt, dx, dy, dz, dt, step):
+def friction(law, table, hist, row, constants, geometry, fn, touched, v_in, dt, step):
     """The tangential law of marker ``law`` at one contact (compiled kernels only: resolved by the
-    type of ``law``). Returns ``(ft_x, ft_y, ft_z, c, lim, P_friction, E_friction)`` as
-    :func:`contact` describes them."""
+    type of ``law``), with the normal force ``fn`` [N] and whether the contact was touched (began or
+    was struck harder) in this evaluation. Returns ``(ft_x, ft_y, ft_z, c, lim, P_friction,
+    E_friction)`` as :func:`contact` describes them."""
     raise NotImplementedError("friction is compiled into the kernels")
 
 
@@ -216,28 +220,33 @@ def keeps_history(law):
 
 
 @njit
-def _tanh_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-                   vt, dx, dy, dz, dt, step):
+def _tanh_friction(table, hist, row, constants, geometry, fn, touched, v_in, dt, step):
     """The tanh law (:mod:`pdamper.contact.friction_tanh`), with Verlet's friction guard."""
+    mu = constants.friction
+    cap = constants.friction_cap
+    vt = geometry.slip
     ff = friction_factor(mu, table.tau, vt) * max(fn, 0.0)
     if ff * dt > cap:
         ff = cap * (1.0 / dt)
-    return -ff * tx, -ff * ty, -ff * tz, ff, mu * fn, ff * vt * vt, 0.0
+    return -ff * geometry.tx, -ff * geometry.ty, -ff * geometry.tz, ff, mu * fn, ff * vt * vt, 0.0
 
 
 @njit(inline="always")
-def _spring_friction(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty,
-                     tz, vt, dx, dy, dz, dt, step):
+def _spring_friction(table, hist, row, constants, geometry, fn, touched, v_in, dt, step):
     """The tangential spring (:mod:`pdamper.contact.tangential_spring`) on the contact's row of
     ``hist``: its damping ratio fixed when the contact starts (or is struck harder), the stored
-    force advanced by the contact point's displacement ``d``."""
-    kt = spring_stiffness(table.shear_modulus[mp], r_star, delta)
+    force advanced by the contact point's displacement."""
+    mp = constants.material_pair
+    r_star = constants.radius
+    m_star = constants.mass
+    g = geometry
+    kt = spring_stiffness(table.shear_modulus[mp], r_star, g.overlap)
     if touched:
         hist[row, 4] = tabulated(table, table.tangential_damping, v_in, mp, r_star, m_star)
-    lim = mu * max(fn, 0.0)
-    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, spring_damping(hist[row, 4], kt, m_star), lim, hist[row, 0],
-                                                hist[row, 1], hist[row, 2], hist[row, 3], nx, ny, nz, dx, dy, dz, tx, ty,
-                                                tz, step)
+    lim = constants.friction * max(fn, 0.0)
+    fx, fy, fz, sx, sy, sz, loss = spring_force(kt, spring_damping(hist[row, 4], kt, m_star), lim,
+                                                (hist[row, 0], hist[row, 1], hist[row, 2]), hist[row, 3],
+                                                (g.nx, g.ny, g.nz), (g.dx, g.dy, g.dz), (g.tx, g.ty, g.tz), step)
     # what the next step starts from: the spring and the stiffness it is held at
     hist[row, 0], hist[row, 1], hist[row, 2], hist[row, 3] = sx, sy, sz, kt
     return fx, fy, fz, 0.0, lim, 0.0, loss
@@ -248,14 +257,11 @@ _FRICTION_KERNELS = {TanhFriction: _tanh_friction, SpringFriction: _spring_frict
 
 
 @overload(friction, inline="always", jit_options=JIT)
-def _friction(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-              vt, dx, dy, dz, dt, step):
+def _friction(law, table, hist, row, constants, geometry, fn, touched, v_in, dt, step):
     kernel = _FRICTION_KERNELS[_tangential_law_of(law).marker]
 
-    def impl(law, table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty, tz,
-             vt, dx, dy, dz, dt, step):
-        return kernel(table, hist, row, mp, mu, r_star, m_star, cap, fn, delta, touched, v_in, nx, ny, nz, tx, ty,
-                      tz, vt, dx, dy, dz, dt, step)
+    def impl(law, table, hist, row, constants, geometry, fn, touched, v_in, dt, step):
+        return kernel(table, hist, row, constants, geometry, fn, touched, v_in, dt, step)
 
     return impl
 
@@ -299,17 +305,20 @@ def note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
 
 
 @njit(inline="always")
-def scatter(lin, ang, i, j, fx, fy, fz, nx, ny, nz, tx, ty, tz, li, lj, ai, aj):
+def scatter(lin, ang, i, j, f, n, t, li, lj, ai, aj):
     """Add a contact's force and torque to the accumulators of its bodies.
 
     ``lin[i] += li f`` and ``ang[i] += ai (n x t)``; for a pair (``j >= 0``) also
     ``lin[j] -= lj f`` and ``ang[j] += aj (n x t)``; ``j = -1`` is a wall. ``f`` is the force on
     ``i``, ``t`` its tangential part (the friction, acting at the contact point), ``n`` the unit
-    normal. The force loops pass ``lin``, ``ang`` = force, torque and ``li = lj = 1``, ``ai`` the
-    signed lever of the contact point along ``n`` (pairs: ``r_i``, ``r_j``; walls: ``-r_i``);
-    Gear's implicit friction pass passes its increments and the factors that turn a force into
-    them (``h^2/2 m^-1``, ``h^2/2 r / I``).
+    normal, each a tuple ``(x, y, z)``. The force loops pass ``lin``, ``ang`` = force, torque and
+    ``li = lj = 1``, ``ai`` the signed lever of the contact point along ``n`` (pairs: ``r_i``,
+    ``r_j``; walls: ``-r_i``); Gear's implicit friction pass passes its increments and the factors
+    that turn a force into them (``h^2/2 m^-1``, ``h^2/2 r / I``).
     """
+    fx, fy, fz = f
+    nx, ny, nz = n
+    tx, ty, tz = t
     lin[i, 0] += li * fx
     lin[i, 1] += li * fy
     lin[i, 2] += li * fz

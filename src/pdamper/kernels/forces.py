@@ -23,7 +23,7 @@ from ..contact.hertz import hertz_energy
 from ..contact.tangential_spring import spring_energy
 from ..geometry.walls import wall_distance
 from ..jit import njit
-from .bundles import FrictionRecord
+from .bundles import ContactConstants, ContactGeometry, FrictionRecord
 from .contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, note_friction_row,
                       pair_point_velocity, scatter, wall_point_velocity)
 
@@ -168,8 +168,8 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
         cap = pcap[a]
         mp = pmp[a]
         fn, ftx, fty, ftz, ff, lim, pvin[a], pd[a], pn, pf, ef = contact(
-            table, pth, a, mp, friction[mp], pk[a], ri * rj / cut, cap / FRICTION_CAP, cap, delta, ddot, pvin[a], pd[a],
-            nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+            table, pth, a, ContactConstants(mp, friction[mp], pk[a], ri * rj / cut, cap / FRICTION_CAP, cap),
+            ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), pvin[a], pd[a], dt, step)
         p_n += pn
         p_f += pf
         e_f += ef
@@ -177,7 +177,7 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
             note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
         # torque on i: (r_i n) x Ft ; on j: (-r_j n) x (-Ft) = r_j n x Ft
-        scatter(force, torque, i, j, -fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz, nx, ny, nz, ftx, fty, ftz,
+        scatter(force, torque, i, j, (-fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz), (nx, ny, nz), (ftx, fty, ftz),
                 1.0, 1.0, ri, rj)
     if collect:
         record.ends[0] = m
@@ -212,8 +212,10 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
             mi = mass[i]
             mp = wmp[i, floor]
             fn, ftx, fty, ftz, ff, lim, wvin[i, floor], wd[i, floor], pn, pf, ef = contact(
-                table, wth, i * nw + floor, mp, friction[mp], wk[i, floor], wrs[i, floor], mi, FRICTION_CAP * mi, delta,
-                ddot, wvin[i, floor], wd[i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, vt, dsx, 0.0, dsz, dt, step)
+                table, wth, i * nw + floor,
+                ContactConstants(mp, friction[mp], wk[i, floor], wrs[i, floor], mi, FRICTION_CAP * mi),
+                ContactGeometry(delta, ddot, 0.0, 1.0, 0.0, tx, 0.0, tz, vt, dsx, 0.0, dsz), wvin[i, floor],
+                wd[i, floor], dt, step)
             p_n += pn
             p_f += pf
             e_f += ef
@@ -221,7 +223,7 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
                 note_friction_row(record, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
                 m += 1
             # (the tangential force has no y part: the slip has none, and neither has a spring)
-            scatter(force, torque, i, -1, ftx, fn, ftz, 0.0, 1.0, 0.0, ftx, 0.0, ftz, 1.0, 0.0, -ri, 0.0)
+            scatter(force, torque, i, -1, (ftx, fn, ftz), (0.0, 1.0, 0.0), (ftx, 0.0, ftz), 1.0, 0.0, -ri, 0.0)
             fwx += ftx
             fwy += fn
             fwz += ftz
@@ -262,8 +264,8 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
         mi = mass[i]
         mp = wmp[i, w]
         fn, ftx, fty, ftz, ff, lim, wvin[i, w], wd[i, w], pn, pf, ef = contact(
-            table, wth, i * nw + w, mp, friction[mp], wk[i, w], wrs[i, w], mi, FRICTION_CAP * mi, delta, ddot,
-            wvin[i, w], wd[i, w], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+            table, wth, i * nw + w, ContactConstants(mp, friction[mp], wk[i, w], wrs[i, w], mi, FRICTION_CAP * mi),
+            ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), wvin[i, w], wd[i, w], dt, step)
         p_n += pn
         p_f += pf
         e_f += ef
@@ -274,7 +276,7 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
         fy = fn * ny + fty
         fz = fn * nz + ftz
         # torque: (-r_i n) x Ft
-        scatter(force, torque, i, -1, fx, fy, fz, nx, ny, nz, ftx, fty, ftz, 1.0, 0.0, -ri, 0.0)
+        scatter(force, torque, i, -1, (fx, fy, fz), (nx, ny, nz), (ftx, fty, ftz), 1.0, 0.0, -ri, 0.0)
         fwx += fx
         fwy += fy
         fwz += fz

@@ -219,10 +219,14 @@ def floor_friction_step(cf, lim, tx, tz, ux, uz, ex, ez, ri, g, a, kk):
 
 
 @njit(inline="always")
-def wall_friction_step(cf, lim, nx, ny, nz, tx, ty, tz, ux, uy, uz, ex, ey, ez, ri, g, a, kk):
+def wall_friction_step(cf, lim, n, t, u, e, ri, g, a, kk):
     """The implicit friction correction of one contact with a wall of normal ``n`` (into the
-    container): as :func:`floor_friction_step`, with the slip ``(tx, ty, tz)`` and the sphere's
-    velocity and spin increments ``u``, ``e``; returns ``(gx, gy, gz, power term)``."""
+    container): as :func:`floor_friction_step`, with the slip ``t`` and the sphere's velocity and
+    spin increments ``u``, ``e`` (each a tuple ``(x, y, z)``); returns ``(gx, gy, gz, power term)``."""
+    nx, ny, nz = n
+    tx, ty, tz = t
+    ux, uy, uz = u
+    ex, ey, ez = e
     vt = math.sqrt(tx * tx + ty * ty + tz * tz)
     dcx, dcy, dcz, dcn = wall_point_velocity(g * ux, g * uy, g * uz, g * ex, g * ey, g * ez, ri, nx, ny, nz)
     dcx -= dcn * nx
@@ -281,8 +285,8 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         # power: the new force on the corrected slip, minus the explicit c s^2
         dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
                  + fz * (tz + dcz - dcn * nz + a * kk * gz)) - c * vt * vt
-        scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[i], hh * inv_m[j], hh * inv_i[i] * ri,
-                hh * inv_i[j] * rj)
+        scatter(dv, dw, i, j, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), hh * inv_m[i], hh * inv_m[j],
+                hh * inv_i[i] * ri, hh * inv_i[j] * rj)
     # ---- the floor: n = +y, slip (v_x + r w_z, 0, v_z - r w_x)
     for q in range(ends[0], ends[1]):
         i = ids[q, 0]
@@ -291,7 +295,8 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         gx, gz, dp = floor_friction_step(fr[q, 6], fr[q, 7], fr[q, 3], fr[q, 5], dv[i, 0], dv[i, 2], dw[i, 0],
                                          dw[i, 2], ri, g, a, kk)
         dpf += dp
-        scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
+        scatter(dv, dw, i, -1, (gx, 0.0, gz), (0.0, 1.0, 0.0), (gx, 0.0, gz), hh * inv_m[i], 0.0,
+                -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
         dfz += gz
     # ---- the other walls: n into the container, slip v - r w x n
@@ -302,10 +307,12 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         ny = fr[q, 1]
         nz = fr[q, 2]
         kk = inv_m[i] + ri * ri * inv_i[i]
-        gx, gy, gz, dp = wall_friction_step(fr[q, 6], fr[q, 7], nx, ny, nz, fr[q, 3], fr[q, 4], fr[q, 5], dv[i, 0],
-                                            dv[i, 1], dv[i, 2], dw[i, 0], dw[i, 1], dw[i, 2], ri, g, a, kk)
+        gx, gy, gz, dp = wall_friction_step(fr[q, 6], fr[q, 7], (nx, ny, nz), (fr[q, 3], fr[q, 4], fr[q, 5]),
+                                            (dv[i, 0], dv[i, 1], dv[i, 2]), (dw[i, 0], dw[i, 1], dw[i, 2]), ri, g, a,
+                                            kk)
         dpf += dp
-        scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri), 0.0)
+        scatter(dv, dw, i, -1, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri),
+                0.0)
         dfx += gx
         dfy += gy
         dfz += gz

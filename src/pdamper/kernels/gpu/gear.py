@@ -212,7 +212,7 @@ def _pair_row(c, k, gs, dv, dw, g, a):
                                                 dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
     dp = -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
            + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
-    scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, q[12], q[13], q[14], q[15])
+    scatter(dv, dw, i, j, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), q[12], q[13], q[14], q[15])
     return dp
 
 
@@ -310,7 +310,7 @@ def _implicit_walls(c, i, sp, wl, dl, hs):
             gx, gz, dp = floor_friction_step(cf, r[7], r[3], r[5], dv[i, 0], dv[i, 2], dw[i, 0], dw[i, 2], ri, g, a,
                                              kk)
             dpf += dp
-            scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * inv_m[c, i], 0.0,
+            scatter(dv, dw, i, -1, (gx, 0.0, gz), (0.0, 1.0, 0.0), (gx, 0.0, gz), hh * inv_m[c, i], 0.0,
                     -(hh * inv_i[c, i] * ri), 0.0)
             dfx += gx
             dfz += gz
@@ -325,11 +325,11 @@ def _implicit_walls(c, i, sp, wl, dl, hs):
         ny = r[1]
         nz = r[2]
         kk = inv_m[c, i] + ri * ri * inv_i[c, i]
-        gx, gy, gz, dp = wall_friction_step(cf, r[7], nx, ny, nz, r[3], r[4], r[5], dv[i, 0], dv[i, 1], dv[i, 2],
-                                            dw[i, 0], dw[i, 1], dw[i, 2], ri, g, a, kk)
+        gx, gy, gz, dp = wall_friction_step(cf, r[7], (nx, ny, nz), (r[3], r[4], r[5]), (dv[i, 0], dv[i, 1], dv[i, 2]),
+                                            (dw[i, 0], dw[i, 1], dw[i, 2]), ri, g, a, kk)
         dpf += dp
-        scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * inv_m[c, i], 0.0, -(hh * inv_i[c, i] * ri),
-                0.0)
+        scatter(dv, dw, i, -1, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), hh * inv_m[c, i], 0.0,
+                -(hh * inv_i[c, i] * ri), 0.0)
         dfx += gx
         dfy += gy
         dfz += gz

@@ -38,7 +38,7 @@ from numba import cuda, float64, int64
 from ...contact.hertz import hertz_energy, hertz_stiffness
 from ...contact.tangential_spring import spring_energy
 from ...geometry.walls import wall_distance
-from ..bundles import ContactTable
+from ..bundles import ContactConstants, ContactGeometry, ContactTable
 from ..contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, pair_point_velocity, scatter,
                        wall_point_velocity)
 from ..drive import parametric_motion
@@ -259,8 +259,10 @@ def _pair_laws(c, tid, bd, n, sp, li, table, dt, step):
             cap = li.friction_cap[c, i, e]
             mp = li.material_pair[c, i, e]
             fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-                table, th, e, mp, friction[mp], li.stiffness[c, i, e], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
-                ddot, pvin[c, b, i, e], pd[c, b, i, e], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+                table, th, e, ContactConstants(mp, friction[mp], li.stiffness[c, i, e], ri * rj / cut, cap / FRICTION_CAP,
+                                               cap),
+                ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), pvin[c, b, i, e],
+                pd[c, b, i, e], dt, step)
             pvin[c, b, i, e] = vin
             pd[c, b, i, e] = dd
             p_n += pn
@@ -328,12 +330,14 @@ def _sphere_force(c, i, sp, li, wl, table, dt, step, lin, ang):
         if j > i:
             if pvin[c, b, i, e] != 0.0:
                 r = res[c, i, e]
-                scatter(lin, ang, 0, -1, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], 1.0, 0.0, ri, 0.0)
+                scatter(lin, ang, 0, -1, (r[0], r[1], r[2]), (r[3], r[4], r[5]), (r[6], r[7], r[8]), 1.0, 0.0, ri,
+                        0.0)
         else:
             q = li.slot[c, i, e]
             if pvin[c, b, j, q] != 0.0:
                 r = res[c, j, q]
-                scatter(lin, ang, 0, -1, -r[0], -r[1], -r[2], r[3], r[4], r[5], r[6], r[7], r[8], 1.0, 0.0, ri, 0.0)
+                scatter(lin, ang, 0, -1, (-r[0], -r[1], -r[2]), (r[3], r[4], r[5]), (r[6], r[7], r[8]), 1.0, 0.0, ri,
+                        0.0)
     p_n = 0.0
     p_f = 0.0
     e_f = 0.0
@@ -359,16 +363,18 @@ def _sphere_force(c, i, sp, li, wl, table, dt, step, lin, ang):
                 dsx, dsz = floor_slip(mv[c, i, 0], mv[c, i, 2], mv[c, i, 3], mv[c, i, 5], ri)
             mp = wl.material_pair[c, i, floor]
             fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-                table, wth, floor, mp, friction[mp], wl.stiffness[c, i, floor], wl.effective_radius[c, i, floor], mi,
-                FRICTION_CAP * mi, delta, ddot, wvin[c, i, floor], wd[c, i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, vt,
-                dsx, 0.0, dsz, dt, step)
+                table, wth, floor,
+                ContactConstants(mp, friction[mp], wl.stiffness[c, i, floor], wl.effective_radius[c, i, floor], mi,
+                                 FRICTION_CAP * mi),
+                ContactGeometry(delta, ddot, 0.0, 1.0, 0.0, tx, 0.0, tz, vt, dsx, 0.0, dsz), wvin[c, i, floor],
+                wd[c, i, floor], dt, step)
             wvin[c, i, floor] = vin
             wd[c, i, floor] = dd
             p_n += pn
             p_f += pf
             e_f += ef
             _note_wall(wl.row[c, i, floor], 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
-            scatter(lin, ang, 0, -1, ftx, fn, ftz, 0.0, 1.0, 0.0, ftx, 0.0, ftz, 1.0, 0.0, -ri, 0.0)
+            scatter(lin, ang, 0, -1, (ftx, fn, ftz), (0.0, 1.0, 0.0), (ftx, 0.0, ftz), 1.0, 0.0, -ri, 0.0)
             fwx += ftx
             fwy += fn
             fwz += ftz
@@ -400,8 +406,11 @@ def _sphere_force(c, i, sp, li, wl, table, dt, step, lin, ang):
                                                      mv[c, i, 5], ri, nx, ny, nz)
         mp = wl.material_pair[c, i, w]
         fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, wth, w, mp, friction[mp], wl.stiffness[c, i, w], wl.effective_radius[c, i, w], mi, FRICTION_CAP * mi,
-            delta, ddot, wvin[c, i, w], wd[c, i, w], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+            table, wth, w,
+            ContactConstants(mp, friction[mp], wl.stiffness[c, i, w], wl.effective_radius[c, i, w], mi,
+                             FRICTION_CAP * mi),
+            ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), wvin[c, i, w], wd[c, i, w], dt,
+            step)
         wvin[c, i, w] = vin
         wd[c, i, w] = dd
         p_n += pn
@@ -411,7 +420,7 @@ def _sphere_force(c, i, sp, li, wl, table, dt, step, lin, ang):
         fy = fn * ny + fty
         fz = fn * nz + ftz
         _note_wall(wl.row[c, i, w], nx, ny, nz, tx, ty, tz, ff, lim)
-        scatter(lin, ang, 0, -1, fx, fy, fz, nx, ny, nz, ftx, fty, ftz, 1.0, 0.0, -ri, 0.0)
+        scatter(lin, ang, 0, -1, (fx, fy, fz), (nx, ny, nz), (ftx, fty, ftz), 1.0, 0.0, -ri, 0.0)
         fwx += fx
         fwy += fy
         fwz += fz
