@@ -16,7 +16,7 @@ the owners (``geometry/``: the shapes; ``excitation.py`` and ``structure/``: the
 - ``hasattr(x, ...)`` on a drive, structure, shape or geometry, or with an attribute only some
   kinds have; ``getattr(x, name, default)`` with such an attribute (a switch in disguise).
 
-``design.py`` has no exemption. The same scan fails on pdamper 8500ec3 (the issue 30 review).
+``design/`` has no exemption. The same scan fails on pdamper 8500ec3 (the issue 30 review).
 """
 
 from __future__ import annotations

@@ -211,12 +211,17 @@ _PAIR_KEYS = ("materials", "friction", "restitution")
 
 # --------------------------------------------------------------------------- reading
 
-def load_case(path, overrides: dict | None = None) -> Case:
+def load_case(path, overrides: dict | None = None, *, prepare=None) -> Case:
     """Read the TOML config file ``path`` into a :class:`~pdamper.params.Case`.
 
     ``overrides`` maps dotted keys to values that replace (or add to) the file's, e.g.
     ``{"drive.stroke": 0.012, "drive.frequency": "2Hz", "run.cycles": 20, "initial.seed": 3}``;
-    values are read exactly like the file's (SI numbers or strings with units).
+    values are read exactly like the file's (SI numbers or strings with units). ``prepare``: a
+    function of the file's parsed tables that returns them as the case is to be read (a reader's
+    defaults, e.g. :func:`pdamper.design.load_structure`'s), before the overrides; its
+    :class:`InputError` is prefixed by the file's name like the file's own.
+
+    Every case file pdamper reads goes through here (the commands, the studies, the design).
     """
     path = Path(path)
     if not path.exists():
@@ -227,26 +232,35 @@ def load_case(path, overrides: dict | None = None) -> Case:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read config file {path}: {exc}") from None
-    return loads_case(text, overrides, source=str(path), base_dir=path.parent)
+    return loads_case(text, overrides, source=str(path), base_dir=path.parent, prepare=prepare)
 
 
 def loads_case(text: str, overrides: dict | None = None, *, source: str = "<config>",
-               base_dir=None) -> Case:
+               base_dir=None, prepare=None) -> Case:
     """Like :func:`load_case` for TOML ``text``; ``base_dir`` resolves relative sample files."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source}: invalid TOML: {exc}; check the syntax (key = value, "
                          "strings in quotes, [section] headers)") from None
-    return case_from_dict(data, overrides, source=source, base_dir=base_dir)
+    return case_from_dict(data, overrides, source=source, base_dir=base_dir, prepare=prepare)
 
 
 def case_from_dict(data: dict, overrides: dict | None = None, *, source: str | None = None,
-                   base_dir=None) -> Case:
-    """Build a :class:`~pdamper.params.Case` from a parsed config ``data`` (see the module docstring)."""
-    data = _apply_overrides(_copy(data), overrides or {})
+                   base_dir=None, prepare=None) -> Case:
+    """Build a :class:`~pdamper.params.Case` from a parsed config ``data`` (see the module docstring);
+    ``prepare`` as in :func:`load_case`."""
+    data = _copy(data)
+    if prepare is not None:
+        data = _sourced(prepare, data, source)
+    data = _apply_overrides(data, overrides or {})
+    return _sourced(_Reader(Path(base_dir) if base_dir is not None else Path.cwd()).case, data, source)
+
+
+def _sourced(read, data: dict, source: str | None):
+    """``read(data)``, its :class:`InputError` prefixed by ``source`` (the file's name; None: as it is)."""
     try:
-        return _Reader(Path(base_dir) if base_dir is not None else Path.cwd()).case(data)
+        return read(data)
     except InputError as exc:
         if source is None:
             raise

@@ -217,7 +217,7 @@ def _run_until_steady(sim: Simulation, case: Case, tolerance: float, progress=No
 
 
 def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
-             until_steady: float | None = None, analyse: bool | None = None) -> RunResult:
+             until_steady: float | None = None, analyse: bool | None = None, checked: bool = False) -> RunResult:
     """Simulate ``case`` and analyze it: energy per cycle and eta* by the complex power method,
     the motion mode from the trajectory.
 
@@ -232,16 +232,20 @@ def run_case(case: Case, *, recorders=(), progress=None, analyze: bool = True,
     cycles driven are ``result.extras["cycles_run"]``. Harmonic drives only.
 
     A case with ``numerics.device = "cuda"`` runs on the GPU engine (:func:`run_cases`).
+
+    The case is checked once before anything is simulated (:func:`pdamper.plausible.check_case`,
+    by the :class:`~pdamper.simulation.Simulation`); ``checked``: it was checked already (a
+    sweep checks its points when it is made) and is not again.
     """
     analyze = renamed_keyword("run_case", "analyse", "analyze", analyse, analyze)
     _check_until_steady(case, until_steady, analyze)
     if on_gpu(case):
-        res = run_cases([case], recorders=recorders, analyze=analyze, until_steady=until_steady,
+        res = run_cases([case], recorders=recorders, analyze=analyze, until_steady=until_steady, checked=checked,
                         progress=None if progress is None else (lambda done, total: progress(done / max(total, 1))))[0]
         if isinstance(res, Exception):
             raise res
         return res
-    sim, recorders, classify = _simulation(case, recorders, analyze)
+    sim, recorders, classify = _simulation(case, recorders, analyze, checked)
     cycles_run = float(case.cycles)
     if until_steady is not None:
         cycles_run = _run_until_steady(sim, case, until_steady, progress)
@@ -276,7 +280,7 @@ def on_device(case: Case, device: str) -> Case:
 
 
 def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float | None = None,
-              progress=None) -> list:
+              progress=None, checked: bool = False) -> list:
     """Run ``cases`` and analyze each as :func:`run_case` does; return, per case, its
     :class:`RunResult` or the :class:`~pdamper.errors.SimulationError` of its failed step.
 
@@ -288,7 +292,7 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
     caller keeps what finished before (the studies run a GPU study in chunks for that).
     ``until_steady`` as :func:`run_case`, on either engine: a GPU case stops at the same cycle as on
     the CPU (:class:`SteadyJudge`, asked between the GPU's launches, so a case runs on until the
-    launch in which it became steady ends; its steps count them).
+    launch in which it became steady ends; its steps count them). ``checked`` as :func:`run_case`.
     """
     from .errors import SimulationError
     from .simulation import run_on_gpu
@@ -301,7 +305,7 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
     for k, c in enumerate(cases):
         if k not in gpu:
             try:
-                out[k] = run_case(c, recorders=per_case[k], analyze=analyze, until_steady=until_steady)
+                out[k] = run_case(c, recorders=per_case[k], analyze=analyze, until_steady=until_steady, checked=checked)
             except SimulationError as exc:
                 out[k] = exc
     if not gpu:
@@ -310,7 +314,7 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
     for k in gpu:
         case = cases[k]
         _check_until_steady(case, until_steady, analyze)
-        sim, recs, classify = _simulation(case, per_case[k], analyze)
+        sim, recs, classify = _simulation(case, per_case[k], analyze, checked)
         sims.append((k, case, sim, recs, classify))
     judges = None if until_steady is None else \
         [SteadyJudge(case, until_steady, sim.interval, sim.n_samples) for _, case, sim, _, _ in sims]
@@ -323,13 +327,11 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
     return out
 
 
-def _simulation(case: Case, recorders, analyze: bool):
+def _simulation(case: Case, recorders, analyze: bool, checked: bool = False):
     """The simulation of ``case`` with its built-in recorders (a coarse trajectory for the motion
-    mode when it is classified) and ``recorders``; returns ``(sim, recorders, classify)``."""
-    if analyze:
-        from .plausible import check_case
-
-        check_case(case, analyze=True)  # whole cycles for the analysis, before anything is simulated
+    mode when it is classified) and ``recorders``; returns ``(sim, recorders, classify)``. The
+    simulation checks the case (with whole cycles for the analysis when it is analysed) unless
+    it was ``checked``."""
     recorders = list(recorders)
     builtin = default_recorders(case)
     periodic = float(case.drive.frequency or 0.0) > 0
@@ -338,7 +340,7 @@ def _simulation(case: Case, recorders, analyze: bool):
         from .analysis.modes import mode_fps
 
         builtin.append(TrajectoryRecorder(mode_fps(case.drive.frequency, case.recording.sample_rate, MODE_FPS)))
-    return Simulation(case, builtin + recorders), recorders, classify
+    return Simulation(case, builtin + recorders, analyze=analyze, checked=checked), recorders, classify
 
 
 def _result(case: Case, record, recorders, analyze: bool, classify: bool, cycles_run: float) -> RunResult:

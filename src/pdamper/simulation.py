@@ -102,6 +102,9 @@ class Simulation:
     ----------
     case : the :class:`~pdamper.params.Case` to simulate.
     recorders : the recorders (:mod:`pdamper.recorders.base`); default :func:`default_recorders`.
+    analyze : the run is analysed by the complex power method, so the case needs whole cycles after
+        the dropped ones (:func:`pdamper.plausible.check_case`, which checks the case here).
+    checked : the case was checked already (:func:`pdamper.run.run_case`'s ``checked``).
 
     Notes
     -----
@@ -110,13 +113,14 @@ class Simulation:
     :meth:`run` does everything; :meth:`settle` and :meth:`advance` do it in parts.
     """
 
-    def __init__(self, case: Case, recorders=None):
+    def __init__(self, case: Case, recorders=None, *, analyze: bool = False, checked: bool = False):
         from .plausible import check_case, check_memory
 
         self.case = case
         #: the drive as it runs (a structure with the empty container's mass on it)
         self.drive = case.running_drive
-        check_case(case)
+        if not checked:
+            check_case(case, analyze=analyze)  # once a run, before anything is simulated
         # a list once: a generator of recorders is read here and nowhere else
         recs = list(default_recorders(case) if recorders is None else recorders)
         check_memory(case, max((getattr(r, "fps", 0.0) or 0.0 for r in recs if "frames" in getattr(r, "channels", ())),

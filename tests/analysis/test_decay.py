@@ -45,3 +45,13 @@ def test_harmonic_amplitude_ignores_other_frequencies_and_checks_length():
     assert harmonic_amplitude(t, x, 2.0, cycles=8) == pytest.approx(0.01, rel=1e-6)
     with pytest.raises(InputError, match="shorter"):
         harmonic_amplitude(t, x, 2.0, cycles=40)
+
+
+def test_amplitude_jumps_are_the_steps_beyond_the_fraction():
+    from pdamper.analysis.decay import JUMP, amplitude_jumps
+
+    f = [2.9, 2.95, 3.0, 3.05]
+    x = [0.010, 0.0124, 0.0131, 0.004]  # +24 %, +5.6 %, -69 %
+    assert amplitude_jumps(f, x) == [(3.0, 3.05, 0.0131, 0.004)] and JUMP == 0.25
+    assert amplitude_jumps(f, x, jump=0.15) == [(2.9, 2.95, 0.010, 0.0124), (3.0, 3.05, 0.0131, 0.004)]
+    assert amplitude_jumps([3.0], [0.01]) == []

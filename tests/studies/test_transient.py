@@ -100,3 +100,15 @@ def test_a_stepped_sine_on_a_locked_bed_is_the_solid_mass_closed_form():
     assert res.frequencies.tolist() == [21.0, 19.0] and sweep_order([21.0, 19.0, 20.0], "up").tolist() == [19, 20, 21]
     assert np.allclose(res.damped, solid, rtol=1e-3)  # measured 1.3e-5
     assert np.allclose(res.bare_sweep, res.bare, rtol=1e-6) and all(res.summary["steady"])  # measured 2.4e-10
+
+
+def test_up_and_down_part_where_their_amplitudes_differ_by_more_than_the_tolerance():
+    from types import SimpleNamespace
+
+    from pdamper.studies.transient import APART, sweeps_apart
+
+    f = np.array([2.9, 3.0, 3.1])
+    up = SimpleNamespace(frequencies=f, damped=np.array([0.010, 0.020, 0.012]))
+    down = SimpleNamespace(frequencies=f[::-1], damped=np.array([0.0121, 0.011, 0.0102]))  # its own order
+    assert sweeps_apart(up, down) == [(3.0, 0.020, 0.011)] and APART == 0.05
+    assert sweeps_apart(up, down, tolerance=0.5) == []

@@ -5,7 +5,7 @@ import importlib
 
 import pytest
 
-MODULES = ["", ".clearance", ".scattered", ".rolling", ".bouncing", ".bounds", ".block_model"]
+MODULES = ["", ".clearance", ".scattered", ".rolling", ".bouncing", ".bounds", ".block_model", ".fields", ".balance"]
 
 
 @pytest.mark.parametrize("name", MODULES)

@@ -10,6 +10,8 @@ Pure functions on sampled displacements (beyond the paper; used by :mod:`pdamper
   damper's damping depends on the amplitude, so it is a curve, not a number).
 - :func:`harmonic_amplitude` -- the amplitude at a given frequency over the last whole cycles of
   a record (Fourier coefficient), for the steady state of a forced response.
+- :func:`amplitude_jumps` -- where a forced response's amplitude steps by more than
+  :data:`JUMP` from one frequency to the next (a jump between branches, or a transient).
 """
 
 from __future__ import annotations
@@ -20,7 +22,10 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["extrema", "decay_damping", "harmonic_amplitude", "harmonic_phasor"]
+__all__ = ["extrema", "decay_damping", "harmonic_amplitude", "harmonic_phasor", "amplitude_jumps", "JUMP"]
+
+#: A jump between two neighbours of a response: their amplitudes differ by more than this fraction.
+JUMP = 0.25
 
 
 def extrema(time, x, *, offset: float = 0.0):
@@ -126,3 +131,16 @@ def harmonic_amplitude(time, x, frequency: float, *, cycles: int):
     tt, yy = t[-n:], y[-n:]
     c = np.sum(yy * np.exp(-2j * math.pi * frequency * tt)) * dt
     return float(2.0 * abs(c) / (n * dt))
+
+
+def amplitude_jumps(frequencies, amplitudes, *, jump: float = JUMP) -> list:
+    """The steps of a response of ``amplitudes`` [m] at ``frequencies`` [Hz] (in the order run, a
+    stepped sine's) by more than ``jump`` of the larger of two neighbours: (f_before, f_after,
+    x_before, x_after) each.
+
+    >>> amplitude_jumps([1.0, 1.1, 1.2], [0.010, 0.011, 0.004])
+    [(1.1, 1.2, 0.011, 0.004)]
+    """
+    f, x = list(frequencies), list(amplitudes)
+    return [(f[k - 1], f[k], x[k - 1], x[k]) for k in range(1, len(x))
+            if abs(x[k] - x[k - 1]) > jump * max(x[k], x[k - 1])]

@@ -21,6 +21,7 @@ from . import validate as _validate  # noqa: F401,E402
 from . import animate as _animate  # noqa: F401,E402
 from . import plot as _plot  # noqa: F401,E402
 from . import structure as _structure  # noqa: F401,E402
+from . import design as _design  # noqa: F401,E402
 from . import reanalyze as _reanalyze  # noqa: F401,E402
 from . import campaign as _campaign  # noqa: F401,E402
 from . import calibrate as _calibrate  # noqa: F401,E402

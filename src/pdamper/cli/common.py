@@ -145,6 +145,11 @@ def parse_sizes(items) -> dict:
     return out
 
 
+def size_option(key: str, named: dict) -> str:
+    """The option that sets the [container] key ``key``: ``named``'s, else ``--size key=VALUE``."""
+    return named.get(key, f"--size {key}=VALUE")
+
+
 def user_errors(func):
     """Decorator for command bodies: InputError/SimulationError become ``Error: msg`` and exit 2."""
 

@@ -9,7 +9,7 @@ import click
 from .._version import __version__
 from .. import theory as th  # its formulas load on first use (scipy)
 from ..errors import InputError
-from .common import Quantity, ShapeChoice, echo_json, main, parse_sizes, renamed, user_errors
+from .common import Quantity, ShapeChoice, echo_json, main, parse_sizes, renamed, size_option, user_errors
 
 __all__ = ["theory_command"]
 
@@ -85,7 +85,6 @@ def theory_command(shape, length, container_radius, radius, sizes, particles, ma
 
 def _compute(*, shape, length, radius, particles, max_particles, frequency, tilt, gravity,
              bed_mass, stroke, kappa, sizes=None) -> dict:
-    from ..design import size_option
     from ..geometry import shape_from_keys, sizing_keys
 
     given = {"length": length, "radius": radius, **(sizes or {})}

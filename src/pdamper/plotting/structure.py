@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..analysis.decay import JUMP  # a jump between two DEM neighbours (the tables' too)
 from .figure import MM as _MM, check_path, save
 
 __all__ = ["decay_figure", "response_figure"]
@@ -166,8 +167,6 @@ def legend_entries(*axes) -> tuple[list, list]:
 
 #: A response's line style per force (the colours say what a curve is: bare, solid, DEM, a fields branch).
 _DASHES = ("-", "--", "-.", ":")
-#: A jump between two DEM neighbours: their amplitudes differ by more than this fraction.
-JUMP = 0.25
 
 
 def _draw_response(ax_a, ax_n, ax_p, result, fields, fine, i, several):

@@ -244,7 +244,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
     if strokes is not None:
         axes = [a for a in axes if a.key != STROKE]
     out = Path(out)
-    stores, items, total, group_of, measured = [], [], 0, {}, {}
+    stores, items, total, group_of, measured, specs = [], [], 0, {}, {}, []
     if device is not None:
         from ..run import check_device, on_device
 
@@ -265,6 +265,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         total += len(spec.items())
         for k, p, s in todo:
             items.append((f"{_slug(label)}--{k}", p, s, spec.case(p, s)))
+            specs.append(spec)
             group_of[items[-1][0]] = label
         if len(todo) < len(spec.items()):  # resumed: its finished cases tell how long this setting's take
             measured[label] = finished(store, spec)
@@ -275,9 +276,9 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
         by_slug[slug].save(k, point, seed, result)
 
     if items:
-        run_cases_of(items, functools.partial(run_one, keep=keep, until_steady=until_steady), save, workers=workers,
-                     scheduler=scheduler, progress=progress, total=total, done=total - len(items),
-                     costs=learned_costs(items, group_of, measured), keep=keep, until_steady=until_steady)
+        run_cases_of(items, functools.partial(run_one, keep=keep, until_steady=until_steady, checked=True), save,
+                     workers=workers, scheduler=scheduler, progress=progress, total=total, done=total - len(items),
+                     costs=learned_costs(items, group_of, measured), keep=keep, until_steady=until_steady, specs=specs)
     panels = {label: panel for label, _, panel in settings}
     parts = []
     for label, store, case in stores:

@@ -25,10 +25,31 @@ from ..errors import InputError
 from ..structure import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
+from .structure_base import STEADY_TOLERANCE, bare_resonance, select_dofs, structure_numbers
 
-__all__ = ["DecayResult", "ResponseResult", "FieldsResponseResult", "run_decay", "run_response",
+__all__ = ["DecayResult", "ResponseResult", "FieldsResponseResult", "load_forced", "run_decay", "run_response",
            "run_response_fields", "fields_decay", "response_case", "parse_frequencies", "default_frequencies",
            "grid_warnings", "start_phasors", "steadiness", "frequency_format", "STARTS", "STEADY_TOLERANCE"]
+
+
+def load_forced(path, overrides: dict | None = None, *, force: float | None = None) -> Case:
+    """The case of the config file ``path`` (:func:`pdamper.config.load_case` with ``overrides``),
+    its structure forced by ``force`` [N] (its ``force_amplitude``, unless ``overrides`` set it) at
+    its ``force_frequency`` or, where the file gives none, at its first mode's natural frequency.
+    A file whose structure nothing moves (``force_amplitude = 0``, no start) or that has a
+    ``[load]`` in time is read with a nominal start and forced (each forced run sets its own start:
+    :func:`response_case`); ``force`` None: the file as it is."""
+    from ..config import load_case
+
+    overrides = dict(overrides or {})
+    if force is not None and force > 0 and "structure.force_amplitude" not in overrides:
+        probe = load_case(path, {**overrides, "structure.displacement": "1mm", "structure.force_amplitude": 0.0})
+        if not probe.drive.coupled:
+            return probe  # not a structure: the study says so
+        drive = dataclasses.replace(probe.drive, load=None, force_amplitude=force,
+                                    force_frequency=probe.drive.force_frequency or probe.drive.natural_frequency)
+        return dataclasses.replace(probe, drive=drive)
+    return load_case(path, overrides)
 
 
 def _structure(case: Case) -> CoupledStructure | ModalStructure:
@@ -156,12 +177,6 @@ def parse_frequencies(text: str) -> np.ndarray:
 
 #: What ``start=`` takes: from rest, on the bare structure's steady orbit, on the fields' orbit.
 STARTS = ("rest", "bare", "fields")
-#: A point is steady when its amplitude over the last forcing period differs from the one over
-#: the period before, and the two halves of the measured periods from each other, by at most
-#: this (relative); a bare run when it is this close to its exact steady amplitude.
-STEADY_TOLERANCE = 0.02
-
-
 def response_case(case: Case, frequency: float, force_amplitude: float, phasor: complex = 0j) -> Case:
     """The case forced at ``frequency`` [Hz] with ``force_amplitude`` [N], started from rest, or
     with ``phasor`` x^ [m] (complex amplitude of the damper point, ``x(t) = Im(x^ e^{i Omega t})``
@@ -220,25 +235,6 @@ def mode_frequency(case: Case, mode: int = 1) -> float:
         raise InputError(f"--mode {mode!r}; the structure has {fs.size} mode{'s' if fs.size > 1 else ''}: "
                          f"give 1{f' to {fs.size}' if fs.size > 1 else ''}")
     return float(fs[mode - 1])
-
-
-def _resonance(s, force_amplitude: float, near: float) -> dict:
-    """The bare structure's resonance at the damper for the mode nearest ``near`` [Hz]: its peak
-    steady amplitude [m] (the largest of the closed form, found to 1e-9 of the frequency, not the
-    grid's value) and frequency [Hz]."""
-    from scipy.optimize import minimize_scalar
-
-    fs, zs = s.mode_frequencies, s.mode_damping_ratios
-    j = int(np.argmin(np.abs(fs - near)))
-    fn, z = float(fs[j]), float(zs[j])
-    if not z > 0:
-        return {"resonance_bare_m": math.inf, "resonance_bare_frequency_hz": fn}
-    span = fn * min(0.5, 4.0 * z + 1e-3)
-    res = minimize_scalar(lambda f: -float(s.steady_amplitude([f], force_amplitude)[0]), method="bounded",
-                          bounds=(fn - span, fn + span), options={"xatol": 1e-9 * fn})
-    at = float(res.x)
-    peak = float(s.steady_amplitude([at], force_amplitude)[0])
-    return {"resonance_bare_m": peak, "resonance_bare_frequency_hz": at}
 
 
 def frequency_format(frequencies):
@@ -370,7 +366,6 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     ``workers = 1`` runs them one after another. Every dof's amplitude (or ``dofs``': labels,
     :func:`pdamper.studies.transient.parse_dofs`) is measured too (``response_amplitude_m``)."""
     from ..simulation import run_bare_structure
-    from .transient import select_dofs
 
     s, freqs = _forced(case, frequencies, force_amplitude)
     labels, idx = select_dofs(s, dofs)
@@ -411,7 +406,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     nan_dofs = [math.nan] * len(s.dof_shapes()[0])
     dof_amp = np.array([p.get("dof_amplitudes_m", nan_dofs) for p in points], dtype=float)[:, idx]
     summary = {
-        **_structure_numbers(s),
+        **structure_numbers(s),
         "force_amplitude_N": force_amplitude, "particles": case.n_particles, "bed_mass_kg": case.bed_mass,
         "mass_ratio": case.bed_mass / s.mass, "cycles": case.cycles, "measure_cycles": measure_cycles,
         "frequencies_hz": freqs.tolist(), "damper_amplitude_m": damped.tolist(),
@@ -430,7 +425,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
         "window_change": [float(p.get("window_change", math.nan)) for p in points],
         "bare_run_steady": bare_steady,
         "peak_steady": bool(points[k].get("steady", False)),
-        **_resonance(s, force_amplitude, float(freqs[k])),
+        **bare_resonance(s, force_amplitude, float(freqs[k])),
         "energy_balance_error_max": float(max((p.get("energy_balance_error", math.nan) for p in points),
                                               default=math.nan)),
         "failed": {f"{f:g}": p["failed"] for f, p in zip(freqs, points) if "failed" in p},
@@ -478,7 +473,6 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     as a solid mass; every dof's amplitude (or ``dofs``') on each stable solution. Refuses
     (InputError) where the fields do not hold the solution, unless ``extrapolate``."""
     from ..analysis.harmonic import solve_response
-    from .transient import select_dofs
 
     s, freqs = _forced(case, frequencies, force_amplitude)
     labels, idx = select_dofs(s, dofs)
@@ -497,7 +491,7 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     phasors = _dof_phasors(s, sol, force_amplitude, idx)
     dof_amp = [[_one_or_list([float(abs(z[i])) for z in zs]) for zs in phasors] for i in range(len(idx))]
     summary = {
-        **_structure_numbers(s),
+        **structure_numbers(s),
         "method": "fields", "force_amplitude_N": force_amplitude, "particles": case.n_particles,
         "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
         "frequencies_hz": freqs.tolist(),
@@ -513,7 +507,7 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
         "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
         "peak_damped_m": float(peak), "peak_damped_frequency_hz": float(f_peak),
         "peak_bare_m": float(np.max(bare)),
-        **_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
+        **bare_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
         "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
         "fields_box": fields.box(), "fields_source": str(fields.dataset.attrs.get("source", "")),
         "solve_time_per_frequency_s": sol.time_s.tolist(),
@@ -523,12 +517,6 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
                                 bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
-
-
-def _structure_numbers(s) -> dict:
-    from .transient import structure_numbers
-
-    return structure_numbers(s)
 
 
 def _dof_phasors(s, sol, force_amplitude: float, idx) -> list:

@@ -197,6 +197,11 @@ def point_key(point: dict, seed: int) -> str:
     return re.sub(r"[^A-Za-z0-9.+=_-]", "-", "_".join(parts)) + f"_seed{int(seed)}"
 
 
+def _point_id(point: dict) -> tuple:
+    """A point of a grid as a key that a value read back to 15 digits finds again."""
+    return tuple((k, format(v, ".15g") if isinstance(v, float) else repr(v)) for k, v in point.items())
+
+
 @dataclass(frozen=True, kw_only=True)
 class SweepSpec:
     """A base case, the axes of the grid and the seeds to run every point at.
@@ -242,18 +247,33 @@ class SweepSpec:
         object.__setattr__(self, "axes", tuple(axes))
         object.__setattr__(self, "seeds", tuple(sorted(set(seeds))))
         object.__setattr__(self, "strokes", self.axis(STROKE).values if STROKE in keys else None)
-        # every value must make a valid, plausible case: one point per value, before anything runs
+        # every point must make a valid, plausible case, before anything runs: checked here once (the
+        # check does not depend on the seed; its runs are not checked again); what the check warns
+        # of (lift-off at some points is allowed) is said when the point runs (:meth:`cautions`)
         from ..plausible import check_case, check_memory
 
         import warnings
 
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # lift-off at some points is allowed; run_case says so
-            for a in self.axes:
-                for v in a.values:
-                    c = self.case({a.key: v}, self.seeds[0])
-                    check_case(c, analyze=True)
-                    check_memory(c)
+        cautions = {}
+        for point in self.points():
+            c = self.case(point, self.seeds[0])
+            with warnings.catch_warnings(record=True) as said:
+                warnings.simplefilter("always")
+                check_case(c, analyze=True)
+            check_memory(c)
+            if said:
+                cautions[_point_id(point)] = tuple((w.category, str(w.message)) for w in said)
+        object.__setattr__(self, "_cautions", cautions)
+
+    def cautions(self, points) -> list:
+        """What the check of ``points`` (``{key: value}`` each) warned of when the spec was made:
+        (category, message), each once, for the runs of those points to say."""
+        out = []
+        for point in points:
+            for said in self._cautions.get(_point_id(point), ()):
+                if said not in out:
+                    out.append(said)
+        return out
 
     def axis(self, key: str) -> Axis:
         """The axis over ``key``."""
@@ -283,10 +303,11 @@ class SweepSpec:
         return tuple(a.name for a in self.axes) + ("seed",)
 
 
-def run_one(case: Case, keep: str = "signals", until_steady: float | None = None) -> dict:
+def run_one(case: Case, keep: str = "signals", until_steady: float | None = None, checked: bool = False) -> dict:
     """Run one case and return its summary (plain floats, the motion mode; what the store keeps)
     and, unless ``keep == "none"``, its signals (:data:`pdamper.studies.store.SIGNALS`).
-    ``until_steady``: stop the run early at this error of eta* (:func:`pdamper.run.run_case`).
+    ``until_steady``: stop the run early at this error of eta* (:func:`pdamper.run.run_case`);
+    ``checked``: the case was checked already (a point of a :class:`SweepSpec`).
 
     The mode is classified on a coarse trajectory the run records for it (50 frames/s,
     :data:`pdamper.run.MODE_FPS`; not stored).
@@ -298,19 +319,19 @@ def run_one(case: Case, keep: str = "signals", until_steady: float | None = None
     from ..run import run_case
 
     try:
-        res = run_case(case, until_steady=until_steady)
+        res = run_case(case, until_steady=until_steady, checked=checked)
     except SimulationError as exc:
         return {"failed": str(exc)}
     return _summary(res, keep)
 
 
-def run_many(cases, keep: str = "signals", until_steady: float | None = None) -> list[dict]:
+def run_many(cases, keep: str = "signals", until_steady: float | None = None, checked: bool = False) -> list[dict]:
     """:func:`run_one` of every case of ``cases``, the GPU's cases together in one batch
     (:func:`pdamper.run.run_cases`); a failed case is ``{"failed": message}``."""
     from ..run import run_cases
 
     return [{"failed": str(r)} if isinstance(r, Exception) else _summary(r, keep)
-            for r in run_cases(cases, until_steady=until_steady)]
+            for r in run_cases(cases, until_steady=until_steady, checked=checked)]
 
 
 def _summary(res, keep: str) -> dict:
@@ -341,7 +362,9 @@ def _summary(res, keep: str) -> dict:
 
 
 def run_cases_of(items, run, on_result, **kw):
-    """Run the ``(key, point, seed, case)`` items: the GPU's cases in batches
+    """Run the ``(key, point, seed, case)`` items, points of a :class:`SweepSpec` (checked when it
+    was made; ``run`` is told so too, and what their check warned of is said first: ``spec``, or
+    ``specs`` by item, in ``kw``): the GPU's cases in batches
     (:func:`~pdamper.studies.executor.execute_batches` over :func:`run_many`), the others on the
     Dask executor (:func:`~pdamper.studies.executor.execute` of ``run``, a one-case function);
     ``kw`` are the executor's options (``workers``, ``scheduler``, ``progress``, ``total``, ``done``,
@@ -351,15 +374,24 @@ def run_cases_of(items, run, on_result, **kw):
     from ..run import on_gpu
     from .executor import execute, execute_batches
 
+    import warnings
+
     keep = kw.pop("keep", "signals")
     until_steady = kw.pop("until_steady", None)
+    spec = kw.pop("spec", None)
+    said = []
+    for spec, it in zip(kw.pop("specs", None) or [spec] * len(items), items):
+        said += [s for s in (spec.cautions([it[1]]) if spec is not None else ()) if s not in said]
+    for category, message in said:
+        warnings.warn(message, category, stacklevel=3)
     gpu = [it for it in items if on_gpu(it[3])]
     cpu = [it for it in items if not on_gpu(it[3])]
     if gpu:
         from ..run import check_device
 
         check_device("cuda")
-        execute_batches(gpu, functools.partial(run_many, keep=keep, until_steady=until_steady), on_result,
+        execute_batches(gpu, functools.partial(run_many, keep=keep, until_steady=until_steady, checked=True),
+                        on_result,
                         progress=kw.get("progress"), total=kw.get("total"), done=kw.get("done", 0),
                         costs=kw.get("costs"))
     if cpu:
@@ -429,9 +461,9 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
     todo = [(k, p, s, spec.case(p, s)) for k, p, s in items if not store.has(k)]
     if todo:
         costs = learned_costs(todo, {}, {None: finished(store, spec)} if len(todo) < len(items) else {})
-        run_cases_of(todo, functools.partial(run_one, keep=keep, until_steady=until_steady), store.save,
-                     workers=workers, scheduler=scheduler, progress=progress, total=len(items),
-                     done=len(items) - len(todo), costs=costs, keep=keep, until_steady=until_steady)
+        run = functools.partial(run_one, keep=keep, until_steady=until_steady, checked=True)
+        run_cases_of(todo, run, store.save, workers=workers, scheduler=scheduler, progress=progress, total=len(items),
+                     done=len(items) - len(todo), costs=costs, keep=keep, until_steady=until_steady, spec=spec)
     ds = add_theory(store.dataset(), store.case())
     store.write_outputs(ds)
     return ds

@@ -26,12 +26,15 @@ from ..errors import InputError
 from ..params import Case
 from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
+from .structure_base import STEADY_TOLERANCE, bare_resonance, parse_dofs, select_dofs, structure_numbers
 
-__all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs", "select_dofs",
-           "fit_sine", "SWEEPS", "structure_numbers"]
+__all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs",
+           "select_dofs", "fit_sine", "sweeps_apart", "SWEEPS", "APART", "structure_numbers"]
 
 #: The directions of a stepped sine.
 SWEEPS = ("up", "down")
+#: A stepped sine up and one down part where their amplitudes at a frequency differ by more than this fraction.
+APART = 0.05
 
 
 def in_time(case: Case) -> Case:
@@ -52,63 +55,6 @@ def in_time(case: Case) -> Case:
                          "'ground_acceleration', 'random' or 'stepped_sine', or the [structure]'s force_amplitude "
                          "and force_frequency (that force from rest)")
     return case
-
-
-def parse_dofs(text) -> list:
-    """The dofs asked for: ``None`` (every one), or a text of comma-separated dof labels and ranges
-    ``START:STOP[:STEP]`` (0-based, STOP excluded, as Python's), e.g. ``"0,18,38"``,
-    ``"0:40:2"``, ``"damper,response"``.
-
-    >>> parse_dofs("0:6:2,9")
-    [0, 2, 4, 9]
-    """
-    if text is None:
-        return None
-    out = []
-    for part in str(text).split(","):
-        part = part.strip()
-        if not part:
-            continue
-        if ":" in part:
-            bits = part.split(":")
-            try:
-                nums = [int(b) for b in bits]
-            except ValueError:
-                nums = []
-            if len(bits) not in (2, 3) or len(nums) != len(bits) or (len(nums) == 3 and nums[2] <= 0):
-                raise InputError(f"--dofs {text!r}: {part!r} is not a range START:STOP[:STEP] of whole numbers, "
-                                 "e.g. 0:40:2")
-            out += list(range(*nums))
-        else:
-            out.append(int(part) if part.lstrip("-").isdigit() else part)
-    if not out:
-        raise InputError(f"--dofs {text!r}: name some dofs, e.g. 0,18,38 or 0:40:2")
-    return out
-
-
-def select_dofs(structure, wanted) -> tuple[list, np.ndarray]:
-    """(labels, indices) of the dofs ``wanted`` (labels, :func:`parse_dofs`; None: every dof) of
-    ``structure`` (:meth:`~pdamper.structure.StructureBase.dof_shapes`)."""
-    labels, _ = structure.dof_shapes()
-    if wanted is None:
-        return list(labels), np.arange(len(labels))
-    idx = []
-    for w in wanted:
-        if w not in labels:
-            shown = (f"0 to {len(labels) - 1}" if all(isinstance(x, int) for x in labels)
-                     else ", ".join(map(str, labels)))
-            raise InputError(f"--dofs: {w!r} is not a dof of this structure ({shown})")
-        idx.append(labels.index(w))
-    return [labels[i] for i in idx], np.array(idx, dtype=int)
-
-
-def structure_numbers(s) -> dict:
-    """The structure's plain numbers for a summary (:meth:`~pdamper.structure.StructureBase.structure_summary`),
-    its number of dofs as ``dof_count`` (``dofs`` is the list of the dofs reported)."""
-    out = dict(s.structure_summary())
-    if "dofs" in out:
-        out["dof_count"] = out.pop("dofs")
-    return out
 
 
 def _dem(case: Case, s, dofs, progress):
@@ -322,8 +268,6 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     damped, bare_sweep = np.array(damped), np.array(bare_sweep)
     bare = s.steady_amplitude(freqs, force_amplitude)
     solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
-    from .structure import STEADY_TOLERANCE, _resonance
-
     k = int(np.argmax(damped))
     summary = {
         "method": "dem", "sweep": direction, "force_amplitude_N": float(force_amplitude),
@@ -338,7 +282,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
         "amplitude_solid_mass_m": solid.tolist(), "steady_tolerance": STEADY_TOLERANCE,
         "window_change": [float(v) for v in steady], "steady": [bool(v <= STEADY_TOLERANCE) for v in steady],
         "peak_damped_m": float(damped[k]), "peak_damped_frequency_hz": float(freqs[k]),
-        "peak_bare_m": float(np.max(bare)), **_resonance(s, force_amplitude, float(freqs[k])),
+        "peak_bare_m": float(np.max(bare)), **bare_resonance(s, force_amplitude, float(freqs[k])),
         "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps, "wall_time_s": res.wall_time_s,
         "duration_s": load.duration, **structure_numbers(s),
     }
@@ -346,3 +290,14 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     return SweepResult(case=case, force_amplitude=float(force_amplitude), direction=direction, frequencies=freqs,
                        damped=damped, phase=np.array(phase), bare=bare, bare_sweep=bare_sweep, solid=solid,
                        dof_amplitudes=np.array(dof_amp), time=t, displacement=rec.displacement, summary=summary)
+
+
+
+def sweeps_apart(up: SweepResult, down: SweepResult, *, tolerance: float = APART) -> list:
+    """Where the stepped sines ``up`` and ``down`` (:func:`run_stepped_sine`, the same frequencies)
+    part: (f [Hz], amplitude up, amplitude down [m]) at each frequency, in the up sweep's order, where
+    they differ by more than ``tolerance`` of the larger (there the two sweeps follow different
+    branches, or one is a transient)."""
+    x_down = dict(zip(down.frequencies.tolist(), down.damped.tolist()))
+    return [(f, a, x_down[f]) for f, a in zip(up.frequencies.tolist(), up.damped.tolist())
+            if abs(a - x_down[f]) > tolerance * max(a, x_down[f])]

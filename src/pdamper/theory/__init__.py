@@ -16,7 +16,13 @@ Rolling collect-and-collide (:mod:`.rolling`)
     :func:`clearance_over_stroke`, :func:`impact_phase_rolling` -- eq. (12) and its inverse;
     :func:`eta_rolling`, :func:`energy_per_cycle_rolling` -- eq. (14), NaN below X_opt;
     :func:`optimal_stroke`, :data:`X_OPT_OVER_H`, :data:`ETA_MAX` -- eqs. (15)-(17);
-    :func:`eta_theory` -- the paper's combined curve of Fig. 4 (scattered, then rolling).
+    :func:`eta_theory` -- the paper's combined curve of Fig. 4 (scattered, then rolling);
+    :func:`rolling_mass_ratio` -- the rolling bed's effective mass over its mass (eqs. 10-12).
+The damper's fields from the laws (:mod:`.fields`)
+    :func:`closed_form_fields` -- eta* and m_eff/m_bed over s = X/X_opt, :data:`SCATTERED_MASS_RATIO`.
+The energy balance at a structure's resonance (:mod:`.balance`, beyond the paper)
+    :class:`Mode`, :func:`required_force`, :class:`OperatingPoint`, :func:`operating_points` --
+    the force that holds the damper at a stroke, every stroke a force holds (the design's search).
 Bouncing collect-and-collide (:mod:`.bouncing`, beyond the paper)
     :func:`impact_phase_bouncing`, :func:`eta_bouncing`, :func:`energy_per_cycle_bouncing`,
     :func:`optimal_stroke_bouncing`, :data:`ETA_MAX_BOUNCING`.
@@ -63,7 +69,9 @@ _WHERE = {
     "bed_velocity": "rolling", "clearance_over_stroke": "rolling",
     "energy_per_cycle_rolling": "rolling", "eta_rolling": "rolling", "eta_theory": "rolling",
     "impact_phase_rolling": "rolling", "optimal_stroke": "rolling",
-    "relative_velocity": "rolling",
+    "relative_velocity": "rolling", "rolling_mass_ratio": "rolling",
+    "SCATTERED_MASS_RATIO": "fields", "closed_form_fields": "fields",
+    "Mode": "balance", "OperatingPoint": "balance", "operating_points": "balance", "required_force": "balance",
     "energy_per_cycle_scattered": "scattered", "eta_scattered": "scattered",
     "HERTZ_TIME_FACTOR": "coating", "hertz_contact_time": "coating",
     "wall_modulus_for_contact_time": "coating",
@@ -119,7 +127,10 @@ if TYPE_CHECKING:  # for type checkers; at run time the names load on first use
         impact_phase_rolling,
         optimal_stroke,
         relative_velocity,
+        rolling_mass_ratio,
     )
+    from .fields import SCATTERED_MASS_RATIO, closed_form_fields
+    from .balance import Mode, OperatingPoint, operating_points, required_force
     from .oscillator import free_decay, natural_frequency, oscillator_response, steady_amplitude
     from .scattered import energy_per_cycle_scattered, eta_scattered
 
@@ -140,6 +151,13 @@ __all__ = [
     "eta_rolling",
     "energy_per_cycle_rolling",
     "eta_theory",
+    "rolling_mass_ratio",
+    "SCATTERED_MASS_RATIO",
+    "closed_form_fields",
+    "Mode",
+    "required_force",
+    "OperatingPoint",
+    "operating_points",
     "ETA_MAX_BOUNCING",
     "impact_phase_bouncing",
     "optimal_stroke_bouncing",

@@ -28,6 +28,10 @@ For strokes below X_opt this law does not apply: its functions return NaN there 
 scattered law, :mod:`pdamper.theory.scattered`, or :func:`eta_theory` for the paper's
 combined curve).
 
+The effective mass of the rolling bed, :func:`rolling_mass_ratio` (beyond the paper): the first
+harmonic of the container's force on the bed in phase with its acceleration, from the kinematics
+of eqs. (10)-(12); 2/7 of the bed's mass at X_opt, tending to 1 far above.
+
 Reference: "Energy dissipation in horizontally driven particle dampers of low acceleration
 intensities", Nonlinear Dynamics, Sect. 5.2.
 """
@@ -39,6 +43,7 @@ import math
 import numpy as np
 from scipy.special import ellipe, ellipeinc
 
+from ..errors import InputError
 from ..units import quantities
 from ._common import as_output, positive, positive_array, solve_phase
 from . import bounds
@@ -57,6 +62,7 @@ __all__ = [
     "eta_rolling",
     "energy_per_cycle_rolling",
     "eta_theory",
+    "rolling_mass_ratio",
 ]
 
 #: Parameter m of ``E(θ | m)`` in the reduced eq. (12):
@@ -265,3 +271,29 @@ def eta_theory(stroke, clearance, kappa: float = 1.0):
     rolling = np.asarray(eta_rolling(x, h))
     out = np.where(np.isnan(rolling), eta_scattered(x, h, kappa), rolling)
     return as_output(out, stroke, clearance)
+
+
+@quantities(stroke_over_x_opt="dimensionless")
+def rolling_mass_ratio(stroke_over_x_opt):
+    """Effective mass over bed mass, m_eff / m_bed [-], of the paper's rolling bed (eqs. 10-12).
+
+    The bed's centre moves with the container while a wall pushes it and with eq. (10) while it
+    rolls (from theta = 0 to the impact phase theta_i of eq. 12; the other half cycle mirrored).
+    The container's force on the bed is m_bed x_p''; its first harmonic in phase with the
+    container's acceleration is m_eff = m_bed (1/pi) int u(theta) cos(theta) dtheta / V over a
+    cycle, u the bed's velocity (item 1's definition of the effective mass). It is 2/7 at X_opt
+    (the bed rolls the whole half cycle: a rolling sphere follows 2/7 of the floor's
+    acceleration) and tends to 1 far above (the bed rides with the walls).
+
+    >>> round(float(rolling_mass_ratio(1.0)), 4), round(float(rolling_mass_ratio(1000.0)), 2)
+    (0.2857, 1.0)
+    """
+    s = np.atleast_1d(np.asarray(stroke_over_x_opt, dtype=float))
+    if np.any(~(s >= 1.0)):
+        raise InputError("rolling_mass_ratio: the rolling law holds for X >= X_opt (stroke_over_x_opt >= 1)")
+    ti = np.asarray(impact_phase_rolling(s * X_OPT_OVER_H, 1.0), dtype=float).reshape(s.shape)
+    theta = ti[:, None] * np.linspace(0.0, 1.0, 2001)[None, :]  # the rolling phase, 0 .. theta_i
+    rolling = (2.0 * np.cos(theta) + np.sqrt(25.0 + 10.0 * np.sin(theta) ** 2)) / 7.0
+    pushed = (math.pi - ti) / 2.0 - np.sin(2.0 * ti) / 4.0  # int cos^2 from theta_i to pi: the bed on the wall
+    out = 2.0 / math.pi * (np.trapezoid(rolling * np.cos(theta), theta, axis=1) + pushed)
+    return out if np.ndim(stroke_over_x_opt) else out[0]

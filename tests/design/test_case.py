@@ -16,7 +16,7 @@ from pdamper.excitation import HarmonicDrive
 from pdamper.schema import replace
 from pdamper.studies import SweepSpec
 
-from design_helpers import FRAME
+from design_helpers import F_N, FRAME, M
 
 JOINT = FRAME.read_text(encoding="utf-8") + '\n[drive]\nstroke = "15mm"\nfrequency = "2.995Hz"\n'
 
@@ -142,3 +142,29 @@ def test_a_load_in_time_of_the_structure_file_is_left_out_and_said(tmp_path):
     head, config = out.read_text(encoding="utf-8").split("\n\n# pdamper case configuration")
     assert case.drive.load is None and case.drive.force_amplitude == 1.5 and "\n[load]" not in config
     assert "Left out:     the structure file's [load] (ground acceleration" in head
+
+
+def test_a_structure_only_file_takes_the_paper_container_and_spheres(tmp_path):
+    p = tmp_path / "frame.toml"
+    p.write_text('[structure]\nmass = "25kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.003\n')
+    case = load_structure(p)
+    assert (case.container.geometry.length, case.container.geometry.width) == pytest.approx((0.12, 0.0404))
+    assert case.particles[0].radius == pytest.approx(0.005)
+    assert case.drive.mass == pytest.approx(M) and case.drive.natural_frequency == pytest.approx(F_N)
+    r = CliRunner().invoke(main, ["design", "--structure", str(p), "--force", "1.5N", "--json"])
+    full = CliRunner().invoke(main, ["design", "--structure", str(FRAME), "--force", "1.5N", "--json"])
+    assert r.exit_code == 0 and full.exit_code == 0, r.output + full.output
+    only, ex = json.loads(r.stdout), json.loads(full.stdout)
+    assert only["filling"] == ex["filling"] and only["amplitude_damper_m"] == ex["amplitude_damper_m"]
+
+
+def test_a_harmonic_case_writes_its_config_the_verify_sweep_stores():
+    # the sweep store writes each case's config: DriveBase.config_extra must be the drive's method
+    from pdamper.config import dumps_case, loads_case
+    from pdamper.excitation import HarmonicDrive
+    from pdamper.params import Case, ParticleSet
+
+    case = Case(particles=(ParticleSet(count=36),), drive=HarmonicDrive(stroke=0.015, frequency=2.995))
+    assert HarmonicDrive(stroke=0.015, frequency=2.995).config_extra() == {}
+    again = loads_case(dumps_case(case))
+    assert again.drive == case.drive and again.particles == case.particles

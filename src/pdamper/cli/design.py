@@ -1,0 +1,390 @@
+"""``pdamper design``: the filling that puts a structure's stroke at the damper's optimum, or the
+damper for a structure's mode (:mod:`pdamper.design`); options and printing only."""
+
+from __future__ import annotations
+
+import functools
+
+import click
+
+from .common import Quantity, ShapeChoice, echo_json, main, parse_sizes, renamed, size_option, user_errors
+
+__all__ = ["design_command", "design_option"]
+
+#: The options of ``pdamper design`` by the design's parameters (:func:`pdamper.design.naming`).
+_OPTIONS = {"force": "--force", "mode": "--mode", "target_ratio": "--target-ratio", "margin": "--margin",
+            "length": "--length", "length_range": "--length", "width": "--width",
+            "container_radius": "--container-radius", "sphere_radius": "--sphere-radius", "particles": "--particles",
+            "max_bed_mass": "--max-bed-mass", "max_mass_ratio": "--max-mass-ratio", "strokes": "--verify-strokes",
+            "cycles": "--verify-cycles", "verify": "--verify"}
+
+
+def _in_its_options(func):
+    """The command ``func`` with the design's messages in its options (:func:`pdamper.design.naming`)."""
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        from ..design import naming
+
+        with naming(design_option):
+            return func(*args, **kwargs)
+
+    return wrapper
+
+
+def design_option(key: str) -> str:
+    """The option of ``pdamper design`` that sets the design's parameter ``key`` (``sizes.KEY``,
+    another [container] key: ``--size KEY=VALUE``)."""
+    if key.startswith("sizes."):
+        return size_option(key[len("sizes."):], {})
+    return _OPTIONS.get(key, key)
+
+
+class _LengthOrRange(Quantity):
+    """A length, or a range of them written LOW:HIGH (a tuple of two SI floats)."""
+
+    def __init__(self):
+        super().__init__("length")
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and ":" in value:
+            parts = value.split(":")
+            if len(parts) != 2:
+                raise click.UsageError(f"--{param.name} {value!r}: write one length or LOW:HIGH, e.g. 80mm:160mm", ctx)
+            return tuple(super(_LengthOrRange, self).convert(p, param, ctx) for p in parts)
+        return super().convert(value, param, ctx)
+
+    def get_metavar(self, param, ctx=None):  # noqa: D401 - click API
+        return "LENGTH|LOW:HIGH"
+
+
+def _particles_option(text):
+    """``--particles N`` or ``LOW:HIGH`` as an int or a (LOW, HIGH) pair."""
+    from ..errors import InputError
+
+    parts = str(text).split(":")
+    try:
+        values = [int(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(parts) > 2 or not values:
+        raise InputError(f"--particles {text!r}: give a number of spheres or LOW:HIGH, e.g. 36 or 20:60")
+    return values[0] if len(values) == 1 else tuple(values)
+
+
+@main.command("design")
+@click.option("--structure", "structure_file", type=click.Path(dir_okay=False), metavar="STRUCT.toml",
+              help="Design for a structure: a config whose [structure] section gives the mode(s) "
+                   "(the stroke is then the design's answer; give --force, not --frequency/--stroke).")
+@click.option("--mode", "mode_number", type=int, default=1, show_default=True,
+              help="With --structure: the mode to damp (1 = the lowest).")
+@click.option("--force", type=Quantity("force"), help="With --structure: force amplitude at the mode's resonance, "
+              "e.g. 1.5N.")
+@click.option("--frequency", type=Quantity("frequency"), help="Structure's frequency, e.g. 2Hz (without --structure).")
+@click.option("--stroke", type=Quantity("length"),
+              help="Stroke (amplitude) of the structure where the damper sits, e.g. 10mm (without --structure).")
+@click.option("--shape", type=ShapeChoice(),
+              help="Container shape (any registered shape) [default: cuboid; with --structure the file's container].")
+@click.option("--length", type=_LengthOrRange(), help="Cuboid: inner length along the motion, e.g. 120mm; with "
+              "--structure also a range to choose from, LOW:HIGH, e.g. 80mm:160mm (1 mm steps, at most 121).")
+@click.option("--length-range", metavar="LOW:HIGH",
+              help="With --structure: the same as --length LOW:HIGH.")
+@click.option("--width", type=Quantity("length"), help="Cuboid: inner width, e.g. 40.4mm.")
+@click.option("--container-radius", type=Quantity("length"), help="Cylinder: inner radius R, e.g. 39mm.")
+@click.option("--size", "sizes", multiple=True, metavar="KEY=VALUE",
+              help="Another [container] key of the shape, e.g. --size height=30mm (repeatable).")
+@click.option("--sphere-radius", type=Quantity("length"),
+              help="Sphere radius r, e.g. 5mm (required without --structure; with it the config's, else 5 mm).")
+@click.option("--radius", type=Quantity("length"), hidden=True, help="Old name of --sphere-radius.")
+@click.option("--density", type=Quantity("density"),
+              help="Sphere density [kg/m^3] (default: 7900, steel; with --structure the config's spheres).")
+@click.option("--max-particles", type=click.IntRange(min=2),
+              help="Spheres covering the floor in one layer (default: the floor packing of the container).")
+@click.option("--particles", "particles", metavar="N|LOW:HIGH",
+              help="With --structure: the fillings to choose from, e.g. 20:60 (default: every filling of the floor).")
+@click.option("--max-bed-mass", type=Quantity("mass"), help="With --structure: largest bed mass, e.g. 200g.")
+@click.option("--max-mass-ratio", type=click.FloatRange(min=0, min_open=True),
+              help="With --structure: largest bed mass over the mode's mass at the damper, e.g. 0.01.")
+@click.option("--target-ratio", type=click.FloatRange(min=0, max=1, min_open=True, max_open=True),
+              help="With --structure: the lightest filling whose resonant amplitude is at most this fraction of the "
+                   "bare structure's, e.g. 0.5 (default: the filling with the smallest amplitude).")
+@click.option("--margin", type=click.FloatRange(min=1.0),
+              help="With --structure: keep the operating stroke at least this factor above X_opt [default: by the "
+                   "filling fraction N_p/N_p,max, 1.2 up to 75 % filled to 1.75 at 91 %, above the strokes at which "
+                   "the DEM checks saw such beds sway; docs/structure.md, \"The margin\"].")
+@click.option("--write-case", type=click.Path(dir_okay=False), metavar="OUT.toml",
+              help="With --structure: write one runnable case of the design: the damper, its rig drive [drive] and "
+                   "the structure forced at the design's resonance [structure] (for sweep, fields, response).")
+@click.option("--tilt", type=Quantity("angle"), help="Expected mounting tilt, e.g. 1deg.")
+@click.option("--verify", is_flag=True, help="Run a short DEM sweep around the stroke with the proposed filling.")
+@click.option("--verify-cycles", type=click.IntRange(min=3), default=8, show_default=True,
+              help="Drive cycles per verification case (the first 2 dropped; 1 below 5 cycles with --structure).")
+@click.option("--verify-strokes", type=click.IntRange(min=1), default=3, show_default=True,
+              help="With --structure: strokes of the DEM check (0.85 to 1.15 times the operating stroke).")
+@click.option("--seeds", type=click.IntRange(min=1), default=2, show_default=True,
+              help="With --structure: DEM seeds per stroke of the check.")
+@click.option("--workers", type=click.IntRange(min=1), help="Local worker processes for --verify (default: all cores).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
+@user_errors
+@_in_its_options
+def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
+                   container_radius, sizes, sphere_radius, radius, density, max_particles, particles, max_bed_mass,
+                   max_mass_ratio, target_ratio, margin, write_case, tilt, verify, verify_cycles, verify_strokes, seeds,
+                   workers, as_json):
+    """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
+
+    With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
+    N_p = N_p,max (1 - h/L), rounded up so that X is at or just above X_opt (the largest eta*
+    of the paper's laws). Reports the expected eta*, energy per cycle and bed mass, and warns
+    about lift-off, tilt sensitivity and thin beds.
+
+    With a structure (--structure STRUCT.toml --mode 1 --force 1.5N): the stroke is the
+    unknown. Sizes the filling (and the container's length within --length LOW:HIGH, the bed
+    within --particles, --max-bed-mass / --max-mass-ratio) that minimises the mode's resonant
+    amplitude, or with --target-ratio R the lightest one whose resonant amplitude is at most R
+    times the bare structure's, from the energy balance at resonance with the paper's laws,
+    keeping the operating stroke >= --margin X_opt; --verify checks it with a short DEM sweep
+    and gives a verdict (against the target, with one); --write-case OUT.toml writes the design
+    as one case that sweep, fields and response run.
+
+    Example: pdamper design --frequency 2Hz --stroke 10mm --length 120mm --width 40.4mm --sphere-radius 5mm
+
+    Example: pdamper design --structure examples/frame_3hz.toml --mode 1 --force 1.5N
+
+    Example: pdamper design --structure examples/frame_3hz.toml --force 1.5N --target-ratio 0.5 --length 80mm:160mm
+    --write-case frame_design.toml
+    """
+    from ..design import design_filling, verify_filling
+    from ..errors import InputError
+    from ..params import Container
+
+    radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
+    sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
+    if structure_file is not None:
+        return _design_structure(structure_file, dict(
+            mode=mode_number, force=force, frequency=frequency, stroke=stroke, shape=shape, length=length,
+            length_range=length_range, sizes=sizes, radius=radius, density=density, max_particles=max_particles,
+            particles=particles, max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio, target_ratio=target_ratio,
+            margin=margin, write_case=write_case, tilt=tilt), verify, verify_cycles, verify_strokes, seeds, workers,
+            as_json)
+    for name, value in (("--force", force), ("--length-range", length_range), ("--max-bed-mass", max_bed_mass),
+                        ("--max-mass-ratio", max_mass_ratio), ("--particles", particles),
+                        ("--target-ratio", target_ratio), ("--write-case", write_case)):
+        if value is not None:
+            raise InputError(f"{name} belongs to the design for a structure: give --structure STRUCT.toml with it "
+                             "(or --frequency and --stroke without it)")
+    if isinstance(length, tuple):
+        raise InputError("--length LOW:HIGH (a range) belongs to the design for a structure: give --structure "
+                         "STRUCT.toml with it, or one length, e.g. --length 120mm")
+    for name, value in (("--frequency", frequency), ("--stroke", stroke)):
+        if value is None:
+            raise InputError(f"Missing option '{name}' (or give --structure STRUCT.toml --force F).")
+    if radius is None:
+        raise InputError("missing --sphere-radius (the sphere radius r, e.g. 5mm)")
+
+    d = design_filling(frequency=frequency, stroke=stroke, sphere_radius=radius,
+                       shape=shape if shape is not None else Container().geometry.shape, length=length,
+                       sizes=sizes, max_particles=max_particles, tilt=tilt,
+                       density=7900.0 if density is None else density)
+    out = d.to_dict()
+    if verify:
+        out["verify"] = verify_filling(d, cycles=verify_cycles, workers=workers,
+                                       progress=False if as_json else None).to_dict()
+    if as_json:
+        echo_json(out)
+        return
+    mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
+    box = d.describe_container()
+    rows = [
+        ("filling", f"{d.particles} of {d.max_particles}", f"spheres, {d.rows} rows (exact {d.exact_particles:.3f})"),
+        ("clearance h", mm(d.clearance_m), "eq. (6)"),
+        ("X_opt", mm(d.x_opt_m), f"eq. (17); X/X_opt = {d.stroke_over_x_opt:.3f}"),
+        ("expected eta*", f"{d.eta_star:.3f}", f"{d.regime} (eqs. 8/14)"),
+        ("energy per cycle", f"{1e3 * d.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2, eqs. (4), (5)"),
+        ("bed mass", f"{1e3 * d.bed_mass_kg:.4g} g", f"{d.particles} x {1e3 * d.sphere_mass_kg:.3g} g"),
+        ("acceleration", f"{d.acceleration_amplitude_m_s2:.3g} m/s^2",
+         f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"),
+    ]
+    lines = [f"pdamper design: X = {mm(d.stroke_m)} at f = {d.frequency_hz:.4g} Hz, {box}, "
+             f"spheres r = {mm(d.sphere_radius_m)}"]
+    lines += [f"  {name:<20}{value:<14}{note}" for name, value, note in rows]
+    lines += [f"warning: {w}" for w in d.warnings]
+    if verify:
+        v = out["verify"]
+        lines.append(f"  DEM check ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
+        for x, e, t in zip(v["strokes_m"], v["eta_star_mean"], v["eta_theory"]):
+            lines.append(f"    X = {mm(x):>9}   eta* DEM {e:.3f}   theory {t:.3f}")
+    click.echo("\n".join(lines))
+
+
+def _design_structure(structure_file, o: dict, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+    """``pdamper design --structure``: the filling for a structure mode (the options ``o``), its
+    report, the DEM check and the written case."""
+    from ..design import design_case, design_case_text, design_for_case, load_structure, verify_design
+    from ..errors import InputError
+    from ..io.files import atomic_write
+
+    for name, key in (("--frequency", "frequency"), ("--stroke", "stroke"), ("--max-particles", "max_particles"),
+                      ("--tilt", "tilt")):
+        if o[key] is not None:
+            raise InputError(f"{name} does not apply with --structure: the design finds the stroke at the mode's "
+                             "resonance and sizes the container's length along the drive (give --length or "
+                             "--length LOW:HIGH, the other sizes, --sphere-radius)")
+    force = o["force"]
+    if force is None or not force > 0:
+        raise InputError(f"--force{'' if force is None else f' = {force:g} N'}: give the force amplitude on the "
+                         "structure at the mode's resonance, > 0, e.g. --force 1.5N")
+    length, rng = o["length"], _length_range(o["length_range"]) if o["length_range"] is not None else None
+    if isinstance(length, tuple):
+        if rng is not None:
+            raise InputError("give --length LOW:HIGH or --length-range LOW:HIGH, not both")
+        length, rng = None, length
+    if o["write_case"] is not None:
+        _check_case_path(o["write_case"])
+    case = load_structure(structure_file)
+    sd = design_for_case(case, force=force, shape=o["shape"], sizes=o["sizes"], sphere_radius=o["radius"],
+                         density=o["density"], mode=o["mode"], length=length, length_range=rng,
+                         particles=_particles_option(o["particles"]) if o["particles"] is not None else None,
+                         max_bed_mass=o["max_bed_mass"], max_mass_ratio=o["max_mass_ratio"],
+                         target_ratio=o["target_ratio"], margin=o["margin"])
+    out = sd.to_dict()
+    out["structure_file"] = str(structure_file)
+    checked = None
+    if verify:
+        checked = verify_design(sd, case, cycles=verify_cycles, strokes=verify_strokes, seeds=seeds, workers=workers,
+                                progress=False if as_json else None)
+        out["verify"] = checked.to_dict()
+    if o["write_case"] is not None:
+        from pathlib import Path
+
+        path = Path(o["write_case"])
+        text = design_case_text(sd, design_case(sd, case), command=_command_line(structure_file, o), name=path.name,
+                                verify=checked, dropped_load=case.drive.load)
+        atomic_write(path, text)
+        out["case_file"] = str(path)
+    if as_json:
+        echo_json(out)
+        return
+    click.echo("\n".join(_design_structure_lines(sd, out, structure_file)))
+
+
+
+def _check_case_path(path) -> None:
+    """``--write-case`` names a .toml file in a folder that exists."""
+    from pathlib import Path
+
+    from ..errors import InputError
+
+    p = Path(path)
+    if p.suffix.lower() != ".toml":
+        raise InputError(f"--write-case {path}: give a .toml file name, e.g. frame_design.toml")
+    if not p.parent.is_dir():
+        raise InputError(f"--write-case {path}: folder {str(p.parent)!r} does not exist; create it or choose another "
+                         "path")
+
+
+def _command_line(structure_file, o: dict) -> str:
+    """The design's command with the options given (for the written case's header), quantities in
+    the units a person types."""
+    import shlex
+
+    mm = lambda x: f"{x * 1e3:.6g}mm"  # noqa: E731
+    length = o["length"] if o["length"] is not None else o["length_range"]
+    words = ["pdamper design --structure", shlex.quote(str(structure_file)), f"--mode {o['mode']}",
+             f"--force {o['force']:.6g}N"]
+    given = [("--target-ratio", o["target_ratio"], "{:g}"), ("--shape", o["shape"], "{}"),
+             ("--sphere-radius", o["radius"], None), ("--density", o["density"], "{:g}kg/m^3"),
+             ("--particles", o["particles"], "{}"), ("--max-bed-mass", o["max_bed_mass"], None),
+             ("--max-mass-ratio", o["max_mass_ratio"], "{:g}")]
+    for name, value, fmt in given:
+        if value is None:
+            continue
+        words.append(f"{name} " + (fmt.format(value) if fmt else (f"{value * 1e3:.6g}g" if "mass" in name
+                                                                    else mm(value))))
+    if length is not None:
+        words.append("--length " + (":".join(mm(v) for v in length) if isinstance(length, tuple)
+                                    else length if isinstance(length, str) else mm(length)))
+    for key, value in o["sizes"].items():
+        if value is not None:
+            words.append(f"--size {key}={value if isinstance(value, str) else mm(value)}")
+    if o["margin"] is not None:
+        words.append(f"--margin {o['margin']:g}")
+    return " ".join(words)
+
+
+def _length_range(text: str):
+    from ..errors import InputError
+    from ..units import parse_quantity
+
+    parts = str(text).split(":")
+    if len(parts) != 2:
+        raise InputError(f"--length-range {text!r}: write LOW:HIGH, e.g. 80mm:200mm")
+    return tuple(parse_quantity(p, "length", name="--length-range") for p in parts)
+
+
+def _design_structure_lines(sd, out, structure_file) -> list:
+    from ..design import margin_note
+
+    mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
+    pct = lambda z: f"{100 * z:.3g} %"  # noqa: E731
+    d = sd.filling
+    shaped = sd.modes > 1 or sd.phi_damper != 1.0
+    lines = [f"pdamper design --structure {structure_file}: mode {sd.mode} of {sd.modes}, "
+             f"M = {sd.mass_at_damper_kg:.4g} kg at the damper"
+             + (f" (m / phi_d^2: modal mass m = {sd.modal_mass_kg:.4g} kg in the mode's normalisation)" if shaped
+                else "") + (f", the empty container's {1e3 * sd.container_mass_kg:.4g} g included"
+                            if sd.container_mass_kg > 0 else "")
+             + f", f = {sd.natural_frequency_hz:.5g} Hz, zeta = {pct(sd.damping_ratio)}, F = {sd.force_N:.4g} N at "
+             "resonance" + (f" (mode shape: damper {sd.phi_damper:.4g}, force {sd.phi_force:.4g}, response "
+                            f"{sd.phi_response:.4g})" if shaped else ""),
+             "  masses are physical, at the damper (the mode's own normalisation only where it says so)"]
+    if sd.target_ratio is not None:
+        b = sd.search
+        lines.append(f"  target: ratio <= {sd.target_ratio:g} (resonant amplitude with the damper over without); the "
+                     f"lightest filling that meets it among lengths {b['lengths_m'][0] * 1e3:.4g}-"
+                     f"{b['lengths_m'][1] * 1e3:.4g} mm" + (f", fillings {b['particles'][0]}-{b['particles'][1]}"
+                                                            if b["particles"][1] is not None else "")
+                     + "".join(f", {k} {v * 1e3:.4g} g" for k, v in b["max_bed_mass_kg"].items())
+                     + (f"; one sphere fewer: at best ratio {sd.lighter_ratio:.3g}" if sd.lighter_ratio is not None
+                        else "; no lighter filling keeps the margin"))
+    rows = [
+        ("container", d.describe_container(), f"{sd.candidates} fillings tried"),
+        ("filling", f"{d.particles} of {d.max_particles}", f"spheres r = {mm(d.sphere_radius_m)}, {d.rows} rows"),
+        ("bed mass", f"{1e3 * d.bed_mass_kg:.4g} g", f"{pct(sd.mass_ratio)} of the mode's mass at the damper"),
+        ("clearance h", mm(d.clearance_m), "eq. (6)"),
+        ("X_opt", mm(d.x_opt_m), "eq. (17)"),
+        ("damper stroke X", mm(sd.damper_stroke_m), f"X/X_opt = {sd.stroke_over_x_opt:.3f} (kept >= {sd.margin:.3g}: "
+         "rolling collect-and-collide)"),
+        ("eta*", f"{sd.eta_star:.3f}", "rolling law, eq. (14)"),
+        ("energy per cycle", f"{1e3 * sd.energy_per_cycle_J:.4g} mJ", "pi eta* m_bed (X Omega)^2"),
+        ("added mass", f"{1e3 * sd.effective_mass_kg:.4g} g",
+         f"at the damper: the rolling bed's m_eff = {sd.effective_mass_kg / d.bed_mass_kg:.3g} m_bed (eqs. 10-12)"
+         + (f"; phi_d^2 m_eff = {1e3 * sd.added_modal_mass_kg:.4g} g in the mode's normalisation" if
+            sd.phi_damper != 1.0 else "")),
+        ("resonance", f"{sd.frequency_hz:.5g} Hz", f"without damper {sd.natural_frequency_hz:.5g} Hz"),
+        ("modal damping", pct(sd.zeta_total),
+         f"= {pct(sd.zeta_structure)} structure + {pct(sd.zeta_damper)} damper (without: {pct(sd.zeta_bare)})"),
+        ("amplitude, damper", mm(sd.amplitude_damper_m), f"without damper {mm(sd.amplitude_damper_bare_m)}, bed as a "
+         f"solid mass {mm(sd.amplitude_damper_solid_m)}: ratio {sd.reduction:.3g}"),
+    ]
+    if sd.modes > 1 or sd.phi_response != sd.phi_damper:
+        rows.append(("amplitude, response", mm(sd.amplitude_response_m),
+                     f"without damper {mm(sd.amplitude_response_bare_m)} (the response point)"))
+    rows.append(("acceleration", f"{d.acceleration_amplitude_m_s2:.3g} m/s^2",
+                 f"A = X Omega^2 (lift-off above {mm(d.max_stroke_no_liftoff_m)})"))
+    wv = max(16, *(len(value) + 2 for _, value, _ in rows))
+    lines += [f"  {name:<20}{value:<{wv}}{note}" for name, value, note in rows]
+    lines.append(f"  {margin_note(sd.margin, sd.margin_given, d.particles / d.max_particles)}")
+    lines += [f"warning: {w}" for w in sd.warnings]
+    if "verify" in out:
+        v = out["verify"]
+        lines.append(f"  DEM check at {sd.frequency_hz:.5g} Hz ({v['cycles']} cycles, {len(v['seeds'])} seeds):")
+        for x, s, e, t, m, fr in zip(v["strokes_m"], v["stroke_over_x_opt"], v["eta_star_dem"], v["eta_star_law"],
+                                     v["modes"], v["force_required_N"]):
+            lines.append(f"    X = {mm(x):>9} ({s:.3g} X_opt)  eta* DEM {e:.3f}  law {t:.3f}  force needed "
+                         f"{fr:.3g} N  {m or 'mode n/a'}")
+        lines.append(f"  verdict: {v['verdict']}: {v['reason']}" + (f"; {v['move']}" if v["move"] else ""))
+    if "case_file" in out:
+        lines.append(f"  wrote {out['case_file']} (the damper, its rig [drive] and the [structure]: pdamper sweep, "
+                     "fields, response, transient run it)")
+    return lines

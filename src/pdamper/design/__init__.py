@@ -1,0 +1,44 @@
+"""The design workflow: which particle damper for a vibrating structure, and does it hold in the DEM.
+
+One module per idea (docs/structure.md, "Design for a structure"; docs/engine.md, the code map):
+
+- :mod:`.filling` -- the filling for a stroke: :func:`design_filling` (the N_p that puts a stroke
+  at X_opt, eqs. 6, 17 inverted), :func:`check_fits`; the margin a design keeps above X_opt
+  (:data:`MARGIN_TABLE`, :func:`auto_margin`, :func:`margin_note`);
+- :mod:`.search` -- the structure search: :func:`design_for_structure` (the filling and container
+  length for a mode under a harmonic force, from the energy balance at resonance with the paper's
+  closed forms, :mod:`pdamper.theory.fields` and :mod:`pdamper.theory.balance`), its
+  :class:`StructureDesign`, :func:`structure_mode`;
+- :mod:`.verify` -- the DEM check and its verdict: :func:`verify_design` (a design for a
+  structure: a :class:`Verification`), :func:`verify_filling` (a filling for a stroke),
+  :func:`judge_verification`;
+- :mod:`.case` -- the case: :func:`load_structure` (a structure file, read by
+  :func:`pdamper.config.load_case`), :func:`design_for_case`, :func:`design_case` and
+  :func:`design_case_text` (the design written as one runnable case);
+- :mod:`.names` -- how its messages name its parameters (:func:`naming`: the CLI's options).
+
+The closed forms it rests on (:func:`rolling_mass_ratio`, :func:`closed_form_fields`,
+:func:`required_force`, :func:`operating_points`, :class:`Mode`) live in :mod:`pdamper.theory`
+and are named here too.
+"""
+
+from __future__ import annotations
+
+from ..theory.balance import Mode, OperatingPoint, operating_points, required_force
+from ..theory.fields import SCATTERED_MASS_RATIO, closed_form_fields
+from ..theory.rolling import rolling_mass_ratio
+from .case import design_case, design_case_text, design_container, design_for_case, load_structure
+from .filling import (MARGIN_MEASURED, MARGIN_TABLE, MARGINAL, MIN_ROWS, TILT_MARGIN, Design, auto_margin,
+                      check_fits, design_filling, margin_note)
+from .names import naming
+from .search import StructureDesign, design_for_structure, structure_mode
+from .verify import (ROLLING_MODE, VERIFY_REACH, FillingCheck, RigSweep, Verification, judge_verification,
+                     rig_case, rig_sweep, verify_design, verify_factors, verify_filling)
+
+__all__ = ["Design", "design_filling", "design_container", "check_fits", "margin_note", "TILT_MARGIN", "MIN_ROWS",
+           "MARGINAL", "MARGIN_TABLE", "MARGIN_MEASURED", "auto_margin", "Mode", "structure_mode",
+           "rolling_mass_ratio", "closed_form_fields", "SCATTERED_MASS_RATIO", "required_force", "OperatingPoint",
+           "operating_points", "StructureDesign", "design_for_structure", "design_for_case", "load_structure",
+           "verify_factors", "judge_verification", "ROLLING_MODE", "VERIFY_REACH", "verify_design", "verify_filling",
+           "Verification", "FillingCheck", "RigSweep", "rig_case", "rig_sweep", "design_case", "design_case_text",
+           "naming"]
