@@ -78,6 +78,7 @@ section builds, keys that are not fields, the restitution-law tables).
 from __future__ import annotations
 
 import difflib
+import re
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -86,7 +87,7 @@ from .contact import read_restitution
 from .contact.cor_constant import ConstantRestitution
 from .contact.cor_table import TabulatedRestitution
 from .contact.cor_thornton import ThorntonRestitution
-from .errors import InputError
+from .errors import InputError, checked_file, shown_path, unreadable_file, shown
 from .io.files import atomic_write
 from . import structure as _structures  # noqa: F401  (registers the structure models as drives)
 from .excitation import DRIVES, read_motion_csv
@@ -99,7 +100,7 @@ from .params import (Case, Container, ContactModel, InitialState, Numerics, Part
 from .schema import (Spec, _choice, _grammar, _num, _quoted, check_keys, config_keys, plain_fields, read_fields,
                      read_number, read_quantity, replace, suggest, write_fields)
 
-__all__ = ["load_case", "loads_case", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
+__all__ = ["load_case", "loads_case", "parse_toml", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
            "with_overrides", "key_spec", "SECTIONS"]
 
 # The sections are read from the parameter dataclasses' own fields (pdamper.schema): a field's
@@ -223,27 +224,46 @@ def load_case(path, overrides: dict | None = None, *, prepare=None) -> Case:
 
     Every case file pdamper reads goes through here (the commands, the studies, the design).
     """
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"config file not found: {path}")
-    if path.is_dir():
-        raise InputError(f"{path} is a directory; give a .toml config file")
+    path = checked_file(path, "config file")
     try:
         text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read config file {path}: {exc}") from None
-    return loads_case(text, overrides, source=str(path), base_dir=path.parent, prepare=prepare)
+    except UnicodeDecodeError as exc:
+        raise InputError(f"cannot read config file {shown_path(path)}: byte {exc.start} is not UTF-8 text; save it "
+                         "as UTF-8") from None
+    except OSError as exc:
+        raise unreadable_file(path, exc, "config file") from None
+    return loads_case(text, overrides, source=shown_path(path), base_dir=path.parent, prepare=prepare)
 
 
 def loads_case(text: str, overrides: dict | None = None, *, source: str = "<config>",
                base_dir=None, prepare=None) -> Case:
     """Like :func:`load_case` for TOML ``text``; ``base_dir`` resolves relative sample files."""
+    return case_from_dict(parse_toml(text, source=source), overrides, source=source, base_dir=base_dir,
+                          prepare=prepare)
+
+
+#: Whole numbers of more digits than this are refused by Python's int() (sys.get_int_max_str_digits).
+_INT_DIGITS = 4300
+_LONG_NUMERAL = re.compile(r"(?<![\w.])[+-]?[0-9][0-9_]{%d,}" % _INT_DIGITS)
+
+
+def parse_toml(text: str, *, source: str = "<config>") -> dict:
+    """The tables of TOML ``text`` (a config file, a study file, a structure file), or an
+    :class:`InputError` naming ``source`` and the line: invalid TOML, and also a whole number of
+    more than 4,300 digits, which Python's ``int()`` refuses (``tomllib`` lets that ``ValueError``
+    through)."""
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{source}: invalid TOML: {exc}; check the syntax (key = value, "
+        raise InputError(f"{source}: invalid TOML: {' '.join(str(exc).split())}; check the syntax (key = value, "
                          "strings in quotes, [section] headers)") from None
-    return case_from_dict(data, overrides, source=source, base_dir=base_dir, prepare=prepare)
+    except ValueError:  # int(): "Exceeds the limit (4300 digits) for integer string conversion"
+        m = _LONG_NUMERAL.search(text)
+        where = f", line {text.count(chr(10), 0, m.start()) + 1}" if m else ""
+        digits = len(m.group().replace("_", "").lstrip("+-")) if m else _INT_DIGITS + 1
+        raise InputError(f"{source}{where}: a whole number of {digits} digits; a number is read with at most "
+                         f"{_INT_DIGITS} digits: write it with an exponent (1e{digits - 1}) or, for a name, in "
+                         "quotes") from None
 
 
 def case_from_dict(data: dict, overrides: dict | None = None, *, source: str | None = None,
@@ -295,9 +315,9 @@ def key_spec(dotted: str) -> Spec:
     over it holds), or an :class:`InputError` naming the allowed keys."""
     section, _, key = str(dotted).partition(".")
     if section not in SECTIONS:
-        raise InputError(f"{dotted!r}: unknown section [{section}]; " + suggest(section, SECTIONS, "[{}]"))
+        raise InputError(f"{shown(dotted)}: unknown section [{section}]; " + suggest(section, SECTIONS, "[{}]"))
     if key not in SECTIONS[section]:
-        raise InputError(f"{dotted!r}: unknown key {key!r} in [{section}]; " + _quoted(key, SECTIONS[section]))
+        raise InputError(f"{shown(dotted)}: unknown key {shown(key)} in [{section}]; " + _quoted(key, SECTIONS[section]))
     if dotted in _VALUE_SPECS:
         return _VALUE_SPECS[dotted]
     classes = _section_classes(section)
@@ -307,7 +327,7 @@ def key_spec(dotted: str) -> Spec:
         for f, s in plain_fields(cls):
             if (s.key or f.name) == key:
                 return s
-    raise InputError(f"{dotted!r} is not a single value (a table or a list); it cannot be a sweep axis")
+    raise InputError(f"{shown(dotted)} is not a single value (a table or a list); it cannot be a sweep axis")
 
 
 def with_overrides(case: Case, overrides: dict) -> Case:
@@ -326,24 +346,24 @@ def _apply_overrides(data: dict, overrides: dict) -> dict:
     for dotted, value in overrides.items():
         parts = str(dotted).split(".")
         if len(parts) != 2 or not all(parts):
-            raise InputError(f"override {dotted!r}: write it as 'section.key', e.g. 'drive.stroke'")
+            raise InputError(f"override {shown(dotted)}: write it as 'section.key', e.g. 'drive.stroke'")
         section, key = parts
         if section not in SECTIONS:
-            raise InputError(f"override {dotted!r}: unknown section [{section}]; "
+            raise InputError(f"override {shown(dotted)}: unknown section [{section}]; "
                              + suggest(section, SECTIONS, "[{}]"))
         if key not in SECTIONS[section]:
-            raise InputError(f"override {dotted!r}: unknown key {key!r} in [{section}]; "
+            raise InputError(f"override {shown(dotted)}: unknown key {shown(key)} in [{section}]; "
                              + _quoted(key, SECTIONS[section]))
         if section in _drive_sections() and section not in data:
             there = next((sec for sec in _drive_sections() if sec in data), None)
             if there is not None:
-                raise InputError(f"override {dotted!r}: this file's drive is its [{there}]; a [{section}] beside it "
+                raise InputError(f"override {shown(dotted)}: this file's drive is its [{there}]; a [{section}] beside it "
                                  f"(the damper's rig beside a structure) is written in the file, not made by an "
                                  f"override; give [{there}] keys")
         table = data.setdefault(section, {})
         if isinstance(table, list):
             if len(table) != 1:
-                raise InputError(f"override {dotted!r}: the config has {len(table)} [[{section}]] tables; "
+                raise InputError(f"override {shown(dotted)}: the config has {len(table)} [[{section}]] tables; "
                                  "edit the file to change one of them")
             table = table[0]
         if not isinstance(table, dict):
@@ -363,7 +383,7 @@ def _check_override_kind(dotted: str, section: str, key: str, table: dict) -> No
         return  # the reader says what is wrong with the file's table
     owner = next((kind for kind, keys in _own_keys(section).items() if key in keys), None)
     if owner is not None and key not in cls.table_keys():
-        raise InputError(f"override {dotted!r}: the file's [{section}] is {cls.label()}; {key} applies to "
+        raise InputError(f"override {shown(dotted)}: the file's [{section}] is {cls.label()}; {key} applies to "
                          f"{_kinds(section)[owner].label()} only")
 
 
@@ -382,7 +402,7 @@ class _Reader:
         t = data.get(section, {})
         if not isinstance(t, dict):
             raise InputError(f"[{section}] must be a table (a [{section}] header with key = value lines), "
-                             f"got {t!r}")
+                             f"got {shown(t)}")
         return t
 
     @staticmethod
@@ -402,7 +422,7 @@ class _Reader:
         mats = [p.material for p in particles] + [container.material]
         for m in mats:
             if any(o.name == m.name and o != m for o in mats):
-                raise InputError(f"two different materials are both named {m.name!r}; contacts are looked up by "
+                raise InputError(f"two different materials are both named {shown(m.name)}; contacts are looked up by "
                                  "material name, so give each inline material its own name = '...'")
         names = [m.name for m in mats]
         with _context("contact"):
@@ -424,7 +444,7 @@ class _Reader:
         for key in t:
             owners = [s for s, keys in shape_keys.items() if key in keys]
             if owners and shape not in owners:
-                raise InputError(f"[container] {key} applies to shape = {owners[0]!r}, but shape = {shape!r} "
+                raise InputError(f"[container] {key} applies to shape = {shown(owners[0])}, but shape = {shown(shape)} "
                                  f"(give {', '.join(shape_keys[shape])})")
         kw = {"geometry": _GEOMETRIES[shape](**read_fields(t, "container", _GEOMETRIES[shape]))}
         if "material" in t:
@@ -449,7 +469,7 @@ class _Reader:
         for k, t in enumerate(tables):
             label = "particles" if len(tables) == 1 else f"particles #{k + 1}"
             if not isinstance(t, dict):
-                raise InputError(f"[{label}] must be a table, got {t!r}")
+                raise InputError(f"[{label}] must be a table, got {shown(t)}")
             out.append(read_with_material(t, label, ParticleSet, required="count",
                                           hint="; give the number of spheres, e.g. count = 36"))
         return tuple(out)
@@ -529,23 +549,23 @@ class _Reader:
         for k, p in enumerate(pairs):
             label = f"contact.pair #{k + 1}"
             if not isinstance(p, dict):
-                raise InputError(f"[[contact.pair]] #{k + 1} must be a table, got {p!r}")
+                raise InputError(f"[[contact.pair]] #{k + 1} must be a table, got {shown(p)}")
             check_keys(p, label, _PAIR_KEYS)
             mats = p.get("materials")
             if not (isinstance(mats, list) and len(mats) == 2 and all(isinstance(m, str) for m in mats)):
-                raise InputError(f"[{label}] materials = {mats!r}: give two material names, e.g. ['steel', 'pvc']")
+                raise InputError(f"[{label}] materials = {shown(mats)}: give two material names, e.g. ['steel', 'pvc']")
             for m in mats:
                 if m not in known:
                     near = difflib.get_close_matches(m, known, n=1, cutoff=0.5)
                     hint = f"did you mean {near[0]!r}?" if near else "this case has " + ", ".join(map(repr, known))
-                    raise InputError(f"[{label}] materials: {m!r} is not a material of this case; {hint}")
+                    raise InputError(f"[{label}] materials: {shown(m)} is not a material of this case; {hint}")
             key = (mats[0], mats[1])
             if "friction" not in p and "restitution" not in p:
                 raise InputError(f"[{label}] sets nothing; give friction and/or restitution")
             for store, field_ in ((pf, "friction"), (pr, "restitution")):
                 if field_ in p:
                     if key in store or key[::-1] in store:
-                        raise InputError(f"[{label}] {field_} for {key[0]!r}-{key[1]!r} is given twice")
+                        raise InputError(f"[{label}] {field_} for {shown(key[0])}-{shown(key[1])} is given twice")
                     store[key] = (read_number(p["friction"], f"[{label}] friction") if field_ == "friction"
                                   else read_restitution(p["restitution"], label))
         if pf:
@@ -604,7 +624,7 @@ def _law_to(law):
         return {"law": "table", "speeds": [float(v) for v in law.speeds], "values": [float(v) for v in law.values]}
     if isinstance(law, ThorntonRestitution):
         return {"law": "thornton", "yield_pressure": float(law.yield_pressure)}
-    raise InputError(f"cannot write restitution law {law!r} to a config file")
+    raise InputError(f"cannot write restitution law {shown(law)} to a config file")
 
 
 #: The plain fields of an object as config keys (:func:`pdamper.schema.write_fields`).

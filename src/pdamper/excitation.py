@@ -59,7 +59,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, checked_file, shown
 from .schema import OwnTable, config_keys, convert_fields, param, read_fields, register_tagged, write_fields
 from .units import thousandth_hint, unit_factor
 
@@ -162,7 +162,7 @@ class DriveBase(OwnTable):
         d = self.direction
         if isinstance(d, str):
             if d.strip().lower() not in _DIRECTION_WORDS:
-                raise InputError(f"{self.config_section}.direction = {d!r}; give three numbers [x, y, z] (lab frame, y up) "
+                raise InputError(f"{self.config_section}.direction = {shown(d)}; give three numbers [x, y, z] (lab frame, y up) "
                                  f"or one of {', '.join(repr(w) for w in _DIRECTION_WORDS)}")
             object.__setattr__(self, "direction", _DIRECTION_WORDS[d.strip().lower()])
         convert_fields(self, self.config_section)
@@ -171,7 +171,7 @@ class DriveBase(OwnTable):
         """Validate ``angle`` and ``direction`` (called by each drive's ``__post_init__``)."""
         sec = self.config_section
         if not (isinstance(self.angle, (int, float)) and math.isfinite(self.angle)):
-            raise InputError(f"{sec}.angle = {self.angle!r}; must be a finite angle")
+            raise InputError(f"{sec}.angle = {shown(self.angle)}; must be a finite angle")
         d = self.direction
         if d is None:
             return
@@ -180,7 +180,7 @@ class DriveBase(OwnTable):
         except (TypeError, ValueError):
             v = np.zeros(0)
         if v.shape != (3,) or not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
-            raise InputError(f"{sec}.direction = {self.direction!r}; give three finite numbers, not all 0, e.g. "
+            raise InputError(f"{sec}.direction = {shown(self.direction)}; give three finite numbers, not all 0, e.g. "
                              "[0, 1, 0] for a vertical drive (lab frame: y up)")
         if self.angle != 0.0:
             raise InputError(f"{sec}.direction and {sec}.angle are both given; give either direction = "
@@ -271,9 +271,9 @@ class HarmonicDrive(DriveBase):
     def __post_init__(self):
         self._prepare()
         if not (self.stroke > 0 and math.isfinite(self.stroke)):
-            raise InputError(f"drive.stroke = {self.stroke!r} m; must be > 0 (e.g. '12mm')")
+            raise InputError(f"drive.stroke = {shown(self.stroke)} m; must be > 0 (e.g. '12mm')")
         if not (self.frequency > 0 and math.isfinite(self.frequency)):
-            raise InputError(f"drive.frequency = {self.frequency!r} Hz; must be > 0 (e.g. '2Hz')")
+            raise InputError(f"drive.frequency = {shown(self.frequency)} Hz; must be > 0 (e.g. '2Hz')")
         self._check_direction()
 
     @property
@@ -369,7 +369,7 @@ class SampledDrive(DriveBase):
             raise InputError(f"[drive] give either samples = 'file.csv' or inline {', '.join(extra)}, not both")
         value = table["samples"]
         if not isinstance(value, str) or not value.strip():
-            raise InputError(f"[drive] samples = {value!r} must be the path of a CSV file")
+            raise InputError(f"[drive] samples = {shown(value)} must be the path of a CSV file")
         path = Path(value)
         if not path.is_absolute():
             path = Path(base_dir if base_dir is not None else Path.cwd()) / path
@@ -386,7 +386,7 @@ class SampledDrive(DriveBase):
             raise InputError("drive samples: time and position must be finite numbers (found NaN or inf)")
         if np.any(np.diff(t) <= 0):
             k = int(np.argmax(np.diff(t) <= 0))
-            raise InputError(f"drive samples: time must increase strictly; it does not at sample {k + 1} (t = {t[k + 1]!r} s)")
+            raise InputError(f"drive samples: time must increase strictly; it does not at sample {k + 1} (t = {shown(t[k + 1])} s)")
         for name in ("velocity", "acceleration"):
             v = getattr(self, name)
             if v is not None and np.asarray(v, dtype=float).shape != t.shape:
@@ -448,7 +448,7 @@ class Still(DriveBase):
         self._prepare()
         self._check_direction()
         if not (self.duration_s > 0 and math.isfinite(self.duration_s)):
-            raise InputError(f"drive.duration = {self.duration_s!r} s; must be > 0")
+            raise InputError(f"drive.duration = {shown(self.duration_s)} s; must be > 0")
 
     def duration(self, cycles: float | None = None) -> float:
         """Length of the run [s] (``cycles`` is ignored)."""
@@ -477,11 +477,10 @@ def read_motion_csv(path) -> dict:
 
     Returns ``{"time": tuple, "position": tuple[, "velocity": tuple]}`` in SI.
     """
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"[drive] samples: file not found: {path}")
-    if path.is_dir():
-        raise InputError(f"[drive] samples: {path} is a directory; give a CSV file")
+    try:
+        path = checked_file(path, "motion file (CSV)", missing="file not found: {path}")
+    except InputError as exc:
+        raise InputError(f"[drive] samples: {exc}") from None
     try:
         text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -517,7 +516,7 @@ def read_motion_csv(path) -> dict:
         if role not in names:
             if role == "velocity":
                 continue
-            raise InputError(f"{path}: no {role!r} column; the header has {rows[0]!r} "
+            raise InputError(f"{path}: no {shown(role)} column; the header has {shown(rows[0])} "
                              "(need time, position[, velocity], units in brackets)")
         i = names.index(role)
         factor = unit_factor(units[i], dim, name=f"{path}: column {role!r}") if units[i] else 1.0
@@ -527,10 +526,9 @@ def read_motion_csv(path) -> dict:
                 v = float(row[i].strip().replace(",", ".") if delim != "," else row[i])
             except (ValueError, IndexError):
                 cell = row[i] if i < len(row) else ""
-                shown = repr(cell) if len(cell) <= 60 else f"{cell[:60]!r}... ({len(cell)} characters)"
-                raise InputError(f"{path}, line {no}, column {role!r}: cannot read {shown} as a number") from None
+                raise InputError(f"{path}, line {no}, column {shown(role)}: cannot read {shown(cell)} as a number") from None
             if not math.isfinite(v):
-                raise InputError(f"{path}, line {no}, column {role!r}: {v!r} is not a finite number")
+                raise InputError(f"{path}, line {no}, column {shown(role)}: {shown(v)} is not a finite number")
             col.append(v * factor)
         out[role] = tuple(col)
     return out

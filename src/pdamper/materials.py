@@ -8,7 +8,7 @@ from __future__ import annotations
 import difflib
 from dataclasses import dataclass
 
-from .errors import InputError
+from .errors import InputError, shown
 from .schema import check_keys, config_keys, convert_fields, param, read_fields
 
 __all__ = ["Material", "STEEL_S235", "PVC", "TUNGSTEN", "SILICONE", "TPU", "POLYURETHANE", "NBR", "effective_modulus",
@@ -44,14 +44,14 @@ class Material:
     def __post_init__(self):
         convert_fields(self, "material")
         if not (self.youngs_modulus > 0):
-            raise InputError(f"material {self.name!r}: youngs_modulus = {self.youngs_modulus!r} Pa; must be > 0 (steel: 208e9)")
+            raise InputError(f"material {shown(self.name)}: youngs_modulus = {shown(self.youngs_modulus)} Pa; must be > 0 (steel: 208e9)")
         if not (-1.0 < self.poisson_ratio < 0.5):
-            raise InputError(f"material {self.name!r}: poisson_ratio = {self.poisson_ratio!r}; must be in (-1, 0.5) (steel: 0.3)")
+            raise InputError(f"material {shown(self.name)}: poisson_ratio = {shown(self.poisson_ratio)}; must be in (-1, 0.5) (steel: 0.3)")
         r = self.restitution
         if r is not None and (isinstance(r, bool) or not isinstance(r, (int, float)) or not 0 < r <= 1):
-            raise InputError(f"material {self.name!r}: restitution = {r!r}; must be in (0, 1] (or omit it)")
+            raise InputError(f"material {shown(self.name)}: restitution = {shown(r)}; must be in (0, 1] (or omit it)")
         if not (self.density > 0):
-            raise InputError(f"material {self.name!r}: density = {self.density!r} kg/m^3; must be > 0 (steel: 7900)")
+            raise InputError(f"material {shown(self.name)}: density = {shown(self.density)} kg/m^3; must be > 0 (steel: 7900)")
 
     @property
     def reduced_modulus(self) -> float:
@@ -115,11 +115,11 @@ def read_material(value, section: str) -> Material:
             return LIBRARY[key]
         near = difflib.get_close_matches(key, list(LIBRARY), n=1, cutoff=0.5)
         hint = f"did you mean {near[0]!r}? " if near else ""
-        raise InputError(f"{name} = {value!r} is not a known material; {hint}known: "
+        raise InputError(f"{name} = {shown(value)} is not a known material; {hint}known: "
                          + ", ".join(map(repr, LIBRARY)) + " (or give an inline table {name = ..., "
                          "youngs_modulus = ..., poisson_ratio = ..., density = ...})")
     if not isinstance(value, dict):
-        raise InputError(f"{name} = {value!r}: give a material name such as 'steel' or an inline table "
+        raise InputError(f"{name} = {shown(value)}: give a material name such as 'steel' or an inline table "
                          "{youngs_modulus = '208GPa', poisson_ratio = 0.3, density = '7900kg/m^3'}")
     sub = f"{section}.material"
     keys = config_keys(Material)
@@ -130,5 +130,5 @@ def read_material(value, section: str) -> Material:
                              "poisson_ratio and density")
     mname = value.get("name", section.replace(" #", "-"))
     if not isinstance(mname, str) or not mname:
-        raise InputError(f"[{sub}] name = {mname!r} must be a non-empty string")
+        raise InputError(f"[{sub}] name = {shown(mname)} must be a non-empty string")
     return Material(**{**read_fields(value, sub, Material), "name": mname})

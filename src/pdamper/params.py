@@ -17,7 +17,7 @@ from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
 from .contact import DAMPING_CHOICES, TANGENTIAL_CHOICES, read_restitution
 from .contact.hertz_gonthier import V_IN_FLOOR
-from .errors import InputError
+from .errors import InputError, shown
 from .excitation import DriveBase, HarmonicDrive
 from .geometry import Baffle, Cuboid, Shape
 from .geometry.baffles import baffle_outlines, baffle_walls, floor_sections
@@ -32,6 +32,10 @@ __all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", 
 
 #: Largest gravity a case may have [m/s^2]: ten times Earth's.
 MAX_GRAVITY = 100.0
+#: Largest impact speed a case may expect [m/s]: beyond it the contact time, and the time step, vanish.
+MAX_IMPACT_SPEED = 1000.0
+#: Most spheres a set may hold: a whole number beyond it (10**400 in a config) is no bed, and no float.
+MAX_COUNT = 2**31 - 1
 
 #: The paper's default tilt: 0.1 deg about the container's x, y and z axes [rad].
 PAPER_TILT = (math.radians(0.1),) * 3
@@ -46,7 +50,7 @@ def _positive(obj, name, allowed="> 0"):
     v = getattr(obj, name)
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0) or not math.isfinite(v):
         section = _SECTION.get(type(obj).__name__, type(obj).__name__.lower())
-        raise InputError(f"{section}.{name} = {v!r}; must be {allowed}")
+        raise InputError(f"{section}.{name} = {shown(v)}; must be {allowed}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -66,8 +70,9 @@ class ParticleSet:
 
     def __post_init__(self):
         convert_fields(self, "particles")
-        if isinstance(self.count, bool) or not isinstance(self.count, int) or self.count < 1:
-            raise InputError(f"particles.count = {self.count!r}; must be a whole number >= 1")
+        if isinstance(self.count, bool) or not isinstance(self.count, int) or not 1 <= self.count <= MAX_COUNT:
+            raise InputError(f"particles.count = {shown(self.count)}; must be a whole number from 1 to {MAX_COUNT:,} "
+                             "(the spheres of one set)")
         _positive(self, "radius", "> 0 m (paper: 5 mm)")
 
     @property
@@ -106,34 +111,34 @@ class Container:
         convert_fields(self, "container")
         tilt = self.tilt
         if isinstance(tilt, str) or is_quantity(tilt) and tilt.ndim == 0:
-            raise InputError(f"container.tilt = {tilt!r}; give three angles about x, y, z, e.g. "
+            raise InputError(f"container.tilt = {shown(tilt)}; give three angles about x, y, z, e.g. "
                              "('0.1deg', '0.1deg', '0.1deg')")
         tilt = to_si(list(tilt), "angle", name="container.tilt")
         t = tuple(float(a) for a in tilt)
         if len(t) != 3 or any(not math.isfinite(a) or abs(a) >= math.pi / 4 for a in t):
-            raise InputError(f"container.tilt = {self.tilt!r}; give three angles about x, y, z, each below 45 deg")
+            raise InputError(f"container.tilt = {shown(self.tilt)}; give three angles about x, y, z, each below 45 deg")
         object.__setattr__(self, "tilt", t)
         if not (self.mass >= 0 and math.isfinite(self.mass)):
-            raise InputError(f"container.mass = {self.mass!r} kg; must be >= 0")
+            raise InputError(f"container.mass = {shown(self.mass)} kg; must be >= 0")
         if not isinstance(self.geometry, Shape):
-            raise InputError(f"container.geometry = {self.geometry!r}; give a container shape such as Cuboid(...)")
+            raise InputError(f"container.geometry = {shown(self.geometry)}; give a container shape such as Cuboid(...)")
         baffles = tuple(self.baffles)
         for k, b in enumerate(baffles, 1):
             if not isinstance(b, Baffle):
-                raise InputError(f"container.baffles #{k} = {b!r}; give a Baffle(position=...)")
+                raise InputError(f"container.baffles #{k} = {shown(b)}; give a Baffle(position=...)")
             b.check_fits(self.geometry, k)
             if b.material is not None and not isinstance(b.material, Material):
-                raise InputError(f"container.baffles #{k}: material = {b.material!r}; give a Material")
+                raise InputError(f"container.baffles #{k}: material = {shown(b.material)}; give a Material")
         object.__setattr__(self, "baffles", baffles)
         names = self.walls()[2]
         for name, m in self.wall_materials.items():
             if name not in names:
                 near = difflib.get_close_matches(str(name), names, n=1)
                 hint = f"did you mean {near[0]!r}? " if near else ""
-                raise InputError(f"container.wall_materials: no wall {name!r} in this container; {hint}its walls are "
+                raise InputError(f"container.wall_materials: no wall {shown(name)} in this container; {hint}its walls are "
                                  f"{', '.join(names)}")
             if not isinstance(m, Material):
-                raise InputError(f"container.wall_materials.{name} = {m!r}; give a Material")
+                raise InputError(f"container.wall_materials.{name} = {shown(m)}; give a Material")
 
     def walls(self):
         """(kinds, data, names) of all walls: the shape's, then the baffles' (see
@@ -218,13 +223,13 @@ class ContactModel:
         convert_fields(self, "contact")
         for mu in [self.friction, *self.pair_friction.values()]:
             if not (isinstance(mu, (int, float)) and mu >= 0 and math.isfinite(mu)):
-                raise InputError(f"contact.friction = {mu!r}; a friction coefficient must be >= 0 (paper: 0.1)")
+                raise InputError(f"contact.friction = {shown(mu)}; a friction coefficient must be >= 0 (paper: 0.1)")
         _positive(self, "tau", "> 0 s/m (default 1000)")
         _positive(self, "v_in_floor", "> 0 m/s (default 1e-3)")
         check_choice(self, "damping", "contact")
         check_choice(self, "tangential", "contact")
         if not isinstance(self.tangential_damping, bool):
-            raise InputError(f"contact.tangential_damping = {self.tangential_damping!r}; must be true or false "
+            raise InputError(f"contact.tangential_damping = {shown(self.tangential_damping)}; must be true or false "
                              "(default true)")
 
     def friction_for(self, a: str, b: str) -> float:
@@ -281,16 +286,19 @@ class Numerics:
         if self.time_step is not None:
             _positive(self, "time_step", "> 0 s (or omit it for the automatic step)")
         if not (isinstance(self.steps_per_contact, int) and self.steps_per_contact >= 4):
-            raise InputError(f"numerics.steps_per_contact = {self.steps_per_contact!r}; must be a whole number >= 4")
+            raise InputError(f"numerics.steps_per_contact = {shown(self.steps_per_contact)}; must be a whole number >= 4")
         if self.max_impact_speed is not None:
             _positive(self, "max_impact_speed", "> 0 m/s")
+            if self.max_impact_speed > MAX_IMPACT_SPEED:  # the contact time, and the step, would vanish
+                raise InputError(f"numerics.max_impact_speed = {shown(self.max_impact_speed)} m/s; must be at most "
+                                 f"{MAX_IMPACT_SPEED:g} m/s (spheres in a damper meet at a few m/s), or 'auto'")
         _positive(self, "max_time_step", "> 0 s")
         _positive(self, "gear_tolerance", "> 0 m")
         _positive(self, "gear_max_step", "> 0 s")
         if self.skin is not None:
             _positive(self, "skin", "> 0 m")
         if not (0 < self.overlap_limit < 0.5):
-            raise InputError(f"numerics.overlap_limit = {self.overlap_limit!r}; must be in (0, 0.5)")
+            raise InputError(f"numerics.overlap_limit = {shown(self.overlap_limit)}; must be in (0, 0.5)")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -311,10 +319,10 @@ class Recording:
         convert_fields(self, "recording")
         _positive(self, "sample_rate", "> 0 Hz (default 1000)")
         if not (self.trajectory_fps >= 0 and math.isfinite(self.trajectory_fps)):
-            raise InputError(f"recording.trajectory_fps = {self.trajectory_fps!r}; must be >= 0")
+            raise InputError(f"recording.trajectory_fps = {shown(self.trajectory_fps)}; must be >= 0")
         if self.trajectory_fps > self.sample_rate:
-            raise InputError(f"recording.trajectory_fps = {self.trajectory_fps!r} exceeds sample_rate = "
-                             f"{self.sample_rate!r}; use at most the sample rate")
+            raise InputError(f"recording.trajectory_fps = {shown(self.trajectory_fps)} exceeds sample_rate = "
+                             f"{shown(self.sample_rate)}; use at most the sample rate")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -350,11 +358,11 @@ class InitialState:
         convert_fields(self, "initial")
         check_choice(self, "arrangement", "initial")
         if not (self.jitter >= 0 and math.isfinite(self.jitter)):
-            raise InputError(f"initial.jitter = {self.jitter!r} m; must be >= 0")
+            raise InputError(f"initial.jitter = {shown(self.jitter)} m; must be >= 0")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise InputError(f"initial.seed = {self.seed!r}; must be a whole number >= 0")
+            raise InputError(f"initial.seed = {shown(self.seed)}; must be a whole number >= 0")
         if not (self.settle_time >= 0 and math.isfinite(self.settle_time)):
-            raise InputError(f"initial.settle_time = {self.settle_time!r} s; must be >= 0")
+            raise InputError(f"initial.settle_time = {shown(self.settle_time)} s; must be >= 0")
         check_choice(self, "layers", "initial")
 
 
@@ -390,18 +398,18 @@ class Case:
             raise InputError("case.particles: give one or more ParticleSet entries")
         object.__setattr__(self, "particles", ps)
         if not (self.cycles > 0 and math.isfinite(self.cycles)):
-            raise InputError(f"run.cycles = {self.cycles!r}; must be > 0 (paper: 20)")
+            raise InputError(f"run.cycles = {shown(self.cycles)}; must be > 0 (paper: 20)")
         if not (isinstance(self.drop_cycles, int) and 0 <= self.drop_cycles):
-            raise InputError(f"run.drop_cycles = {self.drop_cycles!r}; must be a whole number >= 0 (paper: 2)")
+            raise InputError(f"run.drop_cycles = {shown(self.drop_cycles)}; must be a whole number >= 0 (paper: 2)")
         if self.drive.periodic and self.drop_cycles >= self.cycles:
-            raise InputError(f"run.cycles = {self.cycles!r} leaves nothing after dropping {self.drop_cycles:g} cycles "
+            raise InputError(f"run.cycles = {shown(self.cycles)} leaves nothing after dropping {self.drop_cycles:g} cycles "
                              "(run.drop_cycles); "
                              "run more cycles or drop fewer")
         if self.rig is not None and (self.rig.coupled or not self.drive.coupled):
             raise InputError("case.rig: the damper's rig drive stands beside a structure only (a [drive] with a "
                              "[structure]); a case with a prescribed [drive] has no second drive")
         if not (0 <= self.gravity <= MAX_GRAVITY):
-            raise InputError(f"run.gravity = {self.gravity!r} m/s^2; must be in [0, {MAX_GRAVITY:g}] m/s^2: 0 for "
+            raise InputError(f"run.gravity = {shown(self.gravity)} m/s^2; must be in [0, {MAX_GRAVITY:g}] m/s^2: 0 for "
                              f"no gravity, 9.81 on Earth; above {MAX_GRAVITY:g} (ten g) no damper is tested and the "
                              "contacts would need a far shorter time step (a number without a unit is m/s^2)")
 
@@ -449,7 +457,7 @@ def read_tilt(value, section: str = "container") -> tuple:
     three (each a number in rad, a text with a unit or a pint quantity)."""
     if isinstance(value, (list, tuple)):
         if len(value) != 3:
-            raise InputError(f"[{section}] tilt = {value!r}: give three angles about x, y, z, "
+            raise InputError(f"[{section}] tilt = {shown(value)}: give three angles about x, y, z, "
                              "e.g. ['0.1deg', '0.1deg', '0.1deg'] (or one angle for all three)")
         return read_list(list(value), f"[{section}] tilt", "angle")
     if is_quantity(value) and getattr(value, "ndim", 0) > 0:
@@ -464,7 +472,7 @@ def read_baffles(value, section: str = "container") -> tuple:
     if isinstance(value, tuple) and all(isinstance(b, Baffle) for b in value):
         return value
     if not isinstance(value, (list, tuple)) or not all(isinstance(b, (dict, Baffle)) for b in value):
-        raise InputError(f"[{section}] baffles = {value!r}: give a list of tables, e.g. "
+        raise InputError(f"[{section}] baffles = {shown(value)}: give a list of tables, e.g. "
                          "baffles = [{position = '-20mm'}, {position = '20mm', gap_below = '12mm'}]")
     out = []
     for k, b in enumerate(value, 1):
@@ -493,7 +501,7 @@ def read_wall_materials(value, section: str = "container") -> dict:
     """``[container] wall_materials`` as a config gives them: a table of wall name = material (a
     library name or an inline table)."""
     if not isinstance(value, dict):
-        raise InputError(f"[{section}] wall_materials = {value!r}: give a table of wall = material, e.g. "
+        raise InputError(f"[{section}] wall_materials = {shown(value)}: give a table of wall = material, e.g. "
                          "wall_materials = {x_min = 'silicone', x_max = 'silicone'}")
     return {str(w): read_material(m, f"{section}.wall_materials.{w}") for w, m in value.items()}
 

@@ -35,7 +35,7 @@ import difflib
 from collections.abc import Callable
 from dataclasses import MISSING, dataclass
 
-from .errors import InputError
+from .errors import InputError, shown
 from .units import _example, _needs_conversion, is_quantity, parse_quantity, to_si
 
 __all__ = ["Spec", "param", "spec_of", "plain_fields", "config_keys", "check_choice", "convert_fields",
@@ -136,7 +136,7 @@ def check_choice(obj, name: str, section: str) -> None:
     near = difflib.get_close_matches(v, choices, n=1, cutoff=0.5) if isinstance(v, str) else []
     hint = f"did you mean {near[0]!r}? " if near else ""
     listed = ", ".join(repr(c) for c in choices[:-1]) + f" or {choices[-1]!r}" if len(choices) > 1 else repr(choices[0])
-    raise InputError(f"{section}.{name} = {v!r}; {hint}choose {listed}")
+    raise InputError(f"{section}.{name} = {shown(v)}; {hint}choose {listed}")
 
 
 def convert_fields(obj, section: str) -> None:
@@ -183,7 +183,7 @@ def check_keys(table, section: str, allowed) -> None:
     """Raise :class:`InputError` for the first key of ``table`` not in ``allowed``, suggesting the nearest."""
     for key in table:
         if key not in allowed:
-            raise InputError(f"unknown key {key!r} in [{section}]; {_quoted(key, allowed)}")
+            raise InputError(f"unknown key {shown(key)} in [{section}]; {_quoted(key, allowed)}")
 
 
 def _a(word: str) -> str:
@@ -201,7 +201,7 @@ def read_quantity(value, label: str, dimension: str) -> float:
     ``label`` (``"[drive] stroke"``) names it in messages."""
     if isinstance(value, (dict, list)):
         kind = "table" if isinstance(value, dict) else "list"
-        raise InputError(f"{label} = {value!r}: expected {_a(dimension)} such as {_example(dimension)}, not a {kind}")
+        raise InputError(f"{label} = {shown(value)}: expected {_a(dimension)} such as {_example(dimension)}, not a {kind}")
     try:
         return parse_quantity(value, dimension, name=label)
     except InputError as exc:
@@ -210,26 +210,37 @@ def read_quantity(value, label: str, dimension: str) -> float:
         raise InputError(f"{label} = {rest}" if rest.startswith(("'", '"')) else f"{label}: {rest}") from None
 
 
+def _finite_size(value: int, label: str) -> int:
+    """A whole number a float can hold (TOML's integers have no bound: ``10**400`` is one)."""
+    try:
+        float(value)
+    except OverflowError:
+        raise InputError(f"{label} = {shown(value)} is too large a number") from None
+    return value
+
+
 def read_number(value, label: str) -> float:
     """A pure number: a number as it is, or a text such as ``"0.5"``."""
-    if isinstance(value, (int, float)) and not isinstance(value, bool):
+    if isinstance(value, int) and not isinstance(value, bool):
+        return _finite_size(value, label)
+    if isinstance(value, float):
         return value
     if isinstance(value, bool) or isinstance(value, (dict, list)):
-        raise InputError(f"{label} = {value!r} must be a number")
+        raise InputError(f"{label} = {shown(value)} must be a number")
     return read_quantity(value, label, "dimensionless")
 
 
 def _entry(value, name, index, dimension) -> float:
     label = f"{name}[{index}]"
     if isinstance(value, (dict, list)):
-        raise InputError(f"{label} = {value!r}: expected a {dimension} such as {_example(dimension)}")
+        raise InputError(f"{label} = {shown(value)}: expected a {dimension} such as {_example(dimension)}")
     return read_quantity(value, label, dimension)
 
 
 def read_list(value, label: str, dimension: str) -> tuple:
     """A list of quantities of ``dimension`` as a tuple of SI floats."""
     if not isinstance(value, list):
-        raise InputError(f"{label} = {value!r} must be a list of {dimension}s, e.g. [1, 2, 3]")
+        raise InputError(f"{label} = {shown(value)} must be a list of {dimension}s, e.g. [1, 2, 3]")
     return tuple(_entry(v, label, k, dimension) for k, v in enumerate(value))
 
 
@@ -242,11 +253,11 @@ def _rows(rows, label, dimension, example) -> tuple:
 
 def _choice(v, label, choices):
     if not isinstance(v, str):
-        raise InputError(f"{label} = {v!r} must be a string: one of " + ", ".join(repr(c) for c in choices))
+        raise InputError(f"{label} = {shown(v)} must be a string: one of " + ", ".join(repr(c) for c in choices))
     if v not in choices:
         near = difflib.get_close_matches(v, choices, n=1, cutoff=0.5)
         hint = f"did you mean {near[0]!r}? " if near else ""
-        raise InputError(f"{label} = {v!r} is not allowed; {hint}choose one of " + ", ".join(repr(c) for c in choices))
+        raise InputError(f"{label} = {shown(v)} is not allowed; {hint}choose one of " + ", ".join(repr(c) for c in choices))
     return v
 
 
@@ -263,18 +274,18 @@ def read_value(v, s: Spec, section: str, key: str):
             return _choice(v, label, s.choices)
         if s.kind == "text":
             if not isinstance(v, str):
-                raise InputError(f"{label} = {v!r} must be a string")
+                raise InputError(f"{label} = {shown(v)} must be a string")
             return v
         if s.kind == "flag":
             if not isinstance(v, bool):
-                raise InputError(f"{label} = {v!r} must be true or false")
+                raise InputError(f"{label} = {shown(v)} must be true or false")
             return v
         if s.kind == "whole":
             if isinstance(v, float) and v.is_integer():
                 return int(v)
             if isinstance(v, bool) or not isinstance(v, int):
-                raise InputError(f"{label} = {v!r} must be a whole number")
-            return v
+                raise InputError(f"{label} = {shown(v)} must be a whole number")
+            return _finite_size(v, label)
         if s.kind == "list":
             return read_list(v, label, s.dimension or "dimensionless")
         if s.kind == "rows":
@@ -398,15 +409,15 @@ def _change(obj, items: dict, section: str):
     own, inner = {}, {}
     for key, (dotted, value) in items.items():
         if key not in keys:
-            raise InputError(f"{dotted!r}: unknown key {key!r} in [{section}]; "
+            raise InputError(f"{shown(dotted)}: unknown key {shown(key)} in [{section}]; "
                              + _quoted(key, list(keys)) + _what(obj, section))
         where, f, s = keys[key]
         holder = obj if where is None else getattr(obj, where)
         if s.kind == "tag":
             if value == getattr(holder, f.name):
                 continue
-            raise InputError(f"{dotted!r}: {key} = {getattr(holder, f.name)!r} cannot be changed key by key; "
-                             f"give the whole new object as {section!r}")
+            raise InputError(f"{shown(dotted)}: {key} = {shown(getattr(holder, f.name))} cannot be changed key by key; "
+                             f"give the whole new object as {shown(section)}")
         new = read_value(_plain(value, s), s, section, key)
         (own if where is None else inner.setdefault(where, {}))[f.name] = new
     for where, kw in inner.items():
@@ -441,14 +452,14 @@ def replace(obj, changes: dict):
     for dotted, value in changes.items():
         section, sep, key = str(dotted).partition(".")
         if not section or (sep and (not key or "." in key)):
-            raise InputError(f"{dotted!r}: write a key as 'section.key', e.g. 'drive.stroke'")
+            raise InputError(f"{shown(dotted)}: write a key as 'section.key', e.g. 'drive.stroke'")
         if section not in sections:
             if section in declared:
                 f = declared[section]
                 other = _section_of(f, getattr(obj, f.name))
-                raise InputError(f"{dotted!r}: this case's {f.name} is a [{other}], not a [{section}]; "
+                raise InputError(f"{shown(dotted)}: this case's {f.name} is a [{other}], not a [{section}]; "
                                  f"give [{other}] keys")
-            raise InputError(f"{dotted!r}: unknown section [{section}]; " + suggest(section, sections, "[{}]"))
+            raise InputError(f"{shown(dotted)}: unknown section [{section}]; " + suggest(section, sections, "[{}]"))
         groups.setdefault(section, {})[key] = (dotted, value)
     kw = {}
     for section, items in groups.items():
@@ -467,7 +478,7 @@ def _change_section(obj, fields: list, items: dict, section: str) -> dict:
     own = {spec_of(f).key or f.name: f for f in fields if not holds(f)}
     if "" in items:  # the whole object of the section
         if len(items) > 1 or holder is None:
-            raise InputError(f"{section!r}: give the whole [{section}] object alone, or its keys")
+            raise InputError(f"{shown(section)}: give the whole [{section}] object alone, or its keys")
         return {holder.name: items[""][1]}
     kw = {own[k].name: read_value(_plain(v, spec_of(own[k])), spec_of(own[k]), section, k)
           for k, (_, v) in items.items() if k in own}
@@ -476,12 +487,12 @@ def _change_section(obj, fields: list, items: dict, section: str) -> dict:
         return kw
     if holder is None:
         k, (dotted, _) = next(iter(rest.items()))
-        raise InputError(f"{dotted!r}: unknown key {k!r} in [{section}]; " + _quoted(k, list(own)))
+        raise InputError(f"{shown(dotted)}: unknown key {shown(k)} in [{section}]; " + _quoted(k, list(own)))
     value = getattr(obj, holder.name)
     if isinstance(value, tuple):
         if len(value) != 1:
             dotted = next(iter(rest.values()))[0]
-            raise InputError(f"{dotted!r}: the case has {len(value)} [[{section}]] sets; replace "
+            raise InputError(f"{shown(dotted)}: the case has {len(value)} [[{section}]] sets; replace "
                              f"the {holder.name} tuple itself (e.g. with dataclasses.replace on the one set)")
         kw[holder.name] = (_change(value[0], rest, section),)
     else:

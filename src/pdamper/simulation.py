@@ -26,7 +26,7 @@ import numpy as np
 from .engine import warmup
 from .engine.build import CELLS_THRESHOLD, auto_time_step, build
 from .engine.steppers import GEAR_MIN_STEP, stepper_for
-from .errors import InputError
+from .errors import InputError, shown
 from .kernels.bundles import ENERGY_COLUMNS, FRAME_COLUMNS, STRUCTURE_COLUMNS, Samples
 from .params import Case
 from .recorders.base import Recorded, RunInfo, State, check_recorders
@@ -367,13 +367,13 @@ def run_on_gpu(sims, *, progress=None, compile_only: bool = False, threads: int 
         from .kernels.gpu.verlet import MAX_THREADS
 
         if not (isinstance(threads, int) and 1 <= threads <= MAX_THREADS):
-            raise InputError(f"threads = {threads!r}: a block of the GPU engine has 1 to {MAX_THREADS} threads "
+            raise InputError(f"threads = {shown(threads)}: a block of the GPU engine has 1 to {MAX_THREADS} threads "
                              "(whole warps, multiples of 32, use the GPU best); leave it out for one thread a sphere")
     jobs = []
     for k, sim in enumerate(sims):
         job, why = sim._gpu_job()
         if why is not None:
-            raise InputError(f"case {k} ({sim.case!r}): {why}")
+            raise InputError(f"case {k} ({shown(sim.case)}): {why}")
         jobs.append(job)
     if not jobs:
         return []
@@ -404,7 +404,7 @@ def run_bare_structure(structure, duration: float, *, sample_rate: float = 1000.
     from .kernels.structure import run_structure_alone
 
     if not (duration > 0 and math.isfinite(duration)):
-        raise InputError(f"duration = {duration!r} s; must be > 0")
+        raise InputError(f"duration = {shown(duration)} s; must be > 0")
     ts = 1.0 / sample_rate
     fmax = structure.highest_frequency
     dt = time_step if time_step is not None else min(ts / 10, 1.0 / (2000.0 * fmax))

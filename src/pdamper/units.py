@@ -33,7 +33,7 @@ import math
 import numbers
 import re
 
-from .errors import InputError
+from .errors import InputError, shown
 
 __all__ = ["parse_quantity", "to_si", "quantities", "is_quantity", "unit_factor", "DIMENSIONS", "thousandth_hint"]
 
@@ -56,6 +56,8 @@ DIMENSIONS = {
 SIGNIFICANT_DIGITS = 15
 
 _MICRO = ("µ", "μ")  # micro sign U+00B5 and Greek mu U+03BC; both mean "u"
+#: Longest text read as a number with a unit (``"1.2345678901234567e-300 kg/m^3"`` is 31).
+_LONGEST = 100
 
 
 def _table() -> dict[str, tuple[str, float]]:
@@ -142,13 +144,17 @@ def parse_quantity(value, dimension: str, *, name: str = "value") -> float:
         raise ValueError(f"unknown dimension {dimension!r}; known: {sorted(DIMENSIONS)}")
     if isinstance(value, bool):
         raise InputError(f"{name}: expected {_a(dimension)} such as {_example(dimension)}, "
-                         f"got {value!r}")
+                         f"got {shown(value)}")
     if isinstance(value, numbers.Real):
-        out = float(value)
+        try:
+            out = float(value)
+        except OverflowError:  # a whole number beyond the largest float (10**309 and more)
+            raise InputError(f"{name}: {shown(value)} is too large a number; give {_a(dimension)} such as "
+                             f"{_example(dimension)}") from None
     elif is_quantity(value):
         out = _quantity_to_si(value, dimension, None, name)
         if not isinstance(out, float):
-            raise InputError(f"{name}: expected one value, got an array {_shown(value)!r}")
+            raise InputError(f"{name}: expected one value, got an array {shown(_shown(value))}")
     else:
         text = str(value).strip()
         if not text:
@@ -159,14 +165,17 @@ def parse_quantity(value, dimension: str, *, name: str = "value") -> float:
         except ValueError:
             out = _convert(text, dimension, name)
     if not math.isfinite(out):
-        raise InputError(f"{name}: {value!r} is not a finite number; give {_a(dimension)} "
+        raise InputError(f"{name}: {shown(value)} is not a finite number; give {_a(dimension)} "
                          f"such as {_example(dimension)}")
     return out
 
 
 def _convert(text: str, dimension: str, name: str) -> float:
     """A number with a unit -> SI float of ``dimension`` (rounded), or InputError."""
-    shown = text
+    written = text
+    if len(text) > _LONGEST:  # no quantity is written so long (and pint's parser takes a tenth of a second on it)
+        raise InputError(f"{name}: cannot read {shown(written)} as {_a(dimension)}; write a number with a unit "
+                         f"such as {_example(dimension)}")
     for mu in _MICRO:
         text = text.replace(mu, "u")
     m = _NUMBER_UNIT.match(text)
@@ -174,25 +183,29 @@ def _convert(text: str, dimension: str, name: str) -> float:
         known = COMMON_UNITS.get(m.group(2))
         if known is not None and known[0] == dimension:
             return _round(float(m.group(1)) * known[1])
-    return _round(_convert_pint(text, shown, dimension, name))
+    return _round(_convert_pint(text, written, dimension, name))
 
 
-def _convert_pint(text: str, shown: str, dimension: str, name: str) -> float:
+def _convert_pint(text: str, written: str, dimension: str, name: str) -> float:
     ureg = _registry()
     try:
         q = ureg.Quantity(text)
     except Exception:
         raise InputError(
-            f"{name}: cannot read {shown!r} as {_a(dimension)}; "
+            f"{name}: cannot read {shown(written)} as {_a(dimension)}; "
             f"write a number with a unit such as {_example(dimension)}") from None
-    if isinstance(q, numbers.Real) or not list(q.unit_items()):
-        # No unit at all ("1/2", "2*3"): a plain number, SI.
-        magnitude = q if isinstance(q, numbers.Real) else q.magnitude
-        return float(magnitude)
-    return float(_from_quantity(q, shown, dimension, name))
+    try:
+        if isinstance(q, numbers.Real) or not list(q.unit_items()):
+            # No unit at all ("1/2", "2*3"): a plain number, SI.
+            magnitude = q if isinstance(q, numbers.Real) else q.magnitude
+            return float(magnitude)
+        return float(_from_quantity(q, written, dimension, name))
+    except OverflowError:  # pint read a whole number beyond the largest float ("1111...1 mm", 400 digits)
+        raise InputError(f"{name}: {shown(written)} is too large a number; give {_a(dimension)} such as "
+                         f"{_example(dimension)}") from None
 
 
-def _from_quantity(q, shown: str, dimension: str, name: str):
+def _from_quantity(q, written: str, dimension: str, name: str):
     """A pint quantity (of any registry; scalar or array) -> its SI magnitude in ``dimension``."""
     unit = f"{q.units:~}" or str(q.units)
     root = str(q.to_root_units().units)
@@ -201,27 +214,27 @@ def _from_quantity(q, shown: str, dimension: str, name: str):
     if dimension == "angle":
         if is_angle or not list(q.unit_items()):
             return q.to("radian").magnitude
-        raise InputError(f"{name}: {shown!r} is not an angle (its unit is {unit}); use an angle "
+        raise InputError(f"{name}: {shown(written)} is not an angle (its unit is {unit}); use an angle "
                          f"unit such as {_example(dimension)} (a bare number is radians)")
     if dimension == "dimensionless":
         if q.dimensionless and not has_angle:
             return q.to("").magnitude
-        raise InputError(f"{name}: {shown!r} is not a pure number (its unit is {unit}); "
+        raise InputError(f"{name}: {shown(written)} is not a pure number (its unit is {unit}); "
                          f"give a number such as {_example(dimension)}")
     if q.dimensionless:
         raise InputError(
-            f"{name}: {shown!r} is not {_a(dimension)}: {unit or 'a bare quantity'} has no physical "
+            f"{name}: {shown(written)} is not {_a(dimension)}: {unit or 'a bare quantity'} has no physical "
             f"dimension; use a unit such as {_example(dimension)} (a bare number is taken in "
             f"{_si(dimension)})")
     if has_angle and dimension != "frequency":
         # "frequency" [1/s] also reads angular velocities (spins in rad/s, radian taken as 1).
-        raise InputError(f"{name}: {shown!r} is not {_a(dimension)} (its unit {unit} contains "
+        raise InputError(f"{name}: {shown(written)} is not {_a(dimension)} (its unit {unit} contains "
                          f"an angle); use a unit such as {_example(dimension)}")
     try:
         return q.to(DIMENSIONS[dimension]).magnitude
     except Exception:
         raise InputError(
-            f"{name}: {shown!r} is not {_a(dimension)} (its unit is {unit}); "
+            f"{name}: {shown(written)} is not {_a(dimension)} (its unit is {unit}); "
             f"use a unit such as {_example(dimension)}") from None
 
 
@@ -252,14 +265,14 @@ def _quantity_to_si(q, dimension: str | None, unit: str | None, name: str):
         try:
             out = q.to(unit).magnitude
         except Exception:
-            raise InputError(f"{name}: {_shown(q)!r} is not in {unit} or a unit convertible to it; "
+            raise InputError(f"{name}: {shown(_shown(q))} is not in {unit} or a unit convertible to it; "
                              f"give e.g. '1 {unit}' or a bare number in {unit}") from None
     else:
         out = _from_quantity(q, _shown(q), dimension, name)
     if isinstance(out, numbers.Real):
         out = _round(float(out))
         if not math.isfinite(out):
-            raise InputError(f"{name}: {_shown(q)!r} is not a finite number")
+            raise InputError(f"{name}: {shown(_shown(q))} is not a finite number")
         return out
     import numpy as np
 
@@ -273,9 +286,11 @@ def _text_to_unit(text: str, unit: str, name: str) -> float:
     except ValueError:
         pass
     try:
+        if len(text) > _LONGEST:
+            raise ValueError(text)
         q = _registry().Quantity(text.replace("µ", "u").replace("μ", "u"))
     except Exception:
-        raise InputError(f"{name}: cannot read {text!r}; give a number in {unit} or a number with a unit "
+        raise InputError(f"{name}: cannot read {shown(text)}; give a number in {unit} or a number with a unit "
                          f"such as '1 {unit}'") from None
     if isinstance(q, numbers.Real):
         return float(q)

@@ -74,7 +74,7 @@ def test_a_load_given_twice_is_refused(extra, words):
 @pytest.mark.parametrize("table, words", [
     ('kind = "sine"', r"\[load\] kind = 'sine' is not allowed"),
     ('file = "x.csv"', r"\[load\] kind is missing"),
-    ('kind = "force_history"\nfile = "nowhere.csv"', r"\[load\] file: file not found"),
+    ('kind = "force_history"\nfile = "nowhere.csv"', r"\[load\] file: force file not found"),
     ('kind = "force_history"\nfile = "h.csv"\ntime = [0, 1]', "either file"),
     ('kind = "force_history"\ntime = [0, 1]', "needs 'force'"),
     ('kind = "force_history"\ntime = [0, 1, 1]\nforce = [0, 1, 0]', r"\[load\] time: must increase strictly; it does not at sample 2 \(t = 1.0 s\)"),
@@ -159,6 +159,38 @@ def test_the_at2_reader_reads_both_header_layouts_and_names_what_is_wrong(tmp_pa
             read_at2(p)
     with pytest.raises(InputError, match="holds a ground acceleration, not a force"):
         read_signal(p, "force")
+
+
+def test_a_merged_field_at2_file_reads_to_the_values_of_its_spaced_twin(tmp_path):
+    """Issue 42: fixed-width .AT2 fields that touch (``.1000000E-01-.2000000E-01``, older PEER and COSMOS
+    files) are split by their width, which NPTS and the line length give; the same values as the file
+    with blanks between its fields, bit for bit, and both within the 7 written digits of the record."""
+    from fuzz_helpers import at2_text
+
+    a = np.random.default_rng(3).normal(0.0, 0.05, 1003)  # a ragged last line (1003 = 200 x 5 + 3)
+    spaced, merged = tmp_path / "spaced.AT2", tmp_path / "merged.AT2"
+    spaced.write_text(at2_text(a, dt=0.005, width=15))
+    merged.write_text(at2_text(a, dt=0.005, width=13))
+    rows = merged.read_text().splitlines()[4:]
+    touching = sum("E-01-." in r or "E-02-." in r for r in rows)
+    assert touching > 100 and all(len(r) == 65 for r in rows[:-1]) and len(rows[-1]) == 39  # they touch
+    s, m = read_at2(spaced), read_at2(merged)
+    assert np.array_equal(s.values, m.values) and np.array_equal(s.time, m.time) and m.values.size == 1003
+    assert np.max(np.abs(m.values / 9.80665 - a)) <= 5e-8 * 1.0  # 7 digits of |a| < 1
+    with_d = tmp_path / "fortran_d.AT2"  # a Fortran D exponent, fields touching
+    with_d.write_text(merged.read_text().replace("E-", "D-").replace("E+", "D+"))
+    assert np.array_equal(read_at2(with_d).values, m.values)
+
+
+@pytest.mark.parametrize("line, words", [
+    (" .1000000E-01-.2000000E-01 .1000000E-0x .0000000E+00", r"line 5, field 3 \(columns 27-39 of fixed width 13\)"),
+    (" .1000000E-01-.2000000E-01 .1000000E-01", r"NPTS = 4 but the file has 3|cannot read"),
+])
+def test_a_merged_field_at2_line_that_is_wrong_is_named(tmp_path, line, words):
+    p = tmp_path / "bad.AT2"
+    p.write_text("PEER\nevent\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT=   .0050 SEC\n" + line + "\n")
+    with pytest.raises(InputError, match=words):
+        read_at2(p)
 
 
 def test_the_example_accelerogram_reads_the_same_from_csv_and_at2():

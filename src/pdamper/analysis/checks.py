@@ -9,7 +9,7 @@ import numbers
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 
 
@@ -82,15 +82,15 @@ def _uniform_grid(t: np.ndarray, tol: float) -> tuple[float, float]:
 
 def _check_tolerance(tol) -> None:
     if isinstance(tol, bool) or not isinstance(tol, numbers.Real) or not tol >= 0.0:
-        raise InputError(f"time_tolerance must be a number of sample intervals >= 0; got {tol!r}")
+        raise InputError(f"time_tolerance must be a number of sample intervals >= 0; got {shown(tol)}")
 
 
 def _check_frequency(frequency) -> float:
     if isinstance(frequency, bool) or not isinstance(frequency, numbers.Real):
-        raise InputError(f"frequency must be a number in Hz; got {frequency!r}")
+        raise InputError(f"frequency must be a number in Hz; got {shown(frequency)}")
     f = float(frequency)
     if not math.isfinite(f) or f <= 0.0:
-        raise InputError(f"frequency must be a positive number of Hz; got {frequency!r}")
+        raise InputError(f"frequency must be a positive number of Hz; got {shown(frequency)}")
     return f
 
 
@@ -100,7 +100,7 @@ def _check_drop(drop_cycles) -> int:
             drop_cycles = int(drop_cycles)
         else:
             raise InputError(f"drop_cycles must be a whole number of cycles (0, 1, 2, ...); "
-                             f"got {drop_cycles!r}")
+                             f"got {shown(drop_cycles)}")
     if drop_cycles < 0:
         raise InputError(f"drop_cycles must be 0 or more; got {drop_cycles}")
     return int(drop_cycles)
@@ -110,8 +110,8 @@ def _check_bed_mass(bed_mass) -> float | None:
     if bed_mass is None:
         return None
     if isinstance(bed_mass, bool) or not isinstance(bed_mass, numbers.Real):
-        raise InputError(f"bed mass must be a number in kg; got {bed_mass!r}")
+        raise InputError(f"bed mass must be a number in kg; got {shown(bed_mass)}")
     m = float(bed_mass)
     if not math.isfinite(m) or m <= 0.0:
-        raise InputError(f"bed mass must be positive (the mass of all particles, in kg); got {bed_mass!r}")
+        raise InputError(f"bed mass must be positive (the mass of all particles, in kg); got {shown(bed_mass)}")
     return m

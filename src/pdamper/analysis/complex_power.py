@@ -93,7 +93,7 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from .checks import (_as_1d, _check_bed_mass, _check_drop, _check_finite, _check_frequency, _check_lengths,
                      _check_tolerance, _uniform_grid)
 from .frequency import TIME_TOLERANCE, detect_frequency
@@ -257,7 +257,7 @@ def _with_container(result: PowerResult, container_mass) -> PowerResult:
     if isinstance(container_mass, bool) or not isinstance(container_mass, numbers.Real) \
             or not (math.isfinite(container_mass) and container_mass >= 0.0):
         raise InputError(f"container mass must be a number >= 0 in kg (the empty container's own mass); "
-                         f"got {container_mass!r}")
+                         f"got {shown(container_mass)}")
     if container_mass == 0.0:
         return result
     from dataclasses import replace

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["extrema", "decay_damping", "harmonic_amplitude", "harmonic_phasor", "amplitude_jumps", "JUMP"]
 
@@ -120,9 +120,9 @@ def harmonic_amplitude(time, x, frequency: float, *, cycles: int):
     t = np.asarray(time, dtype=float)
     y = np.asarray(x, dtype=float)
     if not (frequency > 0):
-        raise InputError(f"harmonic_amplitude: frequency = {frequency!r} Hz; must be > 0")
+        raise InputError(f"harmonic_amplitude: frequency = {shown(frequency)} Hz; must be > 0")
     if isinstance(cycles, bool) or int(cycles) != cycles or cycles < 1:
-        raise InputError(f"harmonic_amplitude: cycles = {cycles!r}; must be a whole number >= 1")
+        raise InputError(f"harmonic_amplitude: cycles = {shown(cycles)}; must be a whole number >= 1")
     dt = t[1] - t[0]
     n = int(round(cycles / frequency / dt))
     if n > t.size or n < 4:

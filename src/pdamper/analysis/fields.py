@@ -46,7 +46,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from .modes import COLLIDE_MODES, majority_mode
 
 __all__ = ["DamperFields", "FieldValues", "FIELDS", "FORMAT", "BRANCHES", "mode_family"]
@@ -439,10 +439,10 @@ class DamperFields:
         instead of raising :class:`~pdamper.errors.InputError`.
         """
         if branch not in BRANCHES:
-            raise InputError(f"branch = {branch!r}; choose one of {', '.join(map(repr, BRANCHES))}")
+            raise InputError(f"branch = {shown(branch)}; choose one of {', '.join(map(repr, BRANCHES))}")
         X = float(amplitude)
         if not (math.isfinite(X) and X > 0):
-            raise InputError(f"amplitude = {amplitude!r} m; give a finite amplitude > 0")
+            raise InputError(f"amplitude = {shown(amplitude)} m; give a finite amplitude > 0")
         cols = self._columns
         if frequency is None:
             if len(cols) > 1:
@@ -450,7 +450,7 @@ class DamperFields:
             frequency = cols[0].frequency
         f = float(frequency)
         if not (math.isfinite(f) and f > 0):
-            raise InputError(f"frequency = {frequency!r} Hz; give a finite frequency > 0")
+            raise InputError(f"frequency = {shown(frequency)} Hz; give a finite frequency > 0")
         fs = np.array([c.frequency for c in cols])
         if len(cols) == 1 and abs(f - fs[0]) <= _SAME_F * fs[0]:
             f = float(fs[0])

@@ -53,7 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["receptances", "Solution", "FrequencyResponse", "solve_frequency", "solve_response",
            "decay_envelope", "RESIDUAL_TOLERANCE"]
@@ -142,7 +142,7 @@ def solve_frequency(modal, fields, frequency: float, force_amplitude: float, *, 
     f = float(frequency)
     F0 = float(force_amplitude)
     if not (F0 > 0 and math.isfinite(F0)):
-        raise InputError(f"force amplitude = {force_amplitude!r} N; must be > 0")
+        raise InputError(f"force amplitude = {shown(force_amplitude)} N; must be > 0")
     Hdd, Hdf, Hrd, Hrf = receptances(modal, f)
     if Hdf == 0:
         return [Solution(damper_amplitude_m=0.0, response_amplitude_m=abs(Hrf) * F0, damper_phasor=0j,

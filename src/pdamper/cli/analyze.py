@@ -8,7 +8,7 @@ import click
 
 from .._version import __version__
 from ..analysis import DEFAULT_DROP_CYCLES, analyze_record
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..io.records import read_record
 from .common import Quantity, column_options, echo_json, main, user_errors
 
@@ -51,7 +51,7 @@ def analyze_command(record, bed_mass, container_mass, frequency, drop_cycles, co
         from ..plotting.analysis import FORMATS
 
         if not str(plot).lower().endswith(FORMATS):
-            raise InputError(f"--plot {plot!r}: unknown format; use a file ending in "
+            raise InputError(f"--plot {shown(plot)}: unknown format; use a file ending in "
                              f"{', '.join(FORMATS)}")
 
     rec = read_record(record, columns=columns, motion=motion)

@@ -22,10 +22,10 @@ def _format_warning(message, category, filename, lineno, line=None):
 
 warnings.formatwarning = _format_warning
 from ..io.files import json_safe
-from ..errors import InputError, SimulationError
+from ..errors import InputError, SimulationError, shown
 from ..units import parse_quantity
 
-__all__ = ["main", "OneLineCommand", "Quantity", "ShapeChoice", "parse_sizes", "user_errors", "echo_json", "fail",
+__all__ = ["main", "OneLineCommand", "Quantity", "ShapeChoice", "parse_set", "parse_sizes", "user_errors", "echo_json", "fail",
            "renamed", "until_steady_option", "device_option"]
 
 # Raised when a group is called without arguments (click >= 8.2): it carries the help text,
@@ -131,6 +131,28 @@ class ShapeChoice(click.Choice):
         pass
 
 
+def parse_set(items) -> dict:
+    """``["drive.stroke=3mm", "particles.count=8"]`` -> ``{"drive.stroke": "3mm", "particles.count": 8}``.
+
+    The value is read as a TOML value when it is one (``8``, ``0.5``, ``true``, ``[1, 2]``,
+    ``"text"``), otherwise kept as text (``3mm``, ``verlet``; also a numeral of more digits than
+    Python reads, 4,300: it is then the text, which the key's reader refuses or reads as a name).
+    """
+    import tomllib
+
+    out = {}
+    for item in items:
+        key, sep, value = str(item).partition("=")
+        key, value = key.strip(), value.strip()
+        if not sep or not key:
+            raise InputError(f"--set {shown(item)}: write it as section.key=value, e.g. --set numerics.integrator=gear")
+        try:
+            out[key] = tomllib.loads(f"v = {value}")["v"]
+        except ValueError:  # not TOML (tomllib.TOMLDecodeError), or a numeral int() refuses (> 4300 digits)
+            out[key] = value
+    return out
+
+
 def parse_sizes(items) -> dict:
     """``--size KEY=VALUE`` items (``side=35mm``): [container] keys of a shape beyond the named
     options, their values as given (the shape reads them with units)."""
@@ -140,7 +162,7 @@ def parse_sizes(items) -> dict:
     for item in items or ():
         key, eq, value = str(item).partition("=")
         if not eq or not key.strip() or not value.strip():
-            raise InputError(f"--size {item!r}: write KEY=VALUE, a [container] key of the shape, e.g. side=35mm")
+            raise InputError(f"--size {shown(item)}: write KEY=VALUE, a [container] key of the shape, e.g. side=35mm")
         out[key.strip()] = value.strip()
     return out
 

@@ -33,7 +33,7 @@ def fields_command(source, out, sel, plot, as_json):
 
     Example: pdamper fields cuboid_36_map --out fields_36.nc
     """
-    from ..errors import InputError
+    from ..errors import InputError, shown
     from ..plotting.figure import check_path
     from ..studies.fields import build_fields, write_fields
 
@@ -42,7 +42,7 @@ def fields_command(source, out, sel, plot, as_json):
     for item in sel:
         dim, _, value = item.partition("=")
         if not value:
-            raise InputError(f"--sel {item!r}: write DIM=VALUE, e.g. --sel friction=0.1")
+            raise InputError(f"--sel {shown(item)}: write DIM=VALUE, e.g. --sel friction=0.1")
         try:
             chosen[dim.strip()] = float(value)
         except ValueError:

@@ -77,7 +77,7 @@ def map_command(results, x, y, sel, out, title, quantity):
 
     Example: pdamper plot map cuboid_36_sweep --x drive.stroke --y drive.frequency --out map.png
     """
-    from ..errors import InputError
+    from ..errors import InputError, shown
     from ..plotting.map import _dim_of, map_figure
     from ..studies import open_results
 
@@ -90,7 +90,7 @@ def map_command(results, x, y, sel, out, title, quantity):
             v = value
         d = _dim_of(ds, dim.strip())
         if not value:
-            raise InputError(f"--sel {item!r}: write DIM=VALUE, e.g. --sel friction=0.1")
+            raise InputError(f"--sel {shown(item)}: write DIM=VALUE, e.g. --sel friction=0.1")
         ds = ds.sel({d: v}, method="nearest" if isinstance(v, float) else None)
     map_figure(ds, out, x=x, y=y, title=title, quantity=quantity)
     click.echo(f"pdamper plot map: {out}")

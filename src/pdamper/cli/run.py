@@ -4,36 +4,17 @@ from __future__ import annotations
 
 import math
 import sys
-import tomllib
 
 import click
 
 from ..errors import InputError
-from .common import Quantity, device_option, echo_json, fraction_bar, main, until_steady_option, user_errors
+from .common import (Quantity, device_option, echo_json, fraction_bar, main, parse_set, until_steady_option,
+                     user_errors)
 
 __all__ = ["run_command", "parse_set", "DEFAULT_FPS"]
 
 #: Trajectory frames per second of ``--trajectory`` without ``--fps``.
 DEFAULT_FPS = 100.0
-
-
-def parse_set(items) -> dict:
-    """``["drive.stroke=3mm", "particles.count=8"]`` -> ``{"drive.stroke": "3mm", "particles.count": 8}``.
-
-    The value is read as a TOML value when it is one (``8``, ``0.5``, ``true``, ``[1, 2]``,
-    ``"text"``), otherwise kept as text (``3mm``, ``verlet``).
-    """
-    out = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        key, value = key.strip(), value.strip()
-        if not sep or not key:
-            raise InputError(f"--set {item!r}: write it as section.key=value, e.g. --set numerics.integrator=gear")
-        try:
-            out[key] = tomllib.loads(f"v = {value}")["v"]
-        except tomllib.TOMLDecodeError:
-            out[key] = value
-    return out
 
 
 @main.command("run")

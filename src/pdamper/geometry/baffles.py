@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..schema import convert_fields, param
 from .walls import BOX_OUTSIDE, box_outside
 
@@ -56,12 +56,12 @@ class Baffle:
         for name in ("position", "thickness", "gap_below", "gap_above"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise InputError(f"container.baffles: {name} = {v!r}; give a finite length, e.g. '12mm'")
+                raise InputError(f"container.baffles: {name} = {shown(v)}; give a finite length, e.g. '12mm'")
         if self.thickness <= 0:
-            raise InputError(f"container.baffles: thickness = {self.thickness!r} m; must be > 0 (e.g. '2mm')")
+            raise InputError(f"container.baffles: thickness = {shown(self.thickness)} m; must be > 0 (e.g. '2mm')")
         for name in ("gap_below", "gap_above"):
             if getattr(self, name) < 0:
-                raise InputError(f"container.baffles: {name} = {getattr(self, name)!r} m; must be >= 0 (0: no gap)")
+                raise InputError(f"container.baffles: {name} = {shown(getattr(self, name))} m; must be >= 0 (0: no gap)")
 
     def check_fits(self, shape, k: int) -> None:
         """InputError when the plate does not stand inside ``shape`` (k: its number, from 1)."""

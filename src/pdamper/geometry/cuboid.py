@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..schema import convert_fields, param
 from .shape import GAP, ShapeBase, register_shape
 from .walls import PLANE, plane
@@ -45,7 +45,7 @@ class Cuboid(ShapeBase):
         for name in ("length", "width", "height"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and np.isfinite(v)):
-                raise InputError(f"container.{name} = {v!r} m; must be a positive length (paper: 120 x 40.4 x 40 mm)")
+                raise InputError(f"container.{name} = {shown(v)} m; must be a positive length (paper: 120 x 40.4 x 40 mm)")
 
     @property
     def drive_length(self) -> float:

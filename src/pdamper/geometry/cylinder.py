@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..schema import convert_fields, param
 from .shape import ShapeBase, polygon_circle, register_shape
 from .walls import CYLINDER_INSIDE, PLANE, cylinder_inside, plane
@@ -42,7 +42,7 @@ class Cylinder(ShapeBase):
         for name in ("radius", "height"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and np.isfinite(v)):
-                raise InputError(f"container.{name} = {v!r} m; must be a positive length (paper: R = 39 mm, H = 11 mm)")
+                raise InputError(f"container.{name} = {shown(v)} m; must be a positive length (paper: R = 39 mm, H = 11 mm)")
 
     @property
     def drive_length(self) -> float:

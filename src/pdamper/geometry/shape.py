@@ -120,11 +120,11 @@ def shape_from_keys(shape: str, keys: dict, *, option=lambda key: f"--{key.repla
     for a command that sizes a container from options: each key must be the shape's, and (with
     ``require``) its :func:`sizing_keys` (which set the clearance's L) must be given.
     ``option(key)`` names the command's option of a key in messages."""
-    from ..errors import InputError
+    from ..errors import InputError, shown
     from ..schema import config_keys
 
     if shape not in SHAPES:
-        raise InputError(f"shape = {shape!r} is unknown; use one of {', '.join(SHAPES)}")
+        raise InputError(f"shape = {shown(shape)} is unknown; use one of {', '.join(SHAPES)}")
     cls = SHAPES[shape]
     given = {k: v for k, v in keys.items() if v is not None}
     own = config_keys(cls)

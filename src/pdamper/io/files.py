@@ -1,16 +1,18 @@
-"""Small file helpers shared by every writer: atomic writes and JSON-safe values."""
+"""Small file helpers shared by every writer (atomic writes, JSON-safe values) and the one netCDF reader."""
 
 from __future__ import annotations
 
 import errno
+import gc
 import math
 import os
+import sys
 import uuid
 from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["atomic_write", "json_safe", "netcdf_bytes", "remove_stale_temporaries", "write_dataset"]
+__all__ = ["atomic_write", "json_safe", "netcdf_bytes", "read_dataset", "remove_stale_temporaries", "write_dataset"]
 
 
 #: What a failed write means to the user, by errno: (the cause, what to do); the rest: the system's words.
@@ -78,6 +80,48 @@ def write_dataset(path, ds) -> Path:
     """Write an xarray Dataset to ``path`` as netCDF atomically (:func:`netcdf_bytes`,
     :func:`atomic_write`); safe beside a ``dask.distributed.Client``."""
     return atomic_write(path, netcdf_bytes(ds))
+
+
+#: The first bytes of an HDF5 file (netCDF-4), at offset 0, 512, 1024, 2048 ... (the HDF5 file format).
+_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def read_dataset(path, what: str = "netCDF file"):
+    """The xarray Dataset of a netCDF-4 file pdamper wrote (``results.nc``, a fields file, a case's
+    signals), loaded into memory; a file that is not one, or is damaged, is an
+    :class:`~pdamper.errors.InputError` naming it (a file without the HDF5 signature is refused
+    before it is opened). h5netcdf, given a damaged file, fails half-way and its destructor then
+    prints "Exception ignored in ... File.close": that is kept quiet while the file is let go."""
+    import xarray as xr
+
+    from ..errors import checked_file, shown, shown_path
+
+    p = checked_file(path, what)
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(8)
+            if head != _HDF5_SIGNATURE:  # the signature may also sit at 512, 1024 ... after a user block
+                fh.seek(512)
+                if fh.read(8) != _HDF5_SIGNATURE:
+                    raise InputError(f"{shown_path(p)}: not a netCDF-4 (HDF5) file ({what}); give a file pdamper "
+                                     "wrote (results.nc, a fields file)")
+    except OSError as exc:
+        raise InputError(f"cannot read {shown_path(p)} ({what}): {exc.strerror or exc}") from None
+    old_hook = sys.unraisablehook
+    sys.unraisablehook = _quiet  # h5netcdf's destructor of a file it failed to open (a damaged one) speaks
+    try:
+        try:
+            return xr.load_dataset(p, engine="h5netcdf")
+        except Exception as exc:  # h5py/h5netcdf raise OSError, ValueError, KeyError ... for a damaged file
+            why = shown(" ".join(str(exc).split()) or type(exc).__name__, 200)
+        gc.collect(0)  # the half-opened file (young, in a reference cycle) goes now, while its destructor is quiet
+    finally:
+        sys.unraisablehook = old_hook
+    raise InputError(f"{shown_path(p)}: a damaged netCDF file ({what}): {why}")
+
+
+def _quiet(unraisable) -> None:
+    """An unraisable-exception hook that says nothing."""
 
 
 def remove_stale_temporaries(directory) -> list[Path]:

@@ -32,7 +32,9 @@ with its velocity (each sample the interval mean, what the run analysed).
 **One signal in time** (:func:`read_signal`: a structure's load, :mod:`pdamper.structure.loads`):
 the columns ``time`` and one other (``force``, ``acceleration``), from the same text and binary
 files, or a PEER NGA strong-motion file (``.AT2``: a four-line header naming the units (``G``) and
-``NPTS``, ``DT``, then the accelerations, several a line), returned as a :class:`Signal` in SI.
+``NPTS``, ``DT``, then the accelerations, several a line, separated by blanks or in fixed-width
+fields that touch), returned as a :class:`Signal` in SI. COSMOS V2 / ``.V2A`` files are not read
+(docs/structure.md says why and how to convert one).
 """
 
 from __future__ import annotations
@@ -45,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown, shown_path, unreadable_file
 from ..units import unit_factor
 
 __all__ = ["Record", "read_record", "ROLES", "MOTIONS", "Signal", "read_signal", "read_at2", "SIGNAL_ROLES"]
@@ -146,12 +148,12 @@ def read_record(path, *, columns: dict | None = None, motion: str | None = None,
     columns = dict(columns or {})
     for role in columns:
         if role not in ROLES:
-            raise InputError(f"unknown column role {role!r}; use one of {', '.join(ROLES)}")
+            raise InputError(f"unknown column role {shown(role)}; use one of {', '.join(ROLES)}")
     if motion is not None and motion not in MOTIONS:
-        raise InputError(f"motion must be one of {', '.join(MOTIONS)}; got {motion!r}")
+        raise InputError(f"motion must be one of {', '.join(MOTIONS)}; got {shown(motion)}")
     mapped_motions = [m for m in MOTIONS if m in columns]
     if motion is not None and mapped_motions and mapped_motions != [motion]:
-        raise InputError(f"motion={motion!r} but the column map names "
+        raise InputError(f"motion={shown(motion)} but the column map names "
                          f"{', '.join(mapped_motions)}; choose one motion column")
     if motion is None and len(mapped_motions) > 1:
         raise InputError(f"the column map names several motion columns "
@@ -160,13 +162,11 @@ def read_record(path, *, columns: dict | None = None, motion: str | None = None,
         import sys
 
         return _read_text(_lines_of(sys.stdin.read()), "<stdin>", columns, motion, delimiter, decimal, None)
-    path = Path(path)
-    if path.is_dir() and (path / "signals.csv").exists():
-        path = path / "signals.csv"
-    if not path.exists():
-        raise InputError(f"record file not found: {path}")
+    path = checked_file(path, "record file", directory_ok=True)
     if path.is_dir():
-        raise InputError(f"{path} is a directory without a run's signals.csv; give the record file")
+        if not (path / "signals.csv").exists():
+            raise InputError(f"{shown_path(path)} is a directory without a run's signals.csv; give the record file")
+        path = path / "signals.csv"
     suffix = path.suffix.lower()
     if suffix in (".h5", ".hdf5", ".hdf"):
         return _read_channels(path, _hdf5_channels(path), columns, motion)
@@ -174,7 +174,7 @@ def read_record(path, *, columns: dict | None = None, motion: str | None = None,
         return _read_channels(path, _mat_channels(path), columns, motion)
     if suffix == ".tdms":
         return _read_channels(path, _tdms_channels(path), columns, motion)
-    return _read_text(_read_lines(path, head=600), str(path), columns, motion, delimiter, decimal, path)
+    return _read_text(_read_lines(path, head=600), shown_path(path), columns, motion, delimiter, decimal, path)
 
 
 #: The header of a pdamper run's signals.csv: read with its velocity (the analysed signal).
@@ -191,13 +191,13 @@ def _choose(source, header, names, columns, motion) -> dict:
         hits = [i for i, (h, n) in enumerate(zip(header, names))
                 if n.casefold() == key or h.casefold() == key]
         if len(hits) > 1:
-            raise InputError(f"{source}: {len(hits)} columns match {role} ({target!r}): "
+            raise InputError(f"{source}: {len(hits)} columns match {role} ({shown(target)}): "
                              f"{', '.join(_short(header[i]) for i in hits)}; rename one or "
                              f"map {role} to the full header text")
         if not hits:
             if required:
                 hint = (f"map it with --{role}-column NAME (columns={{'{role}': NAME}})")
-                raise InputError(f"{source}: no {role} column ({target!r}); the header has "
+                raise InputError(f"{source}: no {role} column ({shown(target)}); the header has "
                                  f"{', '.join(_short(h) for h in header)}; rename the column or {hint}")
             return None
         return hits[0]
@@ -216,12 +216,12 @@ def _choose(source, header, names, columns, motion) -> dict:
             f"(the header has {', '.join(_short(h) for h in header)}); rename it or map it "
             "with --position-column/--velocity-column/--acceleration-column NAME")
     if len(present) > 1:
-        listing = " and ".join(repr(header[i]) for i in present.values())
+        listing = " and ".join(_short(header[i]) for i in present.values())
         first = next(iter(present))
         raise InputError(
             f"{source}: the record has {len(present)} motion columns, {listing}; choose the "
             f"one to use, e.g. --{first}-column {shlex.quote(names[present[first]])} "
-            f"(motion={first!r})")
+            f"(motion={shown(first)})")
     used.update(present)
     return used
 
@@ -239,9 +239,12 @@ def _fields(line: str, delimiter: str) -> list[str]:
 
 def _short(text: str, limit: int = 60) -> str:
     """``repr(text)``, cut to ``limit`` characters with its length said (a message never quotes a 100 kB cell)."""
-    if len(text) <= limit:
-        return repr(text)
-    return f"{text[:limit]!r}... ({len(text)} characters)"
+    return shown(text, limit)
+
+
+def _written(text: str) -> str:
+    """A number's text as the file writes it (``-.0050``), quoted and cut only when it is long."""
+    return text if len(text) <= 30 else _short(text)
 
 
 def _is_number(cell: str, decimal: str = ".") -> bool:
@@ -371,24 +374,24 @@ def _parse_columns(source, lines, last_header, header, used, delimiter, decimal,
 def _read_channels(path: Path, channels: dict, columns, motion) -> Record:
     """A record from named 1-D channels ``{name: (array, unit)}`` of a binary file."""
     if not channels:
-        raise InputError(f"{path}: no 1-D numeric channels found; is this a record file?")
+        raise InputError(f"{shown_path(path)}: no 1-D numeric channels found; is this a record file?")
     header = list(channels)
     names = [h.rsplit("/", 1)[-1] for h in header]
-    used = _choose(str(path), header, names, columns, motion)
+    used = _choose(shown_path(path), header, names, columns, motion)
     values = {}
     n = None
     for role, i in used.items():
         arr, unit = channels[header[i]]
         arr = np.asarray(arr, dtype=float).ravel()
         if n is not None and arr.size != n:
-            raise InputError(f"{path}: channel {header[i]!r} has {arr.size} samples, the time {n}; give channels of "
+            raise InputError(f"{shown_path(path)}: channel {_short(header[i])} has {arr.size} samples, the time {n}; give channels of "
                              "one length")
         n = arr.size
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
-            raise InputError(f"{path}: channel {header[i]!r}, sample {int(bad[0])}: not a finite number "
+            raise InputError(f"{shown_path(path)}: channel {_short(header[i])}, sample {int(bad[0])}: not a finite number "
                              f"({bad.size} such samples); fill the gaps")
-        values[role] = arr * (_factor(str(path), header[i], unit, _DIMENSION[role]) if unit else 1.0)
+        values[role] = arr * (_factor(shown_path(path), header[i], unit, _DIMENSION[role]) if unit else 1.0)
     motion_role = next(r for r in used if r in MOTIONS)
     return Record(time=values["time"], force=values["force"], **{motion_role: values[motion_role]}, source=str(path),
                   headers={role: header[i] for role, i in used.items()})
@@ -407,7 +410,7 @@ def _hdf5_channels(path: Path) -> dict:
                     out[name] = (obj[()], unit)
             f.visititems(visit)
     except Exception as exc:  # h5py raises OSError, KeyError, RuntimeError ... for a damaged file
-        raise InputError(f"{path}: cannot read as HDF5 ({type(exc).__name__}: {exc})") from None
+        raise InputError(f"{shown_path(path)}: cannot read as HDF5 ({type(exc).__name__}: {exc})") from None
     return out
 
 
@@ -417,7 +420,7 @@ def _mat_channels(path: Path) -> dict:
     try:
         data = scipy.io.loadmat(path, squeeze_me=True)
     except Exception as exc:  # scipy raises MatReadError, TypeError, ValueError ... for a damaged file
-        raise InputError(f"{path}: cannot read as a MATLAB file ({exc}); save it with -v7 or read it as HDF5 "
+        raise InputError(f"{shown_path(path)}: cannot read as a MATLAB file ({exc}); save it with -v7 or read it as HDF5 "
                          "(a -v7.3 file is HDF5: rename it to .h5)") from None
     return {k: (v, "") for k, v in data.items() if not k.startswith("__") and isinstance(v, np.ndarray)
             and v.dtype.kind in "fiu" and v.ndim == 1 and v.size > 1}
@@ -429,7 +432,7 @@ def _tdms_channels(path: Path) -> dict:
     try:
         tdms = TdmsFile.read(path)
     except Exception as exc:  # npTDMS raises plain exceptions for a damaged file
-        raise InputError(f"{path}: cannot read as an NI TDMS file ({exc})") from None
+        raise InputError(f"{shown_path(path)}: cannot read as an NI TDMS file ({exc})") from None
     out = {}
     for group in tdms.groups():
         for ch in group.channels():
@@ -454,23 +457,23 @@ def _factor(path, header: str, unit: str, dim: str) -> float:
     except InputError:
         pass
     else:
-        raise InputError(f"{path}: column {header!r}: {unit!r} is not a unit of {dim}; "
+        raise InputError(f"{shown_path(path)}: column {_short(header)}: {_short(unit)} is not a unit of {dim}; "
                          f"use one such as {_UNIT_EXAMPLES[dim]}")
     try:
-        return unit_factor(unit, dim, name=f"column {header!r}")
+        return unit_factor(unit, dim, name=f"column {_short(header)}")
     except InputError:
-        raise InputError(f"{path}: column {header!r}: {unit!r} is not a known unit of {dim}; "
+        raise InputError(f"{shown_path(path)}: column {_short(header)}: {_short(unit)} is not a known unit of {dim}; "
                          f"use one such as {_UNIT_EXAMPLES[dim]}") from None
 
 
 def _read_lines(path: Path, head: int | None = None) -> list[tuple[int, str]]:
     """(line number, text) of the file's lines (only the first ``head`` with ``head``)."""
-    if not path.exists():
-        raise InputError(f"record file not found: {path}")
-    if path.is_dir():
-        raise InputError(f"{path} is a directory; give the record file")
-    with open(path, "rb") as f:
-        raw = b"".join(f.readline() for _ in range(head)) if head else f.read()
+    path = checked_file(path, "record file")
+    try:
+        with open(path, "rb") as f:
+            raw = b"".join(f.readline() for _ in range(head)) if head else f.read()
+    except OSError as exc:
+        raise unreadable_file(path, exc, "record file") from None
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
@@ -508,12 +511,12 @@ def _column(path, header: str, cells: list[str], line_nos, decimal: str) -> np.n
                 except ValueError:
                     pass
             what = "empty cell" if not cell else f"cannot read {_short(cell)} as a number"
-            raise InputError(f"{path}, line {line_nos[k]}, column {header!r}: {what}; "
+            raise InputError(f"{shown_path(path)}, line {line_nos[k]}, column {_short(header)}: {what}; "
                              "fix the cell or remove the row") from None
     bad = np.flatnonzero(~np.isfinite(col))
     if bad.size:
         k = int(bad[0])
-        raise InputError(f"{path}, line {line_nos[k]}, column {header!r}: {_short(cells[k])} is not "
+        raise InputError(f"{shown_path(path)}, line {line_nos[k]}, column {_short(header)}: {_short(cells[k])} is not "
                          f"a finite number ({bad.size} such cell{'s' if bad.size > 1 else ''}); "
                          "fill the gap or remove the row")
     return col
@@ -544,16 +547,12 @@ def read_signal(path, role: str, *, column: str | None = None) -> Signal:
     ``.AT2`` file (accelerations in g, :func:`read_at2`). Every problem raises
     :class:`~pdamper.errors.InputError` naming the file and the line or column."""
     if role not in SIGNAL_ROLES:
-        raise InputError(f"role {role!r}; read one of {', '.join(SIGNAL_ROLES)}")
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"file not found: {path}")
-    if path.is_dir():
-        raise InputError(f"{path} is a directory; give the {role} file")
+        raise InputError(f"role {shown(role)}; read one of {', '.join(SIGNAL_ROLES)}")
+    path = checked_file(path, f"{role} file")
     suffix = path.suffix.lower()
     if suffix == ".at2":
         if role != "acceleration":
-            raise InputError(f"{path}: a PEER .AT2 file holds a ground acceleration, not a {role}")
+            raise InputError(f"{shown_path(path)}: a PEER .AT2 file holds a ground acceleration, not a {role}")
         return read_at2(path)
     columns = {role: column} if column else {}
     if suffix in (".h5", ".hdf5", ".hdf", ".mat", ".tdms"):
@@ -564,7 +563,7 @@ def read_signal(path, role: str, *, column: str | None = None) -> Signal:
 
 
 def _signal_of_text(lines, path: Path, role: str, columns: dict) -> Signal:
-    source = str(path)
+    source = shown_path(path)
     content = [(no, line) for no, line in lines if line.strip() and not line.lstrip().startswith("#")]
     if not content:
         raise InputError(f"{source}: the file is empty; expected a header row (time, {role}) and data rows, e.g. "
@@ -589,10 +588,10 @@ def _find_column(source, header, names, role, target, signal) -> int:
     key = target.strip().casefold()
     hits = [i for i, (h, n) in enumerate(zip(header, names)) if n.casefold() == key or h.casefold() == key]
     if len(hits) > 1:
-        raise InputError(f"{source}: {len(hits)} columns match {role} ({target!r}): "
+        raise InputError(f"{source}: {len(hits)} columns match {role} ({shown(target)}): "
                          f"{', '.join(_short(header[i]) for i in hits)}; rename one")
     if not hits:
-        raise InputError(f"{source}: no {role} column ({target!r}); the header has "
+        raise InputError(f"{source}: no {role} column ({shown(target)}); the header has "
                          f"{', '.join(_short(h) for h in header)}; name the columns 'time [s]' and "
                          f"'{signal} [unit]'" + (" (or name the column with column = ...)" if role != "time" else ""))
     return hits[0]
@@ -600,20 +599,20 @@ def _find_column(source, header, names, role, target, signal) -> int:
 
 def _signal_of_channels(path: Path, channels: dict, role: str, columns: dict) -> Signal:
     if not channels:
-        raise InputError(f"{path}: no 1-D numeric channels found; is this a {role} file?")
+        raise InputError(f"{shown_path(path)}: no 1-D numeric channels found; is this a {role} file?")
     header = list(channels)
     names = [h.rsplit("/", 1)[-1] for h in header]
     out = {}
     for r in ("time", role):
-        i = _find_column(str(path), header, names, r, columns.get(r, r), role)
+        i = _find_column(shown_path(path), header, names, r, columns.get(r, r), role)
         arr, unit = channels[header[i]]
         arr = np.asarray(arr, dtype=float).ravel()
-        out[r] = arr * (_factor(str(path), header[i], unit, _DIMENSION[r]) if unit else 1.0)
+        out[r] = arr * (_factor(shown_path(path), header[i], unit, _DIMENSION[r]) if unit else 1.0)
         out[r + "_header"] = header[i]
     if out["time"].size != out[role].size:
-        raise InputError(f"{path}: channel {out[role + '_header']!r} has {out[role].size} samples, the time "
+        raise InputError(f"{shown_path(path)}: channel {_short(out[role + '_header'])} has {out[role].size} samples, the time "
                          f"{out['time'].size}; give channels of one length")
-    return _checked_signal(str(path), out["time"], out[role], role, out[role + "_header"])
+    return _checked_signal(shown_path(path), out["time"], out[role], role, out[role + "_header"])
 
 
 def _checked_signal(source: str, time, values, role: str, header: str) -> Signal:
@@ -632,7 +631,7 @@ def _checked_signal(source: str, time, values, role: str, header: str) -> Signal
     if np.any(steps <= 0):
         k = int(np.argmax(steps <= 0))
         raise InputError(f"{source}: the time must increase strictly; it does not at sample {k + 1} "
-                         f"(t = {time[k + 1]!r} s after {time[k]!r} s)")
+                         f"(t = {time[k + 1]:.10g} s after {time[k]:.10g} s)")
     return Signal(time=time, values=values, role=role, source=source, header=header)
 
 
@@ -644,13 +643,101 @@ _AT2_UNITS = {"G": 9.80665, "CM/S/S": 0.01, "CM/SEC/SEC": 0.01, "CM/S^2": 0.01, 
               "M/SEC/SEC": 1.0, "M/S^2": 1.0, "M/S2": 1.0}
 
 
+def _at2_cells(line: str, width: int | None) -> list[str]:
+    """The fields of a data line: split at blanks, or every ``width`` characters (fixed width)."""
+    if width is None:
+        return line.split()
+    text = line.rstrip()
+    return [text[k:k + width] for k in range(0, len(text), width)]
+
+
+def _at2_number(cell: str) -> float:
+    return float(cell.strip().replace("D", "E").replace("d", "e"))
+
+
+def _at2_width(lines, npts: int) -> int | None:
+    """The field width of fixed-width data lines whose fields touch (``  .1000000E-01-.2000000E-01``):
+    ``k = ceil(NPTS / lines)`` fields a full line, every full line ``k w`` characters long, the last
+    one its remaining fields; None where the lines do not have one width."""
+    n = len(lines)
+    k = -(-npts // n) if n else 0
+    if not n or not (n - 1) * k < npts <= n * k:
+        return None
+    full = lines if npts == n * k else lines[:-1]
+    lengths = {len(ln.rstrip()) for _, ln in full}
+    if len(lengths) != 1:
+        return None
+    length = lengths.pop()
+    if length % k or not length:
+        return None
+    width = length // k
+    last = npts - k * (n - 1)
+    return width if len(lines[-1][1].rstrip()) == last * width else None
+
+
+def _at2_values(source: str, lines, npts: int) -> np.ndarray:
+    """The accelerations of an .AT2 file's data ``lines``: fields separated by blanks, or, where
+    they touch (older PEER and COSMOS files write Fortran ``E`` fields without a blank between a
+    negative number and the one before it), split by the field width that the header's NPTS and the
+    lines' length give (:func:`_at2_width`). A cell that is not a number is named by its line."""
+    width = None
+    try:
+        values = [_at2_number(c) for _, ln in lines for c in ln.split()]
+        if len(values) != npts:
+            raise ValueError
+    except ValueError:
+        width = _at2_width(lines, npts)
+    if width is not None:
+        values = []
+        for no, ln in lines:
+            for j, cell in enumerate(_at2_cells(ln, width)):
+                try:
+                    values.append(_at2_number(cell))
+                except ValueError:
+                    raise InputError(f"{source}, line {no}, field {j + 1} (columns {j * width + 1}-{(j + 1) * width}"
+                                     f" of fixed width {width}): cannot read {_short(cell)} as an acceleration") from None
+    else:
+        values = []
+        for no, ln in lines:
+            for cell in ln.split():
+                try:
+                    values.append(_at2_number(cell))
+                except ValueError:
+                    raise InputError(f"{source}, line {no}: cannot read {_short(cell)} as an acceleration (nor "
+                                     "fields of one fixed width: the lines' lengths do not match NPTS)") from None
+    arr = np.asarray(values, dtype=float)
+    if arr.size != npts:
+        raise InputError(f"{source}: the header says NPTS = {npts} but the file has {arr.size} accelerations; "
+                         "fix NPTS or the data")
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(f"{source}: acceleration {k + 1} ({_at2_line(lines, k, width)}) is not a finite number "
+                         f"({bad.size} such); fill the gaps")
+    return arr
+
+
+def _at2_line(lines, k: int, width: int | None) -> str:
+    """``line N`` of the ``k``-th value (0-based) of an .AT2 file's data lines."""
+    seen = 0
+    for no, ln in lines:
+        n = len(_at2_cells(ln, width))
+        if k < seen + n:
+            return f"line {no}"
+        seen += n
+    return "past the last line"
+
+
 def read_at2(path) -> Signal:
     """A ground acceleration [m/s^2] from a PEER NGA strong-motion file (``.AT2``): line 1 the
     database, line 2 the event and station, line 3 ``ACCELERATION TIME SERIES IN UNITS OF G``,
     line 4 ``NPTS= 4000, DT= .0100 SEC`` (or the older ``4000 .0100 NPTS, DT``), then the NPTS
-    accelerations, several a line; the samples at ``k DT``, k = 0 .. NPTS - 1."""
+    accelerations, several a line; the samples at ``k DT``, k = 0 .. NPTS - 1. Fields written in a
+    fixed width that touch (``  .1000000E-01-.2000000E-01``, as older PEER and COSMOS files have)
+    are split by that width, which the header's NPTS and the lines' length give; a Fortran ``D``
+    exponent reads as ``E``."""
     path = Path(path)
-    source = str(path)
+    source = shown_path(path)
     lines = _read_lines(path)
     if len(lines) < 5:
         raise InputError(f"{source}: {len(lines)} lines; a PEER .AT2 file has 4 header lines (database, event, "
@@ -670,25 +757,14 @@ def read_at2(path) -> Signal:
     try:
         npts = int(float(n_text))
         dt = float(dt_text)
-    except ValueError:
+    except (ValueError, OverflowError):  # OverflowError: NPTS = 1e999, an infinite float made whole
         raise InputError(f"{source}, line 4: cannot read NPTS = {_short(n_text)} and DT = {_short(dt_text)} as "
-                         "numbers") from None
+                         "numbers (NPTS a whole number of samples, DT a time step in seconds)") from None
     if not (2 <= npts <= 10_000_000 and float(n_text) == npts):
-        raise InputError(f"{source}, line 4: NPTS = {n_text}; must be a whole number of samples >= 2")
+        raise InputError(f"{source}, line 4: NPTS = {_written(n_text)}; must be a whole number of samples from 2 to "
+                         "10,000,000")
     if not (dt > 0 and np.isfinite(dt) and dt <= 10.0):
-        raise InputError(f"{source}, line 4: DT = {dt_text} s; must be a time step > 0 (and at most 10 s)")
-    values = []
-    for no, line in lines[4:]:
-        for cell in line.split():
-            try:
-                v = float(cell)
-            except ValueError:
-                raise InputError(f"{source}, line {no}: cannot read {_short(cell)} as an acceleration") from None
-            if not np.isfinite(v):
-                raise InputError(f"{source}, line {no}: {_short(cell)} is not a finite acceleration")
-            values.append(v)
-    if len(values) != npts:
-        raise InputError(f"{source}: the header says NPTS = {npts} but the file has {len(values)} accelerations; "
-                         "fix NPTS or the data")
+        raise InputError(f"{source}, line 4: DT = {_written(dt_text)} s; must be a time step > 0 (and at most 10 s)")
+    values = _at2_values(source, [(no, ln) for no, ln in lines[4:] if ln.strip()], npts)
     return _checked_signal(source, dt * np.arange(npts), np.asarray(values) * _AT2_UNITS[unit], "acceleration",
                            f"acceleration [{unit.lower()}]")

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown, shown_path, unreadable_file
 from .files import atomic_write, json_safe
 
 __all__ = ["write_run_files", "read_run_files", "check_run_dir", "RUN_FORMAT", "FILES", "SIGNAL_COLUMNS",
@@ -56,6 +56,10 @@ def check_run_dir(out_dir) -> Path:
     Call it before a long run so a bad ``--out`` fails at once; :func:`write_run` calls it too.
     """
     path = Path(out_dir)
+    try:
+        path.exists()
+    except (OSError, ValueError) as exc:  # a name the system refuses: too long, a NUL character
+        raise unreadable_file(path, exc, "run directory") from None
     if path.exists() and not path.is_dir():
         raise InputError(f"run directory {path} is a file; give a directory (it is created if missing)")
     if path.is_dir() and any(path.iterdir()) and not _is_run_dir(path):
@@ -142,7 +146,7 @@ def _read_csv(path: Path, columns) -> np.ndarray:
         raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
     header = lines[0].strip() if lines else ""
     if tuple(h.strip() for h in header.split(",")) != tuple(columns):
-        raise InputError(f"{path}: unexpected header {header[:200]!r}; expected {','.join(columns)}")
+        raise InputError(f"{path}: unexpected header {shown(header[:200])}; expected {','.join(columns)}")
     try:
         data = np.loadtxt(lines[1:], delimiter=",", ndmin=2, dtype=float)
     except ValueError:
@@ -155,8 +159,7 @@ def _read_csv(path: Path, columns) -> np.ndarray:
             except ValueError:
                 ok = False
             if not ok:
-                shown = line if len(line) <= 80 else line[:80] + f"... ({len(line)} characters)"
-                raise InputError(f"{path}, line {no}: damaged row {shown!r} (expected {len(columns)} finite "
+                raise InputError(f"{path}, line {no}: damaged row {shown(line, 80)} (expected {len(columns)} finite "
                                  "numbers); the run directory was damaged after it was written, re-run the case")
         if data is None:
             raise InputError(f"{path}: damaged (not a table of {len(columns)} numbers); re-run the case")
@@ -167,9 +170,9 @@ def read_run_files(out_dir) -> dict:
     """The plain content of a complete run directory: ``config_path``, ``signals`` and ``energy``
     (2-D arrays, columns as :data:`SIGNAL_COLUMNS` / :data:`ENERGY_COLUMNS`), ``trajectory``
     (dict or None) and ``meta`` (``result.json``)."""
-    path = Path(out_dir)
+    path = checked_file(out_dir, "run directory", directory_ok=True)
     if not path.is_dir():
-        raise InputError(f"run directory not found: {path}")
+        raise InputError(f"run directory not found: {shown_path(path)} is a file")
     result = path / FILES["result"]
     if not result.is_file():
         raise InputError(f"{path} is not a complete pdamper run directory (no {FILES['result']}); "

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["FORMATS", "MM", "check_path", "save", "log_ticks", "stroke_axis"]
 
@@ -32,13 +32,13 @@ def check_path(path, *, create_folder: bool = False) -> Path | None:
         return None
     target = Path(path)
     if target.suffix.lower() not in FORMATS:
-        raise InputError(f"plot file {str(target)!r}: unknown format "
-                         f"{target.suffix or '(no extension)'!r}; end the name with one of "
+        raise InputError(f"plot file {shown(str(target))}: unknown format "
+                         f"{shown(target.suffix or '(no extension)')}; end the name with one of "
                          f"{', '.join(FORMATS)}")
     if create_folder:
         target.parent.mkdir(parents=True, exist_ok=True)
     if not target.parent.is_dir():
-        raise InputError(f"plot file {str(target)!r}: folder {str(target.parent)!r} does not "
+        raise InputError(f"plot file {shown(str(target))}: folder {shown(str(target.parent))} does not "
                          "exist; create it or choose another path")
     return target
 
@@ -61,7 +61,7 @@ def save(fig, target: Path, dpi: int = 200) -> None:
         os.replace(tmp, target)
         tmp = None
     except OSError as exc:
-        raise InputError(f"plot file {str(target)!r} cannot be written: "
+        raise InputError(f"plot file {shown(str(target))} cannot be written: "
                          f"{exc.strerror or exc}") from None
     finally:
         if tmp is not None and os.path.exists(tmp):

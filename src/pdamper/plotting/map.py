@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from ..analysis.modes import majority_mode
-from ..errors import InputError
+from ..errors import InputError, shown
 from .mode_looks import mode_rank, mode_style
 from .figure import check_path, log_ticks, save
 
@@ -42,17 +42,17 @@ def _dim_of(ds, key_or_dim: str) -> str:
         if ds[d].attrs.get("config_key") == key_or_dim:
             return d
     dims = [d for d in ds.dims if d != "seed"]
-    raise InputError(f"{key_or_dim!r} is not a dimension of these results; they have "
+    raise InputError(f"{shown(key_or_dim)} is not a dimension of these results; they have "
                      + ", ".join(f"{d} ({ds[d].attrs.get('config_key', d)})" for d in dims))
 
 
 def _axis_values(ds, dim):
     """(values scaled for display, axis label, log?)."""
     units = ds[dim].attrs.get("units", "")
-    scale, shown = _SCALES.get(units, (1.0, units))
+    scale, unit_text = _SCALES.get(units, (1.0, units))
     label = ds[dim].attrs.get("long_name", dim)
-    if shown and shown != "1":
-        label += f" [{shown}]"
+    if unit_text and unit_text != "1":
+        label += f" [{unit_text}]"
     vals = np.asarray(ds[dim].values, dtype=float) * scale
     log = ds[dim].attrs.get("spacing") == "log" and np.all(vals > 0)
     return vals, label, log, scale
@@ -86,13 +86,13 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
     xd = _dim_of(ds, x) if x else dims[0]
     yd = _dim_of(ds, y) if y else next(d for d in dims if d != xd)
     if xd == yd:
-        raise InputError(f"--x and --y are both {xd!r}; choose two different dimensions")
+        raise InputError(f"--x and --y are both {shown(xd)}; choose two different dimensions")
     rest = [d for d in dims if d not in (xd, yd)]
     if rest:
         raise InputError(f"these results also vary {', '.join(rest)}; pick one value with ds.sel({rest[0]}=...) "
                          "before drawing a map")
     if quantity not in QUANTITIES:
-        raise InputError(f"quantity {quantity!r}: choose one of {', '.join(QUANTITIES)}")
+        raise InputError(f"quantity {shown(quantity)}: choose one of {', '.join(QUANTITIES)}")
     if quantity not in ds or quantity != "eta_star" and not np.isfinite(ds[quantity].values).any():
         raise InputError(f"these results have no {quantity} values (a store of an older pdamper keeps none); "
                          "re-analyse the kept signals with 'pdamper reanalyze STORE --out new.nc' and map new.nc, "
@@ -112,7 +112,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
     fig.colorbar(mesh, ax=ax, label=f"{label} (mean over seeds)")
     # motion modes, hatched cell by cell
     modes = ds["mode"].transpose(yd, xd, "seed").values if "mode" in ds else None
-    shown = set()
+    marked = set()
     if modes is not None:
         xe, ye = _edges(xv, xlog), _edges(yv, ylog)
         for i in range(len(yv)):
@@ -123,7 +123,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
                     ax.add_patch(Rectangle((xe[j], ye[i]), xe[j + 1] - xe[j], ye[i + 1] - ye[i],
                                            fill=False, hatch=hatch, edgecolor="white", linewidth=0, alpha=0.7))
                 if m:
-                    shown.add(m)
+                    marked.add(m)
     handles = []
     # theory: X_opt and the lift-off bound where the stroke is an axis
     cfg = {d: ds[d].attrs.get("config_key") for d in (xd, yd)}
@@ -165,7 +165,7 @@ def map_figure(ds, path=None, *, x=None, y=None, title=None, figsize=(7.2, 5.0),
             log_ticks(axis, *_edges(v, True)[[0, -1]])
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    for m in sorted(shown, key=mode_rank):
+    for m in sorted(marked, key=mode_rank):
         hatch = mode_style(m)["hatch"]
         handles.append(Patch(facecolor="grey", hatch=hatch, edgecolor="white", label=m if hatch else f"{m} (plain)"))
     if handles:

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from .figure import MM as _MM, check_path, save
 
 __all__ = ["paths_figure", "walls_figure", "animate", "ANIMATION_FORMATS", "ffmpeg_available"]
@@ -248,15 +248,15 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
     target = Path(path)
     ext = target.suffix.lower()
     if ext not in ANIMATION_FORMATS:
-        raise InputError(f"animation file {str(target)!r}: unknown format {target.suffix or '(no extension)'!r}; "
+        raise InputError(f"animation file {shown(str(target))}: unknown format {shown(target.suffix or '(no extension)')}; "
                          f"end the name with {' or '.join(ANIMATION_FORMATS)}")
     if ext == ".mp4" and not ffmpeg_available():
-        raise InputError(f"animation file {str(target)!r}: MP4 needs ffmpeg, which is not installed; "
+        raise InputError(f"animation file {shown(str(target))}: MP4 needs ffmpeg, which is not installed; "
                          "install it (e.g. apt-get install ffmpeg) or write a .gif")
     if not target.parent.is_dir():
-        raise InputError(f"animation file {str(target)!r}: folder {str(target.parent)!r} does not exist")
+        raise InputError(f"animation file {shown(str(target))}: folder {shown(str(target.parent))} does not exist")
     if not (speed > 0 and math.isfinite(speed)):
-        raise InputError(f"animation speed {speed!r}: must be > 0 (1: real time)")
+        raise InputError(f"animation speed {shown(speed)}: must be > 0 (1: real time)")
     idx = _window(traj, case, cycles)
     t_all = np.asarray(traj["time"])
     dt0 = float(np.median(np.diff(t_all))) if t_all.size > 1 else 0.1
@@ -330,5 +330,5 @@ def animate(traj, case, path, *, speed: float = 1.0, cycles: float | None = None
     try:
         anim.save(str(target), writer=writer, dpi=dpi)
     except OSError as exc:
-        raise InputError(f"animation file {str(target)!r} cannot be written: {exc.strerror or exc}") from None
+        raise InputError(f"animation file {shown(str(target))} cannot be written: {exc.strerror or exc}") from None
     return target

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from .. import theory as _th
-from ..errors import InputError
+from ..errors import InputError, shown
 from .figure import MM as _MM, FORMATS, check_path, save, stroke_axis
 from .theory import draw_theory_curves
 
@@ -259,16 +259,16 @@ class _Sweep:
                              f"pdamper.open_results), got {type(ds).__name__}")
         if var not in ds.data_vars:
             have = ", ".join(map(str, ds.data_vars)) or "none"
-            raise InputError(f"sweep results: no variable {var!r} in the dataset (variables: "
+            raise InputError(f"sweep results: no variable {shown(var)} in the dataset (variables: "
                              f"{have}); give the dataset of a stroke sweep")
         da = ds[var]
         if "stroke" not in da.dims:
-            raise InputError(f"sweep results: {var!r} has dimensions {tuple(da.dims)} but no "
+            raise InputError(f"sweep results: {shown(var)} has dimensions {tuple(da.dims)} but no "
                              "'stroke' dimension; a sweep dataset has dimensions ('stroke', "
                              "'seed') and optionally one study dimension such as 'setting'")
         extra = [d for d in da.dims if d not in ("stroke", "seed")]
         if len(extra) > 1:
-            raise InputError(f"sweep results: {var!r} has dimensions {tuple(da.dims)}; at most "
+            raise InputError(f"sweep results: {shown(var)} has dimensions {tuple(da.dims)}; at most "
                              "one study dimension besides 'stroke' and 'seed' can be plotted "
                              f"(select one of {extra} first, e.g. ds.isel({extra[-1]}=0))")
         if "seed" not in da.dims:
@@ -280,7 +280,7 @@ class _Sweep:
         strokes = np.asarray(ds["stroke"].values)
         units = str(ds["stroke"].attrs.get("units", "m")).strip()
         if units not in _STROKE_UNITS:
-            raise InputError(f"sweep results: stroke units {units!r} are not understood; "
+            raise InputError(f"sweep results: stroke units {shown(units)} are not understood; "
                              "use 'm' (or 'mm')")
         try:
             strokes = strokes.astype(float) * _STROKE_UNITS[units]
@@ -298,7 +298,7 @@ class _Sweep:
         try:
             vals = np.asarray(da.values, dtype=float)
         except (TypeError, ValueError):
-            raise InputError(f"sweep results: {var!r} must hold numbers, got dtype "
+            raise InputError(f"sweep results: {shown(var)} must hold numbers, got dtype "
                              f"{da.dtype}") from None
         if self.dim is None:
             vals = vals[None, ...]

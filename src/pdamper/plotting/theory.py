@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from .. import theory
-from ..errors import InputError
+from ..errors import InputError, shown
 from .figure import MM as _MM, check_path, save
 
 __all__ = ["draw_theory_curves", "theory_figure", "rolling_phase_figure"]
@@ -135,7 +135,7 @@ def theory_figure(clearance: float, strokes=None, *, kappa: float = 1.0, bouncin
     for name, value in (("operating_stroke", operating_stroke), ("liftoff_stroke", liftoff_stroke),
                         ("tilt_stroke", tilt_stroke)):
         if value is not None and (not isinstance(value, (int, float)) or not 0 < value < math.inf):
-            raise InputError(f"{name} = {value!r} is not allowed: give a finite stroke > 0 in m, e.g. 0.015 (15 mm)")
+            raise InputError(f"{name} = {shown(value)} is not allowed: give a finite stroke > 0 in m, e.g. 0.015 (15 mm)")
     if operating_stroke is not None:
         span.append(operating_stroke)
     fig = Figure(figsize=figsize, layout="constrained")
@@ -191,7 +191,7 @@ def rolling_phase_figure(stroke_over_clearance: float = 0.5, *, path=None, figsi
 
     ratio = stroke_over_clearance
     if not isinstance(ratio, (int, float)) or not theory.X_OPT_OVER_H <= ratio < math.inf:
-        raise InputError(f"stroke_over_clearance = {ratio!r} is not allowed: the rolling bed "
+        raise InputError(f"stroke_over_clearance = {shown(ratio)} is not allowed: the rolling bed "
                          "reaches the far wall by Ωt = π only for "
                          f"X/h >= X_opt/h = {theory.X_OPT_OVER_H:.5f}")
     target = check_path(path)

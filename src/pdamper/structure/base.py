@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..excitation import DriveBase
 from ..schema import param
 from ..units import thousandth_hint
@@ -110,27 +110,27 @@ class StructureBase(DriveBase):
 
         if self.load is not None:
             if not isinstance(self.load, LoadBase):
-                raise InputError(f"structure.load = {self.load!r}; give the load in a [load] section, e.g. [load] "
+                raise InputError(f"structure.load = {shown(self.load)}; give the load in a [load] section, e.g. [load] "
                                  "kind = 'force_history', file = 'hammer.csv'")
             if not self.load.in_time:
                 raise InputError("structure.load: a harmonic load is the structure's force_amplitude and "
                                  "force_frequency; give those")
             if self.force_amplitude != 0:
-                raise InputError(f"structure.force_amplitude = {self.force_amplitude!r} N and a [load] both move the "
+                raise InputError(f"structure.force_amplitude = {shown(self.force_amplitude)} N and a [load] both move the "
                                  "structure; give one: force_amplitude = 0 with the [load], or no [load]")
         f0 = self.force_amplitude
         if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 >= 0 and math.isfinite(f0)):
-            raise InputError(f"structure.force_amplitude = {f0!r} N; must be >= 0 (0: free motion)")
+            raise InputError(f"structure.force_amplitude = {shown(f0)} N; must be >= 0 (0: free motion)")
         ff = self.force_frequency
         if ff is not None and not (isinstance(ff, (int, float)) and ff > 0 and math.isfinite(ff)):
-            raise InputError(f"structure.force_frequency = {ff!r} Hz; must be > 0, e.g. '2Hz'")
+            raise InputError(f"structure.force_frequency = {shown(ff)} Hz; must be > 0, e.g. '2Hz'")
         if f0 > 0 and ff is None:
             raise InputError("structure.force_frequency is missing: a force_amplitude > 0 needs its "
                              "frequency, e.g. force_frequency = '2Hz'")
         for name in ("displacement", "velocity"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise InputError(f"structure.{name} = {v!r}; must be a finite number")
+                raise InputError(f"structure.{name} = {shown(v)}; must be a finite number")
         self._check_direction()
         if f0 == 0 and self.displacement == 0 and self.velocity == 0 and self.load is None:
             raise InputError("structure: nothing moves it; give a displacement (free decay, e.g. '10mm'), "
@@ -299,7 +299,7 @@ class StructureBase(DriveBase):
         r M)."""
         for key, v in (("influence", influence), ("participation", participation)):
             if v is not None and len(v) != 1:
-                raise InputError(f"load.{key} = {list(v)!r}: the structure has one mode and one dof; give one value")
+                raise InputError(f"load.{key} = {shown(list(v))}: the structure has one mode and one dof; give one value")
         g = participation[0] if participation is not None else (influence[0] if influence is not None else 1.0)
         return np.array([g * float(self.modal_arrays()[0][0])])
 

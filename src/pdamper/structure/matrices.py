@@ -16,12 +16,14 @@ The damping of the modes is one of:
 
 from __future__ import annotations
 
+import io
 import math
+import re
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown, shown_path
 
 __all__ = ["read_structure_matrices", "check_matrices", "rayleigh_coefficients", "modes_from_matrices",
            "MATRIX_READERS"]
@@ -39,16 +41,62 @@ def _load_matrix(path, name: str):
     p = Path(path)
     reader = _MATRIX_READERS.get(p.suffix.lower())
     if reader is None:
-        raise InputError(f"structure.matrices.{name} = {str(path)!r}: unknown file type {p.suffix!r}; give a Matrix "
+        raise InputError(f"structure.matrices.{name} = {shown(str(path))}: unknown file type {shown(p.suffix)}; give a Matrix "
                          f"Market (.mtx), Harwell-Boeing ({', '.join(k for k, r in _MATRIX_READERS.items() if r == 'hb_read')}) "
                          "or .npy file, or one .npz with arrays M, K (and C)")
-    if not p.is_file():
-        raise InputError(f"structure.matrices.{name}: file not found: {p}")
     try:
-        a = np.load(p) if reader == "npy" else getattr(scipy.io, reader)(str(p))
+        p = checked_file(p, "matrix file", missing="file not found: {path}")
+    except InputError as exc:
+        raise InputError(f"structure.matrices.{name}: {exc}") from None
+    try:
+        if reader == "npy":
+            a = np.load(p, allow_pickle=False)
+        else:
+            data = p.read_bytes()
+            if reader == "mmread":
+                _check_matrix_market(p, data)
+            # a file object, not the name: scipy's readers take only names that are UTF-8 text
+            stream = io.BytesIO(data) if reader == "mmread" else io.TextIOWrapper(io.BytesIO(data), encoding="latin-1")
+            a = getattr(scipy.io, reader)(stream)
+        if getattr(a, "ndim", 0) != 2 or max(a.shape) > MAX_DOFS:
+            raise InputError(f"structure.matrices.{name}: {shown_path(p)} holds a matrix of shape "
+                             f"{' x '.join(map(str, getattr(a, 'shape', ())))}; give a square matrix of at most "
+                             f"{MAX_DOFS:,} dofs (the modes are found from dense matrices)")
+        return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+    except InputError as exc:
+        text = str(exc)
+        raise InputError(text if text.startswith("structure.") else f"structure.matrices.{name}: {text}") from None
     except Exception as exc:  # the readers raise many kinds of error on a bad file
-        raise InputError(f"structure.matrices.{name}: cannot read {p}: {exc}") from None
-    return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+        raise InputError(f"structure.matrices.{name}: cannot read {shown_path(p)}: "
+                         f"{shown(' '.join(str(exc).split()) or type(exc).__name__, 200)}") from None
+
+
+#: Most dofs a structure's matrices may have: the modes are found from dense matrices (8 n^2 bytes each).
+MAX_DOFS = 5_000
+_MM_NUMBER = re.compile(rb"^[ \t]*(?:[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eEdD][-+]?[0-9]+)?[ \t]*)+\r?$")
+
+
+def _check_matrix_market(p: Path, data: bytes) -> None:
+    """The lines of a Matrix Market file as the format writes them, before scipy reads it: scipy's
+    reader (fast_matrix_market) crashes the process on a NUL byte in a data line and skips what is
+    not a number; here every line after the banner and the ``%`` comments is numbers only, and the
+    size line at most :data:`MAX_DOFS` rows and columns."""
+    lines = data.split(b"\n")
+    if not lines[0].startswith(b"%%MatrixMarket"):
+        raise InputError(f"{shown_path(p)}, line 1: {shown(lines[0][:60].decode('latin-1'))} is not a Matrix Market banner; expected "
+                         "'%%MatrixMarket matrix coordinate real symmetric' (or general, or array)")
+    size = None
+    for no, line in enumerate(lines[1:], start=2):
+        if line.startswith(b"%") or not line.strip():
+            continue
+        if not _MM_NUMBER.match(line):
+            raise InputError(f"{shown_path(p)}, line {no}: {shown(line.decode('latin-1'))} is not a row of numbers (a Matrix Market "
+                             "file holds the size line, then one entry a line)")
+        if size is None:
+            size = [float(x) for x in line.split()]
+            if len(size) not in (2, 3) or any(x != int(x) or x < 0 for x in size) or max(size[:2]) > MAX_DOFS:
+                raise InputError(f"{shown_path(p)}, line {no}: size {shown(line.strip().decode('ascii'))}; give rows, "
+                                 f"columns (and entries) as whole numbers, at most {MAX_DOFS:,} rows and columns")
 
 
 def read_structure_matrices(matrices) -> dict:
@@ -58,26 +106,34 @@ def read_structure_matrices(matrices) -> dict:
     if isinstance(matrices, (str, Path)):
         p = Path(matrices)
         if p.suffix.lower() != ".npz":
-            raise InputError(f"structure.matrices = {str(matrices)!r}; one file must be an .npz with arrays M, K "
+            raise InputError(f"structure.matrices = {shown(str(matrices))}; one file must be an .npz with arrays M, K "
                              "(and C); for Matrix Market or Harwell-Boeing files give a table, "
                              "matrices = {M = 'frame_M.mtx', K = 'frame_K.mtx'}")
-        if not p.is_file():
-            raise InputError(f"structure.matrices: file not found: {p}")
-        with np.load(p) as z:
-            missing = [k for k in ("M", "K") if k not in z.files]
-            if missing:
-                raise InputError(f"structure.matrices = {str(matrices)!r} has no array {missing[0]!r} (it has "
-                                 f"{', '.join(z.files) or 'none'}); it needs M and K, optionally C")
-            return {k: (np.asarray(z[k], dtype=float) if k in z.files else None) for k in ("M", "K", "C")}
+        try:
+            p = checked_file(p, "matrix file (.npz)", missing="file not found: {path}")
+        except InputError as exc:
+            raise InputError(f"structure.matrices: {exc}") from None
+        try:
+            with np.load(p, allow_pickle=False) as z:
+                missing = [k for k in ("M", "K") if k not in z.files]
+                if missing:
+                    raise InputError(f"structure.matrices = {shown(str(matrices))} has no array {shown(missing[0])} "
+                                     f"(it has {shown(z.files)}); it needs M and K, optionally C")
+                return {k: (np.asarray(z[k], dtype=float) if k in z.files else None) for k in ("M", "K", "C")}
+        except InputError:
+            raise
+        except Exception as exc:  # numpy/zipfile raise BadZipFile, EOFError, ValueError ... for a damaged file
+            raise InputError(f"structure.matrices: cannot read {shown_path(p)} as an .npz of arrays M, K (and C): "
+                             f"{shown(' '.join(str(exc).split()) or type(exc).__name__, 200)}") from None
     if isinstance(matrices, dict):
         unknown = [k for k in matrices if k not in ("M", "K", "C")]
         if unknown:
-            raise InputError(f"structure.matrices: unknown key {unknown[0]!r}; give M, K and optionally C")
+            raise InputError(f"structure.matrices: unknown key {shown(unknown[0])}; give M, K and optionally C")
         for k in ("M", "K"):
             if k not in matrices:
                 raise InputError(f"structure.matrices.{k} is missing; give M = 'file' and K = 'file' (and C)")
         return {k: (_load_matrix(matrices[k], k) if k in matrices else None) for k in ("M", "K", "C")}
-    raise InputError(f"structure.matrices = {matrices!r}; give the path of an .npz file (arrays M, K, C) or a "
+    raise InputError(f"structure.matrices = {shown(matrices)}; give the path of an .npz file (arrays M, K, C) or a "
                      "table {M = 'M.mtx', K = 'K.mtx'}")
 
 
@@ -134,10 +190,10 @@ def _rayleigh_pair(modes, ratios, n: int):
                          "[i, j] (1-based) and rayleigh_ratios = [zeta_i, zeta_j], e.g. [1, 3] and [0.02, 0.02]")
     if m.shape != (2,) or not np.all(np.isfinite(m)) or np.any(m != np.round(m)) or not (1 <= m.min()) \
             or m[0] == m[1] or m.max() > n:
-        raise InputError(f"structure.rayleigh_modes = {list(modes)!r}; give two different mode numbers from 1 to "
+        raise InputError(f"structure.rayleigh_modes = {shown(list(modes))}; give two different mode numbers from 1 to "
                          f"{n} (1 the lowest), e.g. [1, 3]")
     if z.shape != (2,) or not np.all(np.isfinite(z)) or np.any(z < 0) or np.any(z >= 1):
-        raise InputError(f"structure.rayleigh_ratios = {list(ratios)!r}; give two damping ratios in [0, 1), "
+        raise InputError(f"structure.rayleigh_ratios = {shown(list(ratios))}; give two damping ratios in [0, 1), "
                          "e.g. [0.02, 0.02]")
     return [int(v) - 1 for v in m], z
 
@@ -161,12 +217,12 @@ def modes_from_matrices(s) -> dict:
                                  f"container sits on, along the drive direction (0 to {n - 1})")
             v = dofs["damper_dof"]
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 <= v < n:
-            raise InputError(f"structure.{key} = {v!r}; must be a dof index from 0 to {n - 1} (0-based; the "
+            raise InputError(f"structure.{key} = {shown(v)}; must be a dof index from 0 to {n - 1} (0-based; the "
                              f"matrices have {n} dofs)")
         dofs[key] = int(v)
     kept = n if s.modes_kept is None else s.modes_kept
     if isinstance(kept, bool) or not isinstance(kept, (int, np.integer)) or not 1 <= kept <= n:
-        raise InputError(f"structure.modes_kept = {s.modes_kept!r}; must be from 1 to the number of dofs, {n}")
+        raise InputError(f"structure.modes_kept = {shown(s.modes_kept)}; must be from 1 to the number of dofs, {n}")
     damping = [k for k in ("rayleigh", "damping_ratio") if getattr(s, k) is not None]
     if s.rayleigh_modes is not None or s.rayleigh_ratios is not None:
         damping.append("rayleigh_modes with rayleigh_ratios")
@@ -186,7 +242,7 @@ def modes_from_matrices(s) -> dict:
     if s.rayleigh is not None:
         r = np.asarray(s.rayleigh, dtype=float)
         if r.shape != (2,) or not np.all(np.isfinite(r)) or np.any(r < 0):
-            raise InputError(f"structure.rayleigh = {s.rayleigh!r}; give [alpha, beta] >= 0 "
+            raise InputError(f"structure.rayleigh = {shown(s.rayleigh)}; give [alpha, beta] >= 0 "
                              "(C = alpha M + beta K)")
         c = r[0] + r[1] * w2
     elif pair is not None:
@@ -194,14 +250,14 @@ def modes_from_matrices(s) -> dict:
         c = alpha + beta * w2
         if np.any(c[:kept] < 0):
             k = int(np.argmax(c[:kept] < 0))
-            raise InputError(f"structure.rayleigh_ratios = {list(s.rayleigh_ratios)!r} at modes "
-                             f"{list(s.rayleigh_modes)!r} give alpha = {alpha:.4g} 1/s, beta = {beta:.4g} s: mode "
+            raise InputError(f"structure.rayleigh_ratios = {shown(list(s.rayleigh_ratios))} at modes "
+                             f"{shown(list(s.rayleigh_modes))} give alpha = {alpha:.4g} 1/s, beta = {beta:.4g} s: mode "
                              f"{k + 1} ({w[k] / (2 * math.pi):.4g} Hz) would have a negative damping ratio; give "
                              "ratios that grow less steeply with frequency, or modes further apart")
     elif s.damping_ratio is not None:
         z = s.damping_ratio
         if isinstance(z, bool) or not isinstance(z, (int, float)) or not 0.0 <= z < 1.0:
-            raise InputError(f"structure.damping_ratio = {z!r}; must be in [0, 1), e.g. 0.005 (0.5 %)")
+            raise InputError(f"structure.damping_ratio = {shown(z)}; must be in [0, 1), e.g. 0.005 (0.5 %)")
         c = 2.0 * z * w
     else:
         c = np.einsum("ik,ij,jk->k", phi, mats["C"], phi)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..excitation import register_drive
 from ..schema import param
 from .base import StructureBase
@@ -38,11 +38,11 @@ def _read_mode(entry, k: int) -> dict:
 
     label = f"structure.modes[{k}]"
     if not isinstance(entry, dict):
-        raise InputError(f"{label} = {entry!r}; give a table {{frequency = '2Hz', damping_ratio = 0.005, "
+        raise InputError(f"{label} = {shown(entry)}; give a table {{frequency = '2Hz', damping_ratio = 0.005, "
                          "modal_mass = '7kg', damper = 1.0, force = 1.0, response = 1.0}")
     unknown = [key for key in entry if key not in _MODE_KEYS]
     if unknown:
-        raise InputError(f"{label}: unknown key {unknown[0]!r}; a mode has {', '.join(_MODE_KEYS)}")
+        raise InputError(f"{label}: unknown key {shown(unknown[0])}; a mode has {', '.join(_MODE_KEYS)}")
     out = {}
     for key, (dim, ex) in _MODE_KEYS.items():
         if key not in entry:
@@ -52,17 +52,17 @@ def _read_mode(entry, k: int) -> dict:
             raise InputError(f"{label}.{key} is missing, e.g. {key} = {ex}")
         v = entry[key]
         if isinstance(v, bool):
-            raise InputError(f"{label}.{key} = {v!r}; must be a number, e.g. {ex}")
+            raise InputError(f"{label}.{key} = {shown(v)}; must be a number, e.g. {ex}")
         v = to_si(v, dim, name=f"{label}.{key}") if isinstance(v, str) or hasattr(v, "magnitude") else v
         if not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise InputError(f"{label}.{key} = {entry[key]!r}; must be a finite number, e.g. {ex}")
+            raise InputError(f"{label}.{key} = {shown(entry[key])}; must be a finite number, e.g. {ex}")
         out[key] = float(v)
     if not out["frequency"] > 0:
-        raise InputError(f"{label}.frequency = {entry['frequency']!r}; must be > 0, e.g. '2Hz'")
+        raise InputError(f"{label}.frequency = {shown(entry['frequency'])}; must be > 0, e.g. '2Hz'")
     if not out["modal_mass"] > 0:
-        raise InputError(f"{label}.modal_mass = {entry['modal_mass']!r}; must be > 0, e.g. '7kg'")
+        raise InputError(f"{label}.modal_mass = {shown(entry['modal_mass'])}; must be > 0, e.g. '7kg'")
     if not 0.0 <= out["damping_ratio"] < 1.0:
-        raise InputError(f"{label}.damping_ratio = {entry['damping_ratio']!r}; must be in [0, 1), e.g. 0.005")
+        raise InputError(f"{label}.damping_ratio = {shown(entry['damping_ratio'])}; must be in [0, 1), e.g. 0.005")
     if out["damper"] == 0.0:
         raise InputError(f"{label}.damper = 0: the mode shape is zero at the damper, so the damper cannot act "
                          "on this mode; leave the mode out or give its value at the damper (e.g. damper = 1.0)")

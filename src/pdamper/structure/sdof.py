@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..excitation import register_drive
 from ..schema import param, read_fields, read_quantity
 from .base import StructureBase
@@ -66,10 +66,10 @@ class CoupledStructure(StructureBase, _OneMode):
         for name, unit, ex in (("mass", "kg", "'7kg'"), ("stiffness", "N/m", "1105 (N/m)")):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):
-                raise InputError(f"structure.{name} = {v!r} {unit}; must be > 0, e.g. {ex}")
+                raise InputError(f"structure.{name} = {shown(v)} {unit}; must be > 0, e.g. {ex}")
         z = self.damping_ratio
         if isinstance(z, bool) or not isinstance(z, (int, float)) or not (0.0 <= z < 1.0):
-            raise InputError(f"structure.damping_ratio = {z!r}; must be in [0, 1), e.g. 0.005 (0.5 %)")
+            raise InputError(f"structure.damping_ratio = {shown(z)}; must be in [0, 1), e.g. 0.005 (0.5 %)")
         if not math.isfinite(self.stiffness * self.mass):
             raise InputError(f"structure.mass = {self.mass:g} kg with stiffness {self.stiffness:g} N/m is beyond what "
                              "a number holds (their product overflows); give the mode's mass, e.g. '7kg'")
@@ -91,13 +91,13 @@ class CoupledStructure(StructureBase, _OneMode):
         mass = read_fields({"mass": table["mass"]}, "structure", cls)["mass"]
         fn = read_quantity(table["natural_frequency"], "[structure] natural_frequency", "frequency")
         if not (fn > 0 and math.isfinite(fn)):
-            raise InputError(f"[structure] natural_frequency = {table['natural_frequency']!r}; must be > 0, e.g. '2Hz'")
+            raise InputError(f"[structure] natural_frequency = {shown(table['natural_frequency'])}; must be > 0, e.g. '2Hz'")
         if not (mass > 0 and math.isfinite(mass)):
-            raise InputError(f"[structure] mass = {table['mass']!r}; must be > 0, e.g. '7kg'")
+            raise InputError(f"[structure] mass = {shown(table['mass'])}; must be > 0, e.g. '7kg'")
         w = 2.0 * math.pi * fn
         stiffness = mass * w * w
         if not (0 < stiffness < math.inf):
-            raise InputError(f"[structure] natural_frequency = {table['natural_frequency']!r} gives a stiffness of "
+            raise InputError(f"[structure] natural_frequency = {shown(table['natural_frequency'])} gives a stiffness of "
                              f"{stiffness:g} N/m with mass = {mass:g} kg; give a natural frequency a damper test can "
                              "have, e.g. '2Hz'")
         return {**extra, "stiffness": stiffness}

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from ..analysis.surrogate import poly_basis
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["FitParameter", "parse_fit", "calibrate", "Calibration", "DEM_FLOOR", "MEAS_FLOOR"]
 
@@ -74,7 +74,7 @@ def parse_fit(text: str) -> FitParameter:
     key = key.strip()
     parts = [p.strip() for p in rng.split(":")]
     if not sep or len(parts) not in (2, 3):
-        raise InputError(f"--fit {text!r}: write KEY=LOW:HIGH, e.g. contact.friction=0.01:1")
+        raise InputError(f"--fit {shown(text)}: write KEY=LOW:HIGH, e.g. contact.friction=0.01:1")
     spec = key_spec(key)
     if spec.kind not in ("number", "whole") and spec.dimension is None:
         raise InputError(f"--fit {key}: only a number can be fitted")
@@ -82,15 +82,15 @@ def parse_fit(text: str) -> FitParameter:
     lo = parse_quantity(parts[0], dim, name=f"--fit {key} (low)")
     hi = parse_quantity(parts[1], dim, name=f"--fit {key} (high)")
     if not lo < hi:
-        raise InputError(f"--fit {text!r}: need LOW < HIGH")
+        raise InputError(f"--fit {shown(text)}: need LOW < HIGH")
     if len(parts) == 3:
         if parts[2] not in ("log", "linear"):
-            raise InputError(f"--fit {text!r}: the spacing {parts[2]!r} is not 'log' or 'linear'")
+            raise InputError(f"--fit {shown(text)}: the spacing {shown(parts[2])} is not 'log' or 'linear'")
         log = parts[2] == "log"
     else:
         log = lo > 0 and hi / lo >= 10
     if log and lo <= 0:
-        raise InputError(f"--fit {text!r}: a log search needs LOW > 0")
+        raise InputError(f"--fit {shown(text)}: a log search needs LOW > 0")
     return FitParameter(key=key, low=float(lo), high=float(hi), log=log)
 
 

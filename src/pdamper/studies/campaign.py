@@ -30,14 +30,13 @@ A record that cannot be read or analysed is reported (its file and the reason) a
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .._deprecated import renamed_function
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown, shown_path, unreadable_file
 
 __all__ = ["MeasuredPoint", "analyze_records", "analyse_records", "campaign_dataset", "read_manifest", "MANIFEST"]
 
@@ -71,15 +70,18 @@ def read_manifest(path) -> dict:
     "drop_cycles", "records": {file name: {"stroke", "frequency", "columns"}}}`` in SI."""
     from ..units import parse_quantity
 
-    path = Path(path)
+    from ..config import parse_toml
+
+    path = checked_file(path, "campaign manifest")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise InputError(f"{path}: cannot read the campaign manifest ({exc}); check its TOML") from None
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeError) as exc:
+        raise unreadable_file(path, exc, "campaign manifest") from None
+    data = parse_toml(text, source=f"{shown_path(path)} (the campaign manifest)")
     allowed = ("bed_mass", "container_mass", "frequency", "drop_cycles", "record")
     for key in data:
         if key not in allowed:
-            raise InputError(f"{path}: unknown key {key!r}; allowed: {', '.join(allowed)}")
+            raise InputError(f"{path}: unknown key {shown(key)}; allowed: {', '.join(allowed)}")
     out = {"records": {}}
     if "bed_mass" in data:
         out["bed_mass"] = parse_quantity(data["bed_mass"], "mass", name=f"{path}: bed_mass")
@@ -89,7 +91,7 @@ def read_manifest(path) -> dict:
         out["frequency"] = parse_quantity(data["frequency"], "frequency", name=f"{path}: frequency")
     if "drop_cycles" in data:
         if isinstance(data["drop_cycles"], bool) or not isinstance(data["drop_cycles"], int):
-            raise InputError(f"{path}: drop_cycles = {data['drop_cycles']!r} must be a whole number")
+            raise InputError(f"{path}: drop_cycles = {shown(data['drop_cycles'])} must be a whole number")
         out["drop_cycles"] = data["drop_cycles"]
     for k, rec in enumerate(data.get("record", [])):
         where = f"{path}, record #{k + 1}"
@@ -97,7 +99,7 @@ def read_manifest(path) -> dict:
             raise InputError(f"{where}: give file = 'name.csv'")
         for key in rec:
             if key not in ("file", "stroke", "frequency", "columns"):
-                raise InputError(f"{where}: unknown key {key!r}; allowed: file, stroke, frequency, columns")
+                raise InputError(f"{where}: unknown key {shown(key)}; allowed: file, stroke, frequency, columns")
         entry = {}
         if "stroke" in rec:
             entry["stroke"] = parse_quantity(rec["stroke"], "length", name=f"{where}: stroke")
@@ -105,7 +107,7 @@ def read_manifest(path) -> dict:
             entry["frequency"] = parse_quantity(rec["frequency"], "frequency", name=f"{where}: frequency")
         if "columns" in rec:
             if not isinstance(rec["columns"], dict):
-                raise InputError(f"{where}: columns = {rec['columns']!r} must be a table such as {{ force = 'F_x' }}")
+                raise InputError(f"{where}: columns = {shown(rec['columns'])} must be a table such as {{ force = 'F_x' }}")
             entry["columns"] = {str(a): str(b) for a, b in rec["columns"].items()}
         out["records"][rec["file"]] = entry
     return out
@@ -115,7 +117,11 @@ def _expand(paths) -> list[Path]:
     """Files from the arguments: a directory stands for its records (not the manifest)."""
     out = []
     for p in map(Path, paths):
-        if p.is_dir() and not (p / "signals.csv").exists():
+        try:
+            folder = p.is_dir() and not (p / "signals.csv").exists()
+        except (OSError, ValueError):  # a name the system refuses: the record reader names it
+            folder = False
+        if folder:
             out += sorted(q for q in p.iterdir() if q.is_file() and not q.name.startswith(".")
                           and q.suffix.lower() not in _NOT_RECORDS)
         else:
@@ -144,7 +150,7 @@ def analyze_records(paths, *, bed_mass=None, frequency=None, drop_cycles=None, c
     man = read_manifest(manifest) if manifest is not None else {"records": {}}
     m_c = container_mass if container_mass is not None else man.get("container_mass", 0.0)
     if not (isinstance(m_c, (int, float)) and math.isfinite(m_c) and m_c >= 0):
-        raise InputError(f"container mass = {m_c!r} kg; give the empty container's own mass, >= 0 (e.g. 80g), or 0")
+        raise InputError(f"container mass = {shown(m_c)} kg; give the empty container's own mass, >= 0 (e.g. 80g), or 0")
     bed = bed_mass if bed_mass is not None else man.get("bed_mass")
     if bed is None:
         raise InputError("the bed mass is needed for eta*: give --bed-mass 149g (or bed_mass in campaign.toml)")

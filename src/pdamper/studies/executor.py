@@ -20,7 +20,8 @@ import logging
 import os
 import warnings
 
-__all__ = ["execute", "execute_batches", "RetryWarning", "GPU_CHUNK"]
+__all__ = ["execute", "execute_batches", "RetryWarning", "GPU_CHUNK", "check_main_guard", "unguarded_main_line",
+           "in_main_guard"]
 
 #: Cases of one GPU batch at most (a study's cases run in chunks of this many, each stored as it
 #: finishes; 2048 blocks fill an H100's 132 multiprocessors many times over).
@@ -29,6 +30,63 @@ GPU_CHUNK = 2048
 
 class RetryWarning(UserWarning):
     """Cases ran again after their Dask worker died; their results are those of the run that finished."""
+
+
+def in_main_guard(tree, line: int) -> bool:
+    """True when ``line`` of the module ``tree`` lies in an ``if __name__ == "__main__":`` block."""
+    import ast
+
+    def is_main_test(test) -> bool:
+        if not (isinstance(test, ast.Compare) and len(test.ops) == 1 and isinstance(test.ops[0], ast.Eq)):
+            return False
+        sides = [test.left, test.comparators[0]]
+        return (any(isinstance(x, ast.Name) and x.id == "__name__" for x in sides)
+                and any(isinstance(x, ast.Constant) and x.value == "__main__" for x in sides))
+
+    return any(isinstance(node, ast.If) and is_main_test(node.test) and node.lineno <= line <= node.end_lineno
+               for node in ast.walk(tree))
+
+
+def unguarded_main_line():
+    """``(script, line)`` when the running script (``python script.py``) calls this at its top level
+    outside ``if __name__ == "__main__":``, else None. Local Dask workers are started by spawning
+    processes, and each one imports the script again: unguarded, every worker would run the sweep
+    once more and die ("Nanny failed to start", ~200 lines of traceback, an empty store). A notebook,
+    ``python -c`` or an interactive session has no script to import and passes."""
+    import ast
+    import sys
+
+    main = sys.modules.get("__main__")
+    script = getattr(main, "__file__", None)
+    if not script or getattr(sys, "ps1", None) is not None:
+        return None
+    frame = sys._getframe(1)
+    line = None
+    while frame is not None:  # the outermost frame running the script's own top level
+        if frame.f_code.co_name == "<module>" and frame.f_globals.get("__name__") == "__main__":
+            line = frame.f_lineno
+        frame = frame.f_back
+    if line is None:
+        return None
+    try:
+        with open(script, encoding="utf-8") as fh:
+            tree = ast.parse(fh.read())
+    except (OSError, SyntaxError, ValueError, UnicodeError):
+        return None  # the script cannot be read back: say nothing rather than guess
+    return None if in_main_guard(tree, line) else (script, line)
+
+
+def check_main_guard(what: str = "run_sweep") -> None:
+    """An :class:`~pdamper.errors.InputError` of one line, with the fix, when :func:`unguarded_main_line`
+    finds the script's call outside the ``__main__`` guard (before any process or store is made)."""
+    from ..errors import InputError, shown_path
+
+    found = unguarded_main_line()
+    if found is not None:
+        script, line = found
+        raise InputError(f"{shown_path(script)}, line {line}: {what} runs its cases in worker processes, which import "
+                         "the script again; put the call under 'if __name__ == \"__main__\":' (docs/sweeps.md), or "
+                         "give scheduler=... of a running Dask cluster")
 
 
 def _client(workers, scheduler):
@@ -46,6 +104,7 @@ def _client(workers, scheduler):
     n = workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"--workers {workers}: need at least 1")
+    check_main_guard("the sweep")
     import dask
 
     # one case per worker at a time: the rest wait at the scheduler in priority order (longest

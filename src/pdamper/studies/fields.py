@@ -14,7 +14,7 @@ import math
 from pathlib import Path
 
 from ..analysis.fields import FORMAT, DamperFields
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown, shown_path
 
 __all__ = ["build_fields", "write_fields", "load_fields", "open_source"]
 
@@ -24,7 +24,8 @@ def open_source(path):
     ``results.nc``) or ``"campaign"`` (a ``campaign.nc`` or the folder holding one)."""
     from .sweep import open_results
 
-    p = Path(path)
+    p = checked_file(path, "store, campaign or results file", directory_ok=True,
+                     missing="{path}: no such store, campaign or results file")
     if p.is_dir():
         if (p / "store.json").exists():
             return open_results(p), "sweep"
@@ -77,28 +78,27 @@ def write_fields(fields: DamperFields, path) -> Path:
 
     path = Path(path)
     if path.suffix.lower() != ".nc":
-        raise InputError(f"--out {str(path)!r}: a fields file is netCDF; end its name with .nc")
+        raise InputError(f"--out {shown(str(path))}: a fields file is netCDF; end its name with .nc")
     if not path.parent.is_dir():
-        raise InputError(f"--out {str(path)!r}: folder {str(path.parent)!r} does not exist")
+        raise InputError(f"--out {shown(str(path))}: folder {shown(str(path.parent))} does not exist")
     return write_dataset(path, fields.dataset)
 
 
 def load_fields(path) -> DamperFields:
     """The fields of a file written by :func:`write_fields` (``pdamper fields --out``)."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such fields file; make one with 'pdamper fields STORE --out {p.name}'")
+    p = checked_file(path, "fields file", missing="{path}: no such fields file; make one with 'pdamper fields STORE "
+                                                   f"--out {shown_path(Path(str(path)).name)}'")
     ds = _read_netcdf(p)
     if ds.attrs.get("format") != FORMAT:
-        raise InputError(f"{p}: not a damper-fields file (format {ds.attrs.get('format')!r}, expected {FORMAT!r}); "
+        raise InputError(f"{p}: not a damper-fields file (format {shown(ds.attrs.get('format'))}, expected {shown(FORMAT)}); "
                          "make one with 'pdamper fields STORE --out F.nc'")
-    return DamperFields(ds)
+    try:
+        return DamperFields(ds)
+    except InputError as exc:
+        raise InputError(f"{shown_path(p)}: {exc}") from None
 
 
 def _read_netcdf(p: Path):
-    import xarray as xr
+    from ..io.files import read_dataset
 
-    try:
-        return xr.load_dataset(p, engine="h5netcdf")
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{p}: not a readable netCDF file ({exc})") from None
+    return read_dataset(p, "a sweep's results, a campaign or a fields file")

@@ -28,7 +28,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown, shown_path, unreadable_file
 
 __all__ = ["STUDIES", "PAPER_STUDIES", "Study", "load_study", "study_settings", "run_study", "PAPER_CASES",
            "describe_overrides"]
@@ -80,33 +80,42 @@ def load_study(name_or_path) -> Study:
     from ..config import load_case
     from ..schema import replace
 
+    from ..config import parse_toml
+
     text = str(name_or_path)
     path = Path(text)
-    if not text.endswith(".toml") and (_DATA / f"{text}.toml").exists():
-        path = _DATA / f"{text}.toml"
-    elif not path.exists():
-        if text.endswith(".toml"):
-            raise InputError(f"study file not found: {path}")
-        raise InputError(f"unknown study {text!r}; {_suggest(text, STUDIES)}Studies: {', '.join(STUDIES)} "
-                         "(or give the path of a study file, NAME.toml)")
-    where = str(path) if path.parent != _DATA else f"study {path.stem!r}"
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{where}: invalid TOML: {exc}") from None
+        known, found = (_DATA / f"{text}.toml").exists(), path.exists()
+    except (OSError, ValueError):  # a name the system refuses (too long, a NUL character)
+        known, found = False, False
+        if text.endswith(".toml"):
+            checked_file(path, "study file")
+    if not text.endswith(".toml") and known:
+        path = _DATA / f"{text}.toml"
+    elif not found:
+        if text.endswith(".toml"):
+            raise InputError(f"study file not found: {shown_path(path)}")
+        raise InputError(f"unknown study {shown(text)}; {_suggest(text, STUDIES)}Studies: {', '.join(STUDIES)} "
+                         "(or give the path of a study file, NAME.toml)")
+    path = checked_file(path, "study file")  # a folder or a pipe named NAME.toml: one line, not a wait
+    where = shown_path(path) if path.parent != _DATA else f"study {path.stem!r}"
+    try:
+        data = parse_toml(path.read_text(encoding="utf-8"), source=where)
+    except (OSError, UnicodeError) as exc:
+        raise unreadable_file(path, exc, "study file") from None
     for key in data:
         if key not in _STUDY_KEYS:
-            raise InputError(f"{where}: unknown key {key!r}; {_suggest(key, _STUDY_KEYS)}allowed: "
+            raise InputError(f"{where}: unknown key {shown(key)}; {_suggest(key, _STUDY_KEYS)}allowed: "
                              + ", ".join(_STUDY_KEYS))
     vary = data.get("vary", ["drive.stroke=0.5mm:50mm:40"])
     if isinstance(vary, str):
         vary = [vary]
     if not isinstance(vary, list) or not all(isinstance(v, str) for v in vary):
-        raise InputError(f"{where}: vary = {vary!r} must be a list of 'KEY=VALUES' texts, e.g. "
+        raise InputError(f"{where}: vary = {shown(vary)} must be a list of 'KEY=VALUES' texts, e.g. "
                          "['drive.stroke=0.5mm:50mm:40']")
     figure = data.get("figure", "sweep")
     if figure not in FIGURES:
-        raise InputError(f"{where}: figure = {figure!r}; choose one of {', '.join(map(repr, FIGURES))}")
+        raise InputError(f"{where}: figure = {shown(figure)}; choose one of {', '.join(map(repr, FIGURES))}")
     rows = data.get("setting", [])
     if not isinstance(rows, list) or not rows:
         raise InputError(f"{where}: no settings; give one or more [[setting]] tables with label = ... and "
@@ -118,20 +127,20 @@ def load_study(name_or_path) -> Study:
             raise InputError(f"{what}: must be a table")
         for key in row:
             if key not in _SETTING_KEYS:
-                raise InputError(f"{what}: unknown key {key!r}; {_suggest(key, _SETTING_KEYS)}allowed: "
+                raise InputError(f"{what}: unknown key {shown(key)}; {_suggest(key, _SETTING_KEYS)}allowed: "
                                  + ", ".join(_SETTING_KEYS))
         label = row.get("label")
         if not isinstance(label, str) or not label:
             raise InputError(f"{what}: give it a label = '...'")
         if label in labels:
-            raise InputError(f"{what}: the label {label!r} is used twice")
+            raise InputError(f"{what}: the label {shown(label)} is used twice")
         labels.add(label)
         if ("base" in row) == ("config" in row):
             raise InputError(f"{what} ({label}): give exactly one of base = 'cuboid_36' (a paper case: "
                              f"{', '.join(PAPER_CASES)}) or config = 'case.toml'")
         if "base" in row:
             if row["base"] not in PAPER_CASES:
-                raise InputError(f"{what} ({label}): base = {row['base']!r} is not a paper case; "
+                raise InputError(f"{what} ({label}): base = {shown(row['base'])} is not a paper case; "
                                  f"{_suggest(row['base'], PAPER_CASES)}choose one of {', '.join(PAPER_CASES)}")
             case = _example(row["base"])
         else:
@@ -139,7 +148,7 @@ def load_study(name_or_path) -> Study:
             case = load_case(cfg if cfg.is_absolute() else path.parent / cfg)
         sets = row.get("set", {})
         if not isinstance(sets, dict):
-            raise InputError(f"{what} ({label}): set = {sets!r} must be a table of config keys, e.g. "
+            raise InputError(f"{what} ({label}): set = {shown(sets)} must be a table of config keys, e.g. "
                              "{ \"contact.friction\" = 0.01 }")
         try:
             case = replace(case, sets)
@@ -185,11 +194,11 @@ def _check_overrides(study: Study, overrides: dict, axes) -> None:
     for key in overrides:
         if key in varied:
             hint = " (give --strokes instead)" if key == "drive.stroke" else ""
-            raise InputError(f"--set {key}: study {study.name!r} varies {key}; it cannot be set for every "
+            raise InputError(f"--set {key}: study {shown(study.name)} varies {key}; it cannot be set for every "
                              f"setting{hint}")
         for label, keys in study.set_keys:
             if key in keys:
-                raise InputError(f"--set {key}: setting {label!r} of study {study.name!r} sets {key} itself; "
+                raise InputError(f"--set {key}: setting {shown(label)} of study {shown(study.name)} sets {key} itself; "
                                  "setting it for every setting would erase what the study compares (write "
                                  "your own study file instead, docs/sweeps.md)")
 
@@ -203,7 +212,7 @@ def _overridden(case, overrides: dict, label: str):
     try:
         return replace(case, overrides)
     except InputError as exc:
-        raise InputError(f"--set, setting {label!r}: {exc}") from None
+        raise InputError(f"--set, setting {shown(label)}: {exc}") from None
 
 
 def _slug(label: str) -> str:
@@ -236,7 +245,7 @@ def run_study(name, out, *, strokes=None, seeds, cycles=None, drop_cycles=None, 
     if only is not None:
         unknown = set(only) - {lbl for lbl, _, _ in settings}
         if unknown:
-            raise InputError(f"study {study.name!r} has no setting {sorted(unknown)}")
+            raise InputError(f"study {shown(study.name)} has no setting {sorted(unknown)}")
         settings = [s for s in settings if s[0] in only]
     axes = [parse_axis(v) for v in study.vary]
     overrides = dict(overrides or {})

@@ -13,7 +13,7 @@ import dataclasses
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["reanalyze"]
 
@@ -34,7 +34,7 @@ def reanalyze(path, *, drop_cycles: int | None = None):
     base = store.case()
     if drop_cycles is not None:
         if isinstance(drop_cycles, bool) or not isinstance(drop_cycles, int) or drop_cycles < 0:
-            raise InputError(f"drop_cycles = {drop_cycles!r}; must be a whole number >= 0")
+            raise InputError(f"drop_cycles = {shown(drop_cycles)}; must be a whole number >= 0")
         if drop_cycles >= base.cycles:
             raise InputError(f"drop_cycles = {drop_cycles} leaves nothing of the {base.cycles:g} cycles each case ran; "
                              f"drop fewer than {base.cycles:g}")

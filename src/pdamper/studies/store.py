@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown
 from ..io.files import atomic_write, json_safe, remove_stale_temporaries, write_dataset
 
 __all__ = ["ResultStore", "VARIABLES", "NO_MODE", "UNKNOWN_MODE", "KEEP", "signal_arrays", "FORMAT"]
@@ -88,7 +88,7 @@ _LONG_NAMES = {"drive.stroke": "stroke X", "drive.frequency": "drive frequency f
 def signal_arrays(signals, energy, keep: str = "signals") -> dict:
     """The arrays of a run a store keeps (see :data:`KEEP`), as ``{name: 1-D array}``."""
     if keep not in KEEP:
-        raise InputError(f"keep = {keep!r}; choose one of {', '.join(map(repr, KEEP))}")
+        raise InputError(f"keep = {shown(keep)}; choose one of {', '.join(map(repr, KEEP))}")
     if keep == "none":
         return {}
     out = {"time": signals.time, "time_end": signals.time_end, "force": signals.force,
@@ -288,7 +288,8 @@ class ResultStore:
     @classmethod
     def open(cls, path) -> "ResultStore":
         """Open an existing store for reading (nothing is written)."""
-        path = Path(path)
+        path = checked_file(path, "result store", directory_ok=True,
+                            missing="{path}: no pdamper result store here (no store.json); give the --out of a sweep")
         meta_file = path / "store.json"
         if not meta_file.exists():
             raise InputError(f"{path}: no pdamper result store here (no store.json); give the --out of a sweep")
@@ -329,7 +330,10 @@ class ResultStore:
             rec["stroke"] = float(point[STROKE])
         with self._resumable(f"case {key}"):
             if signals:
-                atomic_write(self._signals_file(key), _signals_bytes(signals))
+                named = {"case_key": key, "seed": int(seed), "point": json.dumps(json_safe(point))}
+                if STROKE in point:
+                    named["stroke_m"] = float(point[STROKE])
+                atomic_write(self._signals_file(key), _signals_bytes(signals, named))
             atomic_write(self._case_file(key), json.dumps(json_safe(rec)))
 
     def records(self) -> list:
@@ -360,12 +364,12 @@ class ResultStore:
 
     def signals(self, key: str):
         """The kept signals of case ``key`` as an ``xarray.Dataset`` (None if none were kept)."""
-        import xarray as xr
+        from ..io.files import read_dataset
 
         f = self._signals_file(key)
         if not f.exists():
             return None
-        return xr.load_dataset(f, engine="h5netcdf")
+        return read_dataset(f, "a case's kept signals")
 
     # ---------------------------------------------------------------- dataset
     def case(self):
@@ -510,7 +514,7 @@ def _upgrade(meta: dict) -> dict:
     meta = dict(meta)
     if "axes" not in meta:
         if meta.get("format", _OLD_FORMAT) != _OLD_FORMAT or "strokes" not in meta:
-            raise InputError(f"store.json: format {meta.get('format')!r} is not one this pdamper reads; "
+            raise InputError(f"store.json: format {shown(meta.get('format'))} is not one this pdamper reads; "
                              "update pdamper or re-run the sweep into a new --out")
         meta["axes"] = [{"key": STROKE, "values": list(meta["strokes"]), "spacing": "list"}]
         meta.setdefault("attrs", {})
@@ -518,8 +522,10 @@ def _upgrade(meta: dict) -> dict:
     return meta
 
 
-def _signals_bytes(arrays: dict) -> bytes:
-    """The arrays as compressed netCDF (zlib with shuffle) in memory.
+def _signals_bytes(arrays: dict, attrs: dict | None = None) -> bytes:
+    """The arrays as compressed netCDF (zlib with shuffle) in memory: the signals along the
+    dimension ``time`` (the interval centres, its coordinate [s]), the ledger's along ``ledger_time``;
+    ``attrs`` name the case (``case_key``, ``seed``, ``stroke_m``, ``point``: its axes' values as JSON).
 
     Written with h5netcdf directly, not xarray: the store writes while the sweep's Dask client is
     active, and xarray would then ask that client for a distributed write lock."""
@@ -530,13 +536,15 @@ def _signals_bytes(arrays: dict) -> bytes:
     n_ledger = len(arrays.get("ledger_time", ()))
     buf = io.BytesIO()
     with h5netcdf.File(buf, "w") as f:
-        f.dimensions = {"sample": len(arrays["time"]), "ledger_sample": n_ledger}
+        f.dimensions = {"time": len(arrays["time"]), "ledger_time": n_ledger}
         for k, v in arrays.items():
-            dim = "ledger_sample" if k.startswith("ledger_") else "sample"
+            dim = "ledger_time" if k.startswith("ledger_") else "time"
             var = f.create_variable(k, (dim,), data=v, compression="gzip", compression_opts=4, shuffle=True)
             units, long_name = _SIGNAL_ATTRS.get(k, ("J", k.replace("_", " ")))
             var.attrs["units"] = units
             var.attrs["long_name"] = long_name
+        for k, v in (attrs or {}).items():
+            f.attrs[k] = v
     return buf.getvalue()
 
 

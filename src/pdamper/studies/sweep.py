@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked_file, shown, shown_path
 from ..params import Case
 from ..schema import replace
 from ..units import is_quantity, parse_quantity, quantities, to_si
@@ -48,7 +48,7 @@ def _si_values(values, dimension: str, name: str):
 def stroke_grid(lo: float, hi: float, n: int) -> np.ndarray:
     """``n`` log-spaced strokes [m] from ``lo`` to ``hi`` (the paper: 0.5 mm, 50 mm, 40)."""
     if not (0 < lo <= hi) or not (isinstance(n, (int, np.integer)) and n >= 1):
-        raise InputError(f"strokes: need 0 < first <= last and a count >= 1, got {lo!r}, {hi!r}, {n!r}")
+        raise InputError(f"strokes: need 0 < first <= last and a count >= 1, got {shown(lo)}, {shown(hi)}, {shown(n)}")
     if n == 1:
         return np.array([lo])
     return np.geomspace(lo, hi, int(n))
@@ -60,17 +60,17 @@ def parse_strokes(text: str) -> np.ndarray:
     if ":" in text:
         parts = text.split(":")
         if len(parts) != 3:
-            raise InputError(f"--strokes {text!r}: write FIRST:LAST:COUNT, e.g. 0.5mm:50mm:40, or a list 5mm,12mm")
+            raise InputError(f"--strokes {shown(text)}: write FIRST:LAST:COUNT, e.g. 0.5mm:50mm:40, or a list 5mm,12mm")
         lo = parse_quantity(parts[0], "length", name="--strokes (first)")
         hi = parse_quantity(parts[1], "length", name="--strokes (last)")
         try:
             n = int(parts[2])
         except ValueError:
-            raise InputError(f"--strokes {text!r}: the count {parts[2]!r} is not a whole number") from None
+            raise InputError(f"--strokes {shown(text)}: the count {shown(parts[2])} is not a whole number") from None
         return stroke_grid(lo, hi, n)
     values = [parse_quantity(p, "length", name="--strokes") for p in text.split(",") if p.strip()]
     if not values or any(v <= 0 for v in values):
-        raise InputError(f"--strokes {text!r}: give positive lengths, e.g. 5mm,12mm or 0.5mm:50mm:40")
+        raise InputError(f"--strokes {shown(text)}: give positive lengths, e.g. 5mm,12mm or 0.5mm:50mm:40")
     return np.array(sorted(set(values)))
 
 
@@ -108,7 +108,7 @@ class Axis:
             vals = tuple(dict.fromkeys(vals))
         object.__setattr__(self, "values", vals)
         if self.spacing not in SPACINGS + ("list",):
-            raise InputError(f"axis {self.key}: spacing {self.spacing!r}; choose 'log', 'linear' or 'list'")
+            raise InputError(f"axis {self.key}: spacing {shown(self.spacing)}; choose 'log', 'linear' or 'list'")
 
     @property
     def name(self) -> str:
@@ -129,7 +129,7 @@ def parse_axis(text: str) -> Axis:
     key, sep, values = str(text).partition("=")
     key, values = key.strip(), values.strip()
     if not sep or not key or not values:
-        raise InputError(f"--vary {text!r}: write KEY=VALUES, e.g. drive.stroke=0.5mm:50mm:40 (a range) or "
+        raise InputError(f"--vary {shown(text)}: write KEY=VALUES, e.g. drive.stroke=0.5mm:50mm:40 (a range) or "
                          "contact.friction=0.01,0.1,1 (a list)")
     spec = key_spec(key)
     dimension = spec.dimension or "dimensionless"
@@ -142,9 +142,9 @@ def parse_axis(text: str) -> Axis:
             try:
                 f = float(v)
             except ValueError:
-                raise InputError(f"--vary {key}: {what} {v!r} is not a whole number") from None
+                raise InputError(f"--vary {key}: {what} {shown(v)} is not a whole number") from None
             if not f.is_integer():
-                raise InputError(f"--vary {key}: {what} {v!r} is not a whole number")
+                raise InputError(f"--vary {key}: {what} {shown(v)} is not a whole number")
             return int(f)
         return parse_quantity(v, dimension, name=f"--vary {key} ({what})")
 
@@ -155,9 +155,9 @@ def parse_axis(text: str) -> Axis:
             spacing = parts.pop().strip().lower()
             spacing = {"lin": "linear"}.get(spacing, spacing)
             if spacing not in SPACINGS:
-                raise InputError(f"--vary {text!r}: the spacing {spacing!r} is not 'log' or 'linear'")
+                raise InputError(f"--vary {shown(text)}: the spacing {shown(spacing)} is not 'log' or 'linear'")
         if len(parts) != 3:
-            raise InputError(f"--vary {text!r}: write FIRST:LAST:COUNT[:log|:linear], e.g. {key}=1:4:4")
+            raise InputError(f"--vary {shown(text)}: write FIRST:LAST:COUNT[:log|:linear], e.g. {key}=1:4:4")
         if spec.kind == "text" or spec.choices:
             raise InputError(f"--vary {key}: a text key takes a list of values, e.g. "
                              f"{key}={','.join(spec.choices or ('a', 'b'))}")
@@ -165,19 +165,19 @@ def parse_axis(text: str) -> Axis:
         try:
             n = int(parts[2])
         except ValueError:
-            raise InputError(f"--vary {text!r}: the count {parts[2]!r} is not a whole number") from None
+            raise InputError(f"--vary {shown(text)}: the count {shown(parts[2])} is not a whole number") from None
         if n < 1 or lo > hi:
-            raise InputError(f"--vary {text!r}: need FIRST <= LAST and a COUNT >= 1")
+            raise InputError(f"--vary {shown(text)}: need FIRST <= LAST and a COUNT >= 1")
         if spacing == "log":
             if lo <= 0:
-                raise InputError(f"--vary {text!r}: log spacing needs FIRST > 0; add :linear for a linear range")
+                raise InputError(f"--vary {shown(text)}: log spacing needs FIRST > 0; add :linear for a linear range")
             vals = np.geomspace(lo, hi, n) if n > 1 else np.array([lo])
         else:
             vals = np.linspace(lo, hi, n) if n > 1 else np.array([lo])
         if spec.kind == "whole":
             ints = np.round(vals).astype(int)
             if len(set(ints.tolist())) != n:
-                raise InputError(f"--vary {text!r}: {n} whole numbers do not fit between {lo} and {hi}")
+                raise InputError(f"--vary {shown(text)}: {n} whole numbers do not fit between {lo} and {hi}")
             vals = ints
         return Axis(key=key, values=tuple(vals.tolist()), spacing=spacing)
     return Axis(key=key, values=tuple(one(v, "value") for v in values.split(",") if v.strip()), spacing="list")
@@ -227,7 +227,7 @@ class SweepSpec:
         if self.strokes is not None:
             strokes = tuple(float(x) for x in np.atleast_1d(_si_values(self.strokes, "length", "strokes")))
             if not strokes or any(not (x > 0 and math.isfinite(x)) for x in strokes):
-                raise InputError(f"sweep strokes must be positive lengths, got {self.strokes!r}")
+                raise InputError(f"sweep strokes must be positive lengths, got {shown(self.strokes)}")
             if any(a.key == STROKE for a in axes):
                 raise InputError("give the strokes either as strokes=... or as an axis over drive.stroke, not both")
             axes.insert(0, Axis(key=STROKE, values=strokes, spacing="list"))
@@ -243,7 +243,7 @@ class SweepSpec:
             raise InputError("a sweep over drive keys needs a harmonic drive ([drive] stroke and frequency)")
         seeds = tuple(int(s) for s in np.atleast_1d(self.seeds))
         if not seeds or any(s < 0 for s in seeds):
-            raise InputError(f"sweep seeds must be whole numbers >= 0, got {self.seeds!r}")
+            raise InputError(f"sweep seeds must be whole numbers >= 0, got {shown(self.seeds)}")
         object.__setattr__(self, "axes", tuple(axes))
         object.__setattr__(self, "seeds", tuple(sorted(set(seeds))))
         object.__setattr__(self, "strokes", self.axis(STROKE).values if STROKE in keys else None)
@@ -451,6 +451,12 @@ def run_sweep(spec: SweepSpec, path, *, workers: int | None = None, scheduler: s
 
     import warnings
 
+    from ..run import on_gpu
+
+    if scheduler is None and not on_gpu(spec.base):  # local worker processes (a GPU batch runs in this one)
+        from .executor import check_main_guard
+
+        check_main_guard("run_sweep")  # before the store is made: an unguarded script leaves nothing behind
     store = ResultStore.create_or_open(path, spec, attrs=theory_attrs(spec.base), history=history, repair=repair,
                                        until_steady=until_steady)
     spec = store.on_grid(spec)
@@ -473,19 +479,15 @@ def open_results(path):
     """The results of a sweep as an ``xarray.Dataset``: ``path`` is a store directory or a
     ``results.nc`` file. Nothing is written (a store opened while its sweep runs shows the cases
     finished so far)."""
-    from pathlib import Path
-
-    import xarray as xr
-
+    from ..io.files import read_dataset
     from .store import ResultStore
 
-    p = Path(path)
+    p = checked_file(path, "results file or store directory", directory_ok=True,
+                     missing="{path}: no such results file or store directory")
     if p.is_dir():
         store = ResultStore.open(p)
         ds = store.dataset()
         if "x_opt_m" not in ds.attrs:  # a store of an earlier pdamper keeps no theory numbers
             ds.attrs.update(theory_attrs(store.case()))
         return add_theory(ds, store.case())
-    if not p.exists():
-        raise InputError(f"{p}: no such results file or store directory")
-    return xr.load_dataset(p, engine="h5netcdf")
+    return read_dataset(p, "a sweep's results.nc")

@@ -7,7 +7,7 @@ import numbers
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["positive", "positive_array", "as_output", "solve_phase"]
 
@@ -33,7 +33,7 @@ def positive_array(name: str, value, unit: str, example: str) -> np.ndarray:
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{name} = {value!r} is not a number or an array of numbers; "
+        raise InputError(f"{name} = {shown(value)} is not a number or an array of numbers; "
                          f"give {name} in {unit}, e.g. {example}") from None
     bad = ~np.isfinite(arr) | (arr <= 0)
     if np.any(bad):

@@ -15,7 +15,7 @@ import math
 import numbers
 import warnings
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..units import quantities
 from ._common import positive
 
@@ -67,13 +67,13 @@ def container_length(shape: str, length: float | None = None, container_radius: 
                       DeprecationWarning, stacklevel=3)
         container_radius = radius
     if shape not in _PAPER_LENGTHS:
-        raise InputError(f"shape = {shape!r} is unknown; use one of {', '.join(SHAPES)}")
+        raise InputError(f"shape = {shown(shape)} is unknown; use one of {', '.join(SHAPES)}")
     key, factor, example, what = _PAPER_LENGTHS[shape]
     sizes = {"length": length, "container_radius": container_radius}
     for other, value in sizes.items():
         if other != key and value is not None:
             owner = next(s for s, spec in _PAPER_LENGTHS.items() if spec[0] == other)
-            raise InputError(f"{other} = {value!r} applies to the {owner} only; the {shape} takes {key} ({what})")
+            raise InputError(f"{other} = {shown(value)} applies to the {owner} only; the {shape} takes {key} ({what})")
     if sizes[key] is None:
         raise InputError(f"the {shape} needs {key} ({what}, e.g. {example} m)")
     return factor * positive(key, sizes[key], "m", example)
@@ -115,6 +115,6 @@ def clearance(length: float, particles: int, max_particles: int) -> float:
 def _count(name: str, value) -> int:
     if (isinstance(value, bool) or not isinstance(value, numbers.Real)
             or not math.isfinite(value) or value != int(value) or value < 1):
-        raise InputError(f"{name} = {value!r} is not allowed: {name} must be a whole number "
+        raise InputError(f"{name} = {shown(value)} is not allowed: {name} must be a whole number "
                          ">= 1 of spheres, e.g. 36")
     return int(value)

@@ -23,7 +23,7 @@ import math
 
 from ..units import quantities
 from ._common import positive
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["HERTZ_TIME_FACTOR", "hertz_contact_time", "wall_modulus_for_contact_time"]
 
@@ -33,7 +33,7 @@ HERTZ_TIME_FACTOR = 2.868265
 
 def _poisson(name, nu) -> float:
     if isinstance(nu, bool) or not isinstance(nu, (int, float)) or not (-1.0 < nu < 0.5):
-        raise InputError(f"{name} = {nu!r}; a Poisson ratio must be in (-1, 0.5) (steel 0.3, silicone 0.48)")
+        raise InputError(f"{name} = {shown(nu)}; a Poisson ratio must be in (-1, 0.5) (steel 0.3, silicone 0.48)")
     return float(nu)
 
 

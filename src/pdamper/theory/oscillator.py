@@ -20,11 +20,11 @@ __all__ = ["natural_frequency", "free_decay", "steady_amplitude", "oscillator_re
 
 
 def _check_zeta(damping_ratio) -> float:
-    from ..errors import InputError
+    from ..errors import InputError, shown
 
     z = float(damping_ratio)
     if not (0.0 <= z < 1.0):
-        raise InputError(f"damping_ratio = {damping_ratio!r} is not allowed: it must be in [0, 1) "
+        raise InputError(f"damping_ratio = {shown(damping_ratio)} is not allowed: it must be in [0, 1) "
                          "(an underdamped structure, e.g. 0.005)")
     return z
 

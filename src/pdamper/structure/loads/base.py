@@ -44,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, shown
 from ...schema import OwnTable, param, read_fields, register_tagged, write_fields
 
 __all__ = ["LoadBase", "SampledLoad", "SampledFields", "LOADS", "register_load", "FORM_LINEAR", "FORM_SINE", "linear_rows", "table_values"]
@@ -97,7 +97,7 @@ def _positive(value, label: str, unit: str, example: str, *, allow_none: bool = 
     if value is None and allow_none:
         return
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not (value > 0 and math.isfinite(value)):
-        raise InputError(f"{label} = {value!r}{' ' + unit if unit else ''}; must be > 0, e.g. {example}")
+        raise InputError(f"{label} = {shown(value)}{' ' + unit if unit else ''}; must be > 0, e.g. {example}")
 
 
 class LoadBase(OwnTable):
@@ -212,13 +212,13 @@ class SampledLoad(LoadBase):
             raise InputError(f"load.{name}: time and {name} must be finite numbers (found NaN or inf){where}")
         if np.any(np.diff(t) <= 0):
             k = int(np.argmax(np.diff(t) <= 0))
-            raise InputError(f"load.time: must increase strictly; it does not at sample {k + 1} (t = {float(t[k + 1])!r} s)"
+            raise InputError(f"load.time: must increase strictly; it does not at sample {k + 1} (t = {shown(float(t[k + 1]))} s)"
                              f"{where}")
         object.__setattr__(self, "time", tuple((t - t[0]).tolist()))
         object.__setattr__(self, name, tuple(f.tolist()))
         sc = self.scale
         if isinstance(sc, bool) or not isinstance(sc, (int, float)) or not math.isfinite(sc):
-            raise InputError(f"load.scale = {sc!r}; must be a finite number (1: the samples as given)")
+            raise InputError(f"load.scale = {shown(sc)}; must be a finite number (1: the samples as given)")
         _positive(self.duration_s, "load.duration", "s", "'10s'", allow_none=True)
 
     @classmethod
@@ -234,16 +234,16 @@ class SampledLoad(LoadBase):
             raise InputError(f"[load] give either file = '...' or inline {', '.join(inline)}, not both")
         value = table["file"]
         if not isinstance(value, str) or not value.strip():
-            raise InputError(f"[load] file = {value!r} must be the path of a file of time and {cls.samples_field}")
+            raise InputError(f"[load] file = {shown(value)} must be the path of a file of time and {cls.samples_field}")
         column = table.get("column")
         if column is not None and (not isinstance(column, str) or not column.strip()):
-            raise InputError(f"[load] column = {column!r} must be the name of the {cls.samples_field} column")
+            raise InputError(f"[load] column = {shown(column)} must be the name of the {cls.samples_field} column")
         path = Path(value)
         if not path.is_absolute():
             path = Path(base_dir if base_dir is not None else Path.cwd()) / path
         path = path.resolve()
         if read_signal is None:
-            raise InputError(f"[load] file = {value!r}: no reader given (read the case with pdamper.config)")
+            raise InputError(f"[load] file = {shown(value)}: no reader given (read the case with pdamper.config)")
         try:
             sig = read_signal(path, cls.signal_role, column=column)
         except InputError as exc:

@@ -8,7 +8,9 @@ container moves with the damper point, so the bed feels the ground's and the str
 acceleration together.
 
 The file: a CSV with ``time [s]`` and ``acceleration [m/s^2]`` (or ``[g]``, the standard
-gravity), or a PEER NGA ``.AT2`` file (:func:`pdamper.io.records.read_at2`)."""
+gravity), or a PEER NGA ``.AT2`` file (:func:`pdamper.io.records.read_at2`). Every record is
+checked as it is read (its mean, the drift of its integrated velocity and displacement: a one-sided
+or drifting record is warned of) and, with ``baseline``, corrected (:mod:`.record_check`)."""
 
 from __future__ import annotations
 
@@ -16,9 +18,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InputError
-from ...schema import param
+import warnings
+from pathlib import Path
+
+from ...errors import InputError, shown
+from ...schema import check_choice, param
 from .base import SampledFields, SampledLoad, register_load
+from .record_check import BASELINES, RecordCheck, RecordWarning, baseline_correct, check_record
 
 __all__ = ["GroundAcceleration", "GroundMixin"]
 
@@ -34,7 +40,7 @@ class GroundMixin:
                 continue
             arr = np.asarray(v, dtype=float) if isinstance(v, (list, tuple)) else np.zeros(0)
             if arr.ndim != 1 or arr.size == 0 or not np.all(np.isfinite(arr)):
-                raise InputError(f"load.{key} = {v!r}; give a list of finite numbers, e.g. "
+                raise InputError(f"load.{key} = {shown(v)}; give a list of finite numbers, e.g. "
                                  + ("[1, 0] (per dof, or the pattern of one node's dofs)" if key == "influence"
                                     else "[1.2, -0.3] (one per mode)"))
             object.__setattr__(self, key, tuple(float(x) for x in arr))
@@ -79,17 +85,24 @@ class GroundAcceleration(GroundMixin, SampledLoad, SampledFields):
         one node's dofs repeated over the nodes (``[1, 0]``); default 1 at every dof.
     participation : tuple or None
         Gamma_k of each mode, instead of ``influence`` (needed for modes given as data).
+    baseline : str
+        ``"none"`` (default: the samples as given), or the order of a least-squares polynomial
+        baseline fitted to the velocity and taken off (``"constant"``, ``"linear"``,
+        ``"quadratic"``, ``"cubic"``; :func:`~pdamper.structure.loads.record_check.baseline_correct`).
+        Every record is checked when the load is made (:attr:`record_check`): a one-sided or
+        drifting one is warned of (:class:`~pdamper.structure.loads.record_check.RecordWarning`).
     """
 
     acceleration: tuple = param((), kind="list", dimension="acceleration")
     influence: tuple | None = param(None, kind="list")
     participation: tuple | None = param(None, kind="list")
+    baseline: str = param("none", choices=tuple(BASELINES), write_default=False)
     kind: str = param("ground_acceleration", kind="tag")
     ground = True
     signal_role = "acceleration"
     samples_field = "acceleration"
     unit = "m/s^2"
-    size_keys = ("scale", "acceleration", "file", "influence", "participation")
+    size_keys = ("scale", "acceleration", "file", "influence", "participation", "baseline")
     config_label = "a ground acceleration"
     config_required = ("time", "acceleration")
     config_hint = ("give file = 'quake.csv' (columns time [s], acceleration [m/s^2] or [g]) or a PEER .AT2 file, "
@@ -98,6 +111,21 @@ class GroundAcceleration(GroundMixin, SampledLoad, SampledFields):
     def __post_init__(self):
         self._check_samples()
         self._check_ground()
+        check_choice(self, "baseline", "load")
+        order = BASELINES[self.baseline]
+        if order is not None:
+            object.__setattr__(self, "acceleration",
+                               tuple(baseline_correct(self.time, self.acceleration, order).tolist()))
+        text = self.record_check.warning(Path(self.file).name if self.file else "[load] acceleration")
+        if text:
+            warnings.warn(text, RecordWarning, stacklevel=4)
+
+    @property
+    def record_check(self) -> RecordCheck:
+        """The accelerogram's mean, and the drift of its velocity and displacement integrated from
+        rest, after the baseline correction if any (:func:`~pdamper.structure.loads.record_check.check_record`;
+        a one-sided or drifting record is warned of when the load is made)."""
+        return check_record(self.time, self.acceleration)
 
     @property
     def peak(self) -> float:

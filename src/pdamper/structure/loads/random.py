@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, shown
 from ...schema import param
 from .base import FORM_LINEAR, LoadBase, _positive, linear_rows, register_load
 from .ground import GroundMixin
@@ -88,13 +88,13 @@ class RandomLoad(GroundMixin, LoadBase):
     def __post_init__(self):
         for key, choices in (("excitation", EXCITATIONS), ("spectrum", SPECTRA)):
             if getattr(self, key) not in choices:
-                raise InputError(f"load.{key} = {getattr(self, key)!r}; choose one of "
+                raise InputError(f"load.{key} = {shown(getattr(self, key))}; choose one of "
                                  + ", ".join(repr(c) for c in choices))
         _positive(self.level, "load.level", "(one-sided PSD per Hz)", "0.01")
         _positive(self.duration_s, "load.duration", "s", "'60s'")
         seed = self.seed
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-            raise InputError(f"load.seed = {seed!r}; must be a whole number >= 0")
+            raise InputError(f"load.seed = {shown(seed)}; must be a whole number >= 0")
         kt = self.spectrum == "kanai_tajimi"
         for key in ("ground_frequency", "ground_damping"):
             if getattr(self, key) is not None and not kt:
@@ -102,6 +102,9 @@ class RandomLoad(GroundMixin, LoadBase):
         if kt:
             _positive(self.ground_frequency, "load.ground_frequency", "Hz", "'2.5Hz'")
             _positive(self.ground_damping, "load.ground_damping", "", "0.6")
+            if self.ground_damping > 10.0:  # a soil's damping ratio is below 1 (its square would overflow)
+                raise InputError(f"load.ground_damping = {shown(self.ground_damping)}; a ground's damping ratio is "
+                                 "below 1, at most 10, e.g. 0.6 (firm soil)")
         if self.band is None:
             if not kt:
                 raise InputError("load.band is missing: white noise fills a band, e.g. band = ['0.5Hz', '10Hz']")
@@ -110,7 +113,7 @@ class RandomLoad(GroundMixin, LoadBase):
         if not (isinstance(b, (tuple, list)) and len(b) == 2 and all(isinstance(x, (int, float)) and
                                                                     not isinstance(x, bool) for x in b)
                 and 0.0 <= b[0] < b[1] and math.isfinite(b[1])):
-            raise InputError(f"load.band = {b!r}; give [f_lo, f_hi] with 0 <= f_lo < f_hi, e.g. ['0.5Hz', '10Hz']")
+            raise InputError(f"load.band = {shown(b)}; give [f_lo, f_hi] with 0 <= f_lo < f_hi, e.g. ['0.5Hz', '10Hz']")
         object.__setattr__(self, "band", (float(b[0]), float(b[1])))
         _positive(self.time_step, "load.time_step", "s", "'5ms'", allow_none=True)
         if self.time_step is not None and not self.band[1] <= 0.5 / self.time_step:
@@ -121,8 +124,14 @@ class RandomLoad(GroundMixin, LoadBase):
             raise InputError(f"load.duration = {self.duration_s:g} s is shorter than 4 samples of {self.step:g} s; give "
                              "a longer duration, e.g. '60s'")
         if self.samples_count > 20_000_000:
-            raise InputError(f"load.duration = {self.duration_s:g} s at a time_step of {self.step:g} s is "
-                             f"{self.samples_count:,} samples; shorten it or sample coarser")
+            n = self.samples_count
+            why = "" if self.time_step is not None else (
+                f" (20 samples a period of the band's top {self.band[1]:g} Hz, "
+                + ("10 ground_frequency" if kt and self.band == (0.0, 10.0 * self.ground_frequency) else "band")
+                + ")")
+            count = f"{n:,}" if n < 1e15 else f"{n:.3g}"
+            raise InputError(f"load.duration = {self.duration_s:g} s at a time_step of {self.step:g} s{why} is "
+                             f"{count} samples, more than 20,000,000; shorten it or sample coarser")
         if self.excitation != "ground":
             for key in ("influence", "participation"):
                 if getattr(self, key) is not None:

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, shown
 from ...schema import param
 from .base import FORM_SINE, LoadBase, _positive, register_load
 
@@ -49,7 +49,7 @@ class SteppedSine(LoadBase):
         _positive(self.amplitude, "load.amplitude", "N", "'0.4N'")
         f = np.asarray(self.frequencies, dtype=float) if isinstance(self.frequencies, (list, tuple)) else np.zeros(0)
         if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
-            raise InputError(f"load.frequencies = {self.frequencies!r}; give one or more frequencies > 0 in the order "
+            raise InputError(f"load.frequencies = {shown(self.frequencies)}; give one or more frequencies > 0 in the order "
                              "of the sweep, e.g. ['1.9Hz', '1.95Hz', '2Hz']")
         if f.size > 10_000:
             raise InputError(f"load.frequencies: {f.size} steps; give at most 10000")
