@@ -98,6 +98,18 @@ class RunResult:
     energy_per_cycle = renamed("energy_per_cycle_J")
     time_step = renamed("time_step_s")
 
+    def to_dataset(self):
+        """This run as one ``xarray.Dataset``: signals, energies, structure and trajectory with
+        ``time`` as coordinate and units, the case and the summary in the attributes
+        (:func:`pdamper.io.datasets.run_dataset`)."""
+        from ._version import __version__
+        from .config import dumps_case
+        from .io.datasets import run_dataset
+
+        return run_dataset(signals=self.signals, energy=self.energy, trajectory=self.trajectory,
+                           structure=self.structure, config_text=dumps_case(self.case), summary=self.summary(),
+                           description=str(self.case), version=__version__)
+
     def summary(self) -> dict:
         """Plain dict for JSON output."""
         a = self.analysis

@@ -84,8 +84,13 @@ def test_a_two_dimensional_sweep_keeps_signals_reanalyses_and_opens_without_writ
     assert ds.friction.attrs["config_key"] == "contact.friction" and ds.stroke.attrs["units"] == "m"
     assert "eq." not in ds.eta_star.attrs["long_name"]
     # each case's signals are kept; re-analysis with the run's settings gives the run's numbers exactly
-    sig = ResultStore.open(store).signals(str(ds.case_key.values[0, 0, 0]))
+    key = str(ds.case_key.values[0, 0, 0])
+    sig = ResultStore.open(store).signals(key)
     assert sig.force.size == sig.time.size > 0 and sig.force.attrs["units"] == "N"
+    # the time is the signals' coordinate, and the file names its case (issue 42)
+    assert sig.force.dims == ("time",) and "time" in sig.indexes and sig.time.attrs["units"] == "s"
+    assert (sig.attrs["case_key"], sig.attrs["seed"], sig.attrs["stroke_m"]) == (key, 0, float(ds.stroke[0]))
+    assert json.loads(sig.attrs["point"]) == {"drive.stroke": float(ds.stroke[0]), "contact.friction": 0.01}
     same = reanalyze(store)
     for v in ("eta_star", "energy_per_cycle", "ledger_energy_per_cycle", "velocity_amplitude"):
         np.testing.assert_array_equal(same[v].values, ds[v].values)
