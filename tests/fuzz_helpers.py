@@ -157,7 +157,7 @@ def names_file(msg: str, path: Path) -> bool:
     from pdamper.errors import shown_path
 
     name = shown_path(path.name)
-    return path.name in msg or name in msg or shown_path(path)[:40] in msg or name[:30] in msg
+    return path.name in msg or name in msg or name[:30] in msg
 
 
 # ----------------------------------------------------------------------------- damage

@@ -21,9 +21,12 @@ from hypothesis import given, strategies as st
 
 from fuzz_helpers import FUZZ, LOAD_TABLES, Reader, clear_message, counted, load_files, reader_tests
 from pdamper.config import SECTIONS, case_from_dict, load_case
+from pdamper.design import load_structure
 from pdamper.engine.build import build
 from pdamper.errors import InputError
 from pdamper.plausible import check_case
+from pdamper.studies.campaign import read_manifest
+from pdamper.studies.named import load_study
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 CONFIGS = {p.name: tomllib.loads(p.read_text(encoding="utf-8")) for p in sorted(EXAMPLES.glob("*.toml"))}
@@ -232,14 +235,9 @@ def test_missing_or_misspelt_sections(name, drop, extra):
 
 # ----------------------------------------------------------------------------- the text of a config, and --set
 
-def _case_file(path: Path):
-    case = load_case(path)
-    check_case(case)
-    return case
-
-
+# the file as it is read (its plausibility is the keys' tests above: those messages name a key, not the file)
 CASE_FILE = Reader(name="case config file (TOML text)", suffix=".toml",
-                   good=lambda folder: (EXAMPLES / "cuboid_36.toml").read_bytes(), read=_case_file)
+                   good=lambda folder: (EXAMPLES / "cuboid_36.toml").read_bytes(), read=load_case)
 TestCaseFile = reader_tests(CASE_FILE)
 
 #: ``--set`` items as users type them, and as they break them.
@@ -266,7 +264,9 @@ def test_any_set_gives_a_clear_error_or_a_case(key, value, config):
         except InputError as exc:
             msg = clear_message(str(exc))
             section, _, name = key.partition(".")
-            assert "--set" in msg or "override" in msg or names_key(msg, section.strip(), name.strip()), msg
+            # it names the override, the key, or its section (a [load] set alone lacks its kind)
+            assert ("--set" in msg or "override" in msg or names_key(msg, section.strip(), name.strip())
+                    or f"[{section.strip()}]" in msg), msg
 
 
 def test_set_load_file_to_5000_digits_is_one_line():
@@ -322,40 +322,22 @@ MOTION = Reader(name="drive samples (CSV)", suffix=".csv",
 TestDriveSamples = reader_tests(MOTION)
 
 
-def _study(path):
-    from pdamper.studies.named import load_study
-
-    return load_study(path)
-
-
 STUDY = Reader(name="study file (TOML)", suffix=".toml",
                good=lambda folder: b'title = "mu"\nvary = ["drive.stroke=2mm:40mm:3"]\n\n[[setting]]\nlabel = "a"\n'
                                    b'base = "cuboid_36"\nset = { "contact.friction" = 0.05 }\n',
-               read=_study)
+               read=load_study)
 TestStudyFile = reader_tests(STUDY)
-
-
-def _manifest(path):
-    from pdamper.studies.campaign import read_manifest
-
-    return read_manifest(path)
 
 
 MANIFEST = Reader(name="campaign manifest (TOML)", suffix=".toml",
                   good=lambda folder: b'bed_mass = "149g"\nfrequency = "2Hz"\ndrop_cycles = 2\n\n[[record]]\n'
                                       b'file = "x12.csv"\nstroke = "12mm"\ncolumns = { force = "F_x" }\n',
-                  read=_manifest)
+                  read=read_manifest)
 TestCampaignManifest = reader_tests(MANIFEST)
-
-
-def _structure_file(path):
-    from pdamper.design import load_structure
-
-    return load_structure(path)
 
 
 STRUCTURE_FILE = Reader(name="structure file of design (TOML)", suffix=".toml",
                         good=lambda folder: b'[structure]\nmass = "25kg"\nnatural_frequency = "3Hz"\n'
                                             b'damping_ratio = 0.003\n',
-                        read=_structure_file)
+                        read=load_structure)
 TestStructureFile = reader_tests(STRUCTURE_FILE)

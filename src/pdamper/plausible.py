@@ -87,8 +87,12 @@ def _check_fit(case) -> None:
     beds = sum(p.count * 4.0 / 3.0 * math.pi * p.radius ** 3 for p in case.particles)
     if beds > _DENSEST * volume:
         n = sum(p.count for p in case.particles)
-        raise InputError(f"particles.count = {n:g}: the spheres' volume is {beds / volume:.3g} times the container's "
-                         f"({volume * 1e6:.3g} cm^3); no packing fits them; give fewer spheres or a larger container")
+        sizes = ", ".join(f"container.{f.name} = {getattr(geo, f.name) * 1e3:g} mm" for f in dataclasses.fields(geo)
+                          if spec_of(f).dimension == "length" and isinstance(getattr(geo, f.name), (int, float)))
+        radii = ", ".join(sorted({f"{p.radius * 1e3:g}" for p in case.particles}))
+        raise InputError(f"particles.count = {n:g} of particles.radius = {radii} mm: the spheres' volume is "
+                         f"{beds / volume:.3g} times the container's ({volume * 1e6:.3g} cm^3: {sizes}); no packing "
+                         "fits them; give fewer or smaller spheres or a larger container")
 
 
 def _check_angles(case) -> None:
