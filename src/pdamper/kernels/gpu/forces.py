@@ -1,0 +1,692 @@
+"""The contact forces of a case on the GPU, written once for both integrators: the neighbour list's
+rebuild, the pairs' contact law, each sphere's sum of its contacts, the energies and a sample.
+
+This is :mod:`pdamper.kernels.forces` on a block (:mod:`.batch` has the layout): the same
+geometry (:func:`~pdamper.kernels.forces.pair_geometry`, the walls' signed distance, the
+contact-point kinematics) and the same contact law (:func:`~pdamper.kernels.contact.contact`), the
+CPU's compiled functions, and the same order of every sphere's sum: its pairs by ascending partner,
+the floor, then the other walls. What differs is who does what:
+
+- :func:`pair_laws`: the lanes take the listed pairs (``p = tid, tid + bd, ...``), each pair's law
+  once, its result kept at the pair (:data:`~.batch.RESULT`);
+- :func:`sphere_force`: the lane of sphere ``i`` adds the results of its pairs from the two lists of
+  its pairs (those it is the second of, ascending ``i``, then its own, ascending ``j``) and
+  evaluates its floor and walls, which concern it alone;
+- the history: a step reads the time buffer ``tb`` and writes ``1 - tb`` (:func:`pair_laws`,
+  :func:`sphere_force`); the integrator flips ``tb`` when it keeps the step.
+
+The spheres' positions, velocities, spins, the springs' displacements and the radii live in the
+block's shared memory while a launch runs (``b.sh``, :data:`~.batch.SHARED_FIELDS` a sphere), where
+the pairs read both their spheres'.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import cuda
+
+from ...contact.hertz import hertz_energy, hertz_stiffness
+from ...contact.tangential_spring import spring_energy
+from ...geometry.walls import wall_distance
+from ..bundles import ContactTable
+from ..contact import FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, pair_point_velocity, \
+    wall_point_velocity
+from ..drive import parametric_motion
+from ..forces import STATUS_LIST_OVERFLOW, STATUS_OK, STATUS_OVERLAP, pair_geometry
+from . import targets  # noqa: F401  (registers the laws' dispatch for the CUDA target)
+from .batch import (F_BED_MASS, F_DIRECTION, F_GRAVITY, F_PAR, F_PARTIALS, F_SAMPLE_INTERVAL, F_SKIN, I_DRIVE,
+                    I_EN_ROWS, I_FLOOR, I_FR_ROWS, I_FRAME_EVERY, I_N, I_NMAT, I_NW, I_ROW0, I_WF_ROWS, IINERT, MASS,
+                    MOVED, O_ENERGY, O_FIRST, O_FRAMES, O_INPAIR, O_INROW, O_MAT, O_MP, O_N, O_P, O_PCAP, O_PD, O_PK,
+                    O_PT, O_PV, O_RES, O_ROW, O_SEC, O_TP, O_TW, O_W, O_WD, O_WK, O_WKIND, O_WMP, O_WROW, O_WRS, O_WT,
+                    O_WV, PARTIALS, R_C, R_F, R_LIM, R_N, R_S, R_T, RAD, REF, S_MOVED, S_RAD, S_SPIN, S_V, S_X, SPIN, V,
+                    X)
+from .warp import block_scan, block_sum, sync
+
+__all__ = ["Block", "block", "load_spheres", "store_spheres", "rebuild", "pair_laws", "sphere_force", "elastic",
+           "partials", "keep_partials", "table_of", "record_sample", "motion_at", "prime"]
+
+class Block(NamedTuple):
+    """What every thread of a case's block knows: who it is, the case's rows, the shared memory."""
+
+    tid: int
+    bd: int             #: threads of the block
+    n: int              #: the case's spheres
+    N: int              #: the batch's padded spheres (a field's stride)
+    st: np.ndarray      #: the case's rows of the batch (:class:`~.batch.Batch`)
+    gv: np.ndarray
+    iv: np.ndarray
+    ci: np.ndarray
+    cf: np.ndarray
+    walls: np.ndarray   #: (W, 7)
+    sh: np.ndarray      #: the block's shared memory: SHARED_FIELDS values a sphere
+    red: np.ndarray     #: shared: a word a warp for the block's reductions
+
+
+@cuda.jit(device=True)
+def block(bt, c, sh, red):
+    """Case ``c``'s :class:`Block` for the calling thread (``bt``: the :class:`~.batch.Batch`)."""
+    ci = bt.ci[c]
+    return Block(cuda.threadIdx.x, cuda.blockDim.x, ci[I_N], ci[O_N], bt.st[c], bt.gv[c], bt.iv[c], ci, bt.cf[c],
+                 bt.walls[c], sh, red)
+
+
+@cuda.jit(device=True)
+def table_of(tb, law, tlaw):
+    """The batch's contact table (its arrays and constants ``tb``) with these laws' markers."""
+    return ContactTable(law, tlaw, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8], tb[9], tb[10])
+
+
+@cuda.jit(device=True)
+def load_spheres(b):
+    """The case's positions, velocities, spins, spring displacements and radii into shared memory."""
+    N = b.N
+    i = b.tid
+    while i < b.n:
+        for k in range(3):
+            b.sh[(S_X + k) * N + i] = b.st[(X + k) * N + i]
+            b.sh[(S_V + k) * N + i] = b.st[(V + k) * N + i]
+            b.sh[(S_SPIN + k) * N + i] = b.st[(SPIN + k) * N + i]
+        for k in range(6):
+            b.sh[(S_MOVED + k) * N + i] = b.st[(MOVED + k) * N + i]
+        b.sh[S_RAD * N + i] = b.st[RAD * N + i]
+        i += b.bd
+    sync(b.bd)
+
+
+@cuda.jit(device=True)
+def store_spheres(b):
+    """The shared positions, velocities, spins and displacements back into the case's rows."""
+    N = b.N
+    i = b.tid
+    while i < b.n:
+        for k in range(3):
+            b.st[(X + k) * N + i] = b.sh[(S_X + k) * N + i]
+            b.st[(V + k) * N + i] = b.sh[(S_V + k) * N + i]
+            b.st[(SPIN + k) * N + i] = b.sh[(S_SPIN + k) * N + i]
+        for k in range(6):
+            b.st[(MOVED + k) * N + i] = b.sh[(S_MOVED + k) * N + i]
+        i += b.bd
+
+
+@cuda.jit(device=True)
+def partials(b, at):
+    """This thread's running sums kept at column ``at`` of its row of ``cf`` (:data:`~.batch.PARTIALS`)."""
+    k = F_PARTIALS + PARTIALS * (at * b.bd + b.tid)
+    return b.cf[k], b.cf[k + 1], b.cf[k + 2], b.cf[k + 3]
+
+
+@cuda.jit(device=True)
+def keep_partials(b, at, s0, s1, s2, s3):
+    """Keep this thread's running sums for the next launch (:func:`partials`)."""
+    k = F_PARTIALS + PARTIALS * (at * b.bd + b.tid)
+    b.cf[k] = s0
+    b.cf[k + 1] = s1
+    b.cf[k + 2] = s2
+    b.cf[k + 3] = s3
+
+
+@cuda.jit(device=True)
+def _tangential(b, pair, lb, tb):
+    """The tangential history of the pairs (``pair``) or of the sphere-wall contacts, of list buffer
+    ``lb`` and time buffer ``tb``, as a (rows, 5) array (one row under a law without history)."""
+    ci = b.ci
+    if pair:
+        rows = ci[O_TP]
+        at = ci[O_PT] + (lb * 2 + tb) * 5 * rows
+    else:
+        rows = ci[O_TW]
+        at = ci[O_WT] + tb * 5 * rows
+    return b.gv[at:at + 5 * rows].reshape((rows, 5))
+
+
+@cuda.jit(device=True)
+def _carry(src, dst, row, spring):
+    """Row ``row`` of a tangential history ``src`` into ``dst`` (a law with history only)."""
+    if spring:
+        for q in range(5):
+            dst[row, q] = src[row, q]
+
+
+@cuda.jit(device=True)
+def _pair_within(b, i, j, skin):
+    """Whether spheres ``i < j`` are within the list's reach (the CPU build's test, in its order)."""
+    N = b.N
+    sh = b.sh
+    dx = sh[S_X * N + j] - sh[S_X * N + i]
+    dy = sh[(S_X + 1) * N + j] - sh[(S_X + 1) * N + i]
+    dz = sh[(S_X + 2) * N + j] - sh[(S_X + 2) * N + i]
+    cut = (sh[S_RAD * N + i] + skin) + sh[S_RAD * N + j]
+    return dx * dx + dy * dy + dz * dz < cut * cut
+
+
+@cuda.jit(device=True)
+def rebuild(b, table, lb, tb):
+    """Rebuild the pair list into list buffer ``1 - lb`` at the shared positions, carrying the
+    history of time buffer ``tb`` over (:func:`pdamper.kernels.neighbours.rebuild_lists`' build and
+    ``transfer_history``), with each pair's constants and each sphere's list of the pairs it is the
+    second of; the reference positions taken. Returns the status: ``STATUS_LIST_OVERFLOW`` when the
+    pairs pass the case's capacity (then the old list stands)."""
+    tid = b.tid
+    bd = b.bd
+    n = b.n
+    N = b.N
+    ci = b.ci
+    iv = b.iv
+    gv = b.gv
+    P = ci[O_P]
+    spring = keeps_history(table.tangential)
+    nb = 1 - lb
+    skin = b.cf[F_SKIN]
+    row_old = ci[O_ROW] + lb * (N + 1)
+    sec_old = ci[O_SEC] + lb * P
+    row = ci[O_ROW] + nb * (N + 1)
+    sec = ci[O_SEC] + nb * P
+    first = ci[O_FIRST] + nb * P
+    mpa = ci[O_MP] + nb * P
+    v_old = ci[O_PV] + (lb * 2 + tb) * P
+    d_old = ci[O_PD] + (lb * 2 + tb) * P
+    v_new = ci[O_PV] + (nb * 2 + tb) * P
+    d_new = ci[O_PD] + (nb * 2 + tb) * P
+    th_old = _tangential(b, True, lb, tb)
+    th_new = _tangential(b, True, nb, tb)
+    nmat = ci[I_NMAT]
+    row0 = ci[I_ROW0]
+    base = 0
+    start = 0
+    while start < n:
+        i = start + tid
+        m = 0
+        if i < n:
+            for j in range(i + 1, n):
+                if _pair_within(b, i, j, skin):
+                    m += 1
+        before, total = block_scan(m, tid, bd, b.red)
+        if i < n:
+            k = base + before
+            iv[row + i] = k
+            ri = b.sh[S_RAD * N + i]
+            mi = b.st[MASS * N + i]
+            for j in range(i + 1, n):
+                if not _pair_within(b, i, j, skin):
+                    continue
+                if k < P:
+                    iv[sec + k] = j
+                    iv[first + k] = i
+                    mp = row0 + iv[ci[O_MAT] + i] * nmat + iv[ci[O_MAT] + j]
+                    iv[mpa + k] = mp
+                    rj = b.sh[S_RAD * N + j]
+                    mj = b.st[MASS * N + j]
+                    gv[ci[O_PK] + nb * P + k] = hertz_stiffness(table.modulus[mp], ri * rj / (ri + rj))
+                    gv[ci[O_PCAP] + nb * P + k] = FRICTION_CAP * mi * mj / (mi + mj)
+                    # the history of the pair if the old list has it (transfer_history's)
+                    v = 0.0
+                    d = 0.0
+                    e_old = -1
+                    for e in range(iv[row_old + i], iv[row_old + i + 1]):
+                        if iv[sec_old + e] == j:
+                            v = gv[v_old + e]
+                            d = gv[d_old + e]
+                            e_old = e
+                            break
+                    gv[v_new + k] = v
+                    gv[d_new + k] = d
+                    if spring:
+                        for q in range(5):
+                            th_new[k, q] = th_old[e_old, q] if e_old >= 0 else 0.0
+                k += 1
+        base += total
+        start += bd
+    if base > P:
+        sync(bd)
+        return STATUS_LIST_OVERFLOW
+    if tid == 0:
+        iv[row + n] = base
+    sync(bd)
+    # each sphere's pairs it is the second of, ascending first sphere (the pair list's order)
+    inrow = ci[O_INROW] + nb * (N + 1)
+    inpair = ci[O_INPAIR] + nb * P
+    base = 0
+    start = 0
+    while start < n:
+        k = start + tid
+        m = 0
+        if k < n:
+            for p in range(iv[row + k]):
+                if iv[sec + p] == k:
+                    m += 1
+        before, total = block_scan(m, tid, bd, b.red)
+        if k < n:
+            q = base + before
+            iv[inrow + k] = q
+            for p in range(iv[row + k]):
+                if iv[sec + p] == k:
+                    iv[inpair + q] = p
+                    q += 1
+            for a in range(3):
+                b.st[(REF + a) * N + k] = b.sh[(S_X + a) * N + k]
+        base += total
+        start += bd
+    if tid == 0:
+        iv[inrow + n] = base
+    sync(bd)
+    return STATUS_OK
+
+
+@cuda.jit(device=True)
+def pair_laws(b, table, lb, tb, dt, step):
+    """The contact law of every listed pair (the CPU pair loop's arithmetic), the lanes over the
+    pairs: its history read from time buffer ``tb``, written to ``1 - tb``; its result kept at the
+    pair. ``dt``: the tanh law's friction guard's step (Gear: none), ``step``: the step taken. Returns
+    ``(p_normal, p_friction, e_friction, status, culprit)`` of this thread's pairs; a barrier after."""
+    N = b.N
+    ci = b.ci
+    iv = b.iv
+    gv = b.gv
+    sh = b.sh
+    P = ci[O_P]
+    tlaw = table.tangential
+    spring = keeps_history(tlaw)
+    friction = table.friction
+    limit = table.overlap_limit
+    row = ci[O_ROW] + lb * (N + 1)
+    sec = ci[O_SEC] + lb * P
+    first = ci[O_FIRST] + lb * P
+    v_old = ci[O_PV] + (lb * 2 + tb) * P
+    d_old = ci[O_PD] + (lb * 2 + tb) * P
+    v_new = ci[O_PV] + (lb * 2 + 1 - tb) * P
+    d_new = ci[O_PD] + (lb * 2 + 1 - tb) * P
+    res = ci[O_RES]
+    th_old = _tangential(b, True, lb, tb)
+    th = _tangential(b, True, lb, 1 - tb)
+    p_n = 0.0
+    p_f = 0.0
+    e_f = 0.0
+    status = STATUS_OK
+    culprit = -1
+    p = b.tid
+    while p < iv[row + b.n]:
+        i = iv[first + p]
+        j = iv[sec + p]
+        ri = sh[S_RAD * N + i]
+        rj = sh[S_RAD * N + j]
+        dx = sh[S_X * N + j] - sh[S_X * N + i]
+        dy = sh[(S_X + 1) * N + j] - sh[(S_X + 1) * N + i]
+        dz = sh[(S_X + 2) * N + j] - sh[(S_X + 2) * N + i]
+        cut = ri + rj
+        d2 = dx * dx + dy * dy + dz * dz
+        v_in = gv[v_old + p]
+        _carry(th_old, th, p, spring)
+        if d2 >= cut * cut:
+            gv[v_new + p] = 0.0
+            gv[d_new + p] = 0.0
+            if v_in != 0.0:
+                e_f += drop_history(tlaw, th, p)
+            p += b.bd
+            continue
+        nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
+            dx, dy, dz, d2, cut, sh[S_V * N + i] - sh[S_V * N + j], sh[(S_V + 1) * N + i] - sh[(S_V + 1) * N + j],
+            sh[(S_V + 2) * N + i] - sh[(S_V + 2) * N + j], ri * sh[S_SPIN * N + i] + rj * sh[S_SPIN * N + j],
+            ri * sh[(S_SPIN + 1) * N + i] + rj * sh[(S_SPIN + 1) * N + j],
+            ri * sh[(S_SPIN + 2) * N + i] + rj * sh[(S_SPIN + 2) * N + j])
+        if delta > limit * min(ri, rj):
+            status = STATUS_OVERLAP
+            culprit = i
+        dsx = dsy = dsz = 0.0
+        if spring:
+            m = S_MOVED * N
+            dsx, dsy, dsz, dsn = pair_point_velocity(
+                sh[m + i] - sh[m + j], sh[m + N + i] - sh[m + N + j], sh[m + 2 * N + i] - sh[m + 2 * N + j],
+                ri * sh[m + 3 * N + i] + rj * sh[m + 3 * N + j], ri * sh[m + 4 * N + i] + rj * sh[m + 4 * N + j],
+                ri * sh[m + 5 * N + i] + rj * sh[m + 5 * N + j], nx, ny, nz)
+        cap = gv[ci[O_PCAP] + lb * P + p]
+        mp = iv[ci[O_MP] + lb * P + p]
+        fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
+            table, th, p, mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
+            ddot, v_in, gv[d_old + p], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+        gv[v_new + p] = vin
+        gv[d_new + p] = dd
+        p_n += pn
+        p_f += pf
+        e_f += ef
+        gv[res + R_F * P + p] = -fn * nx + ftx
+        gv[res + (R_F + 1) * P + p] = -fn * ny + fty
+        gv[res + (R_F + 2) * P + p] = -fn * nz + ftz
+        gv[res + R_N * P + p] = nx
+        gv[res + (R_N + 1) * P + p] = ny
+        gv[res + (R_N + 2) * P + p] = nz
+        gv[res + R_T * P + p] = ftx
+        gv[res + (R_T + 1) * P + p] = fty
+        gv[res + (R_T + 2) * P + p] = ftz
+        gv[res + R_S * P + p] = tx
+        gv[res + (R_S + 1) * P + p] = ty
+        gv[res + (R_S + 2) * P + p] = tz
+        gv[res + R_C * P + p] = ff
+        gv[res + R_LIM * P + p] = lim
+        p += b.bd
+    sync(b.bd)
+    return p_n, p_f, e_f, status, culprit
+
+
+@cuda.jit(device=True)
+def _cross(nx, ny, nz, tx, ty, tz):
+    """``n x t`` (:func:`~pdamper.kernels.contact.scatter`'s lever)."""
+    return ny * tz - nz * ty, nz * tx - nx * tz, nx * ty - ny * tx
+
+
+@cuda.jit(device=True)
+def _pair_sums(b, i, lb, tb):
+    """Force and torque on sphere ``i`` from its pairs, in ascending partner order (the pairs it is
+    the second of, then its own): ``(fx, fy, fz, qx, qy, qz)``."""
+    N = b.N
+    ci = b.ci
+    iv = b.iv
+    gv = b.gv
+    P = ci[O_P]
+    v_new = ci[O_PV] + (lb * 2 + 1 - tb) * P
+    res = ci[O_RES]
+    ri = b.sh[S_RAD * N + i]
+    fx = fy = fz = qx = qy = qz = 0.0
+    inrow = ci[O_INROW] + lb * (N + 1)
+    inpair = ci[O_INPAIR] + lb * P
+    for q in range(iv[inrow + i], iv[inrow + i + 1]):
+        p = iv[inpair + q]
+        if gv[v_new + p] != 0.0:
+            fx += -gv[res + R_F * P + p]
+            fy += -gv[res + (R_F + 1) * P + p]
+            fz += -gv[res + (R_F + 2) * P + p]
+            cx, cy, cz = _cross(gv[res + R_N * P + p], gv[res + (R_N + 1) * P + p], gv[res + (R_N + 2) * P + p],
+                                gv[res + R_T * P + p], gv[res + (R_T + 1) * P + p], gv[res + (R_T + 2) * P + p])
+            qx += ri * cx
+            qy += ri * cy
+            qz += ri * cz
+    row = ci[O_ROW] + lb * (N + 1)
+    for p in range(iv[row + i], iv[row + i + 1]):
+        if gv[v_new + p] != 0.0:
+            fx += gv[res + R_F * P + p]
+            fy += gv[res + (R_F + 1) * P + p]
+            fz += gv[res + (R_F + 2) * P + p]
+            cx, cy, cz = _cross(gv[res + R_N * P + p], gv[res + (R_N + 1) * P + p], gv[res + (R_N + 2) * P + p],
+                                gv[res + R_T * P + p], gv[res + (R_T + 1) * P + p], gv[res + (R_T + 2) * P + p])
+            qx += ri * cx
+            qy += ri * cy
+            qz += ri * cz
+    return fx, fy, fz, qx, qy, qz
+
+
+@cuda.jit(device=True)
+def _note_wall(b, i, w, nx, ny, nz, tx, ty, tz, c, lim):
+    """A sphere-wall contact's friction row (Gear's implicit pass)."""
+    N = b.N
+    at = b.ci[O_WROW] + w * N + i
+    wn = b.ci[O_W] * N
+    b.gv[at] = nx
+    b.gv[at + wn] = ny
+    b.gv[at + 2 * wn] = nz
+    b.gv[at + 3 * wn] = tx
+    b.gv[at + 4 * wn] = ty
+    b.gv[at + 5 * wn] = tz
+    b.gv[at + 6 * wn] = c
+    b.gv[at + 7 * wn] = lim
+
+
+@cuda.jit(device=True)
+def sphere_force(b, table, i, lb, tb, dt, step):
+    """Force and torque on sphere ``i``: its pairs' results in ascending partner order, then its
+    floor and other walls, whose law is evaluated here (each concerns this sphere alone: the CPU
+    floor and wall loops' arithmetic; the history from time buffer ``tb`` into ``1 - tb``, the
+    friction rows noted), summed one after another as the CPU sums them. Returns ``(fx, fy, fz, qx,
+    qy, qz, p_normal, p_friction, e_friction, fwx, fwy, fwz, status)``: the force [N] and torque
+    [N m], the walls' powers and energy, the force of the walls on it [N]."""
+    N = b.N
+    ci = b.ci
+    gv = b.gv
+    sh = b.sh
+    nW = ci[O_W]
+    tlaw = table.tangential
+    spring = keeps_history(tlaw)
+    friction = table.friction
+    limit = table.overlap_limit
+    wv_old = ci[O_WV] + tb * nW * N
+    wd_old = ci[O_WD] + tb * nW * N
+    wv_new = ci[O_WV] + (1 - tb) * nW * N
+    wd_new = ci[O_WD] + (1 - tb) * nW * N
+    wth_old = _tangential(b, False, 0, tb)
+    wth = _tangential(b, False, 0, 1 - tb)
+    floor = ci[I_FLOOR]
+    ri = sh[S_RAD * N + i]
+    mi = b.st[MASS * N + i]
+    x = sh[S_X * N + i]
+    y = sh[(S_X + 1) * N + i]
+    z = sh[(S_X + 2) * N + i]
+    vx = sh[S_V * N + i]
+    vy = sh[(S_V + 1) * N + i]
+    vz = sh[(S_V + 2) * N + i]
+    m = S_MOVED * N + i
+    fx, fy, fz, qx, qy, qz = _pair_sums(b, i, lb, tb)
+    p_n = p_f = e_f = fwx = fwy = fwz = 0.0
+    status = STATUS_OK
+    for w in range(ci[I_NW]):
+        # the floor first, then the other walls (the CPU's loops' order for a sphere)
+        if floor >= 0:
+            wall = floor if w == 0 else (w - 1 if w <= floor else w)
+        else:
+            wall = w
+        at = wall * N + i
+        row = i * nW + wall
+        v_in = gv[wv_old + at]
+        _carry(wth_old, wth, row, spring)
+        if wall == floor:
+            delta = ri - y
+            nx, ny, nz = 0.0, 1.0, 0.0
+        else:
+            s, nx, ny, nz = wall_distance(b.iv[ci[O_WKIND] + wall], b.walls, wall, x, y, z)
+            delta = ri - s
+        if delta <= 0.0:
+            gv[wv_new + at] = 0.0
+            gv[wd_new + at] = 0.0
+            if v_in != 0.0:
+                e_f += drop_history(tlaw, wth, row)
+            continue
+        if delta > limit * ri:
+            status = STATUS_OVERLAP
+        dsx = dsy = dsz = 0.0
+        if wall == floor:
+            ddot = -vy
+            tx, tz = floor_slip(vx, vz, sh[S_SPIN * N + i], sh[(S_SPIN + 2) * N + i], ri)
+            ty = 0.0
+            vt = math.sqrt(tx * tx + tz * tz)
+            if spring:
+                dsx, dsz = floor_slip(sh[m], sh[m + 2 * N], sh[m + 3 * N], sh[m + 5 * N], ri)
+        else:
+            ddot = -(vx * nx + vy * ny + vz * nz)
+            cvx, cvy, cvz, cn = wall_point_velocity(vx, vy, vz, sh[S_SPIN * N + i], sh[(S_SPIN + 1) * N + i],
+                                                    sh[(S_SPIN + 2) * N + i], ri, nx, ny, nz)
+            tx = cvx - cn * nx
+            ty = cvy - cn * ny
+            tz = cvz - cn * nz
+            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+            if spring:
+                dsx, dsy, dsz, dsn = wall_point_velocity(sh[m], sh[m + N], sh[m + 2 * N], sh[m + 3 * N],
+                                                         sh[m + 4 * N], sh[m + 5 * N], ri, nx, ny, nz)
+        mp = b.iv[ci[O_WMP] + at]
+        fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
+            table, wth, row, mp, friction[mp], gv[ci[O_WK] + at], gv[ci[O_WRS] + at], mi, FRICTION_CAP * mi, delta,
+            ddot, v_in, gv[wd_old + at], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+        gv[wv_new + at] = vin
+        gv[wd_new + at] = dd
+        p_n += pn
+        p_f += pf
+        e_f += ef
+        _note_wall(b, i, wall, nx, ny, nz, tx, ty, tz, ff, lim)
+        if wall == floor:
+            # (the floor's tangential force has no y part: the slip has none, and neither has a spring)
+            fty = 0.0
+            ex, ey, ez = ftx, fn, ftz
+        else:
+            ex = fn * nx + ftx
+            ey = fn * ny + fty
+            ez = fn * nz + ftz
+        fx += ex
+        fy += ey
+        fz += ez
+        cx, cy, cz = _cross(nx, ny, nz, ftx, fty, ftz)
+        qx += -ri * cx
+        qy += -ri * cy
+        qz += -ri * cz
+        fwx += ex
+        fwy += ey
+        fwz += ez
+    return fx, fy, fz, qx, qy, qz, p_n, p_f, e_f, fwx, fwy, fwz, status
+
+
+@cuda.jit(device=True)
+def elastic(b, i, lb, tb, spring):
+    """Energy [J] in the Hertz springs of sphere ``i``'s own pairs and its walls, and in their
+    tangential springs (time buffer ``tb``) under a law with history (``spring``):
+    :func:`pdamper.kernels.forces.elastic_energy`'s terms of this sphere."""
+    N = b.N
+    ci = b.ci
+    iv = b.iv
+    gv = b.gv
+    sh = b.sh
+    P = ci[O_P]
+    nW = ci[O_W]
+    ri = sh[S_RAD * N + i]
+    x = sh[S_X * N + i]
+    y = sh[(S_X + 1) * N + i]
+    z = sh[(S_X + 2) * N + i]
+    row = ci[O_ROW] + lb * (N + 1)
+    sec = ci[O_SEC] + lb * P
+    e_el = 0.0
+    for p in range(iv[row + i], iv[row + i + 1]):
+        j = iv[sec + p]
+        dx = sh[S_X * N + j] - x
+        dy = sh[(S_X + 1) * N + j] - y
+        dz = sh[(S_X + 2) * N + j] - z
+        delta = ri + sh[S_RAD * N + j] - math.sqrt(dx * dx + dy * dy + dz * dz)
+        if delta > 0.0:
+            e_el += hertz_energy(gv[ci[O_PK] + lb * P + p], delta)
+    floor = ci[I_FLOOR]
+    for w in range(ci[I_NW]):
+        if w == floor:
+            delta = ri - y
+        else:
+            s, nx, ny, nz = wall_distance(iv[ci[O_WKIND] + w], b.walls, w, x, y, z)
+            delta = ri - s
+        if delta > 0.0:
+            e_el += hertz_energy(gv[ci[O_WK] + w * N + i], delta)
+    if spring:
+        th = _tangential(b, True, lb, tb)
+        for p in range(iv[row + i], iv[row + i + 1]):
+            if th[p, 3] > 0.0:
+                e_el += spring_energy(th[p, 0], th[p, 1], th[p, 2], th[p, 3])
+        wth = _tangential(b, False, 0, tb)
+        for w in range(ci[I_NW]):
+            r = i * nW + w
+            if wth[r, 3] > 0.0:
+                e_el += spring_energy(wth[r, 0], wth[r, 1], wth[r, 2], wth[r, 3])
+    return e_el
+
+
+@cuda.jit(device=True)
+def record_sample(b, out, kk, sums, motion, lb, tb, spring):
+    """Sample ``kk`` of the case (:func:`pdamper.kernels.record.record_sample`) into its row ``out``:
+    the block's sums of the threads' ``sums`` (impulse, work, damping, friction), the energies, a
+    frame; ``motion``: the container's ``(x, v)`` [m, m/s] at the sample's end. Every thread of the
+    block calls it."""
+    N = b.N
+    ci = b.ci
+    cf = b.cf
+    sh = b.sh
+    tid = b.tid
+    bd = b.bd
+    xc, vc = motion
+    gvx = cf[F_GRAVITY]
+    gvy = cf[F_GRAVITY + 1]
+    gvz = cf[F_GRAVITY + 2]
+    dvx = cf[F_DIRECTION]
+    dvy = cf[F_DIRECTION + 1]
+    dvz = cf[F_DIRECTION + 2]
+    ekin = erot = epot = eel = 0.0
+    erec = kk < ci[I_EN_ROWS]
+    if erec:
+        i = tid
+        while i < b.n:
+            mi = b.st[MASS * N + i]
+            ux = sh[S_V * N + i] + vc * dvx
+            uy = sh[(S_V + 1) * N + i] + vc * dvy
+            uz = sh[(S_V + 2) * N + i] + vc * dvz
+            ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
+            erot += 0.5 / b.st[IINERT * N + i] * (sh[S_SPIN * N + i] ** 2 + sh[(S_SPIN + 1) * N + i] ** 2
+                                                  + sh[(S_SPIN + 2) * N + i] ** 2)
+            epot -= mi * (gvx * sh[S_X * N + i] + gvy * sh[(S_X + 1) * N + i] + gvz * sh[(S_X + 2) * N + i])
+            eel += elastic(b, i, lb, tb, spring)
+            i += bd
+    impulse = block_sum(sums[0], tid, bd, b.red)
+    if tid == 0 and kk < ci[I_WF_ROWS]:
+        out[kk] = impulse / cf[F_SAMPLE_INTERVAL]
+    if erec:
+        e = ci[O_ENERGY] + 7 * kk
+        work = block_sum(sums[1], tid, bd, b.red)
+        damp = block_sum(sums[2], tid, bd, b.red)
+        fric = block_sum(sums[3], tid, bd, b.red)
+        ekin = block_sum(ekin, tid, bd, b.red)
+        erot = block_sum(erot, tid, bd, b.red)
+        epot = block_sum(epot, tid, bd, b.red)
+        eel = block_sum(eel, tid, bd, b.red)
+        if tid == 0:
+            # the lab frame's potential energy (record_sample): the bed raised with the container
+            gd = gvx * dvx + gvy * dvy + gvz * dvz
+            if abs(gd) > 1e-12 * math.sqrt(gvx ** 2 + gvy ** 2 + gvz ** 2):
+                epot -= cf[F_BED_MASS] * gd * xc
+            out[e] = ekin
+            out[e + 1] = erot
+            out[e + 2] = epot
+            out[e + 3] = eel
+            out[e + 4] = work
+            out[e + 5] = damp
+            out[e + 6] = fric
+    every = ci[I_FRAME_EVERY]
+    if every > 0 and (kk + 1) % every == 0:
+        f = (kk + 1) // every - 1
+        if f < ci[I_FR_ROWS]:
+            i = tid
+            while i < b.n:
+                at = ci[O_FRAMES] + (f * N + i) * 9
+                for k in range(3):
+                    out[at + k] = sh[(S_X + k) * N + i]
+                    out[at + 3 + k] = sh[(S_V + k) * N + i]
+                    out[at + 6 + k] = sh[(S_SPIN + k) * N + i]
+                i += bd
+    sync(bd)
+
+
+@cuda.jit(device=True)
+def motion_at(b, t):
+    """The container's (position, velocity, acceleration) along the drive at ``t`` (the kernels'
+    own function of the drive's kind number and parameters)."""
+    cf = b.cf
+    return parametric_motion(b.ci[I_DRIVE], cf[F_PAR], cf[F_PAR + 1], cf[F_PAR + 2], t)
+
+
+@cuda.jit(device=True)
+def prime(b, table, lb, tb, dt):
+    """The contacts at the start of a run (the CPU's priming evaluation): the list built, the pairs'
+    law evaluated with the springs not advanced (nothing moved; ``dt``: the tanh law's friction
+    guard's step). Returns ``(status, lb)``: the rebuild's status and the list buffer in use; the
+    walls are the integrator's (:func:`sphere_force` with ``step = 0``)."""
+    N = b.N
+    i = b.tid
+    while i < b.n:
+        for k in range(6):
+            b.sh[(S_MOVED + k) * N + i] = 0.0
+        i += b.bd
+    sync(b.bd)
+    status = rebuild(b, table, lb, tb)
+    if status == STATUS_OK:
+        lb = 1 - lb
+    pair_laws(b, table, lb, tb, dt, 0.0)
+    return status, lb
