@@ -373,28 +373,38 @@ class _Batch:
     def snapshot(self, c):
         """Case ``c`` as the CPU engine's arrays hold it (for the tests): positions, velocities and
         spins (n, 3), Gear's Nordsieck vector (6, n, 6), the walls' tangential springs of the current
-        history (n, W, 5), the steps, the rejected steps and the threads' running sums (threads, 4)."""
+        history (n, W, 5), the touching pairs with friction of the last step in the pair list's order
+        (k, 2) with their rows (normal, slip, c, limit: (k, 8)) and their levels in Gear's walk (k,),
+        the steps, the rejected steps, the clock, the step and the threads' running sums."""
         from types import SimpleNamespace
 
         from ..kernels.gpu import batch as lay
 
-        st, gv, cf = _host(self.bt.st)[c], _host(self.bt.gv)[c], _host(self.bt.cf)[c]
+        st, gv, iv, cf = (_host(a)[c] for a in (self.bt.st, self.bt.gv, self.bt.iv, self.bt.cf))
         ci = _host(self.bt.ci)[c]
-        n, N, W = int(ci[I_N]), int(ci[lay.O_N]), int(ci[lay.O_W])
+        n, N, W, P = (int(ci[k]) for k in (I_N, lay.O_N, lay.O_W, lay.O_P))
+        lb, tk = int(ci[lay.I_LIST]), int(ci[I_TIME])
 
         def field(f, k):
             return st[f * N:(f + k) * N].reshape(k, N)[:, :n].T.copy()
 
         nord = st[lay.NORD * N:(lay.NORD + 36) * N].reshape(6, 6, N)[:, :, :n].transpose(0, 2, 1).copy()
         tw = int(ci[lay.O_TW])
-        at = int(ci[lay.O_WT]) + int(ci[I_TIME]) * 5 * tw
+        at = int(ci[lay.O_WT]) + tk * 5 * tw
         springs = gv[at:at + 5 * tw].reshape(tw, 5)
-        springs = springs.reshape(N, W, 5)[:n] if tw > 1 else np.zeros((n, W, 5))
+        springs = springs.reshape(N, W, 5)[:n].copy() if tw > 1 else np.zeros((n, W, 5))
+        npairs = int(iv[int(ci[lay.O_ROW]) + lb * (N + 1) + n])
+        v = gv[int(ci[lay.O_PV]) + (lb * 2 + tk) * P:][:npairs]
+        res = gv[int(ci[lay.O_RES]):int(ci[lay.O_RES]) + lay.RESULT * P].reshape(lay.RESULT, P)[:, :npairs]
+        touching = np.flatnonzero((v != 0.0) & (res[lay.R_C] > 0.0))
+        ends = np.stack([iv[int(ci[lay.O_FIRST]) + lb * P + touching], iv[int(ci[lay.O_SEC]) + lb * P + touching]], 1)
+        rows = np.concatenate([res[lay.R_N:lay.R_N + 3], res[lay.R_S:lay.R_LIM + 1]])[:, touching].T.copy()
+        levels = iv[int(ci[lay.O_LEVEL]):int(ci[lay.O_LEVEL]) + touching.size].copy()
         sums = cf[lay.F_PARTIALS:lay.F_PARTIALS + 2 * lay.PARTIALS * self.bd].copy()
         return SimpleNamespace(position=field(lay.X, 3), velocity=field(lay.V, 3), spin=field(lay.SPIN, 3),
-                               nordsieck=nord, wall_springs=springs, steps=int(ci[I_STEP]),
-                               rejected=int(ci[I_REJECTED]), partials=sums, time=float(cf[F_T]),
-                               step=float(cf[lay.F_HS]))
+                               nordsieck=nord, wall_springs=springs, pairs=ends, pair_rows=rows, levels=levels,
+                               steps=int(ci[I_STEP]), rejected=int(ci[I_REJECTED]), partials=sums,
+                               time=float(cf[F_T]), step=float(cf[lay.F_HS]))
 
     def unpack(self, wall, batch):
         """Each job's channels, final state and outcome."""

@@ -19,7 +19,10 @@ functions are plain Python that exchange values through the block's barrier (the
 block's threads as Python threads; a warp's exchange waits for the block, which is right for a block
 of one warp, what the simulator tests run, and for the uniform calls of several). They mark the
 thread while they exchange, so that the tests' race check does not count those barriers as the
-kernel's own: a shuffle orders no memory on a GPU.
+kernel's own: a shuffle orders no memory on a GPU. The block's reductions and scan take one such
+exchange there (the tree's shuffles, one exchange each, made the simulator tests several times
+slower); the trees themselves run in the simulator in tests/kernels/gpu/test_warp_gpu.py, warp by
+warp, on blocks of one and of two warps.
 """
 
 from __future__ import annotations
@@ -118,7 +121,7 @@ def _warp_max(v, lane, lanes):
 
 
 @cuda.jit(device=True)
-def block_max(v, tid, bd, red):
+def _tree_max(v, tid, bd, red):
     """The largest ``v`` of the block's threads (a NaN wins); every thread gets it."""
     lane, w, lanes = _lanes(tid, bd)
     v = _warp_max(v, lane, lanes)
@@ -136,7 +139,7 @@ def block_max(v, tid, bd, red):
 
 
 @cuda.jit(device=True)
-def block_sum(v, tid, bd, red):
+def _tree_sum(v, tid, bd, red):
     """The sum of ``v`` over the block's threads (a tree in each warp, then the warps in order);
     every thread gets it."""
     lane, w, lanes = _lanes(tid, bd)
@@ -165,7 +168,7 @@ def block_min_int(v, tid, bd, red):
 
 
 @cuda.jit(device=True)
-def block_or(v, tid, bd, red):
+def _tree_or(v, tid, bd, red):
     """The bitwise or of the small non-negative integer ``v`` (a few flag bits) over the block's
     threads; every thread gets it."""
     lane, w, lanes = _lanes(tid, bd)
@@ -188,7 +191,7 @@ def block_or(v, tid, bd, red):
 
 
 @cuda.jit(device=True)
-def block_scan(m, tid, bd, red):
+def _tree_scan(m, tid, bd, red):
     """The exclusive prefix sum of the integer ``m`` over the block's threads in thread order, and
     its total: ``(before, total)``."""
     lane, w, lanes = _lanes(tid, bd)
@@ -252,3 +255,37 @@ def out_of_time(start, max_cycles):
     since ``start`` by the block's clock (:func:`clock`), so that each case of a launch takes as many
     steps as its own step's cost allows. Read by thread 0, which tells the block."""
     return max_cycles > 0 and clock() - start >= max_cycles
+
+
+if SIMULATOR:
+    def _values(v):
+        """Every thread's ``v`` of the block, in thread order (one exchange)."""
+        seen = _exchange(v)
+        return [seen[k] for k in sorted(seen)]
+
+    def block_max(v, tid, bd, red):
+        vals = _values(v)
+        m = vals[0]
+        for y in vals[1:]:
+            if y > m or y != y:
+                m = y
+        return m
+
+    def block_sum(v, tid, bd, red):
+        vals = _values(v)
+        total = vals[0]
+        for y in vals[1:]:
+            total += y
+        return total
+
+    def block_or(v, tid, bd, red):
+        out = 0
+        for y in _values(v):
+            out |= y
+        return out
+
+    def block_scan(m, tid, bd, red):
+        vals = _values(m)
+        return sum(vals[:tid]), sum(vals)
+else:
+    block_max, block_sum, block_or, block_scan = _tree_max, _tree_sum, _tree_or, _tree_scan
