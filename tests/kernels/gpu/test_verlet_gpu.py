@@ -210,3 +210,44 @@ def test_gear_with_the_tangential_spring_is_not_refused(monkeypatch):
     assert sim._gpu_job()[1] is None
     monkeypatch.setattr(targets, "SIMULATOR", False)
     assert refusal(sim.engine) is None
+
+
+def test_progress_reaches_the_whole_run():
+    """The GPU's progress (what a run's bar shows) ends at the whole: its last call says every step
+    done, a failed case counted whole (it once stopped a round short, the bar never at 100 %)."""
+    import warnings
+
+    from pdamper.engine.cuda import run_jobs
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sims = [Simulation(_case("cuboid", n=2, cycles=0.005)), Simulation(_case("cuboid", n=3, time_step=2e-4))]
+    seen = []
+    out = run_jobs([s._gpu_job()[0] for s in sims], max_launch_steps=50, progress=lambda d, t: seen.append((d, t)))
+    assert out[0].status == 0 and out[1].status != 0  # (the second case fails: a step far too long)
+    done, total = seen[-1]
+    assert done == total > 0 and len(seen) > 2
+    assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+
+
+def test_a_bed_beyond_the_gpus_runs_on_the_cpu_engine_and_says_so(monkeypatch):
+    """A case whose bed is larger than a block takes (here the limit lowered to 3 spheres) runs on the
+    CPU engine, with one warning that says so; the other case of the call runs on the GPU engine."""
+    import warnings
+
+    from pdamper.kernels.gpu import batch
+    from pdamper.run import run_case, run_cases
+
+    monkeypatch.setattr(batch, "MAX_SPHERES", 3)
+    small, big = (dataclasses.replace(_case("cuboid", n=n, cycles=0.005),
+                                      numerics=Numerics(integrator="verlet", device="cuda")) for n in (3, 4))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = run_cases([small, big], analyze=False)
+    said = [str(w.message) for w in caught if "CPU engine" in str(w.message)]
+    assert said == ["1 case of 4 spheres run on the CPU engine: the GPU engine takes beds of up to 3 spheres "
+                    "(docs/engine.md, 'The GPU engine')"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cpu = run_case(dataclasses.replace(big, numerics=Numerics(integrator="verlet")), analyze=False)
+    assert np.array_equal(out[1].signals.force, cpu.signals.force)  # the CPU engine's own run

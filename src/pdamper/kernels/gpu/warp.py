@@ -40,12 +40,10 @@ __all__ = ["sync", "clock", "out_of_time", "block_max", "block_sum", "block_min_
 FULL = 0xFFFFFFFF
 
 if SIMULATOR:
-    _BOXES = {}
-
     def _exchange(value):
         """Every thread's ``value`` of the block, by thread index (the simulator's stand-in for a shuffle)."""
         t = threading.current_thread()
-        box = _BOXES.setdefault(t.blockIdx.x, {})
+        box = vars(t._manager).setdefault("exchange", {})  # (the simulator makes a manager a block)
         t.exchanging = True
         box[t.threadIdx.x] = value
         t.syncthreads()
