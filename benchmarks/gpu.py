@@ -896,6 +896,10 @@ def part_ptx(kernels=None, sm="sm_90"):
             r = subprocess.run([ptxas, "--gpu-name", sm, "-v", str(path), "-o", str(Path(d) / "k.cubin")],
                                capture_output=True, text=True, timeout=900)
         k.update(ptxas_report(r.stdout + r.stderr), ptxas_ok=r.returncode == 0, sm=sm)
+        if r.returncode != 0:
+            k["ptxas_error"] = " ".join((r.stdout + r.stderr).split())[-600:]
+        if os.environ.get("PDAMPER_PTX_DIR"):  # (to read the PTX: keep it)
+            Path(os.environ["PDAMPER_PTX_DIR"], name.replace(", ", "-") + ".ptx").write_text(ptx)
         k["within_limits"] = bool(k["ptxas_ok"] and k["registers"] is not None and k["registers"] <= PTX_MAX_REGISTERS
                                   and k.get("spill_store_bytes", 1) == 0 and k.get("spill_load_bytes", 1) == 0)
         out[name] = k
@@ -904,17 +908,16 @@ def part_ptx(kernels=None, sm="sm_90"):
 
 
 def ptxas_path():
-    """``ptxas``: the ``nvidia-cuda-nvcc`` wheel's (the ``gpu`` extra), else one on PATH; None if neither."""
+    """``ptxas``: the ``nvidia-cuda-nvcc`` wheel's (the ``gpu`` extra; its version matches the
+    extra's NVVM, whose PTX an older ptxas refuses), else one on PATH; None if neither."""
     import shutil
+    from importlib import metadata
 
     try:
-        import nvidia.cuda_nvcc as wheel  # (the wheel's package; its bin/ holds ptxas)
-
-        for root in getattr(wheel, "__path__", []):
-            p = Path(root) / "bin" / "ptxas"
-            if p.exists():
-                return str(p)
-    except ImportError:
+        for f in metadata.files("nvidia-cuda-nvcc") or []:
+            if f.name == "ptxas":
+                return str(f.locate())
+    except metadata.PackageNotFoundError:
         pass
     return shutil.which("ptxas")
 

@@ -390,9 +390,9 @@ class _Batch:
 
         nord = st[lay.NORD * N:(lay.NORD + 36) * N].reshape(6, 6, N)[:, :, :n].transpose(0, 2, 1).copy()
         tw = int(ci[lay.O_TW])
-        at = int(ci[lay.O_WT]) + tk * 5 * tw
-        springs = gv[at:at + 5 * tw].reshape(tw, 5)
-        springs = springs.reshape(N, W, 5)[:n].copy() if tw > 1 else np.zeros((n, W, 5))
+        at = int(ci[lay.O_TWALL]) + tk * tw
+        th = _host(self.bt.th)[c]
+        springs = th[at:at + tw].reshape(N, W, 5)[:n].copy() if tw > 1 else np.zeros((n, W, 5))
         npairs = int(iv[int(ci[lay.O_ROW]) + lb * (N + 1) + n])
         v = gv[int(ci[lay.O_PV]) + (lb * 2 + tk) * P:][:npairs]
         res = gv[int(ci[lay.O_RES]):int(ci[lay.O_RES]) + lay.RESULT * P].reshape(lay.RESULT, P)[:, :npairs]
@@ -482,6 +482,7 @@ def _pack(jobs, threads):
     widths = lay.row_widths(N, bd)
     st = np.zeros((C, widths["st"]))
     gv = np.zeros((C, o["gv"]))
+    th = np.zeros((C, o["th"], 5))
     iv = np.zeros((C, o["iv"]), dtype=np.int32)
     ci = np.zeros((C, lay.CI), dtype=np.int64)
     cf = np.zeros((C, widths["cf"]))
@@ -534,7 +535,7 @@ def _pack(jobs, threads):
     # before it is read): here only their shape
     out = np.zeros((C, o["out"])) if SIMULATOR else np.lib.stride_tricks.as_strided(np.zeros(1), (C, o["out"]), (0, 0))
     shared = 8 * lay.SHARED_FIELDS * N
-    return lay.Batch(st=st, gv=gv, iv=iv, ci=ci, cf=cf, walls=walls, out=out), tb, bd, shared
+    return lay.Batch(st=st, gv=gv, th=th, iv=iv, ci=ci, cf=cf, walls=walls, out=out), tb, bd, shared
 
 
 def _time_of(job, g):

@@ -1,7 +1,7 @@
 """A batch of cases as a few flat buffers, one row per case: the GPU kernels' state, laid out so that
 a case's block finds everything at offsets of its own row.
 
-Seven arrays make the whole batch (:class:`Batch`), each ``(C, width)``; a kernel takes them as one
+Eight arrays make the whole batch (:class:`Batch`), each ``(C, width)``; a kernel takes them as one
 bundle, the contact table and the laws' markers (its parameters: about 950 B, against the 7 KB of
 the ~90 arrays of the kernels before). Inside a case's row the values sit in *fields* of one value
 per sphere (``st``: field ``f`` of sphere ``i`` at ``f * N + i``, ``N`` the batch's padded sphere
@@ -17,11 +17,15 @@ a name here, none is a number in the kernels.
   d``: row ``k`` of degree of freedom ``d``).
 - ``gv`` (float): per pair, in two list buffers (the rebuild writes the other, carrying the history
   over): Hertz stiffness and Verlet's friction guard; the contact history (approach speed, the damping
-  law's parameter, the tangential law's five columns under a law that keeps them), in two list
-  buffers times two time buffers: a step reads one time buffer and writes the other, and the
-  buffers change places when the step is accepted, so a rejected step leaves nothing to restore;
-  the contact law's result (:data:`RESULT` values); each sphere-wall contact's constants, history
-  (two time buffers) and friction row.
+  law's parameter), in two list buffers times two time buffers: a step reads one time buffer and
+  writes the other, and the buffers change places when the step is accepted, so a rejected step
+  leaves nothing to restore; the contact law's result (:data:`RESULT` values); each sphere-wall
+  contact's constants, history (two time buffers) and friction row.
+- ``th`` (float, ``(C, rows, 5)``): the tangential law's five columns of history a contact
+  (:data:`~pdamper.kernels.bundles.TANGENTIAL_COLUMNS`), in the same buffers: pair ``p`` of list
+  buffer ``lb`` and time buffer ``tb`` at row ``(2 lb + tb) TP + p``, sphere-wall contact ``(i, w)``
+  at ``TWALL + tb TW + i W + w``; under a law without history one row of each, never read. A table,
+  as the CPU's contact law takes it.
 - ``iv`` (int32): the pair lists (CSR rows in the CPU's order: ``i`` ascending, then its partners
   ``j > i`` ascending) and, per sphere, the pairs it is the second of (ascending ``i``): a sphere's
   sum over its pairs in ascending partner order, the CPU pair loop's order for it, with no atomics;
@@ -61,8 +65,7 @@ ST_FIELDS = 76
 
 # ---- the block's shared memory, one value per sphere (field f of sphere i at f * N + i)
 S_X, S_V, S_SPIN, S_MOVED, S_RAD = 0, 3, 6, 9, 15
-S_INC = 16          #: (6 N) Gear's corrector increments, sphere-major (an (N, 6) array)
-SHARED_FIELDS = 22
+SHARED_FIELDS = 16
 
 #: Values of a pair's result: the force on i (3), the unit normal from i to j (3), the friction force
 #: on i (3), the slip (3), the friction coefficient c and the Coulomb limit (Gear's friction row).
@@ -79,9 +82,9 @@ PARTIALS = 4
  I_SUB, I_SETTLE_STEPS, I_TOTAL_STEPS, I_SEG_STEPS, I_SEG_SAMPLES, I_WF_ROWS, I_EN_ROWS, I_FR_ROWS, I_FRAME_EVERY,
  I_SETTLE_SAMPLES, I_NMAT, I_ROW0, I_DRIVE, I_SPAN, I_SPANS, I_SAMPLES, I_REJECTED) = range(29)
 # the offsets of the regions of the case's rows (layout)
-(O_PK, O_PCAP, O_PV, O_PD, O_PT, O_RES, O_DP, O_WK, O_WRS, O_WV, O_WD, O_WT, O_WROW,
+(O_PK, O_PCAP, O_PV, O_PD, O_RES, O_DP, O_WK, O_WRS, O_WV, O_WD, O_WROW,
  O_ROW, O_SEC, O_FIRST, O_MP, O_INROW, O_INPAIR, O_WMP, O_MAT, O_WALK, O_LEVEL, O_WKIND,
- O_ENERGY, O_FRAMES, O_N, O_P, O_W, O_TP, O_TW) = range(32, 63)
+ O_ENERGY, O_FRAMES, O_N, O_P, O_W, O_TP, O_TW, O_TWALL) = range(32, 62)
 CI = 64
 
 # ---- cf: the case's float slots
@@ -96,6 +99,7 @@ class Batch(NamedTuple):
 
     st: np.ndarray      #: (C, ST_FIELDS x N) float: the spheres
     gv: np.ndarray      #: (C, .) float: pairs and sphere-wall contacts
+    th: np.ndarray      #: (C, ., 5) float: the tangential history, a row a contact (pairs, then walls)
     iv: np.ndarray      #: (C, .) int32: lists, material pairs, Gear's rows
     ci: np.ndarray      #: (C, CI) int64: counts, clock, status, offsets
     cf: np.ndarray      #: (C, .) float: clock, drive, running sums
@@ -104,17 +108,17 @@ class Batch(NamedTuple):
 
 
 def layout(n: int, p: int, w: int, spring: bool, samples: int, frames: int) -> dict:
-    """The offsets of the regions of a case's rows of ``gv``, ``iv`` and ``out`` for ``n`` spheres
+    """The offsets of the regions of a case's rows of ``gv``, ``iv``, ``th`` and ``out`` for ``n`` spheres
     (padded), ``p`` pairs at most, ``w`` walls (padded), the tangential history's rows (``spring``: a
     law that keeps one; else one row, never read), ``samples`` and ``frames`` recorded: ``{O_*:
-    offset}``, with the widths ``"gv"``, ``"iv"``, ``"out"``."""
+    offset}``, with the widths ``"gv"``, ``"iv"``, ``"th"`` (rows), ``"out"``."""
     tp = p if spring else 1
     tw = n * w if spring else 1
     o = {}
     at = 0
-    for slot, size in ((O_PK, 2 * p), (O_PCAP, 2 * p), (O_PV, 4 * p), (O_PD, 4 * p), (O_PT, 4 * 5 * tp),
-                       (O_RES, RESULT * p), (O_DP, p), (O_WK, w * n), (O_WRS, w * n), (O_WV, 2 * w * n),
-                       (O_WD, 2 * w * n), (O_WT, 2 * 5 * tw), (O_WROW, WALL_ROW * w * n)):
+    for slot, size in ((O_PK, 2 * p), (O_PCAP, 2 * p), (O_PV, 4 * p), (O_PD, 4 * p), (O_RES, RESULT * p), (O_DP, p),
+                       (O_WK, w * n), (O_WRS, w * n), (O_WV, 2 * w * n), (O_WD, 2 * w * n),
+                       (O_WROW, WALL_ROW * w * n)):
         o[slot] = at
         at += size
     o["gv"] = at
@@ -127,7 +131,7 @@ def layout(n: int, p: int, w: int, spring: bool, samples: int, frames: int) -> d
     o[O_ENERGY] = samples
     o[O_FRAMES] = 8 * samples
     o["out"] = 8 * samples + frames * n * 9
-    o.update({O_N: n, O_P: p, O_W: w, O_TP: tp, O_TW: tw})
+    o.update({O_N: n, O_P: p, O_W: w, O_TP: tp, O_TW: tw, O_TWALL: 4 * tp, "th": 4 * tp + 2 * tw})
     return o
 
 

@@ -40,7 +40,7 @@ from . import targets  # noqa: F401  (registers the laws' dispatch for the CUDA 
 from .batch import (F_BED_MASS, F_DIRECTION, F_GRAVITY, F_PAR, F_PARTIALS, F_SAMPLE_INTERVAL, F_SKIN, I_DRIVE,
                     I_EN_ROWS, I_FLOOR, I_FR_ROWS, I_FRAME_EVERY, I_N, I_NMAT, I_NW, I_ROW0, I_WF_ROWS, IINERT, MASS,
                     MOVED, O_ENERGY, O_FIRST, O_FRAMES, O_INPAIR, O_INROW, O_MAT, O_MP, O_N, O_P, O_PCAP, O_PD, O_PK,
-                    O_PT, O_PV, O_RES, O_ROW, O_SEC, O_TP, O_TW, O_W, O_WD, O_WK, O_WKIND, O_WMP, O_WROW, O_WRS, O_WT,
+                    O_PV, O_RES, O_ROW, O_SEC, O_TP, O_TW, O_TWALL, O_W, O_WD, O_WK, O_WKIND, O_WMP, O_WROW, O_WRS,
                     O_WV, PARTIALS, R_C, R_F, R_LIM, R_N, R_S, R_T, RAD, REF, S_MOVED, S_RAD, S_SPIN, S_V, S_X, SPIN, V,
                     X)
 from .warp import block_scan, block_sum, sync
@@ -57,6 +57,7 @@ class Block(NamedTuple):
     N: int              #: the batch's padded spheres (a field's stride)
     st: np.ndarray      #: the case's rows of the batch (:class:`~.batch.Batch`)
     gv: np.ndarray
+    th: np.ndarray      #: (rows, 5) the tangential history
     iv: np.ndarray
     ci: np.ndarray
     cf: np.ndarray
@@ -65,15 +66,15 @@ class Block(NamedTuple):
     red: np.ndarray     #: shared: a word a warp for the block's reductions
 
 
-@cuda.jit(device=True)
+@cuda.jit(device=True, inline="always")
 def block(bt, c, sh, red):
     """Case ``c``'s :class:`Block` for the calling thread (``bt``: the :class:`~.batch.Batch`)."""
     ci = bt.ci[c]
-    return Block(cuda.threadIdx.x, cuda.blockDim.x, ci[I_N], ci[O_N], bt.st[c], bt.gv[c], bt.iv[c], ci, bt.cf[c],
-                 bt.walls[c], sh, red)
+    return Block(cuda.threadIdx.x, cuda.blockDim.x, ci[I_N], ci[O_N], bt.st[c], bt.gv[c], bt.th[c], bt.iv[c], ci,
+                 bt.cf[c], bt.walls[c], sh, red)
 
 
-@cuda.jit(device=True)
+@cuda.jit(device=True, inline="always")
 def table_of(tb, law, tlaw):
     """The batch's contact table (its arrays and constants ``tb``) with these laws' markers."""
     return ContactTable(law, tlaw, 0, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8], tb[9], tb[10])
@@ -129,25 +130,26 @@ def keep_partials(b, at, s0, s1, s2, s3):
 
 
 @cuda.jit(device=True)
-def _tangential(b, pair, lb, tb):
-    """The tangential history of the pairs (``pair``) or of the sphere-wall contacts, of list buffer
-    ``lb`` and time buffer ``tb``, as a (rows, 5) array (one row under a law without history)."""
-    ci = b.ci
-    if pair:
-        rows = ci[O_TP]
-        at = ci[O_PT] + (lb * 2 + tb) * 5 * rows
-    else:
-        rows = ci[O_TW]
-        at = ci[O_WT] + tb * 5 * rows
-    return b.gv[at:at + 5 * rows].reshape((rows, 5))
+def _pair_row(b, lb, tb, p):
+    """The row of ``b.th`` that holds pair ``p``'s tangential history in list buffer ``lb``, time
+    buffer ``tb``."""
+    return (lb * 2 + tb) * b.ci[O_TP] + p
 
 
 @cuda.jit(device=True)
-def _carry(src, dst, row, spring):
-    """Row ``row`` of a tangential history ``src`` into ``dst`` (a law with history only)."""
+def _wall_row(b, tb, i, w):
+    """The row of ``b.th`` that holds the tangential history of sphere ``i`` at wall ``w``, time
+    buffer ``tb``."""
+    ci = b.ci
+    return ci[O_TWALL] + tb * ci[O_TW] + i * ci[O_W] + w
+
+
+@cuda.jit(device=True)
+def _carry(th, src, dst, spring):
+    """Row ``src`` of the tangential history ``th`` into row ``dst`` (a law with history only)."""
     if spring:
         for q in range(5):
-            dst[row, q] = src[row, q]
+            th[dst, q] = th[src, q]
 
 
 @cuda.jit(device=True)
@@ -190,8 +192,7 @@ def rebuild(b, table, lb, tb):
     d_old = ci[O_PD] + (lb * 2 + tb) * P
     v_new = ci[O_PV] + (nb * 2 + tb) * P
     d_new = ci[O_PD] + (nb * 2 + tb) * P
-    th_old = _tangential(b, True, lb, tb)
-    th_new = _tangential(b, True, nb, tb)
+    th = b.th
     nmat = ci[I_NMAT]
     row0 = ci[I_ROW0]
     base = 0
@@ -234,8 +235,10 @@ def rebuild(b, table, lb, tb):
                     gv[v_new + k] = v
                     gv[d_new + k] = d
                     if spring:
+                        r_new = _pair_row(b, nb, tb, k)
+                        r_old = _pair_row(b, lb, tb, e_old)
                         for q in range(5):
-                            th_new[k, q] = th_old[e_old, q] if e_old >= 0 else 0.0
+                            th[r_new, q] = th[r_old, q] if e_old >= 0 else 0.0
                 k += 1
         base += total
         start += bd
@@ -299,8 +302,7 @@ def pair_laws(b, table, lb, tb, dt, step):
     v_new = ci[O_PV] + (lb * 2 + 1 - tb) * P
     d_new = ci[O_PD] + (lb * 2 + 1 - tb) * P
     res = ci[O_RES]
-    th_old = _tangential(b, True, lb, tb)
-    th = _tangential(b, True, lb, 1 - tb)
+    th = b.th
     p_n = 0.0
     p_f = 0.0
     e_f = 0.0
@@ -318,12 +320,13 @@ def pair_laws(b, table, lb, tb, dt, step):
         cut = ri + rj
         d2 = dx * dx + dy * dy + dz * dz
         v_in = gv[v_old + p]
-        _carry(th_old, th, p, spring)
+        row = _pair_row(b, lb, 1 - tb, p)
+        _carry(th, _pair_row(b, lb, tb, p), row, spring)
         if d2 >= cut * cut:
             gv[v_new + p] = 0.0
             gv[d_new + p] = 0.0
             if v_in != 0.0:
-                e_f += drop_history(tlaw, th, p)
+                e_f += drop_history(tlaw, th, row)
             p += b.bd
             continue
         nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
@@ -344,7 +347,7 @@ def pair_laws(b, table, lb, tb, dt, step):
         cap = gv[ci[O_PCAP] + lb * P + p]
         mp = iv[ci[O_MP] + lb * P + p]
         fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, th, p, mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
+            table, th, row, mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
             ddot, v_in, gv[d_old + p], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         gv[v_new + p] = vin
         gv[d_new + p] = dd
@@ -453,8 +456,7 @@ def sphere_force(b, table, i, lb, tb, dt, step):
     wd_old = ci[O_WD] + tb * nW * N
     wv_new = ci[O_WV] + (1 - tb) * nW * N
     wd_new = ci[O_WD] + (1 - tb) * nW * N
-    wth_old = _tangential(b, False, 0, tb)
-    wth = _tangential(b, False, 0, 1 - tb)
+    th = b.th
     floor = ci[I_FLOOR]
     ri = sh[S_RAD * N + i]
     mi = b.st[MASS * N + i]
@@ -475,9 +477,9 @@ def sphere_force(b, table, i, lb, tb, dt, step):
         else:
             wall = w
         at = wall * N + i
-        row = i * nW + wall
+        row = _wall_row(b, 1 - tb, i, wall)
         v_in = gv[wv_old + at]
-        _carry(wth_old, wth, row, spring)
+        _carry(th, _wall_row(b, tb, i, wall), row, spring)
         if wall == floor:
             delta = ri - y
             nx, ny, nz = 0.0, 1.0, 0.0
@@ -488,7 +490,7 @@ def sphere_force(b, table, i, lb, tb, dt, step):
             gv[wv_new + at] = 0.0
             gv[wd_new + at] = 0.0
             if v_in != 0.0:
-                e_f += drop_history(tlaw, wth, row)
+                e_f += drop_history(tlaw, th, row)
             continue
         if delta > limit * ri:
             status = STATUS_OVERLAP
@@ -513,7 +515,7 @@ def sphere_force(b, table, i, lb, tb, dt, step):
                                                          sh[m + 4 * N], sh[m + 5 * N], ri, nx, ny, nz)
         mp = b.iv[ci[O_WMP] + at]
         fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, wth, row, mp, friction[mp], gv[ci[O_WK] + at], gv[ci[O_WRS] + at], mi, FRICTION_CAP * mi, delta,
+            table, th, row, mp, friction[mp], gv[ci[O_WK] + at], gv[ci[O_WRS] + at], mi, FRICTION_CAP * mi, delta,
             ddot, v_in, gv[wd_old + at], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         gv[wv_new + at] = vin
         gv[wd_new + at] = dd
@@ -553,7 +555,6 @@ def elastic(b, i, lb, tb, spring):
     gv = b.gv
     sh = b.sh
     P = ci[O_P]
-    nW = ci[O_W]
     ri = sh[S_RAD * N + i]
     x = sh[S_X * N + i]
     y = sh[(S_X + 1) * N + i]
@@ -579,15 +580,15 @@ def elastic(b, i, lb, tb, spring):
         if delta > 0.0:
             e_el += hertz_energy(gv[ci[O_WK] + w * N + i], delta)
     if spring:
-        th = _tangential(b, True, lb, tb)
+        th = b.th
         for p in range(iv[row + i], iv[row + i + 1]):
-            if th[p, 3] > 0.0:
-                e_el += spring_energy(th[p, 0], th[p, 1], th[p, 2], th[p, 3])
-        wth = _tangential(b, False, 0, tb)
+            r = _pair_row(b, lb, tb, p)
+            if th[r, 3] > 0.0:
+                e_el += spring_energy(th[r, 0], th[r, 1], th[r, 2], th[r, 3])
         for w in range(ci[I_NW]):
-            r = i * nW + w
-            if wth[r, 3] > 0.0:
-                e_el += spring_energy(wth[r, 0], wth[r, 1], wth[r, 2], wth[r, 3])
+            r = _wall_row(b, tb, i, w)
+            if th[r, 3] > 0.0:
+                e_el += spring_energy(th[r, 0], th[r, 1], th[r, 2], th[r, 3])
     return e_el
 
 

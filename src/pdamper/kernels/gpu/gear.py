@@ -37,7 +37,7 @@ from .batch import (ANCHOR, F_DIRECTION, F_GRAVITY, F_H, F_H_MAX, F_H_MIN, F_HS,
                     F_TOL, I_CULPRIT, I_FAIL_STEP, I_FLOOR, I_LIST, I_NW, I_PRIMED, I_REJECTED, I_SAMPLES,
                     I_SEG_SAMPLES, I_SETTLE_SAMPLES, I_SPAN, I_SPANS, I_STARTED, I_STATUS, I_STEP, I_TIME, IINERT,
                     IMASS, MAX_SPHERES, MAX_WARPS, NORD, O_DP, O_FIRST, O_LEVEL, O_P, O_PV, O_RES, O_ROW, O_SEC, O_W,
-                    O_WALK, O_WROW, O_WV, R_C, R_LIM, R_N, R_S, REF, S_INC, S_MOVED, S_RAD, S_SPIN, S_V, S_X)
+                    O_WALK, O_WROW, O_WV, R_C, R_LIM, R_N, R_S, REF, S_MOVED, S_RAD, S_SPIN, S_V, S_X)
 from .forces import (block, keep_partials, load_spheres, motion_at, pair_laws, partials, prime, rebuild,
                      record_sample, sphere_force, store_spheres, table_of)
 from .verlet import FAILED, TIME_UP
@@ -99,13 +99,6 @@ def _rescale(b, i, d, ratio):
 
 
 @cuda.jit(device=True)
-def _increments(b):
-    """The corrector's increments in shared memory, an (N, 6) array (position, angle)."""
-    at = S_INC * b.N
-    return b.sh[at:at + 6 * b.N].reshape((b.N, 6))
-
-
-@cuda.jit(device=True)
 def _gather(b, lb, tk):
     """The touching pairs with friction (``c > 0``), in the pair list's order (the CPU friction
     record's), into the case's list of rows (``iv[O_WALK]``): the lanes take the pairs a block's
@@ -160,9 +153,9 @@ def _levels(b, rows, lb, last, top):
 
 
 @cuda.jit(device=True)
-def _pair_row(b, k, lb, g, a, hh):
-    """Row ``k`` at its corrected slip: what depends on the increments (the slip increment, the
-    corrected force, its scatter into the increments of the row's two spheres), ``g = c1 / h``,
+def _pair_row(b, dl, k, lb, g, a, hh):
+    """Row ``k`` at its corrected slip: what depends on the increments ``dl`` (the slip increment,
+    the corrected force, its scatter into the increments of the row's two spheres), ``g = c1 / h``,
     ``a = c1 h / 2``, ``hh = h^2 / 2``. Returns its change of the friction power [W]."""
     N = b.N
     ci = b.ci
@@ -188,7 +181,6 @@ def _pair_row(b, k, lb, g, a, hh):
     ii_j = st[IINERT * N + j]
     kk = im_i + im_j + ri * ri * ii_i + rj * rj * ii_j
     vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-    dl = _increments(b)
     dv = dl[:, 0:3]
     dw = dl[:, 3:6]
     dcx, dcy, dcz, dcn = pair_point_velocity(
@@ -204,7 +196,7 @@ def _pair_row(b, k, lb, g, a, hh):
 
 
 @cuda.jit(device=True)
-def _implicit_pairs(b, lb, tk, hs, last, top):
+def _implicit_pairs(b, dl, lb, tk, hs, last, top):
     """The friction of every touching pair at its corrected slip, level by level (:func:`_levels`):
     the first part of the CPU's :func:`pdamper.kernels.gear._implicit_friction`, every sphere's rows
     in its order. Each row's change of the friction power is kept at it and summed by thread 0 in
@@ -222,7 +214,7 @@ def _implicit_pairs(b, lb, tk, hs, last, top):
         k = b.tid
         while k < rows:
             if b.iv[ci[O_LEVEL] + k] == lev:
-                b.gv[ci[O_DP] + k] = _pair_row(b, k, lb, g, a, hh)
+                b.gv[ci[O_DP] + k] = _pair_row(b, dl, k, lb, g, a, hh)
             k += b.bd
         sync(b.bd)
     if b.tid == 0:
@@ -233,7 +225,7 @@ def _implicit_pairs(b, lb, tk, hs, last, top):
 
 
 @cuda.jit(device=True)
-def _implicit_walls(b, i, tk, hs):
+def _implicit_walls(b, dl, i, tk, hs):
     """The friction of sphere ``i``'s floor and other walls at their corrected slip: the rest of the
     CPU's :func:`pdamper.kernels.gear._implicit_friction` (a wall row changes its own sphere alone, so
     each lane takes its spheres after all pair rows, the floor then the walls: the CPU sweep's
@@ -242,7 +234,6 @@ def _implicit_walls(b, i, tk, hs):
     ci = b.ci
     gv = b.gv
     nW = ci[O_W]
-    dl = _increments(b)
     dv = dl[:, 0:3]
     dw = dl[:, 3:6]
     g = _C1 / hs
@@ -311,6 +302,8 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
     cycles. The arguments as :func:`.verlet.batch_verlet`'s."""
     c = cuda.blockIdx.x
     b = block(bt, c, cuda.shared.array(0, float64), cuda.shared.array(MAX_WARPS, float64))
+    # the corrector's increments (position, angle) of each sphere, and the walk's levels
+    dl = cuda.shared.array((MAX_SPHERES, 6), float64)
     last = cuda.shared.array(MAX_SPHERES, int32)
     top = cuda.shared.array(1, int32)
     ci = b.ci
@@ -347,7 +340,6 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
     s_w, s_n, s_f, s_i = partials(b, 0)
     q_w, q_n, q_f, q_i = partials(b, 1)
     load_spheres(b)
-    dl = _increments(b)
     status = STATUS_OK
     culprit = -1
     done = 0
@@ -487,10 +479,10 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
         #      level, then each sphere's floor and walls by its lane (a law with history, the spring,
         #      leaves no friction rows: nothing to correct)
         if not spring:
-            p_f += _implicit_pairs(b, lb, tk, hs, last, top)
+            p_f += _implicit_pairs(b, dl, lb, tk, hs, last, top)
             i = tid
             while i < n:
-                dfx, dfy, dfz, dpf = _implicit_walls(b, i, tk, hs)
+                dfx, dfy, dfz, dpf = _implicit_walls(b, dl, i, tk, hs)
                 fwx += dfx
                 fwy += dfy
                 fwz += dfz
