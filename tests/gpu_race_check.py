@@ -158,7 +158,7 @@ def _shared_allocator(track: bool):
         if shape == 0:  # the dynamic shared memory, tracked: one array a block of the launch's size
             shape = self._dynshared_size // np.dtype(dtype).itemsize
         where = traceback.extract_stack(sys._getframe(1), limit=1)[0]
-        key = (where.filename, where.lineno, threading.current_thread().blockIdx.x)
+        key = (where.filename, where.lineno, threading.current_thread().blockIdx.x, np.shape(shape), str(dtype))
         with alloc:
             got = self._allocations.get(key)
             if got is None:

@@ -65,26 +65,39 @@ def test_fig4_steady_part_runs_in_the_simulator(tmp_path, monkeypatch):
     assert "study fig4 --until-steady 0.02: 2 cases" in out.with_suffix(".md").read_text()
 
 
-@pytest.mark.slow
-def test_kernel_compiles_to_ptx_for_hopper(tmp_path):
-    """Both real kernels (Gear's, the default, and Verlet's; each reads the block's clock through
-    inline PTX for launches bounded by time) through numba-cuda and NVVM to PTX for sm_90 (no GPU
-    needed; a minute or two of compiling), and through ptxas when it is on PATH: within the register
-    file."""
+def _ptx_report(tmp_path, kernels):
+    """``benchmarks/gpu.py --ptx --ptx-kernels KERNELS --json FILE`` in a process without the
+    simulator: its JSON's ``ptx`` part (skipped, with the one-line reason, where NVVM or ptxas is
+    absent)."""
     pytest.importorskip("numba_cuda", reason="numba-cuda is not installed")
     out = tmp_path / "ptx.json"
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
-    r = subprocess.run([sys.executable, str(SCRIPT), "--ptx", "--ptx-kernels", "gear,verlet", "--out", str(out)],
-                       env=env, capture_output=True, text=True, timeout=900)
-    if "NVVM" in r.stdout + r.stderr and not out.exists() or "skipped" in (out.read_text() if out.exists() else ""):
-        pytest.skip("no libNVVM here (the CUDA toolkit's NVVM): the PTX compile is not tested")
-    assert r.returncode == 0, r.stderr[-2000:]
-    for name in ("gear", "verlet"):
-        ptx = json.loads(out.read_text())["parts"]["ptx"][name]
-        assert ptx["entry"] and ptx["ptx_bytes"] > 10_000, name
-        if "ptxas_ok" in ptx:  # within the register file (Gear's spills some: docs/performance.md)
-            assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["stack_bytes"] < 4096, name
+    r = subprocess.run([sys.executable, str(SCRIPT), "--ptx", "--ptx-kernels", kernels, "--json", str(out)], env=env,
+                       capture_output=True, text=True, timeout=1800)
+    if r.returncode:
+        pytest.fail(r.stderr[-2000:])
+    part = json.loads(out.read_text())["parts"]["ptx"]
+    if "skipped" in part:
+        pytest.skip(part["skipped"])
+    return part
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="issue 38 not met yet: Gear 254-255 registers with 16-132 B of spills, Verlet 204 "
+                          "(benchmarks/gpu.py --ptx, docs/performance.md)")
+def test_production_kernels_keep_to_128_registers_without_spills(tmp_path):
+    """The largest and the smallest production kernel (Gear with the spring, Verlet with the tanh law;
+    ``benchmarks/gpu.py --ptx`` gives all four) through numba-cuda, the gpu extra's NVVM and ptxas for
+    sm_90 (no GPU needed; about two minutes of compiling): each assembles, with at most 128 registers
+    a thread and no spill stores or loads. (Strict xfail while the kernels are above it: when they
+    meet it, this fails until the mark goes.)"""
+    part = _ptx_report(tmp_path, "gear-spring,verlet-tanh")
+    assert set(part) == {"gear, spring", "verlet, tanh"}
+    for name, k in part.items():
+        assert k["ptxas_ok"] and k["ptx_bytes"] > 10_000, name
+        assert k["registers"] <= 128 and k["spill_store_bytes"] == 0 and k["spill_load_bytes"] == 0, (name, k)
 
 
 def test_step_cost_part_runs_in_the_simulator():

@@ -90,7 +90,7 @@ CI = 64
 # ---- cf: the case's float slots
 (F_DT, F_INTERVAL, F_SAMPLE_INTERVAL, F_SKIN, F_BED_MASS, F_T, F_H, F_HS, F_TOL, F_H_MIN, F_H_MAX) = range(11)
 F_GRAVITY, F_DIRECTION, F_JUMP, F_PAR = 11, 14, 17, 20
-F_PARTIALS = 24     #: (threads, PARTIALS) each thread's running sums
+F_PARTIALS = 24     #: (3, threads, PARTIALS) each thread's ledger rows (pdamper.kernels.gpu.forces.ledger)
 CF_FIXED = F_PARTIALS
 
 
@@ -138,4 +138,4 @@ def layout(n: int, p: int, w: int, spring: bool, samples: int, frames: int) -> d
 def row_widths(n: int, threads: int) -> dict:
     """The widths of a case's rows of ``st`` and ``cf`` for ``n`` spheres (padded) and ``threads``
     a block."""
-    return {"st": ST_FIELDS * n, "cf": CF_FIXED + PARTIALS * threads * 2}
+    return {"st": ST_FIELDS * n, "cf": CF_FIXED + PARTIALS * threads * 3}

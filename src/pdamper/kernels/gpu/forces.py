@@ -46,7 +46,14 @@ from .batch import (F_BED_MASS, F_DIRECTION, F_GRAVITY, F_PAR, F_PARTIALS, F_SAM
 from .warp import block_scan, block_sum, sync
 
 __all__ = ["Block", "block", "load_spheres", "store_spheres", "rebuild", "pair_laws", "sphere_force", "elastic",
-           "partials", "keep_partials", "table_of", "record_sample", "motion_at", "prime"]
+           "ledger", "table_of", "record_sample", "motion_at", "prime", "RUNNING", "INTEGRANDS", "THIS_STEP"]
+
+#: A thread's ledger rows in ``cf`` (:func:`ledger`): its running sums (work done by the container,
+#: loss by normal damping, loss by friction [J], impulse along the drive since the last sample
+#: [N s]); Gear's integrands at the last accepted step (the same four, as powers and a force); this
+#: step's sums of its contacts (normal damping's and friction's power [W], a spring's loss [J], the
+#: walls' force along the drive [N]).
+RUNNING, INTEGRANDS, THIS_STEP = 0, 1, 2
 
 class Block(NamedTuple):
     """What every thread of a case's block knows: who it is, the case's rows, the shared memory."""
@@ -113,20 +120,23 @@ def store_spheres(b):
 
 
 @cuda.jit(device=True)
-def partials(b, at):
-    """This thread's running sums kept at column ``at`` of its row of ``cf`` (:data:`~.batch.PARTIALS`)."""
-    k = F_PARTIALS + PARTIALS * (at * b.bd + b.tid)
-    return b.cf[k], b.cf[k + 1], b.cf[k + 2], b.cf[k + 3]
+def ledger(b, row):
+    """Where this thread's ledger row ``row`` starts in the case's ``cf`` (:data:`RUNNING`,
+    :data:`INTEGRANDS`, :data:`THIS_STEP`; :data:`~.batch.PARTIALS` values each). A thread's sums
+    live there, not in its registers: a few loads and stores a step against the registers they would
+    hold through the whole step."""
+    return F_PARTIALS + PARTIALS * (row * b.bd + b.tid)
 
 
 @cuda.jit(device=True)
-def keep_partials(b, at, s0, s1, s2, s3):
-    """Keep this thread's running sums for the next launch (:func:`partials`)."""
-    k = F_PARTIALS + PARTIALS * (at * b.bd + b.tid)
-    b.cf[k] = s0
-    b.cf[k + 1] = s1
-    b.cf[k + 2] = s2
-    b.cf[k + 3] = s3
+def _add_step(b, pn, pf, ef, fd):
+    """Add a contact's powers [W], a spring's loss [J] and its wall force along the drive [N] to this
+    thread's sums of the step (:data:`THIS_STEP`)."""
+    k = ledger(b, THIS_STEP)
+    b.cf[k] += pn
+    b.cf[k + 1] += pf
+    b.cf[k + 2] += ef
+    b.cf[k + 3] += fd
 
 
 @cuda.jit(device=True)
@@ -282,8 +292,9 @@ def rebuild(b, table, lb, tb):
 def pair_laws(b, table, lb, tb, dt, step):
     """The contact law of every listed pair (the CPU pair loop's arithmetic), the lanes over the
     pairs: its history read from time buffer ``tb``, written to ``1 - tb``; its result kept at the
-    pair. ``dt``: the tanh law's friction guard's step (Gear: none), ``step``: the step taken. Returns
-    ``(p_normal, p_friction, e_friction, status, culprit)`` of this thread's pairs; a barrier after."""
+    pair. ``dt``: the tanh law's friction guard's step (Gear: none), ``step``: the step taken. The
+    pairs' powers and a spring's loss go to this thread's sums of the step (:func:`ledger`). Returns
+    ``(status, culprit)`` of this thread's pairs; a barrier after."""
     N = b.N
     ci = b.ci
     iv = b.iv
@@ -303,9 +314,6 @@ def pair_laws(b, table, lb, tb, dt, step):
     d_new = ci[O_PD] + (lb * 2 + 1 - tb) * P
     res = ci[O_RES]
     th = b.th
-    p_n = 0.0
-    p_f = 0.0
-    e_f = 0.0
     status = STATUS_OK
     culprit = -1
     p = b.tid
@@ -320,13 +328,13 @@ def pair_laws(b, table, lb, tb, dt, step):
         cut = ri + rj
         d2 = dx * dx + dy * dy + dz * dz
         v_in = gv[v_old + p]
-        row = _pair_row(b, lb, 1 - tb, p)
-        _carry(th, _pair_row(b, lb, tb, p), row, spring)
+        hrow = _pair_row(b, lb, 1 - tb, p)  # (the history's row of this step)
+        _carry(th, _pair_row(b, lb, tb, p), hrow, spring)
         if d2 >= cut * cut:
             gv[v_new + p] = 0.0
             gv[d_new + p] = 0.0
             if v_in != 0.0:
-                e_f += drop_history(tlaw, th, row)
+                _add_step(b, 0.0, 0.0, drop_history(tlaw, th, hrow), 0.0)
             p += b.bd
             continue
         nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
@@ -347,13 +355,11 @@ def pair_laws(b, table, lb, tb, dt, step):
         cap = gv[ci[O_PCAP] + lb * P + p]
         mp = iv[ci[O_MP] + lb * P + p]
         fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, th, row, mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
+            table, th, hrow, mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
             ddot, v_in, gv[d_old + p], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         gv[v_new + p] = vin
         gv[d_new + p] = dd
-        p_n += pn
-        p_f += pf
-        e_f += ef
+        _add_step(b, pn, pf, ef, 0.0)
         gv[res + R_F * P + p] = -fn * nx + ftx
         gv[res + (R_F + 1) * P + p] = -fn * ny + fty
         gv[res + (R_F + 2) * P + p] = -fn * nz + ftz
@@ -370,7 +376,7 @@ def pair_laws(b, table, lb, tb, dt, step):
         gv[res + R_LIM * P + p] = lim
         p += b.bd
     sync(b.bd)
-    return p_n, p_f, e_f, status, culprit
+    return status, culprit
 
 
 @cuda.jit(device=True)
@@ -380,9 +386,29 @@ def _cross(nx, ny, nz, tx, ty, tz):
 
 
 @cuda.jit(device=True)
-def _pair_sums(b, i, lb, tb):
+def _add_pair(gv, res, P, p, acc, i, sign, ri):
+    """Pair ``p``'s result into sphere ``i``'s force and torque (``sign``: 1 for the first sphere of
+    the pair, -1 for the second; ``ri`` its radius, the lever): :func:`~pdamper.kernels.contact.scatter`'s
+    arithmetic."""
+    if sign > 0.0:
+        acc[i, 0] += gv[res + R_F * P + p]
+        acc[i, 1] += gv[res + (R_F + 1) * P + p]
+        acc[i, 2] += gv[res + (R_F + 2) * P + p]
+    else:
+        acc[i, 0] += -gv[res + R_F * P + p]
+        acc[i, 1] += -gv[res + (R_F + 1) * P + p]
+        acc[i, 2] += -gv[res + (R_F + 2) * P + p]
+    cx, cy, cz = _cross(gv[res + R_N * P + p], gv[res + (R_N + 1) * P + p], gv[res + (R_N + 2) * P + p],
+                        gv[res + R_T * P + p], gv[res + (R_T + 1) * P + p], gv[res + (R_T + 2) * P + p])
+    acc[i, 3] += ri * cx
+    acc[i, 4] += ri * cy
+    acc[i, 5] += ri * cz
+
+
+@cuda.jit(device=True)
+def _pair_sums(b, acc, i, lb, tb):
     """Force and torque on sphere ``i`` from its pairs, in ascending partner order (the pairs it is
-    the second of, then its own): ``(fx, fy, fz, qx, qy, qz)``."""
+    the second of, then its own), into ``acc[i]`` (force, torque)."""
     N = b.N
     ci = b.ci
     iv = b.iv
@@ -391,32 +417,18 @@ def _pair_sums(b, i, lb, tb):
     v_new = ci[O_PV] + (lb * 2 + 1 - tb) * P
     res = ci[O_RES]
     ri = b.sh[S_RAD * N + i]
-    fx = fy = fz = qx = qy = qz = 0.0
+    for k in range(6):
+        acc[i, k] = 0.0
     inrow = ci[O_INROW] + lb * (N + 1)
     inpair = ci[O_INPAIR] + lb * P
     for q in range(iv[inrow + i], iv[inrow + i + 1]):
         p = iv[inpair + q]
         if gv[v_new + p] != 0.0:
-            fx += -gv[res + R_F * P + p]
-            fy += -gv[res + (R_F + 1) * P + p]
-            fz += -gv[res + (R_F + 2) * P + p]
-            cx, cy, cz = _cross(gv[res + R_N * P + p], gv[res + (R_N + 1) * P + p], gv[res + (R_N + 2) * P + p],
-                                gv[res + R_T * P + p], gv[res + (R_T + 1) * P + p], gv[res + (R_T + 2) * P + p])
-            qx += ri * cx
-            qy += ri * cy
-            qz += ri * cz
+            _add_pair(gv, res, P, p, acc, i, -1.0, ri)
     row = ci[O_ROW] + lb * (N + 1)
     for p in range(iv[row + i], iv[row + i + 1]):
         if gv[v_new + p] != 0.0:
-            fx += gv[res + R_F * P + p]
-            fy += gv[res + (R_F + 1) * P + p]
-            fz += gv[res + (R_F + 2) * P + p]
-            cx, cy, cz = _cross(gv[res + R_N * P + p], gv[res + (R_N + 1) * P + p], gv[res + (R_N + 2) * P + p],
-                                gv[res + R_T * P + p], gv[res + (R_T + 1) * P + p], gv[res + (R_T + 2) * P + p])
-            qx += ri * cx
-            qy += ri * cy
-            qz += ri * cz
-    return fx, fy, fz, qx, qy, qz
+            _add_pair(gv, res, P, p, acc, i, 1.0, ri)
 
 
 @cuda.jit(device=True)
@@ -436,13 +448,13 @@ def _note_wall(b, i, w, nx, ny, nz, tx, ty, tz, c, lim):
 
 
 @cuda.jit(device=True)
-def sphere_force(b, table, i, lb, tb, dt, step):
-    """Force and torque on sphere ``i``: its pairs' results in ascending partner order, then its
-    floor and other walls, whose law is evaluated here (each concerns this sphere alone: the CPU
-    floor and wall loops' arithmetic; the history from time buffer ``tb`` into ``1 - tb``, the
-    friction rows noted), summed one after another as the CPU sums them. Returns ``(fx, fy, fz, qx,
-    qy, qz, p_normal, p_friction, e_friction, fwx, fwy, fwz, status)``: the force [N] and torque
-    [N m], the walls' powers and energy, the force of the walls on it [N]."""
+def sphere_force(b, table, acc, i, lb, tb, dt, step):
+    """Force and torque on sphere ``i`` into ``acc[i]`` (force [N], torque [N m]): its pairs' results
+    in ascending partner order, then its floor and other walls, whose law is evaluated here (each
+    concerns this sphere alone: the CPU floor and wall loops' arithmetic; the history from time
+    buffer ``tb`` into ``1 - tb``, the friction rows noted), summed one after another as the CPU sums
+    them. The walls' powers, a spring's loss and their force along the drive go to this thread's
+    sums of the step (:func:`ledger`). Returns the status."""
     N = b.N
     ci = b.ci
     gv = b.gv
@@ -467,8 +479,10 @@ def sphere_force(b, table, i, lb, tb, dt, step):
     vy = sh[(S_V + 1) * N + i]
     vz = sh[(S_V + 2) * N + i]
     m = S_MOVED * N + i
-    fx, fy, fz, qx, qy, qz = _pair_sums(b, i, lb, tb)
-    p_n = p_f = e_f = fwx = fwy = fwz = 0.0
+    _pair_sums(b, acc, i, lb, tb)
+    dvx = b.cf[F_DIRECTION]
+    dvy = b.cf[F_DIRECTION + 1]
+    dvz = b.cf[F_DIRECTION + 2]
     status = STATUS_OK
     for w in range(ci[I_NW]):
         # the floor first, then the other walls (the CPU's loops' order for a sphere)
@@ -490,7 +504,7 @@ def sphere_force(b, table, i, lb, tb, dt, step):
             gv[wv_new + at] = 0.0
             gv[wd_new + at] = 0.0
             if v_in != 0.0:
-                e_f += drop_history(tlaw, th, row)
+                _add_step(b, 0.0, 0.0, drop_history(tlaw, th, row), 0.0)
             continue
         if delta > limit * ri:
             status = STATUS_OVERLAP
@@ -519,9 +533,6 @@ def sphere_force(b, table, i, lb, tb, dt, step):
             ddot, v_in, gv[wd_old + at], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
         gv[wv_new + at] = vin
         gv[wd_new + at] = dd
-        p_n += pn
-        p_f += pf
-        e_f += ef
         _note_wall(b, i, wall, nx, ny, nz, tx, ty, tz, ff, lim)
         if wall == floor:
             # (the floor's tangential force has no y part: the slip has none, and neither has a spring)
@@ -531,17 +542,15 @@ def sphere_force(b, table, i, lb, tb, dt, step):
             ex = fn * nx + ftx
             ey = fn * ny + fty
             ez = fn * nz + ftz
-        fx += ex
-        fy += ey
-        fz += ez
+        acc[i, 0] += ex
+        acc[i, 1] += ey
+        acc[i, 2] += ez
         cx, cy, cz = _cross(nx, ny, nz, ftx, fty, ftz)
-        qx += -ri * cx
-        qy += -ri * cy
-        qz += -ri * cz
-        fwx += ex
-        fwy += ey
-        fwz += ez
-    return fx, fy, fz, qx, qy, qz, p_n, p_f, e_f, fwx, fwy, fwz, status
+        acc[i, 3] += -ri * cx
+        acc[i, 4] += -ri * cy
+        acc[i, 5] += -ri * cz
+        _add_step(b, pn, pf, ef, ex * dvx + ey * dvy + ez * dvz)
+    return status
 
 
 @cuda.jit(device=True)
@@ -593,11 +602,11 @@ def elastic(b, i, lb, tb, spring):
 
 
 @cuda.jit(device=True)
-def record_sample(b, out, kk, sums, motion, lb, tb, spring):
+def record_sample(b, out, kk, motion, lb, tb, spring):
     """Sample ``kk`` of the case (:func:`pdamper.kernels.record.record_sample`) into its row ``out``:
-    the block's sums of the threads' ``sums`` (impulse, work, damping, friction), the energies, a
-    frame; ``motion``: the container's ``(x, v)`` [m, m/s] at the sample's end. Every thread of the
-    block calls it."""
+    the block's sums of the threads' running sums (:func:`ledger`; the impulse restarts), the
+    energies, a frame; ``motion``: the container's ``(x, v)`` [m, m/s] at the sample's end. Every
+    thread of the block calls it."""
     N = b.N
     ci = b.ci
     cf = b.cf
@@ -626,14 +635,16 @@ def record_sample(b, out, kk, sums, motion, lb, tb, spring):
             epot -= mi * (gvx * sh[S_X * N + i] + gvy * sh[(S_X + 1) * N + i] + gvz * sh[(S_X + 2) * N + i])
             eel += elastic(b, i, lb, tb, spring)
             i += bd
-    impulse = block_sum(sums[0], tid, bd, b.red)
+    r = ledger(b, RUNNING)
+    impulse = block_sum(cf[r + 3], tid, bd, b.red)
+    cf[r + 3] = 0.0
     if tid == 0 and kk < ci[I_WF_ROWS]:
         out[kk] = impulse / cf[F_SAMPLE_INTERVAL]
     if erec:
         e = ci[O_ENERGY] + 7 * kk
-        work = block_sum(sums[1], tid, bd, b.red)
-        damp = block_sum(sums[2], tid, bd, b.red)
-        fric = block_sum(sums[3], tid, bd, b.red)
+        work = block_sum(cf[r], tid, bd, b.red)
+        damp = block_sum(cf[r + 1], tid, bd, b.red)
+        fric = block_sum(cf[r + 2], tid, bd, b.red)
         ekin = block_sum(ekin, tid, bd, b.red)
         erot = block_sum(erot, tid, bd, b.red)
         epot = block_sum(epot, tid, bd, b.red)

@@ -38,8 +38,8 @@ from .batch import (ANCHOR, F_DIRECTION, F_GRAVITY, F_H, F_H_MAX, F_H_MIN, F_HS,
                     I_SEG_SAMPLES, I_SETTLE_SAMPLES, I_SPAN, I_SPANS, I_STARTED, I_STATUS, I_STEP, I_TIME, IINERT,
                     IMASS, MAX_SPHERES, MAX_WARPS, NORD, O_DP, O_FIRST, O_LEVEL, O_P, O_PV, O_RES, O_ROW, O_SEC, O_W,
                     O_WALK, O_WROW, O_WV, R_C, R_LIM, R_N, R_S, REF, S_MOVED, S_RAD, S_SPIN, S_V, S_X)
-from .forces import (block, keep_partials, load_spheres, motion_at, pair_laws, partials, prime, rebuild,
-                     record_sample, sphere_force, store_spheres, table_of)
+from .forces import (INTEGRANDS, RUNNING, THIS_STEP, block, ledger, load_spheres, motion_at, pair_laws, prime,
+                     rebuild, record_sample, sphere_force, store_spheres, table_of)
 from .verlet import FAILED, TIME_UP
 from .warp import block_max, block_min_int, block_or, block_scan, clock, out_of_time, sync
 
@@ -301,7 +301,9 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
     ``max_cycles`` > 0, also no further than the step on which its block's clock passes that many
     cycles. The arguments as :func:`.verlet.batch_verlet`'s."""
     c = cuda.blockIdx.x
-    b = block(bt, c, cuda.shared.array(0, float64), cuda.shared.array(MAX_WARPS, float64))
+    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere)
+    red = cuda.shared.array(MAX_WARPS, float64)  # a word a warp for the block's reductions
+    b = block(bt, c, hot, red)
     # the corrector's increments (position, angle) of each sphere, and the walk's levels
     dl = cuda.shared.array((MAX_SPHERES, 6), float64)
     last = cuda.shared.array(MAX_SPHERES, int32)
@@ -337,8 +339,9 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
     tk = ci[I_TIME]
     started = ci[I_STARTED]
     primed = ci[I_PRIMED]
-    s_w, s_n, s_f, s_i = partials(b, 0)
-    q_w, q_n, q_f, q_i = partials(b, 1)
+    run = ledger(b, RUNNING)
+    integ = ledger(b, INTEGRANDS)
+    now = ledger(b, THIS_STEP)
     load_spheres(b)
     status = STATUS_OK
     culprit = -1
@@ -363,7 +366,8 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
                         st[_nv(b, 1, k, i)] -= hs * cf[F_JUMP + k]
                     sh[(S_V + k) * N + i] -= cf[F_JUMP + k]
                 i += bd
-            s_w = s_n = s_f = s_i = 0.0
+            for k in range(4):
+                cf[run + k] = 0.0
             started = 1
         # ---- the Nordsieck vector at the start (run_gear's priming), forces with the capped friction
         if primed == 0:
@@ -372,12 +376,12 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
             hs = h
             i = tid
             while i < n:
-                fx, fy, fz, qx, qy, qz, pn, pf, ef, wx, wy, wz, st_ = sphere_force(b, table, i, lb, tk, h, 0.0)
+                sphere_force(b, table, dl, i, lb, tk, h, 0.0)
                 im = st[IMASS * N + i]
                 ii = st[IINERT * N + i]
                 for k in range(3):
-                    fk = fx if k == 0 else (fy if k == 1 else fz)
-                    qk = qx if k == 0 else (qy if k == 1 else qz)
+                    fk = dl[i, k]
+                    qk = dl[i, 3 + k]
                     st[_nv(b, 0, k, i)] = sh[(S_X + k) * N + i]
                     st[_nv(b, 1, k, i)] = hs * sh[(S_V + k) * N + i]
                     st[_nv(b, 2, k, i)] = 0.5 * hs * hs * (fk * im + cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k])
@@ -450,43 +454,36 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
         # ---- forces at the prediction (no friction cap), the corrector's increments; this attempt's
         #      own status (compute_forces' on the CPU): an overlap at a rejected step's prediction is
         #      forgotten with the step, it stops the case only when the step is accepted
-        p_n, p_f, e_f, status, culprit = pair_laws(b, table, lb, tk, NO_CAP, hs)
+        for k in range(4):
+            cf[now + k] = 0.0
+        status, culprit = pair_laws(b, table, lb, tk, NO_CAP, hs)
         xc, vc, ac = motion_at(b, tn)
         half_h2 = 0.5 * hs * hs
-        fwx = fwy = fwz = 0.0
         i = tid
         while i < n:
-            fx, fy, fz, qx, qy, qz, pn, pf, ef, wx, wy, wz, st_ = sphere_force(b, table, i, lb, tk, NO_CAP, hs)
+            st_ = sphere_force(b, table, dl, i, lb, tk, NO_CAP, hs)
             if st_ != STATUS_OK:
                 status = st_
                 culprit = i
-            p_n += pn
-            p_f += pf
-            e_f += ef
-            fwx += wx
-            fwy += wy
-            fwz += wz
             im = st[IMASS * N + i]
             ii = st[IINERT * N + i]
             for k in range(3):
-                fk = fx if k == 0 else (fy if k == 1 else fz)
-                qk = qx if k == 0 else (qy if k == 1 else qz)
-                dl[i, k] = half_h2 * (fk * im + cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k]) - _predicted(b, i, k)[2]
-                dl[i, 3 + k] = half_h2 * qk * ii - _predicted(b, i, 3 + k)[2]
+                # (the force and torque become the sphere's increments, in place)
+                dl[i, k] = half_h2 * (dl[i, k] * im + cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k]) \
+                    - _predicted(b, i, k)[2]
+                dl[i, 3 + k] = half_h2 * dl[i, 3 + k] * ii - _predicted(b, i, 3 + k)[2]
             i += bd
         sync(bd)
         # ---- the friction at the corrected slip, in the CPU's order: the touching pairs' rows level by
         #      level, then each sphere's floor and walls by its lane (a law with history, the spring,
         #      leaves no friction rows: nothing to correct)
         if not spring:
-            p_f += _implicit_pairs(b, dl, lb, tk, hs, last, top)
+            cf[now + 1] += _implicit_pairs(b, dl, lb, tk, hs, last, top)
             i = tid
             while i < n:
                 dfx, dfy, dfz, dpf = _implicit_walls(b, dl, i, tk, hs)
-                fwx += dfx
-                fwy += dfy
-                fwz += dfz
-                p_f += dpf
+                cf[now + 3] += dfx * cf[F_DIRECTION] + dfy * cf[F_DIRECTION + 1] + dfz * cf[F_DIRECTION + 2]
+                cf[now + 1] += dpf
                 i += bd
         # ---- the error: the block's largest increment
         err = 0.0
@@ -532,17 +529,18 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
         tk = 1 - tk
         t = tn
         steps += 1
-        fd = fwx * cf[F_DIRECTION] + fwy * cf[F_DIRECTION + 1] + fwz * cf[F_DIRECTION + 2]
-        s_w += 0.5 * (vc * fd + q_w) * hs
-        s_n += 0.5 * (p_n + q_n) * hs
-        s_f += 0.5 * (p_f + q_f) * hs
+        # ---- this thread's ledger: the trapezoid over the step
+        fd = cf[now + 3]
+        cf[run] += 0.5 * (vc * fd + cf[integ]) * hs
+        cf[run + 1] += 0.5 * (cf[now] + cf[integ + 1]) * hs
+        cf[run + 2] += 0.5 * (cf[now + 1] + cf[integ + 2]) * hs
         if spring:
-            s_f += e_f
-        s_i += 0.5 * (fd + q_i) * hs
-        q_w = vc * fd
-        q_n = p_n
-        q_f = p_f
-        q_i = fd
+            cf[run + 2] += cf[now + 2]
+        cf[run + 3] += 0.5 * (fd + cf[integ + 3]) * hs
+        cf[integ] = vc * fd
+        cf[integ + 1] = cf[now]
+        cf[integ + 2] = cf[now + 1]
+        cf[integ + 3] = fd
         h = next_step(hs, h, tol, err, h_min, h_max)
         bits = 0
         if tid == 0 and out_of_time(start, max_cycles):
@@ -559,15 +557,12 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
         if recording and math.fabs(t - tb_end) <= 1e-9 * ts:
             _unpack(b, hs)
             sync(bd)
-            record_sample(b, bt.out[c], kb - 1, (s_i, s_w, s_n, s_f), (xc, vc), lb, tk, spring)
-            s_i = 0.0
+            record_sample(b, bt.out[c], kb - 1, (xc, vc), lb, tk, spring)
     # ---- the state (once there is a Nordsieck vector); the clock and the running sums for the next launch
     sync(bd)
     if primed != 0:
         _unpack(b, hs)
     store_spheres(b)
-    keep_partials(b, 0, s_w, s_n, s_f, s_i)
-    keep_partials(b, 1, q_w, q_n, q_f, q_i)
     if tid == 0:
         if span >= n_spans or not (t < t_end - 1e-12 * ts) and span == n_spans - 1:
             span = n_spans

@@ -27,8 +27,8 @@ from ..contact import keeps_history
 from ..forces import STATUS_NAN, STATUS_OK
 from .batch import (A, AL, ALP, AP, F_DIRECTION, F_DT, F_GRAVITY, F_INTERVAL, F_JUMP, F_SKIN, I_CULPRIT, I_FAIL_STEP,
                     I_LIST, I_MOVED, I_PRIMED, I_SEG_SAMPLES, I_SEG_STEPS, I_SETTLE_SAMPLES, I_SETTLE_STEPS,
-                    I_STARTED, I_STATUS, I_STEP, I_SUB, I_TIME, I_TOTAL_STEPS, IINERT, IMASS, MAX_WARPS, REF, S_MOVED, S_SPIN, S_V, S_X)
-from .forces import (block, keep_partials, load_spheres, motion_at, pair_laws, partials, prime, rebuild,
+                    I_STARTED, I_STATUS, I_STEP, I_SUB, I_TIME, I_TOTAL_STEPS, IINERT, IMASS, MAX_SPHERES, MAX_WARPS, REF, S_MOVED, S_SPIN, S_V, S_X)
+from .forces import (RUNNING, THIS_STEP, block, ledger, load_spheres, motion_at, pair_laws, prime, rebuild,
                      record_sample, sphere_force, store_spheres, table_of)
 from .warp import block_max, block_min_int, block_or, clock, out_of_time, sync
 
@@ -68,7 +68,10 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
     block's clock passes that many cycles; ``tb``: the contact table's arrays and constants of every
     case, ``law`` and ``tlaw`` the damping and tangential laws' markers."""
     c = cuda.blockIdx.x
-    b = block(bt, c, cuda.shared.array(0, float64), cuda.shared.array(MAX_WARPS, float64))
+    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere)
+    red = cuda.shared.array(MAX_WARPS, float64)  # a word a warp for the block's reductions
+    b = block(bt, c, hot, red)
+    acc = cuda.shared.array((MAX_SPHERES, 6), float64)  # each sphere's force and torque
     ci = b.ci
     cf = b.cf
     st = b.st
@@ -81,26 +84,24 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
     bd = b.bd
     n = b.n
     N = b.N
-    dt = cf[F_DT]
-    half = 0.5 * dt
-    sub = ci[I_SUB]
-    settle = ci[I_SETTLE_STEPS]
-    total = ci[I_TOTAL_STEPS]
-    skin2 = 0.25 * cf[F_SKIN] * cf[F_SKIN]
     g = ci[I_STEP]
     lb = ci[I_LIST]
     tk = ci[I_TIME]
     moved = ci[I_MOVED]
     started = ci[I_STARTED]
     primed = ci[I_PRIMED]
-    s_w, s_n, s_f, s_i = partials(b, 0)
+    run = ledger(b, RUNNING)
+    now = ledger(b, THIS_STEP)
     load_spheres(b)
     status = STATUS_OK
     culprit = -1
     done = 0
     stop = 0
     start = clock()
-    while g < total and done < max_steps and stop == 0:
+    while g < ci[I_TOTAL_STEPS] and done < max_steps and stop == 0:
+        dt = cf[F_DT]
+        half = 0.5 * dt
+        settle = ci[I_SETTLE_STEPS]
         # ---- the drive starts: velocities relative to the container jump, the sums restart
         if g == settle and started == 0:
             i = tid
@@ -108,7 +109,8 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
                 for k in range(3):
                     sh[(S_V + k) * N + i] -= cf[F_JUMP + k]
                 i += bd
-            s_w = s_n = s_f = s_i = 0.0
+            for k in range(4):
+                cf[run + k] = 0.0
             started = 1
         # ---- the initial accelerations (run_verlet's priming): list and forces at the start
         if primed == 0:
@@ -116,15 +118,14 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
             xc, vc, ac = motion_at(b, case_time(g, dt, settle, ci[I_SEG_STEPS], ci[I_SEG_SAMPLES], cf[F_INTERVAL]))
             i = tid
             while i < n:
-                fx, fy, fz, qx, qy, qz, pn, pf, ef, wx, wy, wz, st_ = sphere_force(b, table, i, lb, tk, dt, 0.0)
+                sphere_force(b, table, acc, i, lb, tk, dt, 0.0)
                 im = st[IMASS * N + i]
                 ii = st[IINERT * N + i]
                 for k in range(3):
-                    fk = fx if k == 0 else (fy if k == 1 else fz)
-                    a0 = fk * im + cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k]
+                    a0 = acc[i, k] * im + cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k]
                     st[(A + k) * N + i] = a0
                     st[(AP + k) * N + i] = a0
-                    w0 = (qx if k == 0 else (qy if k == 1 else qz)) * ii
+                    w0 = acc[i, 3 + k] * ii
                     st[(AL + k) * N + i] = w0
                     st[(ALP + k) * N + i] = w0
                 i += bd
@@ -133,6 +134,8 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
             moved = 0
             if status != STATUS_OK:
                 break
+        for k in range(4):
+            cf[now + k] = 0.0
         t = case_time(g + 1, dt, settle, ci[I_SEG_STEPS], ci[I_SEG_SAMPLES], cf[F_INTERVAL])
         # ---- rebuild the list when a sphere moved too far in the previous step
         if moved != 0:
@@ -160,37 +163,29 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
             i += bd
         sync(bd)
         # ---- the pairs' contact law
-        p_n, p_f, e_f, st_, cu = pair_laws(b, table, lb, tk, dt, dt)
+        st_, cu = pair_laws(b, table, lb, tk, dt, dt)
         if st_ != STATUS_OK:
             status = st_
             culprit = cu
         # ---- each sphere's force and torque, the half kick with the new accelerations
         xc, vc, ac = motion_at(b, t)
-        fwx = fwy = fwz = 0.0
-        bad = False
         i = tid
         while i < n:
-            fx, fy, fz, qx, qy, qz, pn, pf, ef, wx, wy, wz, st_ = sphere_force(b, table, i, lb, tk, dt, dt)
+            st_ = sphere_force(b, table, acc, i, lb, tk, dt, dt)
             if st_ != STATUS_OK:
                 status = st_
                 culprit = i
-            p_n += pn
-            p_f += pf
-            e_f += ef
-            fwx += wx
-            fwy += wy
-            fwz += wz
             im = st[IMASS * N + i]
             ii = st[IINERT * N + i]
+            bad = False
             for k in range(3):
-                fk = fx if k == 0 else (fy if k == 1 else fz)
-                an = fk * im + (cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k])
+                an = acc[i, k] * im + (cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k])
                 a = st[(A + k) * N + i]
                 vn = sh[(S_V + k) * N + i] + half * (an - 2.0 * a + st[(AP + k) * N + i])
                 sh[(S_V + k) * N + i] = vn
                 st[(AP + k) * N + i] = a
                 st[(A + k) * N + i] = an
-                wn = (qx if k == 0 else (qy if k == 1 else qz)) * ii
+                wn = acc[i, 3 + k] * ii
                 al = st[(AL + k) * N + i]
                 sh[(S_SPIN + k) * N + i] = sh[(S_SPIN + k) * N + i] + half * (wn - 2.0 * al + st[(ALP + k) * N + i])
                 st[(ALP + k) * N + i] = al
@@ -202,18 +197,19 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
                 culprit = i
             i += bd
         tk = 1 - tk
-        fd = fwx * cf[F_DIRECTION] + fwy * cf[F_DIRECTION + 1] + fwz * cf[F_DIRECTION + 2]
-        s_w += vc * fd * dt
-        s_n += p_n * dt
-        s_f += p_f * dt
+        # ---- this thread's ledger: the step's powers and impulse
+        fd = cf[now + 3]
+        cf[run] += vc * fd * dt
+        cf[run + 1] += cf[now] * dt
+        cf[run + 2] += cf[now + 1] * dt
         if spring:
-            s_f += e_f
-        s_i += fd * dt
+            cf[run + 2] += cf[now + 2]
+        cf[run + 3] += fd * dt
         g += 1
         done += 1
         # ---- the block's vote: a rebuild next step, the launch's time, a failure
         bits = 0
-        if 3.0 * disp > skin2:
+        if 3.0 * disp > 0.25 * cf[F_SKIN] * cf[F_SKIN]:
             bits |= MOVED_FAR
         if tid == 0 and out_of_time(start, max_cycles):
             bits |= TIME_UP
@@ -227,14 +223,11 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
             culprit = block_min_int(culprit if culprit >= 0 else 1 << 30, tid, bd, b.red)
             break
         # ---- a sample ends: the block's sums, the energies, a frame
-        if g > settle and g % sub == 0:
-            kk = g // sub - 1 - ci[I_SETTLE_SAMPLES]
-            record_sample(b, bt.out[c], kk, (s_i, s_w, s_n, s_f), (xc, vc), lb, tk, spring)
-            s_i = 0.0
-    # ---- leave the state, the clock and the running sums for the next launch
+        if g > settle and g % ci[I_SUB] == 0:
+            record_sample(b, bt.out[c], g // ci[I_SUB] - 1 - ci[I_SETTLE_SAMPLES], (xc, vc), lb, tk, spring)
+    # ---- leave the state and the clock for the next launch
     sync(bd)
     store_spheres(b)
-    keep_partials(b, 0, s_w, s_n, s_f, s_i)
     if tid == 0:
         ci[I_STEP] = g
         ci[I_LIST] = lb
