@@ -896,6 +896,7 @@ def part_ptx(kernels=None, sm="sm_90"):
             r = subprocess.run([ptxas, "--gpu-name", sm, "-v", str(path), "-o", str(Path(d) / "k.cubin")],
                                capture_output=True, text=True, timeout=900)
         k.update(ptxas_report(r.stdout + r.stderr), ptxas_ok=r.returncode == 0, sm=sm)
+        k["parameter_bytes"] = parameter_bytes(ptx)
         if r.returncode != 0:
             k["ptxas_error"] = " ".join((r.stdout + r.stderr).split())[-600:]
         if os.environ.get("PDAMPER_PTX_DIR"):  # (to read the PTX: keep it)
@@ -905,6 +906,16 @@ def part_ptx(kernels=None, sm="sm_90"):
         out[name] = k
         print(f"ptx ({name}):", json.dumps(k), flush=True)
     return out
+
+
+def parameter_bytes(ptx):
+    """The kernel's parameter space [B]: its ``.entry``'s parameters as the PTX declares them."""
+    import re
+
+    head = ptx[ptx.index(".entry"):]
+    head = head[:head.index(")")]
+    sizes = {"8": 1, "16": 2, "32": 4, "64": 8}
+    return sum(sizes[w] for w in re.findall(r"\.param\s+\.[a-z](8|16|32|64)\s", head))
 
 
 def ptxas_path():
