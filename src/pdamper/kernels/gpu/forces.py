@@ -31,7 +31,7 @@ from numba import cuda
 from ...contact.hertz import hertz_energy, hertz_stiffness
 from ...contact.tangential_spring import spring_energy
 from ...geometry.walls import wall_distance
-from ..bundles import ContactTable
+from ..bundles import ContactConstants, ContactGeometry, ContactTable
 from ..contact import FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, pair_point_velocity, \
     wall_point_velocity
 from ..drive import parametric_motion
@@ -355,8 +355,9 @@ def pair_laws(b, table, lb, tb, dt, step):
         cap = gv[ci[O_PCAP] + lb * P + p]
         mp = iv[ci[O_MP] + lb * P + p]
         fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, th, hrow, mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap, delta,
-            ddot, v_in, gv[d_old + p], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+            table, th, hrow,
+            ContactConstants(mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap),
+            ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), v_in, gv[d_old + p], dt, step)
         gv[v_new + p] = vin
         gv[d_new + p] = dd
         _add_step(b, pn, pf, ef, 0.0)
@@ -529,8 +530,8 @@ def sphere_force(b, table, acc, i, lb, tb, dt, step):
                                                          sh[m + 4 * N], sh[m + 5 * N], ri, nx, ny, nz)
         mp = b.iv[ci[O_WMP] + at]
         fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, th, row, mp, friction[mp], gv[ci[O_WK] + at], gv[ci[O_WRS] + at], mi, FRICTION_CAP * mi, delta,
-            ddot, v_in, gv[wd_old + at], nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz, dt, step)
+            table, th, row, ContactConstants(mp, friction[mp], gv[ci[O_WK] + at], gv[ci[O_WRS] + at], mi, FRICTION_CAP * mi),
+            ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), v_in, gv[wd_old + at], dt, step)
         gv[wv_new + at] = vin
         gv[wd_new + at] = dd
         _note_wall(b, i, wall, nx, ny, nz, tx, ty, tz, ff, lim)

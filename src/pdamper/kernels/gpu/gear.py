@@ -191,7 +191,7 @@ def _pair_row(b, dl, k, lb, g, a, hh):
                                                 dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
     dp = -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
            + fz * (tz + dcz - dcn * nz + a * kk * gz)) - cf * vt * vt
-    scatter(dv, dw, i, j, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * im_i, hh * im_j, hh * ii_i * ri, hh * ii_j * rj)
+    scatter(dv, dw, i, j, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), hh * im_i, hh * im_j, hh * ii_i * ri, hh * ii_j * rj)
     return dp
 
 
@@ -255,7 +255,7 @@ def _implicit_walls(b, dl, i, tk, hs):
             gx, gz, dp = floor_friction_step(cf, gv[at + 7 * wn], gv[at + 3 * wn], gv[at + 5 * wn], dv[i, 0],
                                              dv[i, 2], dw[i, 0], dw[i, 2], ri, g, a, kk)
             dpf += dp
-            scatter(dv, dw, i, -1, gx, 0.0, gz, 0.0, 1.0, 0.0, gx, 0.0, gz, hh * im, 0.0, -(hh * ii * ri), 0.0)
+            scatter(dv, dw, i, -1, (gx, 0.0, gz), (0.0, 1.0, 0.0), (gx, 0.0, gz), hh * im, 0.0, -(hh * ii * ri), 0.0)
             dfx += gx
             dfz += gz
     for w in range(ci[I_NW]):
@@ -269,11 +269,11 @@ def _implicit_walls(b, dl, i, tk, hs):
         ny = gv[at + wn]
         nz = gv[at + 2 * wn]
         kk = im + ri * ri * ii
-        gx, gy, gz, dp = wall_friction_step(cf, gv[at + 7 * wn], nx, ny, nz, gv[at + 3 * wn], gv[at + 4 * wn],
-                                            gv[at + 5 * wn], dv[i, 0], dv[i, 1], dv[i, 2], dw[i, 0], dw[i, 1],
-                                            dw[i, 2], ri, g, a, kk)
+        gx, gy, gz, dp = wall_friction_step(cf, gv[at + 7 * wn], (nx, ny, nz),
+                                            (gv[at + 3 * wn], gv[at + 4 * wn], gv[at + 5 * wn]),
+                                            (dv[i, 0], dv[i, 1], dv[i, 2]), (dw[i, 0], dw[i, 1], dw[i, 2]), ri, g, a, kk)
         dpf += dp
-        scatter(dv, dw, i, -1, gx, gy, gz, nx, ny, nz, gx, gy, gz, hh * im, 0.0, -(hh * ii * ri), 0.0)
+        scatter(dv, dw, i, -1, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), hh * im, 0.0, -(hh * ii * ri), 0.0)
         dfx += gx
         dfy += gy
         dfz += gz
