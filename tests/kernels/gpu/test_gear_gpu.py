@@ -99,11 +99,12 @@ def test_gear_implicit_pair_rows_in_the_cpus_order():
 
 
 def test_gear_bits_do_not_depend_on_the_threads_of_a_block():
-    """The 13-sphere pile's ten steps on blocks of 1, 2 and 4 threads (a lane takes 13, 7 or 4
-    spheres, and the pairs a block's width apart): every sphere's sums, its increments and its rows
-    of the walk in the same order, so the same Nordsieck vector and velocities to the bit (only the
-    threads' running sums, a sum of sums, may part by rounding)."""
-    runs = [_step_by_step(_gear(_pile()), 10, threads)[-1].snapshot(0) for threads in (1, 2, 4)]
+    """The 13-sphere pile's ten steps on blocks of 1, 2, 4 and 34 threads (a lane takes 13, 7, 4 or
+    one sphere, and the pairs a block's width apart; 34 threads are two warps, whose barriers are the
+    block's and whose reductions go through shared memory): every sphere's sums, its increments and
+    its rows of the walk in the same order, so the same Nordsieck vector and velocities to the bit
+    (only the threads' running sums, a sum of sums, may part by rounding)."""
+    runs = [_step_by_step(_gear(_pile()), 10, threads)[-1].snapshot(0) for threads in (1, 2, 4, 34)]
     for other in runs[1:]:
         assert other.steps == runs[0].steps == 10 and other.rejected == runs[0].rejected
         assert np.array_equal(other.nordsieck, runs[0].nordsieck)
