@@ -37,16 +37,18 @@ from ..contact import FRICTION_CAP, contact, drop_history, floor_slip, keeps_his
 from ..drive import parametric_motion
 from ..forces import STATUS_LIST_OVERFLOW, STATUS_OK, STATUS_OVERLAP, pair_geometry
 from . import targets  # noqa: F401  (registers the laws' dispatch for the CUDA target)
-from .batch import (F_BED_MASS, F_DIRECTION, F_GRAVITY, F_PAR, F_PARTIALS, F_SAMPLE_INTERVAL, F_SKIN, I_DRIVE,
-                    I_EN_ROWS, I_FLOOR, I_FR_ROWS, I_FRAME_EVERY, I_N, I_NMAT, I_NW, I_ROW0, I_WF_ROWS, IINERT, MASS,
-                    MOVED, O_ENERGY, O_FIRST, O_FRAMES, O_INPAIR, O_INROW, O_MAT, O_MP, O_N, O_P, O_PCAP, O_PD, O_PK,
-                    O_PV, O_RES, O_ROW, O_SEC, O_TP, O_TW, O_TWALL, O_W, O_WD, O_WK, O_WKIND, O_WMP, O_WROW, O_WRS,
-                    O_WV, PARTIALS, R_C, R_F, R_LIM, R_N, R_S, R_T, RAD, REF, S_MOVED, S_RAD, S_SPIN, S_V, S_X, SPIN, V,
-                    X)
-from .warp import block_scan, block_sum, sync
+from .batch import (F_BED_MASS, F_DIRECTION, F_GRAVITY, F_JUMP, F_PAR, F_PARTIALS, F_SAMPLE_INTERVAL, F_SKIN,
+                    IINERT, I_CULPRIT, I_DRIVE, I_EN_ROWS, I_FAIL_STEP, I_FLOOR, I_FRAME_EVERY, I_FR_ROWS, I_LIST,
+                    I_N, I_NMAT, I_NW, I_PRIMED, I_ROW0, I_STARTED, I_STATUS, I_TIME, I_WF_ROWS, MASS, MOVED,
+                    O_ENERGY, O_FIRST, O_FRAMES, O_INPAIR, O_INROW, O_MAT, O_MP, O_N, O_P, O_PCAP, O_PD, O_PK, O_PV,
+                    O_RES, O_ROW, O_SEC, O_TP, O_TW, O_TWALL, O_W, O_WD, O_WK, O_WKIND, O_WMP, O_WROW, O_WRS, O_WV,
+                    PARTIALS, RAD, REF, R_C, R_F, R_LIM, R_N, R_S, R_T, S_MOVED, S_RAD, S_SPIN,
+                    S_V, S_X, X)
+from .warp import block_max, block_min_int, block_or, block_scan, block_sum, out_of_time, sync
 
 __all__ = ["Block", "block", "load_spheres", "store_spheres", "rebuild", "pair_laws", "sphere_force", "elastic",
-           "ledger", "table_of", "record_sample", "motion_at", "prime", "RUNNING", "INTEGRANDS", "THIS_STEP"]
+           "ledger", "table_of", "record_sample", "motion_at", "prime", "start_drive", "vote", "keep_state", "RUNNING",
+           "INTEGRANDS", "THIS_STEP", "MOVED_FAR", "TIME_UP", "FAILED"]
 
 #: A thread's ledger rows in ``cf`` (:func:`ledger`): its running sums (work done by the container,
 #: loss by normal damping, loss by friction [J], impulse along the drive since the last sample
@@ -54,6 +56,9 @@ __all__ = ["Block", "block", "load_spheres", "store_spheres", "rebuild", "pair_l
 #: step's sums of its contacts (normal damping's and friction's power [W], a spring's loss [J], the
 #: walls' force along the drive [N]).
 RUNNING, INTEGRANDS, THIS_STEP = 0, 1, 2
+#: Bits of a step's vote (:func:`vote`): a sphere moved more than half the skin (Verlet: a rebuild next
+#: step), the launch's time is up (thread 0's clock), the step failed.
+MOVED_FAR, TIME_UP, FAILED = 1, 2, 4
 
 class Block(NamedTuple):
     """What every thread of a case's block knows: who it is, the case's rows, the shared memory."""
@@ -88,18 +93,33 @@ def table_of(tb, law, tlaw):
 
 
 @cuda.jit(device=True)
-def load_spheres(b):
-    """The case's positions, velocities, spins, spring displacements and radii into shared memory."""
+def _copy_spheres(b, into_shared):
+    """The case's positions, velocities, spins and spring displacements between its rows of ``st``
+    and the block's shared memory (each lane its spheres)."""
     N = b.N
     i = b.tid
     while i < b.n:
-        for k in range(3):
-            b.sh[(S_X + k) * N + i] = b.st[(X + k) * N + i]
-            b.sh[(S_V + k) * N + i] = b.st[(V + k) * N + i]
-            b.sh[(S_SPIN + k) * N + i] = b.st[(SPIN + k) * N + i]
+        for k in range(9):
+            # (position, velocity and spin are st's fields 0-8 and the shared fields 0-8)
+            if into_shared:
+                b.sh[(S_X + k) * N + i] = b.st[(X + k) * N + i]
+            else:
+                b.st[(X + k) * N + i] = b.sh[(S_X + k) * N + i]
         for k in range(6):
-            b.sh[(S_MOVED + k) * N + i] = b.st[(MOVED + k) * N + i]
-        b.sh[S_RAD * N + i] = b.st[RAD * N + i]
+            if into_shared:
+                b.sh[(S_MOVED + k) * N + i] = b.st[(MOVED + k) * N + i]
+            else:
+                b.st[(MOVED + k) * N + i] = b.sh[(S_MOVED + k) * N + i]
+        i += b.bd
+
+
+@cuda.jit(device=True)
+def load_spheres(b):
+    """The case's positions, velocities, spins, spring displacements and radii into shared memory."""
+    _copy_spheres(b, True)
+    i = b.tid
+    while i < b.n:
+        b.sh[S_RAD * b.N + i] = b.st[RAD * b.N + i]
         i += b.bd
     sync(b.bd)
 
@@ -107,16 +127,54 @@ def load_spheres(b):
 @cuda.jit(device=True)
 def store_spheres(b):
     """The shared positions, velocities, spins and displacements back into the case's rows."""
+    _copy_spheres(b, False)
+
+
+@cuda.jit(device=True)
+def start_drive(b):
+    """The drive starts (after the settling): the velocities relative to the container jump by
+    ``-jump``, this thread's running sums restart."""
     N = b.N
     i = b.tid
     while i < b.n:
         for k in range(3):
-            b.st[(X + k) * N + i] = b.sh[(S_X + k) * N + i]
-            b.st[(V + k) * N + i] = b.sh[(S_V + k) * N + i]
-            b.st[(SPIN + k) * N + i] = b.sh[(S_SPIN + k) * N + i]
-        for k in range(6):
-            b.st[(MOVED + k) * N + i] = b.sh[(S_MOVED + k) * N + i]
+            b.sh[(S_V + k) * N + i] -= b.cf[F_JUMP + k]
         i += b.bd
+    r = ledger(b, RUNNING)
+    for k in range(4):
+        b.cf[r + k] = 0.0
+
+
+@cuda.jit(device=True)
+def vote(b, bits, status, culprit, start, max_cycles):
+    """The block's vote at a step's end: the or of every thread's ``bits``, with :data:`TIME_UP` when
+    thread 0's clock says the launch's time is up and :data:`FAILED` when a thread's ``status`` says
+    its step failed; then the block's status (the largest) and culprit (the smallest sphere). Returns
+    ``(bits, status, culprit)``, the same in every thread."""
+    if b.tid == 0 and out_of_time(start, max_cycles):
+        bits |= TIME_UP
+    if status != STATUS_OK:
+        bits |= FAILED
+    bits = block_or(bits, b.tid, b.bd, b.red)
+    if bits & FAILED:
+        status = int(block_max(float(status), b.tid, b.bd, b.red))
+        culprit = block_min_int(culprit if culprit >= 0 else 1 << 30, b.tid, b.bd, b.red)
+    return bits, status, culprit
+
+
+@cuda.jit(device=True)
+def keep_state(b, lb, tk, started, primed, status, culprit, step):
+    """What the next launch starts from (thread 0): the list and history buffers, whether the drive
+    has started and the run is primed, and a failure's status, culprit and step."""
+    ci = b.ci
+    ci[I_LIST] = lb
+    ci[I_TIME] = tk
+    ci[I_STARTED] = started
+    ci[I_PRIMED] = primed
+    if status != STATUS_OK:
+        ci[I_STATUS] = status
+        ci[I_CULPRIT] = culprit
+        ci[I_FAIL_STEP] = step
 
 
 @cuda.jit(device=True)

@@ -33,15 +33,15 @@ from ..contact import corrected_friction, keeps_history, pair_point_velocity, sc
 from ..forces import STATUS_NAN, STATUS_OK
 from ..gear import (GEAR_C, floor_friction_step, next_step, predict_dof, shorter_step, step_to_boundary,
                     wall_friction_step)
-from .batch import (ANCHOR, F_DIRECTION, F_GRAVITY, F_H, F_H_MAX, F_H_MIN, F_HS, F_INTERVAL, F_JUMP, F_SKIN, F_T,
-                    F_TOL, I_CULPRIT, I_FAIL_STEP, I_FLOOR, I_LIST, I_NW, I_PRIMED, I_REJECTED, I_SAMPLES,
-                    I_SEG_SAMPLES, I_SETTLE_SAMPLES, I_SPAN, I_SPANS, I_STARTED, I_STATUS, I_STEP, I_TIME, IINERT,
-                    IMASS, MAX_SPHERES, MAX_WARPS, NORD, O_DP, O_FIRST, O_LEVEL, O_P, O_PV, O_RES, O_ROW, O_SEC, O_W,
-                    O_WALK, O_WROW, O_WV, R_C, R_LIM, R_N, R_S, REF, S_MOVED, S_RAD, S_SPIN, S_V, S_X)
-from .forces import (INTEGRANDS, RUNNING, THIS_STEP, block, ledger, load_spheres, motion_at, pair_laws, prime,
-                     rebuild, record_sample, sphere_force, store_spheres, table_of)
-from .verlet import FAILED, TIME_UP
-from .warp import block_max, block_min_int, block_or, block_scan, clock, out_of_time, sync
+from .batch import (ANCHOR, F_DIRECTION, F_GRAVITY, F_H, F_HS, F_H_MAX, F_H_MIN, F_INTERVAL, F_JUMP, F_SKIN, F_T,
+                    F_TOL, IINERT, IMASS, I_FLOOR, I_LIST, I_NW, I_PRIMED, I_REJECTED, I_SAMPLES, I_SEG_SAMPLES,
+                    I_SETTLE_SAMPLES, I_SPAN, I_SPANS, I_STARTED, I_STATUS, I_STEP, I_TIME, MAX_SPHERES, MAX_WARPS,
+                    NORD, O_DP, O_FIRST, O_LEVEL, O_P, O_PV, O_RES, O_ROW, O_SEC, O_W, O_WALK, O_WROW, O_WV, REF, R_C,
+                    R_LIM, R_N, R_S, S_MOVED, S_RAD, S_SPIN, S_V, S_X)
+from .forces import (FAILED, INTEGRANDS, RUNNING, THIS_STEP, TIME_UP, block, keep_state, ledger, load_spheres,
+                     motion_at, pair_laws, prime, rebuild, record_sample, sphere_force, start_drive, store_spheres,
+                     table_of, vote)
+from .warp import block_max, block_scan, clock, sync
 
 __all__ = ["batch_gear", "gear_kernel", "NO_CAP"]
 
@@ -359,15 +359,13 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
             t = t0
         # ---- the drive starts (after the settling): velocities jump, the sums restart
         if recording and started == 0:
-            i = tid
-            while i < n:
-                for k in range(3):
-                    if primed != 0:
+            if primed != 0:
+                i = tid
+                while i < n:
+                    for k in range(3):
                         st[_nv(b, 1, k, i)] -= hs * cf[F_JUMP + k]
-                    sh[(S_V + k) * N + i] -= cf[F_JUMP + k]
-                i += bd
-            for k in range(4):
-                cf[run + k] = 0.0
+                    i += bd
+            start_drive(b)
             started = 1
         # ---- the Nordsieck vector at the start (run_gear's priming), forces with the capped friction
         if primed == 0:
@@ -507,9 +505,8 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
             # reject: a shorter step (the Nordsieck vector and the history's current buffer are untouched)
             h = shorter_step(hs, tol, err, h_min)
             rejected += 1
-            status = STATUS_OK
-            if block_or(TIME_UP if tid == 0 and out_of_time(start, max_cycles) else 0, tid, bd, b.red):
-                stop = 1
+            bits, _, _ = vote(b, 0, STATUS_OK, -1, start, max_cycles)
+            stop = bits & TIME_UP
             continue
         # ---- accept: correct the prediction into the Nordsieck vector; the history's new buffer is current
         i = tid
@@ -542,16 +539,9 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
         cf[integ + 2] = cf[now + 1]
         cf[integ + 3] = fd
         h = next_step(hs, h, tol, err, h_min, h_max)
-        bits = 0
-        if tid == 0 and out_of_time(start, max_cycles):
-            bits |= TIME_UP
-        if status != STATUS_OK:
-            bits |= FAILED
-        bits = block_or(bits, tid, bd, b.red)
+        bits, status, culprit = vote(b, 0, status, culprit, start, max_cycles)
         stop = bits & TIME_UP
         if bits & FAILED:
-            status = int(block_max(float(status), tid, bd, b.red))
-            culprit = block_min_int(culprit if culprit >= 0 else 1 << 30, tid, bd, b.red)
             break
         # ---- a sample ends on this step: the block's sums, the energies, a frame
         if recording and math.fabs(t - tb_end) <= 1e-9 * ts:
@@ -572,11 +562,4 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
         cf[F_HS] = hs
         ci[I_REJECTED] = rejected
         ci[I_STEP] = steps
-        ci[I_LIST] = lb
-        ci[I_TIME] = tk
-        ci[I_STARTED] = started
-        ci[I_PRIMED] = primed
-        if status != STATUS_OK:
-            ci[I_STATUS] = status
-            ci[I_CULPRIT] = culprit
-            ci[I_FAIL_STEP] = steps
+        keep_state(b, lb, tk, started, primed, status, culprit, steps)

@@ -25,20 +25,18 @@ from numba import cuda, float64
 
 from ..contact import keeps_history
 from ..forces import STATUS_NAN, STATUS_OK
-from .batch import (A, AL, ALP, AP, F_DIRECTION, F_DT, F_GRAVITY, F_INTERVAL, F_JUMP, F_SKIN, I_CULPRIT, I_FAIL_STEP,
-                    I_LIST, I_MOVED, I_PRIMED, I_SEG_SAMPLES, I_SEG_STEPS, I_SETTLE_SAMPLES, I_SETTLE_STEPS,
-                    I_STARTED, I_STATUS, I_STEP, I_SUB, I_TIME, I_TOTAL_STEPS, IINERT, IMASS, MAX_SPHERES, MAX_WARPS, REF, S_MOVED, S_SPIN, S_V, S_X)
-from .forces import (RUNNING, THIS_STEP, block, ledger, load_spheres, motion_at, pair_laws, prime, rebuild,
-                     record_sample, sphere_force, store_spheres, table_of)
-from .warp import block_max, block_min_int, block_or, clock, out_of_time, sync
+from .batch import (A, AL, ALP, AP, F_DIRECTION, F_DT, F_GRAVITY, F_INTERVAL, F_SKIN, IINERT, IMASS, I_LIST, I_MOVED,
+                    I_PRIMED, I_SEG_SAMPLES, I_SEG_STEPS, I_SETTLE_SAMPLES, I_SETTLE_STEPS, I_STARTED, I_STATUS,
+                    I_STEP, I_SUB, I_TIME, I_TOTAL_STEPS, MAX_SPHERES, MAX_WARPS, REF, S_MOVED, S_SPIN,
+                    S_V, S_X)
+from .forces import (FAILED, MOVED_FAR, RUNNING, THIS_STEP, TIME_UP, block, keep_state, ledger, load_spheres,
+                     motion_at, pair_laws, prime, rebuild, record_sample, sphere_force, start_drive, store_spheres,
+                     table_of, vote)
+from .warp import clock, sync
 
 __all__ = ["batch_verlet", "verlet_kernel", "case_time"]
 
 _KERNEL = []
-
-#: Bits of a step's vote (:func:`pdamper.kernels.gpu.warp.block_or`): a sphere moved more than half the
-#: skin (a rebuild next step), the launch's time is up (thread 0's clock), the step failed.
-MOVED_FAR, TIME_UP, FAILED = 1, 2, 4
 
 
 def verlet_kernel():
@@ -104,13 +102,7 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
         settle = ci[I_SETTLE_STEPS]
         # ---- the drive starts: velocities relative to the container jump, the sums restart
         if g == settle and started == 0:
-            i = tid
-            while i < n:
-                for k in range(3):
-                    sh[(S_V + k) * N + i] -= cf[F_JUMP + k]
-                i += bd
-            for k in range(4):
-                cf[run + k] = 0.0
+            start_drive(b)
             started = 1
         # ---- the initial accelerations (run_verlet's priming): list and forces at the start
         if primed == 0:
@@ -208,19 +200,11 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
         g += 1
         done += 1
         # ---- the block's vote: a rebuild next step, the launch's time, a failure
-        bits = 0
-        if 3.0 * disp > 0.25 * cf[F_SKIN] * cf[F_SKIN]:
-            bits |= MOVED_FAR
-        if tid == 0 and out_of_time(start, max_cycles):
-            bits |= TIME_UP
-        if status != STATUS_OK:
-            bits |= FAILED
-        bits = block_or(bits, tid, bd, b.red)
+        bits, status, culprit = vote(b, MOVED_FAR if 3.0 * disp > 0.25 * cf[F_SKIN] * cf[F_SKIN] else 0, status,
+                                     culprit, start, max_cycles)
         moved = bits & MOVED_FAR
         stop = bits & TIME_UP
         if bits & FAILED:
-            status = int(block_max(float(status), tid, bd, b.red))
-            culprit = block_min_int(culprit if culprit >= 0 else 1 << 30, tid, bd, b.red)
             break
         # ---- a sample ends: the block's sums, the energies, a frame
         if g > settle and g % ci[I_SUB] == 0:
@@ -230,12 +214,5 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
     store_spheres(b)
     if tid == 0:
         ci[I_STEP] = g
-        ci[I_LIST] = lb
-        ci[I_TIME] = tk
         ci[I_MOVED] = moved
-        ci[I_STARTED] = started
-        ci[I_PRIMED] = primed
-        if status != STATUS_OK:
-            ci[I_STATUS] = status
-            ci[I_CULPRIT] = culprit
-            ci[I_FAIL_STEP] = g
+        keep_state(b, lb, tk, started, primed, status, culprit, g)
