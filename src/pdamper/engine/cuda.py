@@ -486,7 +486,7 @@ def _pack(jobs, threads):
     iv = np.zeros((C, o["iv"]), dtype=np.int32)
     ci = np.zeros((C, lay.CI), dtype=np.int64)
     cf = np.zeros((C, widths["cf"]))
-    walls = np.zeros((C, W, 7))
+    walls = np.zeros((C * W, 7))
     st[:, lay.RAD * N:(lay.IINERT + 1) * N] = 1.0  # (padding spheres: never read)
     st[:, lay.REF * N:(lay.REF + 3) * N] = np.inf
     gv[:, o[lay.O_WRS]:o[lay.O_WRS] + W * N] = 1.0
@@ -500,7 +500,7 @@ def _pack(jobs, threads):
             st[c, f * N:f * N + n] = a
         iv[c, o[lay.O_MAT]:o[lay.O_MAT] + n] = b.material
         iv[c, o[lay.O_WKIND]:o[lay.O_WKIND] + nw] = w.kind
-        walls[c, :nw] = w.data
+        walls[c * W:c * W + nw] = w.data
         for slot, a in ((lay.O_WK, w.stiffness), (lay.O_WRS, w.effective_radius)):
             gv[c, o[slot]:o[slot] + W * N].reshape(W, N)[:nw, :n] = a.T
         iv[c, o[lay.O_WMP]:o[lay.O_WMP] + W * N].reshape(W, N)[:nw, :n] = (w.material_pair + row).T

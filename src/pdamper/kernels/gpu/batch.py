@@ -1,9 +1,9 @@
 """A batch of cases as a few flat buffers, one row per case: the GPU kernels' state, laid out so that
 a case's block finds everything at offsets of its own row.
 
-Eight arrays make the whole batch (:class:`Batch`), each ``(C, width)``; a kernel takes them as one
-bundle, the contact table and the laws' markers (its parameters: about 950 B, against the 7 KB of
-the ~90 arrays of the kernels before). Inside a case's row the values sit in *fields* of one value
+Eight arrays make the whole batch (:class:`Batch`), a row (or a block of rows) a case; a kernel
+takes them as one bundle, the contact table and the laws' markers (its parameters: about 1 KB,
+against the 7 KB of the ~90 arrays of the kernels before). Inside a case's row the values sit in *fields* of one value
 per sphere (``st``: field ``f`` of sphere ``i`` at ``f * N + i``, ``N`` the batch's padded sphere
 count), one per pair (``gv``, ``iv``: at ``offset + p``, ``P`` pairs at most) or one per
 sphere-wall contact (``w * N + i``), so the lanes of a warp, which take consecutive spheres or
@@ -32,7 +32,7 @@ a name here, none is a number in the kernels.
   the material pairs; Gear's compact list of touching friction rows and their levels.
 - ``ci`` (int64), ``cf`` (float): the case's counts, clock, status and progress (``I_*``, ``F_*``),
   its threads' running sums between launches.
-- ``walls`` (float, ``(C, W, 7)``): the walls' signed-distance primitives.
+- ``walls`` (float, ``(C W, 7)``): the walls' signed-distance primitives, ``W`` rows a case.
 - ``out`` (float): the recorded channels (wall force, energies, frames).
 """
 
@@ -103,7 +103,7 @@ class Batch(NamedTuple):
     iv: np.ndarray      #: (C, .) int32: lists, material pairs, Gear's rows
     ci: np.ndarray      #: (C, CI) int64: counts, clock, status, offsets
     cf: np.ndarray      #: (C, .) float: clock, drive, running sums
-    walls: np.ndarray   #: (C, W, 7) float: the walls' primitives
+    walls: np.ndarray   #: (C x W, 7) float: the walls' primitives, W rows a case
     out: np.ndarray     #: (C, .) float: the recorded channels
 
 

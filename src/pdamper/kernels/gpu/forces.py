@@ -83,7 +83,7 @@ def block(bt, c, sh, red):
     """Case ``c``'s :class:`Block` for the calling thread (``bt``: the :class:`~.batch.Batch`)."""
     ci = bt.ci[c]
     return Block(cuda.threadIdx.x, cuda.blockDim.x, ci[I_N], ci[O_N], bt.st[c], bt.gv[c], bt.th[c], bt.iv[c], ci,
-                 bt.cf[c], bt.walls[c], sh, red)
+                 bt.cf[c], bt.walls[c * ci[O_W]:(c + 1) * ci[O_W]], sh, red)
 
 
 @cuda.jit(device=True, inline="always")
