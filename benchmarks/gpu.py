@@ -1,4 +1,4 @@
-"""The GPU engine's benchmark: one command on one NVIDIA GPU (issue 29's targets).
+"""The GPU engine's benchmark: one command on one NVIDIA GPU (issue 38's targets).
 
     PYTHONUNBUFFERED=1 python benchmarks/gpu.py --out gpu.json [--budget-s 450] [--only PART ...]
 
@@ -6,64 +6,49 @@ What it runs, the bounded parts first (a part that overruns the device call's li
 what follows it), writing ``--out`` (JSON) after every part and a markdown summary at the end (also
 ``--out`` with ``.md``):
 
-1. ``env``: the GPU, numba and numba-cuda, the commit, the profilers on PATH (``ncu``, ``nsys``).
-2. ``compile``: the first GPU launch of the kernel (numba-cuda typing, NVVM, the driver's PTX JIT;
-   a launch with no steps) and the compiled kernel's registers per thread, shared and local memory
-   per block, the blocks an SM can hold.
+1. ``env``: the GPU, numba and numba-cuda, the commit, the CUDA driver, runtime and libNVVM versions.
+2. ``compile``: the first GPU launch of the default kernel (numba-cuda typing, NVVM, the driver's
+   PTX JIT; a launch with no steps) and the compiled kernel's registers per thread, shared and
+   local memory, the blocks an SM can hold for beds of 36 to 256 spheres.
 3. ``agree``: the GPU's kernels against the CPU engine on the GPU itself (the test suite holds them
    together only in numba-cuda's simulator, which runs the CPU-compiled functions): two fig4 cases,
-   the settling and half a cycle, under Gear and Verlet with the tanh law, Verlet with the spring,
-   and Gear with the spring (refused on a GPU: run here to see its fault), each variant in a process
-   of its own (``--agree-variants`` picks them): the steps, the first sample at which the wall force
-   parts from the CPU's, the final positions; for Gear first the shapes of its arrays as a kernel
-   with its arguments sees them (kept if the run then faults).
-   ``profile``: where Gear's step spends its time, phase by phase: fig4's cases as one batch
-   (``--profile-cases``: some of them, e.g. the longest alone) for ``--profile-seconds`` (10) under
-   the probed kernel (``pdamper.kernels.gpu.probe``: the block's cycle counter read at the end of
-   each phase): cycles per attempted step of each phase and its share, the implicit walk's rows per
-   step and cycles per row, the rebuilds; each case's own.
-   ``fig4_steady`` (only when named): the ``fig4`` part with ``--until-steady 0.02`` (each case stops
-   once its record is steady, at the CPU engine's cycle): wall time, the longest case's steps, and
-   per stroke the cycles run and eta* against the CPU engine's same command
-   (``benchmarks/data/fig4_cpu_until_steady.csv``, ``--make-steady-reference``).
-   ``fault`` (only when named: ``--only fault``): Gear with the tangential spring, which faults on a
-   GPU, on four fig4 cases in synchronised launches of 200 steps for ``--fault-seconds`` (10), as the
-   production kernel and compiled twice more with other numba-cuda options (NVVM unoptimised; at most
-   128 registers), each in a process of its own: whether and when each faults (a fault that goes
-   with the options is the compilers'), and the production kernel's PTX and SASS as this machine
-   compiles them, into ``--artifacts`` (default ``fault/`` beside ``--out``). The ``env`` part says
-   the CUDA driver, runtime and libNVVM versions.
-   ``steps``: what changes a step's cost: fig4's cases as one batch for ``--steps-seconds`` (10)
-   under Gear with the tanh law (the default), Verlet with the tanh law and with the tangential
-   spring, the default's longest case alone, and the default with 32 threads a block: microseconds
-   per step per block of each (a variant the engine refuses says so).
-4. ``bed``: the 5,000-sphere multi-layer bed of ``benchmarks/run.py`` (one case, one block of 256
-   threads) for ``--bed-seconds`` (20): microseconds per step and per particle-step.
-5. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
+   the settling and half a cycle, under Gear and Verlet with the tanh law and with the spring, each
+   variant in a process of its own (a kernel that faults takes only its own; ``--agree-variants``
+   picks them): the steps, the first sample at which the wall force parts from the CPU's, the final
+   positions.
+4. ``steps``: what a step costs: fig4's cases as one batch for ``--steps-seconds`` (10) under Gear with
+   the tanh law (the default), the default's longest case alone, Verlet with the tanh law, Gear and
+   Verlet with the spring: microseconds per step of the batch's most and least advanced case, and
+   each kernel's compile.
+5. ``bed``: the largest bed the GPU engine takes (256 spheres, the multi-layer bed of
+   ``benchmarks/run.py``) for ``--bed-seconds`` (20): microseconds per step and per particle-step;
+   the 5,000-sphere bed runs on the CPU engine (said, not run).
+6. ``fig4``: ``run_study("fig4", device="cuda")`` as ``pdamper study fig4 --device cuda`` runs it
    (40 strokes x 20 cycles, 36 and 44 spheres, one seed, from an empty store): wall time, the
    longest case's steps and the per-step cost of a block, and eta* of every stroke against the CPU
-   engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``). It runs to its end (no budget).
-6. ``paper``: every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at
-   the paper's 40 strokes, 20 cycles, one seed, as one GPU batch: wall time, cases finished and
-   failed. Stopped at the budget (``--budget-s``, counted from the start): then what was done is
-   said (steps done of all steps), never extrapolated into a figure.
+   engine's seeds 0-2 (``benchmarks/data/fig4_cpu_reference.csv``) and every CPU run of
+   ``fig4_cpu_spread.csv``. It runs to its end (no budget).
+7. ``fig4_steady``: the same with ``--until-steady 0.02`` (each case stops once its record is steady,
+   at the CPU engine's cycle): wall time, the longest case's steps, and per stroke the cycles run and
+   eta* against the CPU engine's same command (``benchmarks/data/fig4_cpu_until_steady.csv``).
+8. ``paper``: every distinct DEM curve of the paper (``benchmarks/run.py``'s ``paper_curves``) at
+   the paper's 40 strokes, 20 cycles, one seed, as one GPU batch, to its end or to the budget
+   (``--budget-s``, counted from the start): then what was done is said (steps done of all steps),
+   never extrapolated into a figure.
 
 ``--tiny`` runs the same parts on tiny cases (a few soft spheres, a few hundred steps) in
 numba-cuda's simulator (``NUMBA_ENABLE_CUDASIM=1``): the test suite's check that this script works
-(tests/kernels/gpu/test_benchmark_gpu.py). ``--ptx`` needs no GPU: it compiles the kernel to PTX for
-sm_90 with the local CUDA toolkit's NVVM and reads ``ptxas -v`` (registers, spills, shared memory);
-``--ptx-tangential spring`` compiles the kernels for the tangential spring instead of the tanh law.
+(tests/kernels/gpu/test_benchmark_gpu.py). ``--ptx --json FILE`` needs no GPU: it compiles the four
+production kernels (Gear and Verlet, the tanh law and the spring) to PTX for sm_90 with the ``gpu``
+extra's NVVM and reads ``ptxas -v`` (the ``nvidia-cuda-nvcc`` wheel's): per kernel its registers,
+spill stores and loads, stack frame (local memory), static shared memory and parameter space [B],
+and whether it keeps to 128 registers with no spills.
 
 **On the project's GPU machines** (numba, numba-cuda, numpy, scipy, xarray, pandas, matplotlib, h5py
 there; no package registry), the rest of pdamper's dependencies travel as wheels in the git-ignored
 folder ``.whl/`` of the repository, fetched here by ``bash benchmarks/gpu_wheels.sh``; the device
-call then runs::
-
-    pip install -q --no-index --no-deps --target /tmp/site .whl/*.whl && \\
-    export PYTHONPATH=/tmp/site:$PWD/src && \\
-    PYTHONUNBUFFERED=1 python benchmarks/gpu.py --out $OUT/gpu.json
-
-(``carry`` names ``.whl``). The figures go into docs/performance.md with the GPU's name.
+call then runs ``bash benchmarks/gpu_device.sh`` (``carry`` names ``.whl``; docs/performance.md). The
+figures go into docs/performance.md with the GPU's name.
 """
 
 from __future__ import annotations
@@ -88,10 +73,10 @@ REFERENCE = BENCH / "data" / "fig4_cpu_reference.csv"
 PAPER_REFERENCE = BENCH / "data" / "paper_cpu_reference.csv"
 SPREAD = BENCH / "data" / "fig4_cpu_spread.csv"
 STEADY_REFERENCE = BENCH / "data" / "fig4_cpu_until_steady.csv"
-PARTS = ("env", "compile", "agree", "profile", "steps", "bed", "fig4", "paper")
-#: Parts run only when named (--only): ``fault``, the spring kernel's fault under other compiles;
-#: ``fig4_steady``, fig4 with ``--until-steady`` (:data:`STEADY_TOL`).
-EXTRA_PARTS = ("fault", "fig4_steady")
+PARTS = ("env", "compile", "agree", "steps", "fig4", "fig4_steady", "paper", "bed")
+#: Parts run only when named (--only): none now (the spring kernel's fault part and the probed
+#: kernel's profile went with the kernel they studied, docs/performance.md).
+EXTRA_PARTS = ()
 #: The tolerance of the ``fig4_steady`` part (``pdamper study fig4 --until-steady 0.02``).
 STEADY_TOL = 0.02
 #: The integrator the parts run with: None, each case's own (Gear, the paper's); "verlet" when Gear's
@@ -339,30 +324,32 @@ def part_compile(tiny):
 
 
 def kernel_resources(sim):
-    """Registers per thread, shared and local memory of the compiled kernel, and the blocks of
-    ``threads`` an SM holds by each limit (H100: 65,536 registers, 228 KiB shared memory, 2,048
-    threads, 32 blocks per SM)."""
-    from pdamper.engine.cuda import threads_for
-    from pdamper.kernels.gpu.gear import gear_kernel
-    from pdamper.kernels.gpu.verlet import verlet_kernel
+    """Registers per thread, shared and local memory of the compiled kernel, and the blocks of a
+    bed's size an SM holds by each limit (H100: 65,536 registers, 228 KiB shared memory, 2,048
+    threads, 32 blocks per SM; a block's shared memory is the kernel's static array plus the
+    spheres' hot state, :data:`pdamper.kernels.gpu.batch.SHARED_FIELDS` doubles a sphere)."""
+    from pdamper.engine.cuda import kernel_for, threads_for
+    from pdamper.kernels.gpu.batch import SHARED_FIELDS
 
     out = {"kernel": "gear" if sim.stepper.rejected is not None else "verlet"}
     try:
-        k = gear_kernel() if out["kernel"] == "gear" else verlet_kernel()
+        k = kernel_for(out["kernel"])
         regs = k.get_regs_per_thread()
         smem = k.get_shared_mem_per_block()
         local = k.get_local_mem_per_thread()
         regs = list(regs.values())[0] if isinstance(regs, dict) else regs
         smem = list(smem.values())[0] if isinstance(smem, dict) else smem
         local = list(local.values())[0] if isinstance(local, dict) else local
-        out.update(registers_per_thread=int(regs), shared_bytes_per_block=int(smem), local_bytes_per_thread=int(local))
-        for n, label in ((36, "36 spheres"), (44, "44 spheres"), (176, "176 spheres"), (5000, "5,000 spheres")):
+        out.update(registers_per_thread=int(regs), static_shared_bytes_per_block=int(smem),
+                   local_bytes_per_thread=int(local))
+        for n in (36, 44, 144, 176, 256):
             t = threads_for(n)
+            shared = int(smem) + 8 * SHARED_FIELDS * n
             by_regs = 65536 // max(1, int(regs) * t)
-            by_smem = (228 * 1024) // max(1, int(smem) + 1024)
-            out[f"blocks_per_sm_{label.split()[0].replace(',', '')}"] = {
-                "threads": t, "by_registers": by_regs, "by_shared": by_smem, "by_threads": 2048 // t,
-                "blocks": min(32, by_regs, by_smem, 2048 // t)}
+            by_smem = (228 * 1024) // max(1, shared + 1024)
+            out[f"blocks_per_sm_{n}"] = {"threads": t, "shared_bytes": shared, "by_registers": by_regs,
+                                         "by_shared": by_smem, "by_threads": 2048 // t,
+                                         "blocks": min(32, by_regs, by_smem, 2048 // t)}
     except Exception as exc:  # noqa: BLE001  (the simulator has no compiled kernel)
         out["resources"] = f"not available ({type(exc).__name__}: {exc})"
     return out
@@ -499,14 +486,19 @@ def part_fig4_steady(tiny, workdir):
 
 
 def part_bed(tiny, seconds):
-    """The 5,000-sphere bed for about ``seconds``: the cost of a step."""
+    """The largest bed the GPU engine takes (:data:`pdamper.kernels.gpu.batch.MAX_SPHERES`, the
+    multi-layer bed of ``benchmarks/run.py`` at that count, one case) for about ``seconds``: the cost
+    of a step; and the 5,000-sphere bed, which the GPU engine leaves to the CPU engine: the line it
+    says (not run)."""
+    from pdamper.engine.cuda import takes
+    from pdamper.kernels.gpu.batch import MAX_SPHERES
     from pdamper.run import on_device
     from pdamper.simulation import Simulation, run_on_gpu
 
     sys.path.insert(0, str(BENCH))
     from run import big_bed  # noqa: E402  (benchmarks/run.py's bed)
 
-    case = big_bed(12 if tiny else 5000)
+    case = big_bed(12 if tiny else MAX_SPHERES)
     case = dataclasses.replace(case, cycles=1.0, drop_cycles=0)
     if tiny:
         case = _soft(case)
@@ -514,29 +506,31 @@ def part_bed(tiny, seconds):
         warnings.simplefilter("ignore")
         sim = Simulation(_integrator(on_device(case, "cuda")))
     t0 = time.perf_counter()
-    seen = {}
 
     def stop(done, total):
-        seen.update(done=done, total=total, t=time.perf_counter() - t0)
         return time.perf_counter() - t0 < seconds
 
     rec = run_on_gpu([sim], progress=stop)[0]
     wall = time.perf_counter() - t0
     steps = sim.stepper.steps
+    big = big_bed(5000)
     out = {"particles": sim.n, "steps": steps, "wall_s": wall, "finished": not isinstance(rec, Exception),
-           "us_per_step": 1e6 * wall / max(steps, 1), "ns_per_particle_step": 1e9 * wall / max(steps, 1) / sim.n}
+           "us_per_step": 1e6 * wall / max(steps, 1), "ns_per_particle_step": 1e9 * wall / max(steps, 1) / sim.n,
+           "big_particles": big.n_particles,
+           "big": "on the GPU" if takes(big) else "runs on the CPU engine (pdamper.engine.cuda.takes)"}
     print(f"bed: {sim.n} spheres, {steps} steps in {wall:.1f} s = {out['us_per_step']:.1f} us/step "
-          f"({out['ns_per_particle_step']:.1f} ns per particle-step)", flush=True)
+          f"({out['ns_per_particle_step']:.1f} ns per particle-step); {big.n_particles} spheres: {out['big']}",
+          flush=True)
     return out
 
 
 #: The variants of :func:`part_steps`: (name, integrator, tangential law, cases, threads a block:
 #: None, one a sphere).
 STEP_VARIANTS = (("gear, tanh (the default)", "gear", "tanh", "all", None),
+                 ("gear, tanh, the longest case alone", "gear", "tanh", "one", None),
                  ("verlet, tanh (no error control, no pass)", "verlet", "tanh", "all", None),
-                 ("verlet, spring", "verlet", "spring", "all", None),
-                 ("gear, tanh, one case alone", "gear", "tanh", "one", None),
-                 ("gear, tanh, 32 threads a block", "gear", "tanh", "all", 32))
+                 ("gear, spring", "gear", "spring", "all", None),
+                 ("verlet, spring", "verlet", "spring", "all", None))
 
 
 def part_steps(tiny, seconds, variants=STEP_VARIANTS):
@@ -593,68 +587,9 @@ def part_steps(tiny, seconds, variants=STEP_VARIANTS):
     return out
 
 
-#: The variants of :func:`part_agree`: (name, integrator, tangential law). Gear with the spring is
-#: refused on a GPU (it faults there); this part runs it all the same, in its own process, to see.
+#: The variants of :func:`part_agree`: (name, integrator, tangential law).
 AGREE_VARIANTS = (("gear, tanh", "gear", "tanh"), ("verlet, tanh", "verlet", "tanh"),
-                  ("verlet, spring", "verlet", "spring"), ("gear, spring (refused on a GPU)", "gear", "spring"))
-
-
-#: The arrays whose shapes :func:`kernel_view` reads inside a kernel: (bundle, field), in the
-#: order of the Gear kernel's arguments.
-VIEWED = (("sp", "position"), ("li", "partner"), ("li", "tangential"), ("wl", "tangential"), ("gs", "nordsieck"),
-          ("gs", "saved_pair"), ("gs", "saved_wall"), ("gs", "pair_rows"), ("gc", "cycles"))
-
-
-def _echo(sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, gs, gc, max_steps, max_cycles, out):
-    """Gear's kernel's arguments, and one more: the shapes of :data:`VIEWED` as a kernel sees them
-    (``cuda`` and ``put``, :func:`_put` for the device, globals of the compiled copy,
-    :func:`kernel_view`)."""
-    if cuda.threadIdx.x == 0 and cuda.blockIdx.x == 0:
-        k = put(out, 0, sp.position.shape)
-        k = put(out, k, li.partner.shape)
-        k = put(out, k, li.tangential.shape)
-        k = put(out, k, wl.tangential.shape)
-        k = put(out, k, gs.nordsieck.shape)
-        k = put(out, k, gs.saved_pair.shape)
-        k = put(out, k, gs.saved_wall.shape)
-        k = put(out, k, gs.pair_rows.shape)
-        put(out, k, gc.cycles.shape)
-
-
-def _put(out, k, shape):
-    """``shape`` into ``out`` from ``k`` on; returns the next free index."""
-    for d in range(len(shape)):
-        out[k + d] = shape[d]
-    return k + len(shape)
-
-
-def kernel_view(jobs):
-    """The shapes of a Gear batch's arrays as a kernel with the Gear kernel's arguments sees them,
-    against the host's: ``{name: [host shape, kernel shape]}`` and whether all agree. (The spring
-    kernel's fault on the H200 wrote where a wrong sphere count would put it: this says whether the
-    kernel receives its arguments right.)"""
-    import types
-
-    import numpy as np
-    from numba import cuda
-
-    from pdamper.engine.cuda import _Batch, threads_for
-    from pdamper.kernels.gpu.targets import SIMULATOR
-
-    b = _Batch(jobs, threads_for(max(j.engine.n for j in jobs)))
-    bundles = dict(zip(("sp", "li", "wl"), b.args[:3]), gs=b.gs, gc=b.gc)
-    host = [tuple(int(x) for x in getattr(bundles[bundle], name).shape) for bundle, name in VIEWED]
-    out = np.full(64, -1, dtype=np.int64)
-    dev = out if SIMULATOR else cuda.to_device(out)
-    put = cuda.jit(device=True)(_put)
-    echo = types.FunctionType(_echo.__code__, dict(_echo.__globals__, cuda=cuda, put=put), "_echo")
-    cuda.jit(echo)[1, 32](*b.args, 0, 0, dev)
-    seen = out if SIMULATOR else dev.copy_to_host()
-    view, k = {}, 0
-    for (bundle, name), shape in zip(VIEWED, host):
-        view[f"{bundle}.{name}"] = [list(shape), [int(x) for x in seen[k:k + len(shape)]]]
-        k += len(shape)
-    return {"shapes": view, "agree": all(h == s for h, s in view.values())}
+                  ("verlet, spring", "verlet", "spring"), ("gear, spring", "gear", "spring"))
 
 
 def agree_one(tiny, k, report=None):
@@ -688,16 +623,9 @@ def agree_one(tiny, k, report=None):
         for sim in cpu:
             sim.run()
         gpu = [Simulation(c) for c in on_gpu]
-        view = None
-        if integrator == "gear":  # the kernel's view of its arguments first (kept if the run then faults)
-            with _unrefused():  # (on beds of their own: a job starts its simulation's recorders)
-                view = kernel_view([Simulation(c)._gpu_job()[0] for c in on_gpu])
-            if report is not None:
-                report.put("agree_one", {"variant": name, "kernel_view": view})
-            print(f"agree: {name}: the kernel sees its arrays' shapes as the host made them: {view['agree']}",
-                  flush=True)
-        with _unrefused():
-            out = run_on_gpu(gpu)
+        if report is not None:  # (what it is, kept if the run then faults)
+            report.put("agree_one", {"variant": name})
+        out = run_on_gpu(gpu)
     rows = []
     for (label, _, _), a, b, rec in zip(picked, cpu, gpu, out):
         fa, fb = np.asarray(a.samples.wall_force), np.asarray(b.samples.wall_force)
@@ -710,7 +638,7 @@ def agree_one(tiny, k, report=None):
                      "first_sample_apart": int(apart[0]) if apart.size else None,
                      "max_wall_force_diff_over_peak": float(np.max(np.abs(fa - fb))) / peak,
                      "max_position_diff_over_radius": float(np.max(np.abs(pa - pb)) / np.min(a.engine.bodies.radius))})
-    return {"variant": name, "cases": rows, "kernel_view": view}
+    return {"variant": name, "cases": rows}
 
 
 def part_agree(tiny, variants=None):
@@ -728,9 +656,6 @@ def part_agree(tiny, variants=None):
             print("agree: " + _agree_line(name, row), flush=True)
         if "fault" in v:
             print(f"agree: {name}: {v['fault']}", flush=True)
-        if v.get("kernel_view") and not v["kernel_view"]["agree"]:
-            print(f"agree: {name}: the kernel sees other shapes than the host made: {v['kernel_view']['shapes']}",
-                  flush=True)
     return out
 
 
@@ -760,205 +685,6 @@ def _agree_line(name, row):
             f"{row['steps_gpu']}; wall force apart from sample {row['first_sample_apart']} of {row['samples']} (max "
             f"{row['max_wall_force_diff_over_peak']:.1e} of its peak); positions "
             f"{row['max_position_diff_over_radius']:.1e} radii apart at the end")
-
-
-#: The spring kernel's fault (Gear with the tangential spring faults on a GPU; docs/performance.md):
-#: the production compile, and two that change only what the compilers do with the same source:
-#: numba-cuda's ``cuda.jit`` options, each in a process of its own. A fault that goes with the
-#: compile options is the compilers' (NVVM, or the driver's PTX compiler); one that stays is the
-#: kernel's or its arguments'.
-FAULT_VARIANTS = (("production", {}), ("NVVM unoptimised", {"opt": False}), ("128 registers", {"max_registers": 128}))
-#: Attempted steps per launch of the fault part (each launch synchronised, so a fault is placed).
-FAULT_CHUNK = 200
-
-
-def fault_one(tiny, k, seconds, artifacts=None, report=None, chunk=FAULT_CHUNK):
-    """Variant ``k`` of :data:`FAULT_VARIANTS`: four fig4 cases (seed 0; with ``tiny`` the soft
-    stand-ins) with Gear and the tangential spring as one batch, in launches of ``chunk`` attempted
-    steps, each synchronised, for ``seconds`` or to the end: the compile, the launches that
-    ran clean and the fault, if one came. With ``artifacts`` (a folder) the kernel's PTX as this
-    machine's NVVM wrote it, and its SASS where ``nvdisasm`` is on PATH, go there (the production
-    compile only). What is known before the run (the compile) is reported first, so a fault that
-    takes the process keeps it."""
-    import numpy as np
-
-    from pdamper.engine.cuda import _Batch, _host, _sync, numpy_aliases_for_numba_cuda, threads_for
-    from pdamper.run import on_device
-    from pdamper.simulation import Simulation
-
-    numpy_aliases_for_numba_cuda()
-    from numba import cuda
-
-    from pdamper.kernels.gpu.gear import batch_gear
-    from pdamper.kernels.gpu.targets import SIMULATOR
-
-    name, options = FAULT_VARIANTS[k]
-    cases = [c for _, _, c in fig4_cases(tiny)]
-    if len(cases) > 4:
-        cases = [cases[i] for i in np.linspace(0, len(cases) - 1, 4).astype(int)]
-    jobs = []
-    with warnings.catch_warnings(), _unrefused():
-        warnings.simplefilter("ignore")
-        for case in cases:
-            c = dataclasses.replace(case, contact=dataclasses.replace(case.contact, tangential="spring"),
-                                    numerics=dataclasses.replace(case.numerics, integrator="gear"))
-            jobs.append(Simulation(on_device(c, "cuda"))._gpu_job()[0])
-        b = _Batch(jobs, threads_for(max(j.engine.n for j in jobs)))
-    if options and not SIMULATOR:  # (the simulator compiles nothing: its variants are the same kernel)
-        b.kernel = cuda.jit(**options)(batch_gear)
-    out = {"variant": name, "options": options, "cases": len(jobs), "chunk": chunk}
-    t = time.perf_counter()
-    b.launch(0)
-    _sync()
-    out["compile_s"] = time.perf_counter() - t
-    if artifacts and not options and not SIMULATOR:
-        out["artifacts"] = _kernel_artifacts(b.kernel, Path(artifacts))
-    if report is not None:
-        report.put("fault_one", out)
-    print(f"fault: {name}: compiled in {out['compile_s']:.1f} s", flush=True)
-    clean, t0 = 0, time.perf_counter()
-    out["fault"] = None
-    try:
-        while time.perf_counter() - t0 < seconds:
-            b.launch(chunk)
-            _sync()
-            clean += 1
-            b.poll()
-            if b.finished:
-                break
-    except Exception as exc:  # noqa: BLE001  (the fault is the finding)
-        out["fault"] = f"{type(exc).__name__}: {' '.join(str(exc).split())[:300]}"
-    out["launches_clean"] = clean
-    out["run_s"] = time.perf_counter() - t0
-    if out["fault"] is None:  # (after a fault the context is gone: nothing more comes back)
-        out["steps"] = [int(x) for x in _host(b.ct.step)]
-        out["statuses"] = sorted({int(x) for x in _host(b.ct.status)})
-    return out
-
-
-def _kernel_artifacts(kernel, folder):
-    """The compiled kernel's PTX (and SASS, where nvdisasm is on PATH) into ``folder``: their file names
-    and sizes, or why not."""
-    import shutil
-
-    folder.mkdir(parents=True, exist_ok=True)
-    out = {}
-    for kind, what in (("ptx", "inspect_asm"), ("sass", "inspect_sass")):
-        if kind == "sass" and shutil.which("nvdisasm") is None:
-            out[kind] = "nvdisasm is not on PATH"
-            continue
-        try:
-            text = "\n".join(getattr(kernel, what)().values())
-            path = folder / f"gear_spring.{kind}"
-            path.write_text(text)
-            out[kind] = {"file": path.name, "bytes": len(text)}
-        except Exception as exc:  # noqa: BLE001
-            out[kind] = f"? ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"
-    return out
-
-
-def part_fault(tiny, seconds, artifacts=None, variants=None, chunk=FAULT_CHUNK):
-    """Gear with the tangential spring on the GPU under each of :data:`FAULT_VARIANTS` (``variants``:
-    their numbers; default all), each in a process of its own (:func:`fault_one`; a fault takes its
-    process's CUDA context): whether and when it faults."""
-    out = {}
-    for k, (name, _) in enumerate(FAULT_VARIANTS):
-        if variants is not None and k not in variants:
-            continue
-        extra = ["--fault-seconds", str(seconds), "--fault-chunk", str(chunk)]
-        v = _in_own_process("fault_one", k, name, tiny, extra + (["--artifacts", str(artifacts)] if artifacts else []))
-        out[name] = v
-        print(f"fault: {_fault_line(name, v)}", flush=True)
-    return out
-
-
-def _fault_line(name, v):
-    """One variant of the fault part, in words (the log and the markdown summary)."""
-    compiled = f"compiled in {v['compile_s']:.1f} s" if "compile_s" in v else "not compiled"
-    ran = f"{v.get('launches_clean', 0)} launches of {v.get('chunk', '?')} steps ran clean"
-    return f"{name}: {compiled}; {ran}; " + (f"FAULT: {v['fault']}" if v.get("fault") else "no fault")
-
-
-def part_profile(tiny, seconds, cases=None):
-    """Where Gear's step spends its time: fig4's cases (seed 0, one batch, Gear with the tanh law;
-    ``cases``: only these, by index into :func:`fig4_cases`, e.g. the longest alone, whose late
-    steps a batch's first seconds do not reach) for ``seconds`` under the probed kernel
-    (:mod:`pdamper.kernels.gpu.probe`), which reads the block's cycle counter at the end of each
-    phase of a step. Per phase: cycles per attempted step (all cases' cycles over all their
-    attempted steps) and share of the step; the implicit walk's rows per attempted step and cycles
-    per row; rebuilds per step; each case's own. The probed step is a little
-    slower than the production one (a clock read holds the compiler's scheduling at it): the
-    shares are what this tells; the production kernel's time is the steps part's."""
-    import numpy as np
-
-    from pdamper.engine.cuda import run_jobs
-    from pdamper.kernels.gpu.probe import P_REBUILDS, P_ROWS, PHASES
-    from pdamper.run import on_device
-    from pdamper.simulation import Simulation
-
-    every = fig4_cases(tiny)
-    picked = range(len(every)) if cases is None else cases
-    wrong = beyond_fig4(picked, len(every))
-    if wrong:
-        raise SystemExit(f"--profile-cases {wrong}")
-    cases = []
-    for k in picked:
-        case = every[k][2]
-        c = dataclasses.replace(case, numerics=dataclasses.replace(case.numerics, integrator="gear"))
-        cases.append(on_device(c, "cuda"))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        t = time.perf_counter()
-        run_jobs([Simulation(cases[0])._gpu_job()[0]], compile_only=True, probe=True)
-        compile_s = time.perf_counter() - t
-        jobs = [Simulation(c)._gpu_job()[0] for c in cases]
-        t0 = time.perf_counter()
-        # (tiny: launches of 20 steps, so that the simulator stops soon after its window)
-        outcomes = run_jobs(jobs, probe=True, progress=lambda done, total: time.perf_counter() - t0 < seconds,
-                            max_launch_steps=20 if tiny else 10**9)
-        wall = time.perf_counter() - t0
-    cyc = np.array([o.cycles for o in outcomes], dtype=float)
-    attempted = np.array([o.steps + o.rejected for o in outcomes], dtype=float)
-    tried = max(float(attempted.sum()), 1.0)
-    per_step = cyc[:, :len(PHASES)].sum(axis=0) / tried
-    total = float(per_step.sum())
-    clock_khz = None
-    if not tiny:
-        try:
-            from numba import cuda
-
-            clock_khz = float(cuda.get_current_device().CLOCK_RATE)
-        except Exception:  # noqa: BLE001  (the clock rate is a convenience: cycles are the figure)
-            clock_khz = None
-    walk = PHASES.index("implicit pair walk")
-    rows = float(cyc[:, P_ROWS].sum()) / tried
-    out = {"seconds": seconds, "cases": len(jobs), "picked": list(picked), "compile_s": compile_s, "wall_s": wall,
-           "attempted_steps": int(tried), "most_steps": int(max(o.steps for o in outcomes)),
-           "rejected_share": float(sum(o.rejected for o in outcomes)) / tried,
-           "us_per_step_per_block_probed": 1e6 * wall / max(max(o.steps for o in outcomes), 1),
-           "cycles_per_attempted_step": total, "sm_clock_khz": clock_khz,
-           "us_per_attempted_step_from_cycles": 1e3 * total / clock_khz if clock_khz else None,
-           "walk_rows_per_attempted_step": rows,
-           "walk_cycles_per_row": float(per_step[walk]) / rows if rows > 0 else None,
-           "rebuilds_per_attempted_step": float(cyc[:, P_REBUILDS].sum()) / tried,
-           "phases": {name: {"cycles_per_attempted_step": float(v), "share": float(v) / total if total else 0.0}
-                      for name, v in zip(PHASES, per_step)}}
-    # each case's own step, cycles and walk rows (a launch of equal step counts lasts as long as its
-    # slowest block; one bounded by time lets each case take its own)
-    own = cyc[:, :len(PHASES)].sum(axis=1) / np.maximum(attempted, 1.0)
-    out["per_case"] = [{"case": picked[k], "spheres": int(j.engine.n), "cycles_per_attempted_step": float(own[k]),
-                        "walk_rows_per_attempted_step": float(cyc[k, P_ROWS] / max(attempted[k], 1.0)),
-                        "walk_cycles_per_attempted_step": float(cyc[k, walk] / max(attempted[k], 1.0)),
-                        "rebuilds_per_attempted_step": float(cyc[k, P_REBUILDS] / max(attempted[k], 1.0)),
-                        "attempted_steps": int(attempted[k])} for k, j in enumerate(jobs)]
-    out["slowest_case_cycles_per_attempted_step"] = float(own.max())
-    print(f"profile: {len(jobs)} cases, {int(tried)} attempted steps in {wall:.1f} s (probed kernel, compile "
-          f"{compile_s:.1f} s): {total:.0f} cycles per attempted step (slowest case {own.max():.0f}); walk "
-          f"{rows:.1f} rows a step", flush=True)
-    for name, v in out["phases"].items():
-        print(f"profile:   {name:34s} {v['cycles_per_attempted_step']:10.0f} cycles  {100 * v['share']:5.1f} %",
-              flush=True)
-    return out
 
 
 def paper_cases(tiny, device="cuda"):
@@ -1084,33 +810,49 @@ def part_paper(tiny, deadline):
     return out
 
 
-class _unrefused:
-    """Within it, the GPU engine refuses nothing (``pdamper.engine.cuda.refusal`` says None): for
-    compiling a refused kernel to PTX, which runs nothing."""
-
-    def __enter__(self):
-        import pdamper.engine.cuda as engine
-
-        self.engine, self.refusal = engine, engine.refusal
-        engine.refusal = lambda *args, **kwargs: None
-
-    def __exit__(self, *exc):
-        self.engine.refusal = self.refusal
-        return False
+#: The production kernels :func:`part_ptx` compiles: (name, integrator, tangential law).
+PTX_KERNELS = (("gear, tanh", "gear", "tanh"), ("gear, spring", "gear", "spring"), ("verlet, tanh", "verlet", "tanh"),
+               ("verlet, spring", "verlet", "spring"))
+#: What a production kernel may use (issue 38): registers a thread at most, and no spills.
+PTX_MAX_REGISTERS = 128
 
 
-def part_ptx(kernels=("gear", "verlet"), tangential="tanh"):
-    """The kernels (Gear's, the default, and Verlet's) compiled to PTX for sm_90 without a GPU (the
-    local CUDA toolkit's NVVM), and ``ptxas -v``'s registers, spills and shared memory (when ptxas
-    is on PATH); ``tangential``: the tangential law they are compiled for (``contact.tangential``)."""
-    import dataclasses as dc
+def ptxas_report(text):
+    """``ptxas -v``'s report of one kernel: registers, stack frame, spill stores and loads, shared
+    and constant memory [B] (None where it says nothing)."""
     import re
-    import shutil
+
+    out = {}
+    m = re.findall(r"Used (\d+) registers", text)
+    out["registers"] = int(m[-1]) if m else None
+    m = re.findall(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads", text)
+    if m:
+        out.update(stack_frame_bytes=max(int(x[0]) for x in m), spill_store_bytes=max(int(x[1]) for x in m),
+                   spill_load_bytes=max(int(x[2]) for x in m))
+    m = re.findall(r"(\d+) bytes smem", text)
+    out["static_shared_bytes"] = int(m[-1]) if m else 0
+    m = re.findall(r"(\d+) bytes cmem\[0\]", text)
+    out["parameter_bytes"] = int(m[-1]) if m else None
+    return out
+
+
+def part_ptx(kernels=None, sm="sm_90"):
+    """The four production kernels (Gear and Verlet, each with the tanh law and with the tangential
+    spring) compiled to PTX for ``sm`` without a GPU (the ``gpu`` extra's NVVM: numba-cuda compiles
+    what a launch would) and assembled by ``ptxas -v`` (the ``nvidia-cuda-nvcc`` wheel's, or one on
+    PATH): per kernel its registers a thread, stack frame (local memory), spill stores and loads,
+    static shared memory and parameter space [B], the dynamic shared memory a block of fig4's
+    44-sphere case asks, and whether it meets :data:`PTX_MAX_REGISTERS` with no spills.
+    ``{"skipped": why}`` where NVVM or ptxas is absent. ``kernels``: names of :data:`PTX_KERNELS`."""
+    import dataclasses as dc
 
     import numba
     import numpy as np
     from numba import types
 
+    ptxas = ptxas_path()
+    if ptxas is None:
+        return {"skipped": "no ptxas (pip install -e '.[gpu]' brings the nvidia-cuda-nvcc wheel's)"}
     import numba.cuda.dispatcher as dispatcher
 
     class _Hopper:  # device functions compile for the current device's cc: say it is sm_90
@@ -1120,61 +862,75 @@ def part_ptx(kernels=("gear", "verlet"), tangential="tanh"):
     from numba import cuda
 
     from pdamper.engine.cuda import kernel_arguments
-    from pdamper.kernels.gpu.gear import batch_gear, gear_kernel
+    from pdamper.kernels.gpu.gear import batch_gear
     from pdamper.kernels.gpu.verlet import batch_verlet
     from pdamper.run import on_device
     from pdamper.simulation import Simulation
 
-    _, _, case = fig4_cases(False)[0]
+    _, _, case = fig4_cases(False)[-1]  # (44 spheres)
     out = {}
-    probed = gear_kernel(probed=True).py_func
-    for name, kernel, integrator in (("gear", batch_gear, "gear"), ("verlet", batch_verlet, "verlet"),
-                                     ("gear_probed", probed, "gear")):
-        if name not in kernels:
+    for name, integrator, tangential in PTX_KERNELS:
+        if kernels is not None and name not in kernels:
             continue
         c = dc.replace(case, numerics=dc.replace(case.numerics, integrator=integrator),
                        contact=dc.replace(case.contact, tangential=tangential))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            sim = Simulation(on_device(c, "cuda"))
-        # (the GPU engine refuses Gear with the spring on a GPU, for a fault not yet found; its kernel is
-        # compiled here all the same: reading it is how that fault is studied)
-        with _unrefused():
-            job, _ = sim._gpu_job()
-        args, _ = kernel_arguments([job])
-        # the output arrays as the GPU has them (C-contiguous; off the simulator the packing leaves only their shapes)
-        args[8] = args[8]._replace(wall_force=np.zeros((1, 1)), energy=np.zeros((1, 1, 7)),
-                                   frames=np.zeros((1, 1, 1, 9)))
+            job, _ = Simulation(on_device(c, "cuda"))._gpu_job()
+        args, bd, shared = kernel_arguments([job])
+        bt = args[0]
+        args[0] = bt._replace(out=np.zeros((1, 1)))  # (C-contiguous, as the GPU's)
         sig = tuple(numba.typeof(a) for a in args) + (types.int64, types.int64)
         t = time.perf_counter()
         try:
-            ptx, _ = cuda.compile_ptx(kernel, sig, cc=(9, 0))
+            ptx, _ = cuda.compile_ptx(batch_gear if integrator == "gear" else batch_verlet, sig, cc=(9, 0))
         except Exception as exc:  # noqa: BLE001  (no NVVM / NVRTC here)
             if "NVVM" in str(exc) or "nvrtc" in str(exc).lower() or "DynamicLibNotFound" in type(exc).__name__:
-                out = {"skipped": f"no CUDA toolkit's NVVM here ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"}
-                print("ptx:", json.dumps(out), flush=True)
-                return out
+                return {"skipped": f"no CUDA toolkit's NVVM here ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"}
             raise
-        k = {"ptx_compile_s": time.perf_counter() - t, "ptx_bytes": len(ptx), "entry": ".entry" in ptx}
-        if shutil.which("ptxas"):
-            with tempfile.TemporaryDirectory() as d:
-                p = Path(d) / "k.ptx"
-                p.write_text(ptx)
-                r = subprocess.run(["ptxas", "--gpu-name", "sm_90", "-v", str(p), "-o", str(Path(d) / "k.cubin")],
-                                   capture_output=True, text=True, timeout=600)
-            text = r.stdout + r.stderr
-            m = re.findall(r"Used (\d+) registers.*?(\d+) bytes smem", text)
-            sp_ = re.findall(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads", text)
-            if m:
-                k.update(registers_per_thread=int(m[-1][0]), shared_bytes_per_block=int(m[-1][1]))
-            if sp_:
-                k.update(stack_bytes=max(int(x[0]) for x in sp_), spill_store_bytes=max(int(x[1]) for x in sp_),
-                         spill_load_bytes=max(int(x[2]) for x in sp_))
-            k["ptxas_ok"] = r.returncode == 0
-        k["tangential"] = tangential
+        k = {"ptx_compile_s": time.perf_counter() - t, "ptx_bytes": len(ptx), "threads": bd,
+             "dynamic_shared_bytes_44_spheres": shared}
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "k.ptx"
+            path.write_text(ptx)
+            r = subprocess.run([ptxas, "--gpu-name", sm, "-v", str(path), "-o", str(Path(d) / "k.cubin")],
+                               capture_output=True, text=True, timeout=900)
+        k.update(ptxas_report(r.stdout + r.stderr), ptxas_ok=r.returncode == 0, sm=sm)
+        k["parameter_bytes"] = parameter_bytes(ptx)
+        if r.returncode != 0:
+            k["ptxas_error"] = " ".join((r.stdout + r.stderr).split())[-600:]
+        if os.environ.get("PDAMPER_PTX_DIR"):  # (to read the PTX: keep it)
+            Path(os.environ["PDAMPER_PTX_DIR"], name.replace(", ", "-") + ".ptx").write_text(ptx)
+        k["within_limits"] = bool(k["ptxas_ok"] and k["registers"] is not None and k["registers"] <= PTX_MAX_REGISTERS
+                                  and k.get("spill_store_bytes", 1) == 0 and k.get("spill_load_bytes", 1) == 0)
         out[name] = k
-        print(f"ptx ({name}, {tangential}):", json.dumps(k), flush=True)
+        print(f"ptx ({name}):", json.dumps(k), flush=True)
     return out
+
+
+def parameter_bytes(ptx):
+    """The kernel's parameter space [B]: its ``.entry``'s parameters as the PTX declares them."""
+    import re
+
+    head = ptx[ptx.index(".entry"):]
+    head = head[:head.index(")")]
+    sizes = {"8": 1, "16": 2, "32": 4, "64": 8}
+    return sum(sizes[w] for w in re.findall(r"\.param\s+\.[a-z](8|16|32|64)\s", head))
+
+
+def ptxas_path():
+    """``ptxas``: the ``nvidia-cuda-nvcc`` wheel's (the ``gpu`` extra; its version matches the
+    extra's NVVM, whose PTX an older ptxas refuses), else one on PATH; None if neither."""
+    import shutil
+    from importlib import metadata
+
+    try:
+        for f in metadata.files("nvidia-cuda-nvcc") or []:
+            if f.name == "ptxas":
+                return str(f.locate())
+    except metadata.PackageNotFoundError:
+        pass
+    return shutil.which("ptxas")
 
 
 def markdown(data):
@@ -1206,15 +962,6 @@ def markdown(data):
                 lines.append(f"- agree, {name}: {v['fault']}")
             for r in v.get("cases", []):
                 lines.append("- agree, " + _agree_line(name, r))
-    if "fault" in p:
-        for name, v in p["fault"].items():
-            lines.append("- fault, Gear with the spring, " + _fault_line(name, v))
-    if "profile" in p:
-        q = p["profile"]
-        lines.append(f"- profile (probed Gear kernel, {q['cases']} cases): {q['cycles_per_attempted_step']:.0f} cycles per "
-                     f"attempted step; walk {q['walk_rows_per_attempted_step']:.1f} rows a step, "
-                     f"{q['walk_cycles_per_row'] or 0:.0f} cycles a row; "
-                     + ", ".join(f"{k} {100 * v['share']:.1f} %" for k, v in q["phases"].items() if v["share"] >= 0.01))
     if "steps" in p:
         for name, v in p["steps"]["variants"].items():
             if "refused" in v:
@@ -1226,7 +973,8 @@ def markdown(data):
     if "bed" in p:
         b = p["bed"]
         lines.append(f"- {b['particles']}-sphere bed: {b['us_per_step']:.1f} us/step "
-                     f"({b['ns_per_particle_step']:.1f} ns per particle-step)")
+                     f"({b['ns_per_particle_step']:.1f} ns per particle-step); the {b['big_particles']}-sphere bed: "
+                     f"{b['big']}")
     if "paper" in p:
         q = p["paper"]
         lines.append(f"- the paper's {q['curves']} curves: {q['finished']} of {q['cases']} cases in {q['wall_s']:.0f} s "
@@ -1243,28 +991,21 @@ def main(argv=None):
     ap.add_argument("--only", nargs="+", choices=PARTS + EXTRA_PARTS,
                     help="run only these parts (the extra part 'fault' only when named)")
     ap.add_argument("--tiny", action="store_true", help="tiny cases (numba-cuda's simulator: the test suite)")
-    ap.add_argument("--ptx", action="store_true", help="compile to PTX for sm_90 without a GPU; ptxas -v")
-    ap.add_argument("--ptx-kernels", default="gear,verlet",
-                    help="the kernels --ptx compiles (gear, verlet, gear_probed: Gear's with the phase clock)")
-    ap.add_argument("--ptx-tangential", default="tanh", choices=("tanh", "spring"),
-                    help="the tangential law --ptx compiles the kernels for (contact.tangential)")
+    ap.add_argument("--ptx", action="store_true",
+                    help="compile the four production kernels to PTX for sm_90 without a GPU and read ptxas -v "
+                         "(registers, spills, local and shared memory) into --json or --out")
+    ap.add_argument("--ptx-kernels", default=None,
+                    help="the kernels --ptx compiles, comma-separated ('gear, tanh', 'gear, spring', 'verlet, tanh', "
+                         "'verlet, spring' without the spaces: gear-tanh, ...); default all four")
+    ap.add_argument("--json", default=None, help="with --ptx: where its JSON goes (default --out)")
     ap.add_argument("--steps-seconds", type=float, default=10.0,
                     help="how long each variant of the steps part runs")
     ap.add_argument("--agree-one", type=int, metavar="K", help=argparse.SUPPRESS)
     ap.add_argument("--agree-variants", default=None,
                     help="the agree part's variants, by number (0: gear tanh, 1: verlet tanh, 2: verlet spring, "
                          "3: gear spring), comma-separated; default all")
-    ap.add_argument("--fault-one", type=int, metavar="K", help=argparse.SUPPRESS)
-    ap.add_argument("--fault-seconds", type=float, default=10.0,
-                    help="how long each variant of the fault part runs (if it does not fault first)")
-    ap.add_argument("--fault-chunk", type=int, default=FAULT_CHUNK, help="attempted steps per launch of the fault part")
-    ap.add_argument("--artifacts", default=None,
-                    help="where the fault part writes the spring kernel's PTX and SASS (default: 'fault' beside --out)")
-    ap.add_argument("--profile-seconds", type=float, default=10.0, help="how long the profile part's batch runs")
-    ap.add_argument("--profile-cases", type=int, nargs="+", default=None,
-                    help="the profile part's fig4 cases, by index (36 spheres 0-39, 44 spheres 40-79, strokes "
-                         "ascending); default all 80")
-    ap.add_argument("--bed-seconds", type=float, default=20.0, help="how long the 5,000-sphere bed runs")
+    ap.add_argument("--bed-seconds", type=float, default=20.0,
+                    help="how long the largest bed the GPU engine takes (256 spheres) runs")
     ap.add_argument("--make-paper-reference", action="store_true",
                     help="write benchmarks/data/paper_cpu_reference.csv: every paper case, seed 0, on the CPU engine")
     ap.add_argument("--make-steady-reference", metavar="STUDY_DIR",
@@ -1273,10 +1014,6 @@ def main(argv=None):
     ap.add_argument("--make-reference", metavar="STUDY_DIR",
                     help="write benchmarks/data/fig4_cpu_reference.csv from 'pdamper study fig4 --seeds 3 --out STUDY_DIR'")
     args = ap.parse_args(argv)
-    if args.profile_cases:  # (said before any part runs: a GPU's time is short)
-        wrong = beyond_fig4(args.profile_cases, len(fig4_cases(args.tiny)))
-        if wrong:
-            ap.error(f"--profile-cases {wrong}")
     if args.make_reference:
         make_reference(args.make_reference)
         return 0
@@ -1287,16 +1024,13 @@ def main(argv=None):
         make_paper_reference()
         return 0
     t0 = time.perf_counter()
-    report = Report(args.out)
+    report = Report(args.json if args.ptx and args.json else args.out)
     if args.ptx:
-        report.put("ptx", part_ptx(tuple(args.ptx_kernels.split(",")), args.ptx_tangential))
+        chosen = None if args.ptx_kernels is None else {k.replace("-", ", ") for k in args.ptx_kernels.split(",")}
+        report.put("ptx", part_ptx(chosen))
         return 0
     if args.agree_one is not None:  # (one variant of the agree part, in its own process)
         report.put("agree_one", agree_one(args.tiny, args.agree_one, report))
-        return 0
-    if args.fault_one is not None:  # (one variant of the fault part, in its own process)
-        report.put("fault_one", fault_one(args.tiny, args.fault_one, args.fault_seconds, args.artifacts, report,
-                                          args.fault_chunk))
         return 0
     parts = args.only or PARTS
     report.put("env", env_info())
@@ -1321,11 +1055,6 @@ def main(argv=None):
                 elif part == "agree":
                     chosen = None if args.agree_variants is None else {int(k) for k in args.agree_variants.split(",")}
                     report.put(part, part_agree(args.tiny, chosen))
-                elif part == "fault":
-                    artifacts = args.artifacts or (Path(args.out).parent / "fault" if args.out else None)
-                    report.put(part, part_fault(args.tiny, args.fault_seconds, artifacts, chunk=args.fault_chunk))
-                elif part == "profile":
-                    report.put(part, part_profile(args.tiny, min(args.profile_seconds, left), args.profile_cases))
                 elif part == "steps":
                     report.put(part, part_steps(args.tiny, min(args.steps_seconds, left)))
                 elif part == "bed":

@@ -12,7 +12,7 @@ it and at which of the block's barriers; every access compares against those not
 - a read of an element another thread wrote since the last barrier,
 - a write over an element another thread wrote or read since the last barrier,
 - a read of a shared element that no thread wrote in this launch (shared memory starts with
-  whatever was there on a GPU),
+  whatever was there on a GPU; the dynamic shared memory too),
 
 each counted by where it happened. Each block gets shared arrays of its own (the simulator's
 serve every block of a launch, one block after another); a launch orders everything before it
@@ -22,7 +22,9 @@ It patches two of the simulator's internals while it is on (:func:`tracking`): i
 allocator, ``FakeCUDAShared.array`` (with a lock: the simulator's own allocator is not thread-safe,
 two threads can each get an array of their own for one shared array; :func:`locked_shared` is that
 allocator alone, which every simulator test runs under), and its barrier,
-``BlockThread.syncthreads``, which counts each thread's barriers. Reads inside the CPU-compiled
+``BlockThread.syncthreads``, which counts each thread's barriers (a warp's syncwarp is one in the
+simulator, whose blocks in the tests are one warp; the barriers inside the simulator's stand-in for a
+shuffle, pdamper.kernels.gpu.warp, are not counted: a shuffle orders no memory on a GPU). Reads inside the CPU-compiled
 functions a kernel calls are not seen (those take their own sphere's values).
 """
 
@@ -67,8 +69,8 @@ class Tracked(np.ndarray):
 
     def __getitem__(self, idx):
         out = self.view(np.ndarray)[idx]
-        if not hasattr(self, "_flat"):
-            return out
+        if not hasattr(self, "_flat") or not hasattr(threading.current_thread(), "thread_id"):
+            return out  # (the host's reads, between launches, are ordered by them)
         if isinstance(out, np.ndarray):  # a view: its element reads are checked when they come
             view = out.view(Tracked)
             view._flat = self._flat[idx]
@@ -87,8 +89,16 @@ class Tracked(np.ndarray):
             read[pos] = barrier
         return out
 
+    def reshape(self, *shape):
+        """A view of another shape, tracked alike (the kernels see a flat buffer's region as a table)."""
+        out = self.view(np.ndarray).reshape(*shape).view(Tracked)
+        if hasattr(self, "_flat"):
+            out._flat = self._flat.reshape(*shape)
+            out._book = self._book
+        return out
+
     def __setitem__(self, idx, value):
-        if not hasattr(self, "_flat"):
+        if not hasattr(self, "_flat") or not hasattr(threading.current_thread(), "thread_id"):
             self.view(np.ndarray)[idx] = value
             return
         tid, barrier = _thread()
@@ -132,7 +142,7 @@ def _shared_allocator(track: bool):
     """A thread-safe stand-in for the simulator's ``FakeCUDAShared.array``: one array per call site
     and block (as on a GPU; the simulator's serves every block of a launch), created under a lock
     (the simulator's checks for the array and creates it with no lock, so two threads can each get
-    one of their own); with ``track`` a :class:`Tracked` array filled with NaN (integers: -2**40),
+    one of their own); with ``track`` a :class:`Tracked` array filled with NaN (integers: the most negative),
     else an empty one as the simulator's."""
     from numba.cuda.np import numpy_support
     from numba.cuda.simulator import kernelapi
@@ -141,17 +151,19 @@ def _shared_allocator(track: bool):
     alloc = threading.Lock()
 
     def array(self, shape, dtype, alignment=None):
-        if shape == 0 or alignment is not None:  # dynamic shared memory, alignment: as the simulator has them
+        if alignment is not None or shape == 0 and not track:  # as the simulator has them
             return real_array(self, shape, dtype, alignment)
         if not isinstance(dtype, (np.dtype, type)):
             dtype = numpy_support.as_dtype(dtype)
+        if shape == 0:  # the dynamic shared memory, tracked: one array a block of the launch's size
+            shape = self._dynshared_size // np.dtype(dtype).itemsize
         where = traceback.extract_stack(sys._getframe(1), limit=1)[0]
-        key = (where.filename, where.lineno, threading.current_thread().blockIdx.x)
+        key = (where.filename, where.lineno, threading.current_thread().blockIdx.x, np.shape(shape), str(dtype))
         with alloc:
             got = self._allocations.get(key)
             if got is None:
                 if track:
-                    fill = np.nan if np.dtype(dtype).kind == "f" else -(1 << 40)
+                    fill = np.nan if np.dtype(dtype).kind == "f" else np.iinfo(dtype).min
                     got = _track(np.full(shape, fill, dtype=dtype), f"shared {os.path.basename(key[0])}:{key[1]}",
                                  True)
                 else:
@@ -186,7 +198,8 @@ def tracking():
     real_array, real_sync = shared_cls.array, thread_cls.syncthreads
 
     def syncthreads(self):
-        self.barriers = getattr(self, "barriers", 0) + 1
+        if not getattr(self, "exchanging", False):  # (a warp exchange's barrier orders no memory on a GPU)
+            self.barriers = getattr(self, "barriers", 0) + 1
         return real_sync(self)
 
     FINDINGS.clear()

@@ -314,10 +314,13 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
         else [list(recorders)] * len(cases)
     out = [None] * len(cases)
     gpu = [k for k, c in enumerate(cases) if on_gpu(c)]
+    if gpu:
+        gpu = _beds_the_gpu_takes(cases, gpu)
     for k, c in enumerate(cases):
         if k not in gpu:
             try:
-                out[k] = run_case(c, recorders=per_case[k], analyze=analyze, until_steady=until_steady, checked=checked)
+                out[k] = run_case(on_device(c, "cpu") if on_gpu(c) else c, recorders=per_case[k], analyze=analyze,
+                                  until_steady=until_steady, checked=checked)
             except SimulationError as exc:
                 out[k] = exc
     if not gpu:
@@ -337,6 +340,23 @@ def run_cases(cases, *, recorders=(), analyze: bool = True, until_steady: float 
             cycles = float(judges[n].cycles)
         out[k] = rec if isinstance(rec, Exception) else _result(case, rec, recs, analyze, classify, cycles)
     return out
+
+
+def _beds_the_gpu_takes(cases, gpu):
+    """The indices of ``gpu`` whose beds the GPU engine takes (:func:`pdamper.engine.cuda.takes`);
+    the others run on the CPU engine, said in one warning."""
+    import warnings
+
+    from .engine.cuda import takes
+    from .kernels.gpu.batch import MAX_SPHERES
+
+    big = [k for k in gpu if not takes(cases[k])]
+    if big:
+        sizes = sorted({cases[k].n_particles for k in big})
+        warnings.warn(f"{len(big)} case{'s' if len(big) != 1 else ''} of {', '.join(map(str, sizes))} spheres run on "
+                      f"the CPU engine: the GPU engine takes beds of up to {MAX_SPHERES} spheres "
+                      "(docs/engine.md, 'The GPU engine')", stacklevel=3)
+    return [k for k in gpu if k not in big]
 
 
 def _simulation(case: Case, recorders, analyze: bool, checked: bool = False):

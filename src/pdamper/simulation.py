@@ -296,7 +296,7 @@ class Simulation:
 
         if self._settled or self.sample:
             raise InputError("a simulation that has started on the CPU cannot go on on the GPU")
-        why = refusal(self.engine, any(r.every > 0 for r in self.recorders), gear=self.stepper.rejected is not None)
+        why = refusal(self.engine, any(r.every > 0 for r in self.recorders))
         if why is not None:
             return None, why
         if self.n_samples < 2:
@@ -352,7 +352,7 @@ def run_on_gpu(sims, *, progress=None, compile_only: bool = False, threads: int 
 
     Raises :class:`~pdamper.errors.InputError` when no GPU can run (one line saying why) or when a
     simulation is one the GPU engine does not run (a coupled structure, a sampled drive, a Python
-    recorder, Gear with the tangential spring): before anything runs. ``progress(done, total)`` gets the steps done between
+    recorder): before anything runs. ``progress(done, total)`` gets the steps done between
     launches (returning False stops the batch; the unfinished cases end with a SimulationError). ``compile_only``: compile the kernel (a launch with no steps) and return ``[]``.
     ``threads``: threads per block (default: the smallest multiple of 32 that gives each sphere its
     own thread, at most the kernels' largest block). ``steady``: per simulation, None or a judge
@@ -364,11 +364,12 @@ def run_on_gpu(sims, *, progress=None, compile_only: bool = False, threads: int 
 
     require()
     if threads is not None:
-        from .kernels.gpu.verlet import MAX_THREADS
+        from .kernels.gpu.batch import MAX_WARPS, WARP
 
-        if not (isinstance(threads, int) and 1 <= threads <= MAX_THREADS):
-            raise InputError(f"threads = {shown(threads)}: a block of the GPU engine has 1 to {MAX_THREADS} threads "
-                             "(whole warps, multiples of 32, use the GPU best); leave it out for one thread a sphere")
+        most = MAX_WARPS * WARP
+        if not (isinstance(threads, int) and 1 <= threads <= most):
+            raise InputError(f"threads = {shown(threads)}: a block of the GPU engine has 1 to {most} threads "
+                             "(whole warps, multiples of 32, use the GPU best); leave it out for one warp a 64 spheres")
     jobs = []
     for k, sim in enumerate(sims):
         job, why = sim._gpu_job()

@@ -23,12 +23,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.bundles import SAVED_HISTORY_ROWS, TANGENTIAL_COLUMNS
 from ..kernels.contact import keeps_history
 from ..kernels.drive import is_parametric
+from ..kernels.gpu.batch import (F_H, F_INTERVAL, F_T, I_CULPRIT, I_FAIL_STEP, I_FLOOR, I_N, I_NW, I_REJECTED,
+                                 I_SAMPLES, I_SEG_SAMPLES, I_SEG_STEPS, I_SETTLE_SAMPLES, I_SETTLE_STEPS, I_SPAN,
+                                 I_SPANS, I_STATUS, I_STEP, I_SUB, I_TIME, I_TOTAL_STEPS)
 
-__all__ = ["GpuJob", "GpuOutcome", "run_jobs", "STATUS_STOPPED", "unavailable", "require", "refusal", "row_capacity",
-           "threads_for", "kernel_arguments", "GPU_HINT"]
+__all__ = ["GpuJob", "GpuOutcome", "run_jobs", "STATUS_STOPPED", "unavailable", "require", "refusal", "takes",
+           "row_capacity", "pair_capacity", "threads_for", "kernel_arguments", "kernel_for", "GPU_HINT"]
 
 #: How to get the GPU engine, for messages.
 GPU_HINT = 'pip install -e ".[gpu]"'
@@ -77,9 +79,6 @@ class GpuOutcome:
     sums: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rejected: int = 0
     h_next: float = math.nan
-    #: under ``run_jobs(probe=True)``: the probed Gear kernel's cycles in each phase of a step, then
-    #: its counts (:mod:`pdamper.kernels.gpu.probe`); empty otherwise
-    cycles: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     #: a case stopped early by its judge (``run_jobs(steady=)``): the driven samples its record keeps,
     #: and the driven samples it had simulated when the judge was asked (-1: not stopped early)
     kept: int = -1
@@ -127,24 +126,26 @@ def require() -> None:
         raise InputError(f"--device cuda needs an NVIDIA GPU and numba-cuda ({GPU_HINT}); none found: {why}")
 
 
-def refusal(engine, python_recorders: bool = False, gear: bool = False) -> str | None:
-    """Why the GPU engine does not run this case (None: it does), and how to run it on the CPU.
-    ``gear``: the case runs Gear's integrator."""
-    from ..kernels.gpu.targets import SIMULATOR
-
+def refusal(engine, python_recorders: bool = False) -> str | None:
+    """Why the GPU engine does not run this case (None: it does), and how to run it on the CPU."""
     how = "; run it on the CPU (device = \"cpu\", the default)"
     if not is_parametric(engine.drive.kind):  # the kernels move the container by (kind, parameters, t) alone
         return ("the GPU engine runs harmonic drives (and a container at rest); a coupled structure or a motion "
                 "given as samples is not on the GPU yet" + how)
     if python_recorders:
         return "the GPU engine records the kernel channels only; a Python recorder (every > 0) is not on the GPU" + how
-    if gear and keeps_history(engine.table.tangential) and not SIMULATOR:
-        # the same kernel runs right in numba-cuda's simulator (tests/kernels/gpu); on a GPU it writes out of
-        # bounds in its first launch (compute-sanitizer on an H200, 2026-11-26: docs/performance.md)
-        return ("Gear's GPU kernel with the tangential spring (contact.tangential = \"spring\") is refused: on a GPU "
-                "it faults (an out-of-bounds write, not yet found); run it on the GPU with numerics.integrator = "
-                "\"verlet\", or on the CPU (device = \"cpu\", the default)")
     return None
+
+
+def takes(case) -> bool:
+    """Whether the GPU engine takes ``case``'s bed: one block holds at most
+    :data:`~pdamper.kernels.gpu.batch.MAX_SPHERES` spheres (their hot state in its 48 KB of shared
+    memory). A larger bed runs on the CPU engine (:func:`pdamper.run.run_cases` says so): the one
+    large bed measured on a GPU, 5,000 spheres in one block of the kernel before this one, took
+    2,068 ns per particle-step against the CPU engine's 48.8 (docs/performance.md)."""
+    from ..kernels.gpu.batch import MAX_SPHERES
+
+    return case.n_particles <= MAX_SPHERES
 
 
 def row_capacity(radius: np.ndarray, skin: float) -> int:
@@ -167,15 +168,16 @@ SIMULATOR_SWITCH_S = 1e-4
 
 
 def threads_for(n: int) -> int:
-    """Threads of a block for ``n`` spheres: one a sphere, whole warps, at most
-    :data:`~pdamper.kernels.gpu.verlet.MAX_THREADS` (each thread then takes several). In numba-cuda's
-    simulator, where every thread is a Python thread, at most 4."""
+    """Threads of a block for ``n`` spheres: one warp for up to 64 spheres, a warp more for every 64
+    beyond (each lane takes two spheres in a step's sphere passes, and the pairs in its pair pass), at
+    most :data:`~pdamper.kernels.gpu.batch.MAX_WARPS` warps. In numba-cuda's simulator, where every
+    thread is a Python thread, at most 4."""
+    from ..kernels.gpu.batch import MAX_WARPS, SPHERES_PER_LANE, WARP
     from ..kernels.gpu.targets import SIMULATOR
-    from ..kernels.gpu.verlet import MAX_THREADS
 
     if SIMULATOR:
         return int(max(1, min(n, 4)))
-    return int(min(MAX_THREADS, max(32, 32 * math.ceil(n / 32))))
+    return int(WARP * min(MAX_WARPS, max(1, math.ceil(n / (WARP * SPHERES_PER_LANE)))))
 
 
 def _group_key(job):
@@ -188,7 +190,7 @@ def launch_cycles(seconds: float) -> int:
     """``seconds`` of a launch as its blocks' clocks count them: cycles of the GPU's rated clock
     (the multiprocessors' counter runs at the clock of the moment, which boost and throttling move by
     some percent: a launch's length, not a measurement; 2 GHz if the driver does not say), the
-    host's nanoseconds in numba-cuda's simulator (:func:`pdamper.kernels.gpu.probe.clock`)."""
+    host's nanoseconds in numba-cuda's simulator (:func:`pdamper.kernels.gpu.warp.clock`)."""
     from ..kernels.gpu.targets import SIMULATOR
 
     if SIMULATOR:
@@ -203,22 +205,22 @@ def launch_cycles(seconds: float) -> int:
 
 
 def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, max_launch_steps: int = 10**9,
-             progress=None, compile_only: bool = False, probe: bool = False, steady=None) -> list[GpuOutcome]:
+             progress=None, compile_only: bool = False, steady=None) -> list[GpuOutcome]:
     """Run every job to its end on the GPU (or numba-cuda's simulator); fill its samples and leave
     its final state in its engine's bodies.
 
-    The jobs are grouped by what one launch can take together (the damping law and the contact
-    table's constants, and the block size: a 36-sphere bed does not wait in a block sized for 176
-    spheres); each group is one batch on its own CUDA stream, and the groups' launches run side by
+    The jobs are grouped by what one launch can take together (the integrator, the laws and the
+    contact table's constants, and the block size: a 36-sphere bed does not wait in a block sized
+    for 176 spheres); each group is one batch on its own CUDA stream, its cases in the order given
+    (the studies give the longest first, so they start first), and the groups' launches run side by
     side. ``threads`` per block (default :func:`threads_for` each group's largest bed);
     ``launch_seconds``: a launch's length after the first (which takes 200 steps of every case): each
     block stops at the step on which its clock has run that long (:func:`launch_cycles`), so every
     case takes as many steps as its own step's cost allows instead of all waiting for the slowest;
-    after each round ``progress(done, total)`` is called with the steps done, and returning False
-    stops: the unfinished cases end with :data:`STATUS_STOPPED`. ``max_launch_steps`` caps the steps
-    of a launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
-    ``probe``: Gear's jobs run the probed kernel, which times each phase of a step
-    (:mod:`pdamper.kernels.gpu.probe`; each outcome's ``cycles``): a profile, not a production run.
+    after each round ``progress(done, total)`` is called with the steps done (a finished or failed
+    case counts whole, so the last call says ``done == total``), and returning False stops: the
+    unfinished cases end with :data:`STATUS_STOPPED`. ``max_launch_steps`` caps the steps of a
+    launch. ``compile_only``: launch once with no steps (compiles the kernel) and return.
 
     ``steady``: per job, None or a judge that may stop it early (:class:`pdamper.run.SteadyJudge`:
     ``judge.next_samples()``, the driven samples it needs next; ``judge(wall_force)``, the samples
@@ -232,7 +234,7 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
     for k, job in enumerate(jobs):
         key = _group_key(job) + (threads or threads_for(job.engine.n),)
         groups.setdefault(key, []).append(k)
-    batches = [_Batch([jobs[k] for k in idx], threads or key[-1], probe,
+    batches = [_Batch([jobs[k] for k in idx], threads or key[-1],
                       None if steady is None else [steady[k] for k in idx]) for key, idx in groups.items()]
     t_start = time.perf_counter()
     if compile_only:
@@ -250,12 +252,13 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
         _sync()
         for b in live:
             b.poll()
-        if all(b.finished for b in batches):
-            break
+        finished = all(b.finished for b in batches)
         if progress is not None:
-            done = sum(int(np.minimum(b.done, b.total).sum()) for b in batches)
-            if progress(done, sum(int(b.total.sum()) for b in batches)) is False:
+            done = sum(b.progress() for b in batches)
+            if progress(done, sum(int(b.total.sum()) for b in batches)) is False and not finished:
                 break  # the caller stops the batch: the unfinished cases say so
+        if finished:
+            break
         chunk, cycles = max_launch_steps, timed
     wall = time.perf_counter() - t_start
     out = [None] * len(jobs)
@@ -265,20 +268,27 @@ def run_jobs(jobs, *, threads: int | None = None, launch_seconds: float = 2.0, m
     return out
 
 
-class _Batch:
-    """One group of jobs packed for one kernel: its bundles on the GPU, its stream, its progress."""
+def kernel_for(integrator: str):
+    """The batch kernel of ``integrator`` ("gear" or "verlet"; chosen once, as the CPU engine's
+    :func:`pdamper.engine.steppers.stepper_for` chooses its stepper)."""
+    from ..kernels.gpu.gear import gear_kernel
+    from ..kernels.gpu.verlet import verlet_kernel
 
-    def __init__(self, jobs, threads, probe=False, judges=None):
+    return {"gear": gear_kernel, "verlet": verlet_kernel}[integrator]()
+
+
+class _Batch:
+    """One group of jobs packed for one kernel: its buffers on the GPU, its stream, its progress."""
+
+    def __init__(self, jobs, threads, judges=None):
         from ..kernels.gpu.targets import SIMULATOR
-        from ..kernels.gpu.verlet import verlet_kernel
 
         self.jobs = jobs
         self.judges = judges
-        args, bd = kernel_arguments(jobs, threads)
-        sp, li, wl, tb, law, tlaw, mo, ct, rec, nmat, row0, *gear = args
-        self.types = (type(sp), type(ct), type(rec))
-        self.bd = bd
-        self.total = ct.total_steps.copy()
+        bt, tb, self.bd, self.shared = _pack(jobs, threads)
+        self.gear = jobs[0].integrator == "gear"
+        self.ci = bt.ci.copy()
+        self.total = self.ci[:, I_SPANS].copy() if self.gear else self.ci[:, I_TOTAL_STEPS].copy()
         self.done = np.zeros_like(self.total)
         self.status = np.zeros_like(self.total)
         #: per case, the driven samples its judge kept (-1: none) and those it had reached then
@@ -286,23 +296,11 @@ class _Batch:
         self.reached = np.full(len(jobs), -1, dtype=np.int64)
         self.finished = False
         self.stream = None if SIMULATOR else _stream()
-        #: the bundles on the GPU, by name (the kernel's arguments, in order, are :attr:`args`)
-        self.sp, self.ct, self.rec = _device(sp), _device(ct), _device_record(rec)
-        self.args = [self.sp, _device(li), _device(wl), _device_tuple(tb), law, tlaw, _device(mo), self.ct, self.rec,
-                     _device_array(nmat), _device_array(row0)]
-        self.gear = jobs[0].integrator == "gear"
-        self.gs = self.gc = None
-        if self.gear:
-            from ..kernels.gpu.gear import gear_kernel
-
-            gs, gc = gear
-            self.gear_types = (type(gc),)
-            self.gs, self.gc = _device(gs), _device(gc)
-            self.args += [self.gs, self.gc]
-            self.total = gc.spans.copy()
-            self.kernel = gear_kernel(probed=probe)
-        else:
-            self.kernel = verlet_kernel()
+        #: the batch's buffers on the GPU (:class:`pdamper.kernels.gpu.batch.Batch`)
+        self.bt = _device_batch(bt)
+        table = jobs[0].engine.table
+        self.args = (self.bt, _device_tuple(tb), table.law, table.tangential)
+        self.kernel = kernel_for(jobs[0].integrator)
 
     def launch(self, steps, cycles=0):
         """Every case at most ``steps`` further, and with ``cycles`` > 0 no further than the step on
@@ -312,20 +310,24 @@ class _Batch:
             old = sys.getswitchinterval()
             sys.setswitchinterval(min(old, SIMULATOR_SWITCH_S))
             try:
-                self.kernel[C, self.bd](*self.args, int(steps), int(cycles))
+                self.kernel[C, self.bd, 0, self.shared](*self.args, int(steps), int(cycles))
             finally:
                 sys.setswitchinterval(old)
         else:
-            self.kernel[C, self.bd, self.stream](*self.args, int(steps), int(cycles))
+            self.kernel[C, self.bd, self.stream, self.shared](*self.args, int(steps), int(cycles))
 
     def poll(self):
         """Each case's progress and status after a launch; the cases' judges asked (:meth:`judge`)."""
-        ct = self.ct
-        self.done = _host(self.gc.span) if self.gear else _host(ct.step)
-        self.status = _host(ct.status)
+        self.ci = _host(self.bt.ci).copy()
+        self.done = self.ci[:, I_SPAN if self.gear else I_STEP].copy()
+        self.status = self.ci[:, I_STATUS].copy()
         self.judge()
         self.done = np.where(self.kept >= 0, self.total, self.done)
         self.finished = bool(np.all((self.done >= self.total) | (self.status != 0)))
+
+    def progress(self) -> int:
+        """The batch's steps (Gear: spans) done, a finished or failed case counted whole."""
+        return int(np.where(self.status != 0, self.total, np.minimum(self.done, self.total)).sum())
 
     def recorded(self):
         """Per case, the driven samples whose record is complete now: up to its clock (Gear: a step
@@ -334,12 +336,11 @@ class _Batch:
         n = np.array([j.n_samples for j in self.jobs], dtype=np.int64)
         if self.gear:
             ts = np.array([j.interval for j in self.jobs])
-            rows = np.floor(_host(self.gc.t) / ts + 1e-6).astype(np.int64) - (self.status > 0)
+            rows = np.floor(_host(self.bt.cf)[:, F_T] / ts + 1e-6).astype(np.int64) - (self.status > 0)
         else:
-            sub = np.array([j.sub for j in self.jobs], dtype=np.int64)
-            settle = np.array([j.settle_samples * j.sub for j in self.jobs], dtype=np.int64)
-            steps = np.where(self.status > 0, _host(self.ct.fail_step) - 1, _host(self.ct.step))
-            rows = (steps - settle) // sub
+            ci = self.ci
+            steps = np.where(self.status > 0, ci[:, I_FAIL_STEP] - 1, ci[:, I_STEP])
+            rows = (steps - ci[:, I_SETTLE_STEPS]) // ci[:, I_SUB]
         return np.clip(rows, 0, n)
 
     def judge(self):
@@ -349,6 +350,7 @@ class _Batch:
         if self.judges is None:
             return
         rows = self.recorded()
+        out = None
         stop = []
         for c, judge in enumerate(self.judges):
             if judge is None or self.kept[c] >= 0:
@@ -356,202 +358,171 @@ class _Batch:
             need = judge.next_samples()
             if need >= judge.n_samples or rows[c] < need:
                 continue
-            kept = judge(_host(self.rec.wall_force[c, : rows[c]]))
+            if out is None:
+                out = _host(self.bt.out)
+            kept = judge(np.array(out[c, : rows[c]]))
             if kept is not None:
                 self.kept[c], self.reached[c] = kept, rows[c]
                 if self.status[c] == 0 and self.done[c] < self.total[c]:
                     stop.append(c)
         if stop:
             self.status[stop] = STATUS_JUDGED
-            _to_device(self.ct.status, self.status)
+            self.ci[stop, I_STATUS] = STATUS_JUDGED
+            _to_device(self.bt.ci, self.ci)
+
+    def snapshot(self, c):
+        """Case ``c`` as the CPU engine's arrays hold it (for the tests): positions, velocities and
+        spins (n, 3), Gear's Nordsieck vector (6, n, 6), the walls' tangential springs of the current
+        history (n, W, 5), the touching pairs with friction of the last step in the pair list's order
+        (k, 2) with their rows (normal, slip, c, limit: (k, 8)) and their levels in Gear's walk (k,),
+        the steps, the rejected steps, the clock, the step and the threads' running sums."""
+        from types import SimpleNamespace
+
+        from ..kernels.gpu import batch as lay
+
+        st, gv, iv, cf = (_host(a)[c] for a in (self.bt.st, self.bt.gv, self.bt.iv, self.bt.cf))
+        ci = _host(self.bt.ci)[c]
+        n, N, W, P = (int(ci[k]) for k in (I_N, lay.O_N, lay.O_W, lay.O_P))
+        lb, tk = int(ci[lay.I_LIST]), int(ci[I_TIME])
+
+        def field(f, k):
+            return st[f * N:(f + k) * N].reshape(k, N)[:, :n].T.copy()
+
+        nord = st[lay.NORD * N:(lay.NORD + 36) * N].reshape(6, 6, N)[:, :, :n].transpose(0, 2, 1).copy()
+        tw = int(ci[lay.O_TW])
+        at = int(ci[lay.O_TWALL]) + tk * tw
+        th = _host(self.bt.th)[c]
+        springs = th[at:at + tw].reshape(N, W, 5)[:n].copy() if tw > 1 else np.zeros((n, W, 5))
+        npairs = int(iv[int(ci[lay.O_ROW]) + lb * (N + 1) + n])
+        v = gv[int(ci[lay.O_PV]) + (lb * 2 + tk) * P:][:npairs]
+        res = gv[int(ci[lay.O_RES]):int(ci[lay.O_RES]) + lay.RESULT * P].reshape(lay.RESULT, P)[:, :npairs]
+        touching = np.flatnonzero((v != 0.0) & (res[lay.R_C] > 0.0))
+        ends = np.stack([iv[int(ci[lay.O_FIRST]) + lb * P + touching], iv[int(ci[lay.O_SEC]) + lb * P + touching]], 1)
+        rows = np.concatenate([res[lay.R_N:lay.R_N + 3], res[lay.R_S:lay.R_LIM + 1]])[:, touching].T.copy()
+        levels = iv[int(ci[lay.O_LEVEL]):int(ci[lay.O_LEVEL]) + touching.size].copy()
+        sums = cf[lay.F_PARTIALS:lay.F_PARTIALS + 2 * lay.PARTIALS * self.bd].copy()
+        return SimpleNamespace(position=field(lay.X, 3), velocity=field(lay.V, 3), spin=field(lay.SPIN, 3),
+                               nordsieck=nord, wall_springs=springs, pairs=ends, pair_rows=rows, levels=levels,
+                               steps=int(ci[I_STEP]), rejected=int(ci[I_REJECTED]), partials=sums,
+                               time=float(cf[F_T]), step=float(cf[lay.F_HS]))
 
     def unpack(self, wall, batch):
         """Each job's channels, final state and outcome."""
-        sp_t, ct_t, rec_t = self.types
-        rec_h = rec_t(*[_host(a) for a in self.rec])
-        sp_h = sp_t(*[_host(a) for a in self.sp])
-        ct_h = ct_t(*[_host(a) for a in self.ct])
-        gc_h = self.gear_types[0](*[_host(a) for a in self.gc]) if self.gear else None
-        out = []
+        from ..kernels.gpu import batch as lay
+
+        st, ci, cf, out = (_host(a) for a in (self.bt.st, self.bt.ci, self.bt.cf, self.bt.out))
+        result = []
         for c, job in enumerate(self.jobs):
             e = job.engine
-            n = e.n
+            n, N = e.n, int(ci[c, lay.O_N])
             s = job.samples
-            s.wall_force[:] = rec_h.wall_force[c, : s.wall_force.shape[0]]
-            s.energy[:] = rec_h.energy[c, : s.energy.shape[0]]
+            s.wall_force[:] = out[c, : s.wall_force.shape[0]]
+            at = int(ci[c, lay.O_ENERGY])
+            s.energy[:] = out[c, at:at + 7 * s.energy.shape[0]].reshape(-1, 7)
             if s.frames.shape[0]:
-                s.frames[:] = rec_h.frames[c, : s.frames.shape[0], :n]
-            for name in ("position", "velocity", "spin"):
-                getattr(e.bodies, name)[:] = getattr(sp_h, name)[c, :n]
-            sums = ct_h.partials[c].sum(axis=0)
+                at = int(ci[c, lay.O_FRAMES])
+                s.frames[:] = out[c, at:at + s.frames.shape[0] * N * 9].reshape(-1, N, 9)[:, :n]
+            for name, f in (("position", lay.X), ("velocity", lay.V), ("spin", lay.SPIN)):
+                getattr(e.bodies, name)[:] = st[c, f * N:(f + 3) * N].reshape(3, N)[:, :n].T
+            sums = cf[c, lay.F_PARTIALS:lay.F_PARTIALS + lay.PARTIALS * self.bd].reshape(-1, lay.PARTIALS).sum(axis=0)
             s.sums[:3] = sums[:3]
-            status = int(ct_h.status[c])
+            status = int(ci[c, I_STATUS])
             kept = dict(kept=int(self.kept[c]), reached=int(self.reached[c]))
             judged = self.kept[c] >= 0
             if judged:  # stopped early by its judge, before any failure after that point
                 status = 0
+            done = ci[c, I_SPAN] if self.gear else ci[c, I_STEP]
+            if status == 0 and not judged and done < self.total[c]:
+                status = STATUS_STOPPED
             if self.gear:
-                if status == 0 and not judged and gc_h.span[c] < self.total[c]:
-                    status = STATUS_STOPPED
-                out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
-                                      t_fail=float(gc_h.t[c]), wall_time_s=wall, batch=batch, sums=sums[:3],
-                                      rejected=int(gc_h.rejected[c]), h_next=float(gc_h.h[c]),
-                                      cycles=gc_h.cycles[c].copy(), **kept))
+                result.append(GpuOutcome(steps=int(ci[c, I_STEP]), status=status, culprit=int(ci[c, I_CULPRIT]),
+                                         t_fail=float(cf[c, F_T]), wall_time_s=wall, batch=batch, sums=sums[:3],
+                                         rejected=int(ci[c, I_REJECTED]), h_next=float(cf[c, F_H]), **kept))
                 continue
-            fail = int(ct_h.fail_step[c])
-            if status == 0 and not judged and ct_h.step[c] < self.total[c]:
-                status, fail = STATUS_STOPPED, int(ct_h.step[c])
-            out.append(GpuOutcome(steps=int(ct_h.step[c]), status=status, culprit=int(ct_h.culprit[c]),
-                                  t_fail=_time_of(job, fail), wall_time_s=wall, batch=batch, sums=sums[:3], **kept))
-        return out
+            fail = int(ci[c, I_FAIL_STEP]) if status != STATUS_STOPPED else int(ci[c, I_STEP])
+            result.append(GpuOutcome(steps=int(ci[c, I_STEP]), status=status, culprit=int(ci[c, I_CULPRIT]),
+                                     t_fail=_time_of(job, fail), wall_time_s=wall, batch=batch, sums=sums[:3],
+                                     **kept))
+        return result
 
 
 def kernel_arguments(jobs, threads: int | None = None):
     """The arguments of one batch's kernel (:func:`pdamper.kernels.gpu.verlet.batch_verlet`, or
     :func:`pdamper.kernels.gpu.gear.batch_gear` for Gear's jobs) on the host, less the steps of the
-    launch, and the block size: the bundles, the contact table's arrays, the damping and tangential
-    laws' markers (one group's: :func:`run_jobs` groups by them), the materials and table rows, Gear's
-    state and clock."""
-    sp, li, wl, tb, mo, ct, rec, nmat, row0, bd = _pack(jobs, threads)
+    launch: the batch's buffers, the contact table's arrays and constants, the damping and
+    tangential laws' markers (one group's: :func:`run_jobs` groups by them); and the block size and
+    its dynamic shared memory [B]."""
+    bt, tb, bd, shared = _pack(jobs, threads)
     table = jobs[0].engine.table
-    args = [sp, li, wl, tb, table.law, table.tangential, mo, ct, rec, nmat, row0]
-    if jobs[0].integrator == "gear":
-        args += list(_pack_gear(jobs, sp, li, wl, bd, keeps_history(table.tangential)))
-    return args, bd
+    return [bt, tb, table.law, table.tangential], bd, shared
 
 
-def _pack_gear(jobs, sp, li, wl, bd, history):
-    """Gear's state and clock of every job: the Nordsieck vectors (filled by the kernel's priming),
-    the saved history (with the tangential history's rows under a law that keeps one), the clock at
-    the start of the first span."""
-    from ..kernels.gpu.batch import PAIR_ROW, GearClock, GearState, pair_row_capacity
-    from ..kernels.gpu.probe import PROBES
-
-    C, N = sp.position.shape[:2]
-    K = li.partner.shape[3]
-    W = wl.kind.shape[1]
-    rows = SAVED_HISTORY_ROWS if history else 2
-    # the implicit friction pass's compact rows (none under a law with history: that pass is skipped)
-    P = 1 if history else pair_row_capacity(N, K)
-    gs = GearState(nordsieck=np.zeros((C, 6, N, 6)), increments=np.zeros((C, N, 6)),
-                   saved_pair=np.zeros((C, rows, N, K)), saved_wall=np.zeros((C, rows, N, W)),
-                   anchor=np.zeros((C, N, 6)), integrands=np.zeros((C, bd, 4)), pair_rows=np.zeros((C, P, PAIR_ROW)),
-                   pair_ends=np.zeros((C, P, 3), dtype=np.int64))
-    settle = np.array([j.settle_samples for j in jobs], dtype=np.int64)
-    n = np.array([j.n_samples for j in jobs], dtype=np.int64)
-    seg = np.array([j.segment_samples for j in jobs], dtype=np.int64)
-    interval = np.array([j.interval for j in jobs])
-    spans = (settle > 0).astype(np.int64) + -(-n // seg)
-    # the first span's start: the settling's, (-S) x interval, or the drive's, 0
-    t0 = np.array([float(-j.settle_samples) * j.interval if j.settle_samples > 0 else 0.0 for j in jobs])
-    h0 = np.array([j.h0 for j in jobs])
-    gc = GearClock(interval=interval, tolerance=np.array([j.tolerance for j in jobs]),
-                   h_min=np.array([j.h_min for j in jobs]), h_max=np.array([j.h_max for j in jobs]),
-                   settle_samples=settle, n_samples=n, segment_samples=seg, spans=spans,
-                   span=np.zeros(C, dtype=np.int64), t=t0, h=h0.copy(), hs=h0.copy(),
-                   rejected=np.zeros(C, dtype=np.int64), cycles=np.zeros((C, PROBES), dtype=np.int64))
-    return gs, gc
-
-
-def _stream():
-    from numba import cuda
-
-    return cuda.stream()
-
-
-def _device_record(rec):
-    """The record bundle on the GPU: its large output arrays allocated there, not copied (every row a
-    case records is written before it is read; the rows beyond are never read)."""
-    from ..kernels.gpu.targets import SIMULATOR
-
-    if SIMULATOR:
-        return rec
-    from numba import cuda
-
-    big = ("wall_force", "energy", "frames")
-    return type(rec)(*[cuda.device_array(a.shape, dtype=a.dtype) if name in big else cuda.to_device(a)
-                       for name, a in zip(rec._fields, rec)])
-
-
-def _device(bundle):
-    """The bundle with its arrays on the GPU (in the simulator: as they are; the simulator passes a
-    bundle's arrays to the kernel untouched, so the CPU-compiled functions the kernel calls get
-    plain arrays)."""
-    from ..kernels.gpu.targets import SIMULATOR
-
-    if SIMULATOR:
-        return bundle
-    from numba import cuda
-
-    return type(bundle)(*[cuda.to_device(np.ascontiguousarray(a)) if isinstance(a, np.ndarray) else a
-                          for a in bundle])
-
-
-def _host(a):
-    return a if isinstance(a, np.ndarray) else a.copy_to_host()
-
-
-def _to_device(dev, host):
-    """Write the host array ``host`` into ``dev`` (a bundle's array on the GPU; in the simulator the
-    same array)."""
-    if isinstance(dev, np.ndarray):
-        if dev is not host:
-            dev[:] = host
-    else:
-        dev.copy_to_device(np.ascontiguousarray(host, dtype=dev.dtype))
+def pair_capacity(n: int, k: int) -> int:
+    """Pairs a case's list holds: every sphere with ``k`` partners at most (:func:`row_capacity`),
+    each pair counted once, and no more than all pairs of ``n`` spheres."""
+    return max(1, min(n * (n - 1) // 2, -(-n * k // 2)))
 
 
 def _pack(jobs, threads):
-    from ..kernels.gpu.batch import (CONTROL_FLAGS, PAIR_RESULT, PARTIALS, WALL_ROW, Control, Lists, Motion, Record,
-                                     Spheres, Walls)
+    """The batch's buffers on the host (:mod:`pdamper.kernels.gpu.batch`), the contact table's
+    arrays and constants, the block size and its dynamic shared memory [B]."""
+    from ..kernels.gpu import batch as lay
+    from ..kernels.gpu.targets import SIMULATOR
 
     C = len(jobs)
     engines = [j.engine for j in jobs]
     N = max(e.n for e in engines)
     W = max(e.walls.kind.shape[0] for e in engines)
-    K = max(row_capacity(e.bodies.radius, e.search.skin) for e in engines)
+    P = max(pair_capacity(e.n, row_capacity(e.bodies.radius, e.search.skin)) for e in engines)
     bd = threads or threads_for(N)
-    # the tangential history: one entry a row under a law without one (never read)
-    history = keeps_history(engines[0].table.tangential)
-    nt = len(TANGENTIAL_COLUMNS)
-    zeros3 = np.zeros((C, N, 3))
-    sp = Spheres(position=zeros3.copy(), velocity=zeros3.copy(), spin=zeros3.copy(), acceleration=zeros3.copy(),
-                 angular_acceleration=zeros3.copy(), previous_acceleration=zeros3.copy(),
-                 previous_angular_acceleration=zeros3.copy(), reference=np.full((C, N, 3), np.inf),
-                 moved=np.zeros((C, N, 6)),
-                 radius=np.ones((C, N)), mass=np.ones((C, N)), inv_mass=np.ones((C, N)), inv_inertia=np.ones((C, N)),
-                 material=np.zeros((C, N), dtype=np.int64), count=np.array([e.n for e in engines], dtype=np.int64))
-    wl = Walls(kind=np.zeros((C, W), dtype=np.int64), data=np.zeros((C, W, 7)),
-               count=np.array([e.walls.kind.shape[0] for e in engines], dtype=np.int64),
-               floor=np.array([e.walls.floor for e in engines], dtype=np.int64), stiffness=np.zeros((C, N, W)),
-               material_pair=np.zeros((C, N, W), dtype=np.int64), effective_radius=np.ones((C, N, W)),
-               approach_speed=np.zeros((C, N, W)), damping=np.zeros((C, N, W)),
-               tangential=np.zeros((C, N, W if history else 1, nt)), row=np.zeros((C, N, W, WALL_ROW)))
-    li = Lists(partner=np.zeros((C, 2, N, K), dtype=np.int64), length=np.zeros((C, 2, N), dtype=np.int64),
-               slot=np.zeros((C, N, K), dtype=np.int64), approach_speed=np.zeros((C, 2, N, K)),
-               damping=np.zeros((C, 2, N, K)), tangential=np.zeros((C, 2, N, K if history else 1, nt)),
-               stiffness=np.zeros((C, N, K)),
-               material_pair=np.zeros((C, N, K), dtype=np.int64), friction_cap=np.zeros((C, N, K)),
-               result=np.zeros((C, N, K, PAIR_RESULT)), buffer=np.zeros(C, dtype=np.int64),
-               skin=np.array([e.search.skin for e in engines]))
-    rows0, nmat = [], []
+    spring = keeps_history(engines[0].table.tangential)
+    S = max(1, max(max(j.samples.wall_force.shape[0], j.samples.energy.shape[0]) for j in jobs))
+    F = max(1, max(j.samples.frames.shape[0] for j in jobs))
+    o = lay.layout(N, P, W, spring, S, F)
+    widths = lay.row_widths(N, bd)
+    st = np.zeros((C, widths["st"]))
+    gv = np.zeros((C, o["gv"]))
+    th = np.zeros((C, o["th"], 5))
+    iv = np.zeros((C, o["iv"]), dtype=np.int32)
+    ci = np.zeros((C, lay.CI), dtype=np.int64)
+    cf = np.zeros((C, widths["cf"]))
+    walls = np.zeros((C * W, 7))
+    st[:, lay.RAD * N:(lay.IINERT + 1) * N] = 1.0  # (padding spheres: never read)
+    st[:, lay.REF * N:(lay.REF + 3) * N] = np.inf
+    gv[:, o[lay.O_WRS]:o[lay.O_WRS] + W * N] = 1.0
     row = 0
     for c, (job, e) in enumerate(zip(jobs, engines)):
-        b = e.bodies
-        n = e.n
-        for name in ("position", "velocity", "spin"):
-            getattr(sp, name)[c, :n] = getattr(b, name)
-        for name in ("radius", "mass", "inv_mass", "inv_inertia", "material"):
-            getattr(sp, name)[c, :n] = getattr(b, name)
-        w = e.walls
+        b, n, w = e.bodies, e.n, e.walls
         nw = w.kind.shape[0]
-        wl.kind[c, :nw] = w.kind
-        wl.data[c, :nw] = w.data
-        wl.stiffness[c, :n, :nw] = w.stiffness
-        wl.material_pair[c, :n, :nw] = w.material_pair + row
-        wl.effective_radius[c, :n, :nw] = w.effective_radius
-        rows0.append(row)
-        nmat.append(e.table.n_materials)
+        for f, a in ((lay.X, b.position), (lay.V, b.velocity), (lay.SPIN, b.spin)):
+            st[c, f * N:(f + 3) * N].reshape(3, N)[:, :n] = a.T
+        for f, a in ((lay.RAD, b.radius), (lay.MASS, b.mass), (lay.IMASS, b.inv_mass), (lay.IINERT, b.inv_inertia)):
+            st[c, f * N:f * N + n] = a
+        iv[c, o[lay.O_MAT]:o[lay.O_MAT] + n] = b.material
+        iv[c, o[lay.O_WKIND]:o[lay.O_WKIND] + nw] = w.kind
+        walls[c * W:c * W + nw] = w.data
+        for slot, a in ((lay.O_WK, w.stiffness), (lay.O_WRS, w.effective_radius)):
+            gv[c, o[slot]:o[slot] + W * N].reshape(W, N)[:nw, :n] = a.T
+        iv[c, o[lay.O_WMP]:o[lay.O_WMP] + W * N].reshape(W, N)[:nw, :n] = (w.material_pair + row).T
+        settle = job.settle_samples * job.sub
+        ci[c, [I_N, I_NW, I_FLOOR, I_CULPRIT, I_SUB, I_SETTLE_STEPS, I_TOTAL_STEPS, I_SEG_STEPS, I_SEG_SAMPLES,
+               lay.I_WF_ROWS, lay.I_EN_ROWS, lay.I_FR_ROWS, lay.I_FRAME_EVERY, I_SETTLE_SAMPLES, lay.I_NMAT, lay.I_ROW0,
+               lay.I_DRIVE, I_SPANS, I_SAMPLES]] = (
+            n, nw, w.floor, -1, job.sub, settle, settle + job.n_samples * job.sub, job.segment_samples * job.sub,
+            job.segment_samples, job.samples.wall_force.shape[0], job.samples.energy.shape[0],
+            job.samples.frames.shape[0], job.samples.frame_every, job.settle_samples, e.table.n_materials, row,
+            e.drive.kind, int(job.settle_samples > 0) - (-job.n_samples // job.segment_samples), job.n_samples)
+        for slot in [k for k in o if isinstance(k, int)]:
+            ci[c, slot] = o[slot]
+        cf[c, [lay.F_DT, F_INTERVAL, lay.F_SAMPLE_INTERVAL, lay.F_SKIN, lay.F_BED_MASS, F_T, F_H, lay.F_HS, lay.F_TOL,
+               lay.F_H_MIN, lay.F_H_MAX]] = (
+            job.dt, job.interval, job.samples.interval, e.search.skin, float(np.sum(b.mass)),
+            float(-job.settle_samples) * job.interval if job.settle_samples > 0 else 0.0, job.h0, job.h0,
+            job.tolerance, job.h_min, job.h_max)
+        cf[c, lay.F_GRAVITY:lay.F_GRAVITY + 3] = e.drive.gravity
+        cf[c, lay.F_DIRECTION:lay.F_DIRECTION + 3] = e.drive.direction
+        cf[c, lay.F_JUMP:lay.F_JUMP + 3] = job.jump
+        cf[c, lay.F_PAR:lay.F_PAR + 3] = np.resize(np.asarray(e.drive.par, dtype=float), 3)
         row += e.table.modulus.shape[0]
     tables = [e.table for e in engines]
     t0 = tables[0]
@@ -560,37 +531,15 @@ def _pack(jobs, threads):
           np.ascontiguousarray(np.concatenate([t.tangential_damping for t in tables])),
           np.concatenate([t.yield_pressure for t in tables]), float(t0.log_speed0), float(t0.dlog_speed),
           float(t0.tau), float(t0.v_floor), float(t0.overlap_limit))
-    mo = Motion(kind=np.array([e.drive.kind for e in engines], dtype=np.int64),
-                par=np.array([np.resize(np.asarray(e.drive.par, dtype=float), 3) for e in engines]),
-                gravity=np.array([e.drive.gravity for e in engines]),
-                direction=np.array([e.drive.direction for e in engines]), jump=np.array([j.jump for j in jobs]))
-    settle = np.array([j.settle_samples * j.sub for j in jobs], dtype=np.int64)
-    ct = Control(dt=np.array([j.dt for j in jobs]), sub=np.array([j.sub for j in jobs], dtype=np.int64),
-                 settle_steps=settle, total_steps=settle + np.array([j.n_samples * j.sub for j in jobs], dtype=np.int64),
-                 segment_steps=np.array([j.segment_samples * j.sub for j in jobs], dtype=np.int64),
-                 segment_samples=np.array([j.segment_samples for j in jobs], dtype=np.int64),
-                 interval=np.array([j.interval for j in jobs]), sample_interval=np.array([j.samples.interval for j in jobs]),
-                 step=np.zeros(C, dtype=np.int64), status=np.zeros(C, dtype=np.int64),
-                 culprit=np.full(C, -1, dtype=np.int64), fail_step=np.zeros(C, dtype=np.int64),
-                 flags=np.zeros((C, CONTROL_FLAGS), dtype=np.int64), partials=np.zeros((C, bd, PARTIALS)))
-    S = max(1, max(max(j.samples.wall_force.shape[0], j.samples.energy.shape[0]) for j in jobs))
-    F = max(1, max(j.samples.frames.shape[0] for j in jobs))
-    from ..kernels.gpu.targets import SIMULATOR
-
-    # on the GPU the output arrays are allocated there (_device_record): here only their shapes
-    alloc = np.zeros if SIMULATOR else (lambda shape: np.lib.stride_tricks.as_strided(np.zeros(1), shape, [0] * len(shape)))
-    rec = Record(wall_force=alloc((C, S)), energy=alloc((C, S, 7)), frames=alloc((C, F, N, 9)),
-                 wall_force_rows=np.array([j.samples.wall_force.shape[0] for j in jobs], dtype=np.int64),
-                 energy_rows=np.array([j.samples.energy.shape[0] for j in jobs], dtype=np.int64),
-                 frame_rows=np.array([j.samples.frames.shape[0] for j in jobs], dtype=np.int64),
-                 frame_every=np.array([j.samples.frame_every for j in jobs], dtype=np.int64),
-                 settle_samples=np.array([j.settle_samples for j in jobs], dtype=np.int64),
-                 bed_mass=np.array([float(np.sum(e.bodies.mass)) for e in engines]))
-    return sp, li, wl, tb, mo, ct, rec, np.array(nmat, dtype=np.int64), np.array(rows0, dtype=np.int64), bd
+    # the recorded channels: allocated on the GPU, not copied (every row a case records is written
+    # before it is read): here only their shape
+    out = np.zeros((C, o["out"])) if SIMULATOR else np.lib.stride_tricks.as_strided(np.zeros(1), (C, o["out"]), (0, 0))
+    shared = 8 * lay.SHARED_FIELDS * N
+    return lay.Batch(st=st, gv=gv, th=th, iv=iv, ci=ci, cf=cf, walls=walls, out=out), tb, bd, shared
 
 
 def _time_of(job, g):
-    """The time [s] at the end of step ``g`` (the kernel's clock, :func:`pdamper.kernels.gpu.verlet._case_time`)."""
+    """The time [s] at the end of step ``g`` (the kernel's clock, :func:`pdamper.kernels.gpu.verlet.case_time`)."""
     settle = job.settle_samples * job.sub
     if g <= settle:
         return float(-settle) * job.dt + float(g) * job.dt
@@ -598,6 +547,40 @@ def _time_of(job, g):
     seg = job.segment_samples * job.sub
     j = (q - 1) // seg
     return float(j * job.segment_samples) * job.interval + float(q - j * seg) * job.dt
+
+
+def _stream():
+    from numba import cuda
+
+    return cuda.stream()
+
+
+def _device_batch(bt):
+    """The batch's buffers on the GPU (in the simulator: as they are; the simulator passes a bundle's
+    arrays to the kernel untouched, so the CPU-compiled functions the kernel calls get plain
+    arrays); the recorded channels allocated there, not copied."""
+    from ..kernels.gpu.targets import SIMULATOR
+
+    if SIMULATOR:
+        return bt
+    from numba import cuda
+
+    return type(bt)(*[cuda.device_array(a.shape, dtype=a.dtype) if name == "out" else cuda.to_device(a)
+                      for name, a in zip(bt._fields, bt)])
+
+
+def _host(a):
+    return a if isinstance(a, np.ndarray) else a.copy_to_host()
+
+
+def _to_device(dev, host):
+    """Write the host array ``host`` into ``dev`` (a buffer on the GPU; in the simulator the same
+    array)."""
+    if isinstance(dev, np.ndarray):
+        if dev is not host:
+            dev[:] = host
+    else:
+        dev.copy_to_device(np.ascontiguousarray(host, dtype=dev.dtype))
 
 
 def _device_tuple(tb):
@@ -608,16 +591,6 @@ def _device_tuple(tb):
     from numba import cuda
 
     return tuple(cuda.to_device(a) if isinstance(a, np.ndarray) else a for a in tb)
-
-
-def _device_array(a):
-    from ..kernels.gpu.targets import SIMULATOR
-
-    if SIMULATOR:
-        return a
-    from numba import cuda
-
-    return cuda.to_device(a)
 
 
 def _sync():

@@ -65,26 +65,39 @@ def test_fig4_steady_part_runs_in_the_simulator(tmp_path, monkeypatch):
     assert "study fig4 --until-steady 0.02: 2 cases" in out.with_suffix(".md").read_text()
 
 
-@pytest.mark.slow
-def test_kernel_compiles_to_ptx_for_hopper(tmp_path):
-    """Both real kernels (Gear's, the default, and Verlet's; each reads the block's clock through
-    inline PTX for launches bounded by time) through numba-cuda and NVVM to PTX for sm_90 (no GPU
-    needed; a minute or two of compiling), and through ptxas when it is on PATH: within the register
-    file."""
+def _ptx_report(tmp_path, kernels):
+    """``benchmarks/gpu.py --ptx --ptx-kernels KERNELS --json FILE`` in a process without the
+    simulator: its JSON's ``ptx`` part (skipped, with the one-line reason, where NVVM or ptxas is
+    absent)."""
     pytest.importorskip("numba_cuda", reason="numba-cuda is not installed")
     out = tmp_path / "ptx.json"
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
-    r = subprocess.run([sys.executable, str(SCRIPT), "--ptx", "--ptx-kernels", "gear,verlet", "--out", str(out)],
-                       env=env, capture_output=True, text=True, timeout=900)
-    if "NVVM" in r.stdout + r.stderr and not out.exists() or "skipped" in (out.read_text() if out.exists() else ""):
-        pytest.skip("no libNVVM here (the CUDA toolkit's NVVM): the PTX compile is not tested")
-    assert r.returncode == 0, r.stderr[-2000:]
-    for name in ("gear", "verlet"):
-        ptx = json.loads(out.read_text())["parts"]["ptx"][name]
-        assert ptx["entry"] and ptx["ptx_bytes"] > 10_000, name
-        if "ptxas_ok" in ptx:  # within the register file (Gear's spills some: docs/performance.md)
-            assert ptx["ptxas_ok"] and ptx["registers_per_thread"] <= 255 and ptx["stack_bytes"] < 4096, name
+    r = subprocess.run([sys.executable, str(SCRIPT), "--ptx", "--ptx-kernels", kernels, "--json", str(out)], env=env,
+                       capture_output=True, text=True, timeout=1800)
+    if r.returncode:
+        pytest.fail(r.stderr[-2000:])
+    part = json.loads(out.read_text())["parts"]["ptx"]
+    if "skipped" in part:
+        pytest.skip(part["skipped"])
+    return part
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="issue 38 not met yet: Gear 246-255 registers (spring: 112 B of spill stores), Verlet 208-250 "
+                          "(benchmarks/gpu.py --ptx, docs/performance.md)")
+def test_production_kernels_keep_to_128_registers_without_spills(tmp_path):
+    """The largest and the smallest production kernel (Gear with the spring, Verlet with the tanh law;
+    ``benchmarks/gpu.py --ptx`` gives all four) through numba-cuda, the gpu extra's NVVM and ptxas for
+    sm_90 (no GPU needed; about two minutes of compiling): each assembles, with at most 128 registers
+    a thread and no spill stores or loads. (Strict xfail while the kernels are above it: when they
+    meet it, this fails until the mark goes.)"""
+    part = _ptx_report(tmp_path, "gear-spring,verlet-tanh")
+    assert set(part) == {"gear, spring", "verlet, tanh"}
+    for name, k in part.items():
+        assert k["ptxas_ok"] and k["ptx_bytes"] > 10_000, name
+        assert k["registers"] <= 128 and k["spill_store_bytes"] == 0 and k["spill_load_bytes"] == 0, (name, k)
 
 
 def test_step_cost_part_runs_in_the_simulator():
@@ -116,50 +129,14 @@ def test_paper_part_compares_with_the_cpu_reference(tmp_path, monkeypatch):
         assert d["rms_dev_vs_cpu"] == pytest.approx(abs(d["mean_dev_vs_cpu"]))
 
 
-def test_profile_part_runs_in_the_simulator():
-    """The profile part on the tiny case (Gear, the probed kernel): every phase a step runs is
-    counted, the shares add up to the whole step, the walk's rows are counted."""
-    mod = _module()
-    out = mod.part_profile(True, 0.5)
-    assert out["cases"] == 2 and out["attempted_steps"] > 0
-    shares = [v["share"] for v in out["phases"].values()]
-    assert sum(shares) == pytest.approx(1.0)
-    for phase in ("pair laws", "sphere forces, increments", "error norm", "accepted step: correct, ledger"):
-        assert out["phases"][phase]["cycles_per_attempted_step"] > 0, phase
-    assert out["walk_rows_per_attempted_step"] >= 0.0
-    assert [c["case"] for c in out["per_case"]] == out["picked"] == [0, 1]
-    assert all(c["rebuilds_per_attempted_step"] >= 0.0 for c in out["per_case"])
-
-
-def test_profile_part_takes_the_cases_named():
-    """``--profile-cases``: the profile of the cases named alone, each saying which it is; a case
-    beyond fig4's is refused naming the range."""
-    mod = _module()
-    out = mod.part_profile(True, 0.2, [1])
-    assert out["cases"] == 1 and out["picked"] == [1] and out["per_case"][0]["case"] == 1
-    with pytest.raises(SystemExit, match="fig4 has cases 0-1"):
-        mod.part_profile(True, 0.2, [2])
-
-
-def test_a_profile_case_beyond_fig4_is_refused_before_any_part_runs(tmp_path, capsys):
-    """The command line's check comes first: nothing runs, nothing is written, the range is named."""
-    mod = _module()
-    out = tmp_path / "gpu.json"
-    with pytest.raises(SystemExit) as err:
-        mod.main(["--tiny", "--only", "env", "profile", "--profile-cases", "5", "--out", str(out)])
-    assert err.value.code == 2 and "fig4 has cases 0-1" in capsys.readouterr().err
-    assert not out.exists()
-
-
 def test_agree_part_runs_in_the_simulator():
-    """The agree part on the tiny cases, Gear with the tanh law, in its own process: in the
-    simulator the kernels call the CPU's compiled functions, so the two engines agree to rounding at
-    every sample and end at the same positions; a kernel with Gear's arguments sees the shapes the
-    host made."""
+    """The agree part on the tiny cases, Gear with the spring, in its own process: in the simulator
+    the kernels call the CPU's compiled functions, so the two engines agree to rounding at every
+    sample and end at the same positions."""
     mod = _module()
-    out = mod.part_agree(True, {0})
-    assert list(out) == ["gear, tanh"]
-    for name in ("gear, tanh",):
+    out = mod.part_agree(True, {3})
+    assert list(out) == ["gear, spring"]
+    for name in ("gear, spring",):
         rows = out[name]["cases"]
         assert len(rows) == 2 and all(r["failed"] is None for r in rows), name
         assert [r["setting"] for r in rows] == ["N_p = 36", "N_p = 44"]  # (each line says its case)
@@ -168,9 +145,6 @@ def test_agree_part_runs_in_the_simulator():
             assert r["steps_cpu"] == r["steps_gpu"] > 0 and r["samples"] >= 2
             assert r["first_sample_apart"] is None and r["max_wall_force_diff_over_peak"] <= 1e-12
             assert r["max_position_diff_over_radius"] <= 1e-12
-    view = out["gear, tanh"]["kernel_view"]
-    assert view["agree"] and view["shapes"]["gs.saved_pair"][0] == view["shapes"]["gs.saved_pair"][1]
-    assert len(view["shapes"]["li.tangential"][1]) == 5
 
 
 def test_step_cost_part_says_a_refused_variant_and_goes_on(monkeypatch):
@@ -193,15 +167,3 @@ def test_step_cost_part_says_a_refused_variant_and_goes_on(monkeypatch):
     assert out["variants"]["verlet alone"]["steps"] > 0
 
 
-def test_fault_part_runs_in_the_simulator(tmp_path):
-    """The fault part's production variant on the tiny cases, in its own process, in launches of 10
-    attempted steps: Gear with the spring compiles (the refusal lifted for it), runs its launches
-    clean in the simulator, reports the compile, the launches and each case's steps."""
-    mod = _module()
-    out = mod.part_fault(True, 0.5, tmp_path / "fault", variants={0}, chunk=10)
-    assert list(out) == ["production"]
-    v = out["production"]
-    assert v["fault"] is None and v["launches_clean"] >= 1 and v["chunk"] == 10 and v["cases"] == 2
-    # (a launch attempts at most 10 steps of each case: its accepted steps are no more)
-    assert v["compile_s"] >= 0.0 and len(v["steps"]) == 2 and 0 < max(v["steps"]) <= 10 * v["launches_clean"]
-    assert v["statuses"] == [0] and "no fault" in mod._fault_line("production", v)

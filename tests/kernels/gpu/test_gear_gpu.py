@@ -24,7 +24,7 @@ def _gear(case, mu=0.3):
                                contact=dataclasses.replace(case.contact, friction=mu))
 
 
-def _step_by_step(case, k):
+def _step_by_step(case, k, threads=2):
     """``k`` accepted steps of ``case`` (no settling) on both engines: the CPU's (status, steps, t,
     rejected, its stepper's state, its engine) and the GPU's batch."""
     from pdamper.engine.cuda import _Batch
@@ -45,8 +45,8 @@ def _step_by_step(case, k):
                     h_max=float(num.gear_max_step), max_steps=k)
     status, steps, _, t, _, rejected = run_gear(span, e.bodies, st.state, e.pairs, e.walls, e.search, e.table, e.drive,
                                                cpu.samples)
-    batch = _Batch([gpu._gpu_job()[0]], 2)
-    while int(batch.ct.step[0]) < k:
+    batch = _Batch([gpu._gpu_job()[0]], threads)
+    while batch.snapshot(0).steps < k:
         batch.launch(1)
     return status, steps, t, rejected, st, e, batch
 
@@ -54,13 +54,13 @@ def _step_by_step(case, k):
 def _same_nordsieck(st, batch, t, rel_t=1e-12):
     """The same clock (within ``rel_t``: the steps are rounding apart, amplified by the step control)
     and the same Nordsieck vector to rounding."""
-    clock = batch.gc
-    assert abs(float(clock.t[0]) - t) <= rel_t * t
+    snap = batch.snapshot(0)
+    assert abs(snap.time - t) <= rel_t * t
     # the derivatives the Nordsieck vectors stand for (r_q = h^q / q! x^(q)): each engine's own step
     # has moved by rounding through the step control, the derivatives hardly
-    hs_gpu, hs_cpu = float(clock.hs[0]), float(st.state.step[0])
+    hs_gpu, hs_cpu = snap.step, float(st.state.step[0])
     assert abs(hs_gpu - hs_cpu) <= 1e-9 * hs_cpu
-    ours, ref = batch.gs.nordsieck[0], st.state.nordsieck
+    ours, ref = snap.nordsieck, st.state.nordsieck
     for q, fact in ((0, 1.0), (1, 1.0), (2, 2.0)):
         a = fact * ours[q] / hs_gpu ** q
         b = fact * ref[q] / hs_cpu ** q
@@ -73,43 +73,42 @@ def test_gear_step_by_step_as_the_cpu():
     k = 10
     status, steps, t, rejected, st, e, batch = _step_by_step(
         _gear(_case("cuboid", n=4, direction=(1.0, 0.3, 0.2), coated=True, cycles=0.004)), k)
-    assert status == 0 and steps == k and int(batch.gc.rejected[0]) == rejected >= 1
+    assert status == 0 and steps == k and batch.snapshot(0).rejected == rejected >= 1
     _same_nordsieck(st, batch, t)
 
 
 def test_gear_implicit_pair_rows_in_the_cpus_order():
     """A resting pile (13 spheres, two layers) set moving: many touching pairs with friction, whose
-    rows the implicit pass corrects one after another (Gauss-Seidel). After ten accepted steps, the
-    GPU's compact list of those rows (gathered by every thread, walked by one) holds the CPU's
-    friction record's pair rows: the same pairs in the same order, the same normal, slip, secant
-    coefficient and limit to rounding; and the Nordsieck vectors agree to rounding (a row missed or
-    walked out of order would move the increments of its spheres by far more)."""
+    rows the implicit pass corrects one after another (Gauss-Seidel). After ten accepted steps the
+    GPU's touching friction rows are the CPU's friction record's pair rows: the same pairs in the
+    same order, the same normal, slip, secant coefficient and limit to rounding; and the Nordsieck
+    vectors agree to rounding (a row missed or walked out of order would move the increments of its
+    spheres by far more)."""
     k = 10
     status, steps, t, rejected, st, e, batch = _step_by_step(_gear(_pile()), k)
-    assert status == 0 and steps == k and int(batch.gc.rejected[0]) == rejected
+    snap = batch.snapshot(0)
+    assert status == 0 and steps == k and snap.rejected == rejected
     rec = st.state.friction
     m = int(rec.ends[0])
     assert m >= 12  # many touching pairs
-    assert np.array_equal(batch.gs.pair_ends[0, :m, :2], rec.bodies[:m])
-    ours, ref = batch.gs.pair_rows[0, :m, 2:10], rec.rows[:m, :8]
+    assert np.array_equal(snap.pairs, rec.bodies[:m])
+    ours, ref = snap.pair_rows, rec.rows[:m, :8]
     for col in range(8):
         assert np.max(np.abs(ours[:, col] - ref[:, col])) <= 1e-9 * np.max(np.abs(ref[:, col])), col
     _same_nordsieck(st, batch, t, 1e-10)  # (the step control amplifies rounding: 1.6e-11 here)
 
 
-def test_gear_increments_in_shared_and_in_global_memory_alike(monkeypatch):
-    """The block keeps the corrector's increments (the pair walk reads and writes them) in its
-    shared memory when the bed fits (``STAGED_SPHERES``), in global memory when not: the same
-    arithmetic on the same values, so the 13-sphere pile's ten steps give the same bits both ways."""
-    from pdamper.kernels.gpu import gear
-
-    assert gear.STAGED_SPHERES >= 13
-    *_, staged = _step_by_step(_gear(_pile()), 10)
-    monkeypatch.setattr(gear, "STAGED_SPHERES", 4)  # (the simulator reads the kernel's globals as it runs)
-    *_, direct = _step_by_step(_gear(_pile()), 10)
-    assert int(staged.gs.pair_ends.shape[1]) > 0 and int(staged.ct.step[0]) == int(direct.ct.step[0]) == 10
-    assert np.array_equal(staged.gs.nordsieck, direct.gs.nordsieck)
-    assert np.array_equal(staged.args[0].velocity, direct.args[0].velocity)
+def test_gear_bits_do_not_depend_on_the_threads_of_a_block():
+    """The 13-sphere pile's ten steps on blocks of 1, 2, 4 and 34 threads (a lane takes 13, 7, 4 or
+    one sphere, and the pairs a block's width apart; 34 threads are two warps, whose barriers are the
+    block's and whose reductions go through shared memory): every sphere's sums, its increments and
+    its rows of the walk in the same order, so the same Nordsieck vector and velocities to the bit
+    (only the threads' running sums, a sum of sums, may part by rounding)."""
+    runs = [_step_by_step(_gear(_pile()), 10, threads)[-1].snapshot(0) for threads in (1, 2, 4, 34)]
+    for other in runs[1:]:
+        assert other.steps == runs[0].steps == 10 and other.rejected == runs[0].rejected
+        assert np.array_equal(other.nordsieck, runs[0].nordsieck)
+        assert np.array_equal(other.velocity, runs[0].velocity)
 
 
 def test_gear_step_by_step_with_the_tangential_spring():
@@ -121,10 +120,11 @@ def test_gear_step_by_step_with_the_tangential_spring():
                                numerics=dataclasses.replace(case.numerics, gear_tolerance=1e-10))
     k = 20
     status, steps, t, rejected, st, e, batch = _step_by_step(case, k)
-    assert status == 0 and steps == k and int(batch.gc.rejected[0]) == rejected >= 1
+    snap = batch.snapshot(0)
+    assert status == 0 and steps == k and snap.rejected == rejected >= 1
     _same_nordsieck(st, batch, t, 1e-10)  # (twice the steps of the test above, two of them rejected)
     n, nw = e.walls.tangential.shape[:2]
-    ours, ref = batch.args[2].tangential[0, :n, :nw], e.walls.tangential
+    ours, ref = snap.wall_springs[:n, :nw], e.walls.tangential
     assert np.max(np.abs(ref[..., 3])) > 0.0  # springs are loaded
     assert np.max(np.abs(ours - ref)) <= 1e-9 * np.max(np.abs(ref))
 
@@ -167,11 +167,13 @@ def test_gear_kernel_gives_the_same_bits_run_after_run():
     """A 4 x 3 pile (18 spheres, up to 23 touching pairs) on 3 threads, 100 steps in launches of 25,
     twice: the same bits. The simulator runs each GPU thread as a Python thread and switches between
     them at random, so a missing barrier (a thread reading what another has not written yet) can show
-    as runs that differ: once the pair walk started before every thread had written its rows (the
-    two runs parted at step 75). The race check (test_synchronisation_gpu.py) finds such a barrier
-    for certain; this test holds the kernel deterministic."""
+    as runs that differ. The race check (test_synchronisation_gpu.py) finds such a barrier for
+    certain; this test holds the kernel deterministic. The walk's levels of the last step: a row's
+    level is above that of every earlier row sharing a sphere with it (so the rows of one level share
+    none), fewer levels than rows, the rule benchmarks/walk_levels.py counts by on the CPU engine."""
     from pdamper.engine.cuda import _Batch
     from pdamper.simulation import Simulation
+    from script_loader import load_script
 
     case = _gear(_pile(4, 3))
     runs = []
@@ -182,36 +184,16 @@ def test_gear_kernel_gives_the_same_bits_run_after_run():
         batch = _Batch([sim._gpu_job()[0]], 3)
         for _ in range(4):
             batch.launch(25)
-        runs.append(batch)
+        runs.append(batch.snapshot(0))
     a, b = runs
-    assert int(a.ct.step[0]) == int(b.ct.step[0]) >= 90 and int(a.ct.status[0]) == 0
-    assert int(a.gs.pair_ends.shape[1]) >= 20
-    assert np.array_equal(a.gs.nordsieck, b.gs.nordsieck)
-    assert np.array_equal(a.ct.partials, b.ct.partials)
-
-
-def test_gear_pair_walk_by_levels_as_by_one_thread(monkeypatch):
-    """The implicit pair walk goes level by level (the rows that share no sphere at the same time)
-    for a bed of up to ``LEVEL_SPHERES`` spheres, by one thread beyond: every sphere sees its rows
-    in the CPU's order either way, so the 13-sphere pile's ten steps give the same bits. The levels
-    of the last step: a row's level is above that of every earlier row sharing a sphere with it, so
-    the rows of one level share none, and there are fewer levels than rows."""
-    from pdamper.kernels.gpu import gear
-
-    *_, st, _, levels = _step_by_step(_gear(_pile()), 10)
-    m = int(st.state.friction.ends[0])
-    ends = levels.gs.pair_ends[0, :m]
-    for k in range(m):
+    assert a.steps == b.steps >= 90
+    assert len(a.pairs) >= 2
+    assert np.array_equal(a.nordsieck, b.nordsieck)
+    assert np.array_equal(a.partials, b.partials)
+    ends, levels = a.pairs, a.levels
+    for k in range(len(ends)):
         for q in range(k):
-            if {int(ends[q, 0]), int(ends[q, 1])} & {int(ends[k, 0]), int(ends[k, 1])}:
-                assert ends[k, 2] > ends[q, 2]
-    assert m >= 12 and 1 <= int(ends[:, 2].max()) < m
-    # benchmarks/walk_levels.py counts the walk's depth on the CPU engine by the same rule
-    from script_loader import load_script
-
-    assert load_script("benchmarks/walk_levels.py").levels_of(ends[:, :2].tolist()) == ends[:, 2].tolist()
-    monkeypatch.setattr(gear, "LEVEL_SPHERES", 4)  # (the simulator reads the kernel's globals as it runs)
-    *_, one = _step_by_step(_gear(_pile()), 10)
-    assert int(levels.ct.step[0]) == int(one.ct.step[0]) == 10
-    assert np.array_equal(levels.gs.nordsieck, one.gs.nordsieck)
-    assert np.array_equal(levels.ct.partials, one.ct.partials)
+            if set(ends[q]) & set(ends[k]):
+                assert levels[k] > levels[q]
+    assert 1 <= levels.max() < len(ends)
+    assert load_script("benchmarks/walk_levels.py").levels_of(ends.tolist()) == levels.tolist()

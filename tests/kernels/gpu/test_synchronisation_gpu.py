@@ -10,6 +10,7 @@ import numpy as np
 from numba import float64
 
 import gpu_race_check as race_check
+from pdamper.kernels.gpu.batch import I_STATUS
 from gpu_helpers import pile_case, tiny_case
 
 
@@ -53,17 +54,12 @@ def _run_tracked(case, threads, launches, steps, cycles=0):
         warnings.simplefilter("ignore")
         sim = Simulation(case)
     batch = _Batch([sim._gpu_job()[0]], threads)
-    for k, name in enumerate(("sp", "li", "wl")):
-        batch.args[k] = race_check.track_bundle(batch.args[k], name)
-    bundles = list(batch.args[:3])
-    if batch.gear:
-        batch.gs = race_check.track_bundle(batch.gs, "gs")
-        batch.args[11] = batch.gs
-        bundles.append(batch.gs)
+    batch.bt = race_check.track_bundle(batch.bt, "bt")
+    batch.args = (batch.bt,) + batch.args[1:]
     for _ in range(launches):
-        race_check.new_launch(*bundles)
+        race_check.new_launch(batch.bt)
         batch.launch(steps, cycles)
-    return batch
+    return batch.snapshot(0), int(batch.bt.ci[0, I_STATUS])
 
 
 def _gear(case, tangential="tanh"):
@@ -75,19 +71,20 @@ def _gear(case, tangential="tanh"):
 
 
 def test_every_kernel_orders_its_threads_by_barriers():
-    """Gear with the tanh law (the gathered rows, the walk by levels: an 8-sphere pile on 3 threads,
-    so a thread takes several spheres and the rows' scan several rounds), Gear with the spring
-    (its history saved and restored), both rebuilding their rows and rejecting steps, and Verlet (a
-    violent 4-sphere bed on 3 threads), each in two launches; then Verlet and Gear in launches bounded
-    by time (thread 0 tells the block at a step's last barrier that the launch's time is up: one
-    nanosecond, so every launch ends after its first step): no finding in shared or global memory."""
+    """Gear with the tanh law (the rows listed by a scan, the walk by levels: an 8-sphere pile on 3
+    threads, so a thread takes several spheres and pairs and the scans several rounds), Gear with the
+    spring (its history double-buffered), both rebuilding their lists every step and rejecting steps,
+    and Verlet (a violent 4-sphere bed on 3 threads), each in two launches; then Verlet and Gear in
+    launches bounded by time (thread 0's clock told to the block by its vote: one nanosecond, so every
+    launch ends after its first step): no finding in shared memory (the dynamic shared memory, the
+    spheres' hot state and Gear's increments, included) or in the batch's buffers."""
     with race_check.tracking() as found:
         runs = [_run_tracked(_gear(pile_case(3, 2)), 3, 2, 2), _run_tracked(_gear(pile_case(3, 2), "spring"), 3, 2, 2),
                 _run_tracked(tiny_case("cuboid", n=4, direction=(1.0, 0.3, 0.2)), 3, 2, 5)]
         timed = [_run_tracked(tiny_case("cuboid", n=4, direction=(1.0, 0.3, 0.2)), 3, 3, 5, cycles=1),
                  _run_tracked(_gear(pile_case(3, 2)), 3, 3, 5, cycles=1)]
     assert not found, race_check.findings_text()
-    for batch in runs:
-        assert int(batch.ct.status[0]) == 0 and int(batch.ct.step[0]) >= 2
-    assert all(int(b.gc.rejected[0]) > 0 for b in runs[:2])
-    assert int(timed[0].ct.step[0]) == 3 and int(timed[1].ct.step[0]) + int(timed[1].gc.rejected[0]) == 3
+    for snap, status in runs:
+        assert status == 0 and snap.steps >= 2
+    assert all(snap.rejected > 0 for snap, _ in runs[:2])
+    assert timed[0][0].steps == 3 and timed[1][0].steps + timed[1][0].rejected == 3

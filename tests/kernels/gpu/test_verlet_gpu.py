@@ -130,18 +130,16 @@ def test_a_launch_bounded_by_time_stops_each_case_at_its_own_step():
     for case in (_case("cuboid", n=4, direction=(1.0, 0.3, 0.2)),
                  dataclasses.replace(_case("cuboid", n=3), numerics=Numerics(integrator="gear"))):
         by_time, by_steps = batch(case), batch(case)
-        gear = by_time.gear
-        attempted = (lambda b: b.ct.step + b.gc.rejected) if gear else (lambda b: b.ct.step)
         for k in range(1, 7):
             by_time.launch(10**6, 1)
-            assert attempted(by_time).tolist() == [k, k]
+            assert [s.steps + s.rejected for s in map(by_time.snapshot, (0, 1))] == [k, k]
         for _ in range(2):
             by_steps.launch(3)
-        assert np.array_equal(by_time.ct.step, by_steps.ct.step)
-        assert np.array_equal(by_time.sp.position, by_steps.sp.position)
-        assert np.array_equal(by_time.ct.partials, by_steps.ct.partials)
-        if gear:
-            assert np.array_equal(by_time.gs.nordsieck, by_steps.gs.nordsieck)
+        for c in (0, 1):
+            a, b = by_time.snapshot(c), by_steps.snapshot(c)
+            assert a.steps == b.steps
+            for name in ("position", "velocity", "partials", "nordsieck"):
+                assert np.array_equal(getattr(a, name), getattr(b, name)), name
 
 
 def test_eta_star_of_a_short_ensemble():
@@ -194,29 +192,62 @@ def test_row_capacity_holds_a_dense_shell():
     assert math.isfinite(row_capacity(np.full(2, 0.005), 0.0))
 
 
-def test_refuses_gear_with_the_tangential_spring_on_a_gpu(monkeypatch):
-    """Gear's kernel with the tangential spring faults on a GPU (an out-of-bounds write in its first
-    launch on an H200; it runs right in the simulator, where the other tests hold it to the CPU):
-    off the simulator it is refused before anything runs, saying what runs instead; Verlet with the
-    spring, and Gear with the tanh law, are not."""
+def test_gear_with_the_tangential_spring_is_not_refused(monkeypatch):
+    """Gear's kernel with the tangential spring runs on a GPU as in the simulator (the kernel that
+    faulted on an H200 is gone; the simulator tests hold this one to the CPU): no refusal, on the
+    simulator or off it."""
     import dataclasses
     import warnings
 
     from pdamper.engine.cuda import refusal
     from pdamper.kernels.gpu import targets
 
-    def sim(integrator, tangential):
-        case = Case(particles=(ParticleSet(count=3),), cycles=0.02, drop_cycles=0,
-                    numerics=Numerics(integrator=integrator))
-        case = dataclasses.replace(case, contact=dataclasses.replace(case.contact, tangential=tangential))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return Simulation(case)
-
-    gear_spring = sim("gear", "spring")
-    assert gear_spring._gpu_job()[1] is None  # the simulator runs it
+    case = Case(particles=(ParticleSet(count=3),), cycles=0.02, drop_cycles=0, numerics=Numerics(integrator="gear"))
+    case = dataclasses.replace(case, contact=dataclasses.replace(case.contact, tangential="spring"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sim = Simulation(case)
+    assert sim._gpu_job()[1] is None
     monkeypatch.setattr(targets, "SIMULATOR", False)
-    job, why = gear_spring._gpu_job()
-    assert job is None and "spring" in why and 'integrator = "verlet"' in why and "CPU" in why
-    assert refusal(sim("verlet", "spring").engine) is None
-    assert refusal(sim("gear", "tanh").engine, gear=True) is None
+    assert refusal(sim.engine) is None
+
+
+def test_progress_reaches_the_whole_run():
+    """The GPU's progress (what a run's bar shows) ends at the whole: its last call says every step
+    done, a failed case counted whole (it once stopped a round short, the bar never at 100 %)."""
+    import warnings
+
+    from pdamper.engine.cuda import run_jobs
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sims = [Simulation(_case("cuboid", n=2, cycles=0.005)), Simulation(_case("cuboid", n=3, time_step=2e-4))]
+    seen = []
+    out = run_jobs([s._gpu_job()[0] for s in sims], max_launch_steps=50, progress=lambda d, t: seen.append((d, t)))
+    assert out[0].status == 0 and out[1].status != 0  # (the second case fails: a step far too long)
+    done, total = seen[-1]
+    assert done == total > 0 and len(seen) > 2
+    assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+
+
+def test_a_bed_beyond_the_gpus_runs_on_the_cpu_engine_and_says_so(monkeypatch):
+    """A case whose bed is larger than a block takes (here the limit lowered to 3 spheres) runs on the
+    CPU engine, with one warning that says so; the other case of the call runs on the GPU engine."""
+    import warnings
+
+    from pdamper.kernels.gpu import batch
+    from pdamper.run import run_case, run_cases
+
+    monkeypatch.setattr(batch, "MAX_SPHERES", 3)
+    small, big = (dataclasses.replace(_case("cuboid", n=n, cycles=0.005),
+                                      numerics=Numerics(integrator="verlet", device="cuda")) for n in (3, 4))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = run_cases([small, big], analyze=False)
+    said = [str(w.message) for w in caught if "CPU engine" in str(w.message)]
+    assert said == ["1 case of 4 spheres run on the CPU engine: the GPU engine takes beds of up to 3 spheres "
+                    "(docs/engine.md, 'The GPU engine')"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cpu = run_case(dataclasses.replace(big, numerics=Numerics(integrator="verlet")), analyze=False)
+    assert np.array_equal(out[1].signals.force, cpu.signals.force)  # the CPU engine's own run

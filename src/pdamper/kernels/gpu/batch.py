@@ -1,25 +1,39 @@
-"""A batch of cases as bundles of arrays with a leading case axis (``C`` cases, at most ``N``
-spheres, ``K`` list entries per sphere, ``W`` walls): the GPU kernels' state.
+"""A batch of cases as a few flat buffers, one row per case: the GPU kernels' state, laid out so that
+a case's block finds everything at offsets of its own row.
 
-The bundles are ``typing.NamedTuple`` s of arrays, as the CPU kernels' (:mod:`pdamper.kernels.bundles`);
-numba-cuda passes them to a kernel field by field. :func:`pdamper.engine.cuda` packs them from the
-CPU engine's own bundles of each case (:func:`pdamper.engine.build.build`), so a case starts on the
-GPU from exactly the state it starts from on the CPU.
+Eight arrays make the whole batch (:class:`Batch`), a row (or a block of rows) a case; a kernel
+takes them as one bundle, the contact table and the laws' markers (its parameters: about 1 KB,
+against the 7 KB of the ~90 arrays of the kernels before). Inside a case's row the values sit in *fields* of one value
+per sphere (``st``: field ``f`` of sphere ``i`` at ``f * N + i``, ``N`` the batch's padded sphere
+count), one per pair (``gv``, ``iv``: at ``offset + p``, ``P`` pairs at most) or one per
+sphere-wall contact (``w * N + i``), so the lanes of a warp, which take consecutive spheres or
+pairs, read consecutive addresses. The offsets of each region within a row are worked out once on
+the host (:func:`layout`) and kept in the case's integer slots (``ci[O_*]``); every other slot has
+a name here, none is a number in the kernels.
 
-**The neighbour list** is per sphere: row ``i`` lists every partner ``j != i`` within
-``r_i + r_j + skin``, ascending, in one of two buffers (the rebuild writes the other, then swaps, so
-the history can be carried over). The pair ``(i, j)`` with ``i < j`` is *owned* by ``i``: its
-constants, its contact history and the result of its contact law (the force on ``i``, the normal and
-the friction force: what :func:`~pdamper.kernels.contact.scatter` takes) live in ``i``'s row; ``j``'s
-row points to it (``slot``). Every sphere sums its pairs in ascending partner order, then the floor,
-then the other walls: the CPU pair loop's order for that sphere (its list is sorted by ``(i, j)``).
-
-**The tangential history** of a law that keeps one (the spring,
-:data:`~pdamper.kernels.bundles.TANGENTIAL_COLUMNS`) lives beside ``approach_speed`` and ``damping``:
-``(C, 2, N, K, 5)`` for the owned pairs (per buffer, carried over by the rebuild the same way) and
-``(C, N, W, 5)`` for the sphere-wall contacts. Under a law without history the kernels never touch it,
-and it is packed with one entry per row (``(C, 2, N, 1, 5)``, ``(C, N, 1, 5)``): the same types, so the
-same kernel signature, and no memory for nothing.
+- ``st`` (float): the spheres: position, velocity, spin (kept in the block's shared memory while a
+  launch runs), Verlet's accelerations, the list's reference positions, the springs' displacement
+  and anchor, radius, mass, inverse mass and inertia, and Gear's Nordsieck vector (``NORD + 6 k +
+  d``: row ``k`` of degree of freedom ``d``).
+- ``gv`` (float): per pair, in two list buffers (the rebuild writes the other, carrying the history
+  over): Hertz stiffness and Verlet's friction guard; the contact history (approach speed, the damping
+  law's parameter), in two list buffers times two time buffers: a step reads one time buffer and
+  writes the other, and the buffers change places when the step is accepted, so a rejected step
+  leaves nothing to restore; the contact law's result (:data:`RESULT` values); each sphere-wall
+  contact's constants, history (two time buffers) and friction row.
+- ``th`` (float, ``(C, rows, 5)``): the tangential law's five columns of history a contact
+  (:data:`~pdamper.kernels.bundles.TANGENTIAL_COLUMNS`), in the same buffers: pair ``p`` of list
+  buffer ``lb`` and time buffer ``tb`` at row ``(2 lb + tb) TP + p``, sphere-wall contact ``(i, w)``
+  at ``TWALL + tb TW + i W + w``; under a law without history one row of each, never read. A table,
+  as the CPU's contact law takes it.
+- ``iv`` (int32): the pair lists (CSR rows in the CPU's order: ``i`` ascending, then its partners
+  ``j > i`` ascending) and, per sphere, the pairs it is the second of (ascending ``i``): a sphere's
+  sum over its pairs in ascending partner order, the CPU pair loop's order for it, with no atomics;
+  the material pairs; Gear's compact list of touching friction rows and their levels.
+- ``ci`` (int64), ``cf`` (float): the case's counts, clock, status and progress (``I_*``, ``F_*``),
+  its threads' running sums between launches.
+- ``walls`` (float, ``(C W, 7)``): the walls' signed-distance primitives, ``W`` rows a case.
+- ``out`` (float): the recorded channels (wall force, energies, frames).
 """
 
 from __future__ import annotations
@@ -28,171 +42,100 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Spheres", "Lists", "Walls", "Motion", "Control", "Record", "PAIR_RESULT", "CONTROL_FLAGS",
-           "FLAG_STARTED", "FLAG_MOVED", "FLAG_PRIMED", "PARTIALS", "WALL_ROW", "PAIR_ROW", "GearState", "GearClock",
-           "pair_row_capacity"]
+__all__ = ["Batch", "layout", "row_widths", "WARP", "MAX_WARPS", "MAX_SPHERES", "SPHERES_PER_LANE", "RESULT", "WALL_ROW",
+           "PARTIALS", "SHARED_FIELDS"]
 
-#: Values stored per owned pair after its contact law: the force on the owner (3), the unit normal
-#: from the owner to its partner (3), the friction force on the owner (3); then its friction row
-#: (Gear's implicit pass): the slip (3), the friction coefficient c and the Coulomb limit.
-PAIR_RESULT = 14
-#: Values stored per sphere-wall contact: its friction row, the unit normal (3), the slip (3), c and
-#: the Coulomb limit.
+#: Lanes of a warp.
+WARP = 32
+#: Spheres a lane takes in a step's sphere passes (a warp holds a bed of up to 64 spheres).
+SPHERES_PER_LANE = 2
+#: Warps of a block at most: a bed of up to ``MAX_WARPS x WARP x SPHERES_PER_LANE`` spheres (the paper's
+#: 144 and 176 beds in 3 warps); a larger bed runs on the CPU engine (:func:`pdamper.engine.cuda.refusal`).
+MAX_WARPS = 4
+#: The largest bed a block takes: its spheres' hot state fills the block's 48 KB of shared memory.
+MAX_SPHERES = MAX_WARPS * WARP * SPHERES_PER_LANE
+
+# ---- st: one value per sphere (field f of sphere i at f * N + i)
+X, V, SPIN, A, AL, AP, ALP, REF = 0, 3, 6, 9, 12, 15, 18, 21
+MOVED = 24          #: (6) what the springs advance by: Verlet's drift, Gear's prediction less its anchor
+ANCHOR = 30         #: (6) Gear: the predicted position and angle the springs were last advanced at
+RAD, MASS, IMASS, IINERT = 36, 37, 38, 39
+NORD = 40           #: (36) Gear's Nordsieck vector, NORD + 6 k + d
+ST_FIELDS = 76
+
+# ---- the block's shared memory, one value per sphere (field f of sphere i at f * N + i)
+S_X, S_V, S_SPIN, S_MOVED, S_RAD = 0, 3, 6, 9, 15
+SHARED_FIELDS = 16
+
+#: Values of a pair's result: the force on i (3), the unit normal from i to j (3), the friction force
+#: on i (3), the slip (3), the friction coefficient c and the Coulomb limit (Gear's friction row).
+RESULT = 14
+R_F, R_N, R_T, R_S, R_C, R_LIM = 0, 3, 6, 9, 12, 13
+#: Values of a sphere-wall contact's friction row: the unit normal (3), the slip (3), c, the limit.
 WALL_ROW = 8
-#: Values of a touching pair's row in Gear's compact list for the implicit friction pass: what does not
-#: depend on the increments, gathered by every thread before one thread walks the rows: the radii
-#: r_i, r_j, the unit normal (3), the slip (3), c, the Coulomb limit, the inverse tangential mass kk,
-#: the slip's magnitude, and the factors that turn a force into increments (h^2/2 of 1/m_i, 1/m_j,
-#: r_i/I_i, r_j/I_j); last, the row's change of the friction power once walked.
-PAIR_ROW = 17
-#: Running sums each thread keeps (and saves between launches): work done by the container, loss
-#: by normal damping, loss by friction [J], impulse along the drive since the last sample [N s].
+#: Running sums each thread keeps between launches: work done by the container, loss by normal
+#: damping, loss by friction [J], impulse along the drive since the last sample [N s].
 PARTIALS = 4
-#: :attr:`Control.flags` columns: the drive has started (the velocities jumped), a rebuild is due,
-#: the initial accelerations are computed.
-FLAG_STARTED = 0
-FLAG_MOVED = 1
-FLAG_PRIMED = 2
-CONTROL_FLAGS = 3
+
+# ---- ci: the case's integer slots
+(I_N, I_NW, I_FLOOR, I_LIST, I_TIME, I_STATUS, I_CULPRIT, I_FAIL_STEP, I_STEP, I_STARTED, I_MOVED, I_PRIMED,
+ I_SUB, I_SETTLE_STEPS, I_TOTAL_STEPS, I_SEG_STEPS, I_SEG_SAMPLES, I_WF_ROWS, I_EN_ROWS, I_FR_ROWS, I_FRAME_EVERY,
+ I_SETTLE_SAMPLES, I_NMAT, I_ROW0, I_DRIVE, I_SPAN, I_SPANS, I_SAMPLES, I_REJECTED) = range(29)
+# the offsets of the regions of the case's rows (layout)
+(O_PK, O_PCAP, O_PV, O_PD, O_RES, O_DP, O_WK, O_WRS, O_WV, O_WD, O_WROW,
+ O_ROW, O_SEC, O_FIRST, O_MP, O_INROW, O_INPAIR, O_WMP, O_MAT, O_WALK, O_LEVEL, O_WKIND,
+ O_ENERGY, O_FRAMES, O_N, O_P, O_W, O_TP, O_TW, O_TWALL) = range(32, 62)
+CI = 64
+
+# ---- cf: the case's float slots
+(F_DT, F_INTERVAL, F_SAMPLE_INTERVAL, F_SKIN, F_BED_MASS, F_T, F_H, F_HS, F_TOL, F_H_MIN, F_H_MAX) = range(11)
+F_GRAVITY, F_DIRECTION, F_JUMP, F_PAR = 11, 14, 17, 20
+F_PARTIALS = 24     #: (3, threads, PARTIALS) each thread's ledger rows (pdamper.kernels.gpu.forces.ledger)
+CF_FIXED = F_PARTIALS
 
 
-class Spheres(NamedTuple):
-    """The spheres of every case (container frame), padded to ``N`` rows."""
+class Batch(NamedTuple):
+    """The batch's buffers (module docstring): one row per case."""
 
-    position: np.ndarray          #: (C, N, 3) [m]
-    velocity: np.ndarray          #: (C, N, 3) relative to the container [m/s]
-    spin: np.ndarray              #: (C, N, 3) [rad/s]
-    acceleration: np.ndarray      #: (C, N, 3) Verlet's accelerations now and one step back
-    angular_acceleration: np.ndarray
-    previous_acceleration: np.ndarray
-    previous_angular_acceleration: np.ndarray
-    reference: np.ndarray         #: (C, N, 3) positions at the last list build [m]
-    moved: np.ndarray             #: (C, N, 6) what the springs advance by: Verlet's drift, Gear's prediction
-                                  #: less the one they were last advanced at (displacement [m], rotation [rad])
-    radius: np.ndarray            #: (C, N) [m]
-    mass: np.ndarray              #: (C, N) [kg]
-    inv_mass: np.ndarray          #: (C, N)
-    inv_inertia: np.ndarray       #: (C, N)
-    material: np.ndarray          #: (C, N) int: the sphere's material in its case's table
-    count: np.ndarray             #: (C,) int: spheres of each case
+    st: np.ndarray      #: (C, ST_FIELDS x N) float: the spheres
+    gv: np.ndarray      #: (C, .) float: pairs and sphere-wall contacts
+    th: np.ndarray      #: (C, ., 5) float: the tangential history, a row a contact (pairs, then walls)
+    iv: np.ndarray      #: (C, .) int32: lists, material pairs, Gear's rows
+    ci: np.ndarray      #: (C, CI) int64: counts, clock, status, offsets
+    cf: np.ndarray      #: (C, .) float: clock, drive, running sums
+    walls: np.ndarray   #: (C x W, 7) float: the walls' primitives, W rows a case
+    out: np.ndarray     #: (C, .) float: the recorded channels
 
 
-class Lists(NamedTuple):
-    """The per-sphere neighbour lists (module docstring), their constants and contact history."""
-
-    partner: np.ndarray           #: (C, 2, N, K) int32: partners in ascending order, per buffer
-    length: np.ndarray            #: (C, 2, N) int32: entries of each row, per buffer
-    slot: np.ndarray              #: (C, N, K) int32: for j's entry of a pair (i, j), i < j, the entry in i's row
-    approach_speed: np.ndarray    #: (C, 2, N, K) history of the owned pairs (0: not touching), per buffer
-    damping: np.ndarray           #: (C, 2, N, K) history: the damping law's parameter, per buffer
-    tangential: np.ndarray        #: (C, 2, N, K, 5) history: the tangential law's, per buffer ((C, 2, N, 1, 5): none)
-    stiffness: np.ndarray         #: (C, N, K) Hertz k of the owned pairs [N/m^1.5]
-    material_pair: np.ndarray     #: (C, N, K) int: row in the batch's contact table
-    friction_cap: np.ndarray      #: (C, N, K) FRICTION_CAP x m* [kg]
-    result: np.ndarray            #: (C, N, K, PAIR_RESULT) the owned pairs' contact results
-    buffer: np.ndarray            #: (C,) int32: the buffer in use
-    skin: np.ndarray              #: (C,) list skin [m]
-
-
-class Walls(NamedTuple):
-    """The walls of every case (:mod:`pdamper.geometry.walls`) and each sphere-wall contact."""
-
-    kind: np.ndarray              #: (C, W) int
-    data: np.ndarray              #: (C, W, 7)
-    count: np.ndarray             #: (C,) int: walls of each case
-    floor: np.ndarray             #: (C,) int: the floor's index, -1 if none
-    stiffness: np.ndarray         #: (C, N, W) [N/m^1.5]
-    material_pair: np.ndarray     #: (C, N, W) int: row in the batch's contact table
-    effective_radius: np.ndarray  #: (C, N, W) [m]
-    approach_speed: np.ndarray    #: (C, N, W) history
-    damping: np.ndarray           #: (C, N, W) history
-    tangential: np.ndarray        #: (C, N, W, 5) history: the tangential law's ((C, N, 1, 5): none)
-    row: np.ndarray               #: (C, N, W, WALL_ROW) each contact's friction row (Gear's implicit pass)
+def layout(n: int, p: int, w: int, spring: bool, samples: int, frames: int) -> dict:
+    """The offsets of the regions of a case's rows of ``gv``, ``iv``, ``th`` and ``out`` for ``n`` spheres
+    (padded), ``p`` pairs at most, ``w`` walls (padded), the tangential history's rows (``spring``: a
+    law that keeps one; else one row, never read), ``samples`` and ``frames`` recorded: ``{O_*:
+    offset}``, with the widths ``"gv"``, ``"iv"``, ``"th"`` (rows), ``"out"``."""
+    tp = p if spring else 1
+    tw = n * w if spring else 1
+    o = {}
+    at = 0
+    for slot, size in ((O_PK, 2 * p), (O_PCAP, 2 * p), (O_PV, 4 * p), (O_PD, 4 * p), (O_RES, RESULT * p), (O_DP, p),
+                       (O_WK, w * n), (O_WRS, w * n), (O_WV, 2 * w * n), (O_WD, 2 * w * n),
+                       (O_WROW, WALL_ROW * w * n)):
+        o[slot] = at
+        at += size
+    o["gv"] = at
+    at = 0
+    for slot, size in ((O_ROW, 2 * (n + 1)), (O_SEC, 2 * p), (O_FIRST, 2 * p), (O_MP, 2 * p), (O_INROW, 2 * (n + 1)),
+                       (O_INPAIR, 2 * p), (O_WMP, w * n), (O_MAT, n), (O_WALK, p), (O_LEVEL, p), (O_WKIND, w)):
+        o[slot] = at
+        at += size
+    o["iv"] = at
+    o[O_ENERGY] = samples
+    o[O_FRAMES] = 8 * samples
+    o["out"] = 8 * samples + frames * n * 9
+    o.update({O_N: n, O_P: p, O_W: w, O_TP: tp, O_TW: tw, O_TWALL: 4 * tp, "th": 4 * tp + 2 * tw})
+    return o
 
 
-class Motion(NamedTuple):
-    """Each case's drive: a motion of its parameters alone along ``direction``
-    (:func:`pdamper.kernels.drive.parametric_motion`)."""
-
-    kind: np.ndarray              #: (C,) int: the compiled motion's kind number (Drive.kind)
-    par: np.ndarray               #: (C, 3) its parameters (harmonic: X [m], Omega [rad/s], phase [rad])
-    gravity: np.ndarray           #: (C, 3) [m/s^2], container frame
-    direction: np.ndarray         #: (C, 3) unit drive direction, container frame
-    jump: np.ndarray              #: (C, 3) the velocity jump -v_c(0+) d at the drive's start [m/s]
-
-
-class Control(NamedTuple):
-    """Each case's clock, progress and status (kept between launches)."""
-
-    dt: np.ndarray                #: (C,) Verlet's step [s]
-    sub: np.ndarray               #: (C,) int: steps per sample
-    settle_steps: np.ndarray      #: (C,) int: steps of the settling, before the drive
-    total_steps: np.ndarray       #: (C,) int: settling and drive
-    segment_steps: np.ndarray     #: (C,) int: steps of one of the CPU engine's segments (its clock restarts there)
-    segment_samples: np.ndarray   #: (C,) int: samples of one segment
-    interval: np.ndarray          #: (C,) 1 / sample rate [s]
-    sample_interval: np.ndarray   #: (C,) sub x dt [s]: what a sample's impulse is divided by
-    step: np.ndarray              #: (C,) int: steps done
-    status: np.ndarray            #: (C,) int: STATUS_* of pdamper.kernels.forces
-    culprit: np.ndarray           #: (C,) int: the sphere concerned
-    fail_step: np.ndarray         #: (C,) int: the step that failed
-    flags: np.ndarray             #: (C, CONTROL_FLAGS) int
-    partials: np.ndarray          #: (C, threads, PARTIALS) the threads' running sums
-
-
-class Record(NamedTuple):
-    """What is recorded at the end of each sample of the drive (the CPU kernels' channels,
-    :class:`pdamper.kernels.bundles.Samples`); a case's channel with no rows is not recorded."""
-
-    wall_force: np.ndarray        #: (C, S) [N]
-    energy: np.ndarray            #: (C, S, 7) [J]
-    frames: np.ndarray            #: (C, F, N, 9)
-    wall_force_rows: np.ndarray   #: (C,) int
-    energy_rows: np.ndarray       #: (C,) int
-    frame_rows: np.ndarray        #: (C,) int
-    frame_every: np.ndarray       #: (C,) int: samples per frame (0: none)
-    settle_samples: np.ndarray    #: (C,) int
-    bed_mass: np.ndarray          #: (C,) [kg]
-
-
-class GearState(NamedTuple):
-    """Gear's Nordsieck vectors of every case and what a rejected step restores."""
-
-    nordsieck: np.ndarray         #: (C, 6, N, 6) scaled derivatives of position and angle
-    increments: np.ndarray        #: (C, N, 6) the corrector's increments (position, angle) of a bed larger
-                                  #: than gear.STAGED_SPHERES (a smaller one's are in shared memory)
-    saved_pair: np.ndarray        #: (C, R, N, K) the rows' history before the step: approach speed, damping,
-                                  #: then the tangential history's columns (R = SAVED_HISTORY_ROWS; 2: none)
-    saved_wall: np.ndarray        #: (C, R, N, W) the walls' history before the step
-    anchor: np.ndarray            #: (C, N, 6) the predicted position and angle the springs were last advanced at
-    integrands: np.ndarray        #: (C, threads, 4) each thread's ledger integrands at the last accepted step
-    pair_rows: np.ndarray         #: (C, P, PAIR_ROW) scratch: this step's touching pairs for the implicit
-                                  #: friction pass, in the CPU's order (P = pair_row_capacity)
-    pair_ends: np.ndarray         #: (C, P, 3) int: the spheres (i, j) of each of those rows, and its level in the
-                                  #: walk (rows of one level share no sphere)
-
-
-def pair_row_capacity(n: int, k: int) -> int:
-    """Rows of :attr:`GearState.pair_rows` that every owned pair of ``n`` spheres with ``k`` list
-    entries each fits in: row ``i`` owns at most ``min(k, n - 1 - i)`` (its partners ``j > i``)."""
-    return max(1, sum(min(k, n - 1 - i) for i in range(n)))
-
-
-class GearClock(NamedTuple):
-    """Each case's Gear clock over the CPU stepper's spans (the settling, then the drive's segments)."""
-
-    interval: np.ndarray          #: (C,) 1 / sample rate [s]
-    tolerance: np.ndarray         #: (C,) local position error per step [m]
-    h_min: np.ndarray             #: (C,) [s]
-    h_max: np.ndarray             #: (C,) [s]
-    settle_samples: np.ndarray    #: (C,) int
-    n_samples: np.ndarray         #: (C,) int: samples of the drive
-    segment_samples: np.ndarray   #: (C,) int
-    spans: np.ndarray             #: (C,) int: spans of the run
-    span: np.ndarray              #: (C,) int: the span under way (spans: done)
-    t: np.ndarray                 #: (C,) time [s]
-    h: np.ndarray                 #: (C,) the next step to try [s]
-    hs: np.ndarray                #: (C,) the step the Nordsieck vector is scaled to [s]
-    rejected: np.ndarray          #: (C,) int: rejected steps
-    cycles: np.ndarray            #: (C, PROBES) int: the probed kernel's cycles in each phase of a step, and its
-                                  #: counts (:mod:`.probe`; zeros under the production kernel)
+def row_widths(n: int, threads: int) -> dict:
+    """The widths of a case's rows of ``st`` and ``cf`` for ``n`` spheres (padded) and ``threads``
+    a block."""
+    return {"st": ST_FIELDS * n, "cf": CF_FIXED + PARTIALS * threads * 3}
