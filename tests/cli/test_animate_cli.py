@@ -107,6 +107,11 @@ def test_plot_modes_of_a_store(tiny, tmp_path):
     data = json.loads(result.stdout)
     assert data["rows"][0]["label"] == "N_p = 8" and all(m in MODES for m in data["rows"][0]["modes"])
     assert (tmp_path / "m.png").is_file()
+    # the store resumed (nothing runs again) in text: the overrides of --set echoed under the header (issue 39)
+    result = invoke(["sweep", str(tiny), "--strokes", "2mm,13mm", "--cycles", "2", "--workers", "1", "--out", str(store),
+                     "--set", "particles.count=8"])
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[1] == "  --set                 particles.count=8"
 
 
 def test_plot_modes_errors(tmp_path):

@@ -63,9 +63,10 @@ def test_rerunning_the_stored_config_repeats_the_run_bit_for_bit(json_run, tmp_p
 
 
 def test_table_output_with_overrides(tiny):
-    result = invoke(["run", str(tiny), "--stroke", "3mm", "--cycles", "2", "--seed", "1"])
+    result = invoke(["run", str(tiny), "--stroke", "3mm", "--cycles", "2", "--seed", "1", "--set", "particles.count=8"])
     assert result.exit_code == 0, result.output
     text = result.stdout
+    assert text.splitlines()[1] == "  --set                 particles.count=8"  # the overrides echoed (issue 39)
     for words in ("eta*", "energy per cycle", "[mJ]", "ledger dissipation", "energy balance error",
                   "steps", "[us/step]", "wall time", "X = 3 mm", "2 cycles"):
         assert words in text, words

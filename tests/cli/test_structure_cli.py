@@ -26,6 +26,7 @@ def test_decay_json_table_and_plot(tmp_path):
     r = run(["decay", EXAMPLE, "--cycles", "2", *SMALL, "--plot", str(png)])
     assert r.exit_code == 0, r.output
     assert "zeta without damper" in r.output and png.stat().st_size > 10_000
+    assert r.output.splitlines()[1] == "  --set                 particles.count=4"  # the overrides echoed (issue 39)
 
 
 def test_response_table_and_plot(tmp_path):
@@ -34,6 +35,12 @@ def test_response_table_and_plot(tmp_path):
              "--force", "0.2N", "--plot", str(png)])
     assert r.exit_code == 0, r.output
     assert "peak with damper" in r.output and png.exists()
+    assert r.output.splitlines()[1] == "  --set                 particles.count=4"
+    # what codes ask for and the damper as a TMD, the largest over the frequencies (no storeys here)
+    for words in ("floor accelerations [m/s^2] (the largest over the frequencies)",
+                  "drift ratios: no drift ratios: give [structure] storey_heights", "the damper as an equivalent TMD",
+                  "from the resonant amplitudes"):
+        assert words in r.output, words
 
 
 def test_one_line_errors():
@@ -41,7 +48,11 @@ def test_one_line_errors():
                        (["response", EXAMPLE, "--force", "2kg"], "--force"),
                        (["decay", EXAMPLE, "--set", "structure.damping_ratio=2"], "damping_ratio"),
                        (["decay", EXAMPLE, "--plot", "x.gif"], "unknown format"),
-                       (["response", EXAMPLE, "--frequencies", "2Hz"], "--force")):
+                       (["response", EXAMPLE, "--frequencies", "2Hz"], "--force"),
+                       (["response", EXAMPLE, "--force", "0.2N", "--limit", "drift=1%", "--sweep", "up"],
+                        "--limit does not apply to --sweep"),
+                       (["response", EXAMPLE, "--force", "0.2N", "--limit", "drift=1"], "did you mean drift=1%?"),
+                       (["response", EXAMPLE, "--set", "structure.storey_height=-3m"], "storey_height")):
         r = run(args)
         assert r.exit_code == 2, (args, r.output)
         assert r.output.startswith("Error:") and word in r.output and len(r.output.strip().splitlines()) == 1

@@ -54,6 +54,7 @@ def test_set_reaches_every_setting_and_a_store_refuses_other_overrides(study_fil
     # the same overrides resume (nothing runs again); others, or none, are refused with the difference named
     r = CliRunner().invoke(main, args + ["--set", "contact.tangential=spring", "--set", "contact.restitution=0.8"])
     assert r.exit_code == 0, r.output
+    assert "  --set                 contact.tangential=spring, contact.restitution=0.8" in r.output.splitlines()
     assert sorted(p.stat().st_mtime_ns for p in out.rglob("cases/*.json")) == stamps
     r = CliRunner().invoke(main, args + ["--set", "contact.restitution=0.8"])
     assert r.exit_code == 2

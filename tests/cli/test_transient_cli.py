@@ -30,22 +30,54 @@ def config(tmp_path):
     return path
 
 
+#: a storey of 3 m on the locked bed's structure, and two limits
+CODES = ["--set", "structure.storey_height=3m", "--limit", "drift=0.02%", "--limit", "acceleration=0.1m/s^2"]
+
+
 def test_transient_json_table_and_plot(config, tmp_path):
-    r = run(["transient", str(config), "--json"])
+    r = run(["transient", str(config), "--json", *CODES])
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert all(len(s[k]) == 1 for k in KEYS) and s["dofs"] == [0]
     assert 0 < s["peak_reduction"][0] and s["peak_m"][0] == pytest.approx(s["damper_peak_m"])
+    # what codes ask for, per dof and storey, with and without the damper, and the verdicts
+    c = s["codes"]
+    for key in ("acceleration_peak_m_s2", "acceleration_peak_bare_m_s2", "acceleration_rms_m_s2",
+                "acceleration_rms_bare_m_s2", "acceleration_peak_reduction", "drift_ratio_peak", "drift_ratio_peak_bare",
+                "drift_ratio_rms", "drift_ratio_residual", "drift_ratio_residual_bare"):
+        assert len(c[key]) == 1, key
+    assert c["dofs"] == [0] and c["storeys"] == [0] and c["storey_heights_m"] == [3.0]
+    assert c["drift_ratio_peak"][0] == pytest.approx(s["peak_m"][0] / 3.0, rel=1e-12)
+    drift, acc = c["limits"]["drift"], c["limits"]["acceleration"]
+    assert drift["limit"] == pytest.approx(2e-4) and acc["limit"] == 0.1 and acc["labels"] == [0]
+    assert acc["verdict"] == ["pass" if c["acceleration_peak_m_s2"][0] <= 0.1 else "exceed"]
+    assert drift["met"] == (c["drift_ratio_peak"][0] <= 2e-4) and drift["verdict_bare"][0] in ("pass", "exceed")
+    (tm,) = s["tmd_equivalent"]
+    assert tm["mass_ratio"] == [pytest.approx(s["mass_ratio"])] and tm["equivalent_mass_kg"] == pytest.approx(
+        s["bed_mass_kg"], rel=1e-2)  # the locked bed: its mass
+    assert s["mode_table"]["frequency_hz"] == [pytest.approx(3.0, rel=1e-2)]
     png = tmp_path / "t.png"
-    r = run(["transient", str(config), "--plot", str(png)])
+    r = run(["transient", str(config), "--plot", str(png), *CODES])
     assert r.exit_code == 0, r.output
     assert "peak [mm]" in r.output and "ratio" in r.output and png.stat().st_size > 10_000
+    lines = r.output.splitlines()
+    assert lines[1] == "  --set                 structure.storey_height=3m"  # the overrides echoed (issue 39)
+    assert lines[2] == "  modes                 1: 3 Hz, zeta 2 %, phi_d 1 (2 kg at the damper)"
+    for words in ("floor accelerations [m/s^2] over the record", "inter-storey drift ratios [%]",
+                  "limit peak inter-storey drift ratio <= 0.02 %: with the damper",
+                  "limit peak absolute floor acceleration <= 0.1 m/s^2", "the damper as an equivalent TMD",
+                  "Den Hartog"):
+        assert words in r.output, words
 
 
 @pytest.mark.parametrize("args, words", [
     (["--dofs", "7"], "--dofs: 7 is not a dof of this structure (0 to 0)"),
     (["--dofs", "0:x"], "is not a range START:STOP"),
     (["--set", "load.scale=abc"], "[load] scale"),
+    (["--limit", "drfit=0.5%"], "--limit 'drfit=0.5%': unknown quantity 'drfit'"),
+    (["--limit", "acceleration=3mm"], "--limit acceleration"),
+    (["--set", "structure.storey_heights=[3, 3]"], "storey_heights has 2 heights for 1 dofs"),
+    (["--set", "structure.dof_names=['a', 'b']"], "dof_names has 2 names; the structure has 1 dof"),
 ])
 def test_a_bad_transient_says_one_line_and_writes_nothing(config, tmp_path, args, words):
     png = tmp_path / "t.png"
@@ -126,3 +158,37 @@ def test_response_sweep_runs_on_the_fe_mast_over_the_fields(tmp_path):
     assert s["sweep"] == "up" and s["frequencies_hz"] == [12.5, 12.75] and "fields_jump_frequencies_hz" in s
     assert s["dofs"] == [18, 38] and s["response_amplitude_m"][1] == pytest.approx(s["damper_amplitude_m"])
     assert all(a > 0 for a in s["response_amplitude_m"][0]) and png.stat().st_size > 10_000
+
+
+def test_floors_are_labelled_by_the_names_the_user_gave(tmp_path):
+    """issue 39, item 6: [structure] dof_names label the dofs (tables, JSON, --dofs by name or index),
+    the storeys' chain and its floors (storey_dofs by name), the drift table between named floors."""
+    import numpy as np
+
+    k = 2000.0
+    np.savez(tmp_path / "frame3.npz", M=np.diag([2.0, 2.0, 2.0]),
+             K=k * np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1]]))
+    structure = ('matrices = "frame3.npz"\ndamper_dof = 2\ndamping_ratio = 0.02\n'
+                 'dof_names = ["floor 1", "floor 2", "roof"]\nstorey_heights = ["3.5m", "3m", "3m"]\n'
+                 'storey_dofs = ["floor 1", 1, "roof"]')
+    path = tmp_path / "frame3.toml"
+    path.write_text(locked_case('kind = "ground_acceleration"\ntime = [0, 0.05, 0.1, 0.15]\n'
+                                'acceleration = [0, 1.0, -1.0, 0]\nduration = "0.3s"', structure=structure, text=True))
+    r = run(["transient", str(path), "--dofs", "roof,0", "--json", "--limit", "drift=0.1%"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    assert s["dofs"] == ["roof", "floor 1"] and s["codes"]["dofs"] == ["roof", "floor 1"]
+    c = s["codes"]
+    assert c["storeys"] == ["floor 1", "floor 2", "roof"] and c["storey_heights_m"] == [3.5, 3.0, 3.0]
+    assert c["storey_between"] == [["ground", "floor 1"], ["floor 1", "floor 2"], ["floor 2", "roof"]]
+    assert c["limits"]["drift"]["labels"] == c["storeys"] and len(c["limits"]["drift"]["verdict"]) == 3
+    # a ground acceleration: the absolute accelerations are not the relative ones
+    assert len(s["tmd_equivalent"][0]["modes"]) == 3 and "ground's acceleration" in c["acceleration_note"]
+    r = run(["transient", str(path), "--dofs", "roof"])
+    assert r.exit_code == 0, r.output
+    table = r.output.splitlines()
+    assert any(line.split()[:1] == ["roof"] and len(line.split()) == 7 for line in table), r.output
+    assert any("floor 1 - floor 2" in line for line in table) and "      roof" in r.output
+    r = run(["transient", str(path), "--dofs", "attic"])
+    assert r.exit_code == 2 and "--dofs: 'attic' is not a dof of this structure (floor 1, floor 2, roof (or 0 to 2))" \
+        in r.output

@@ -168,3 +168,26 @@ def test_a_harmonic_case_writes_its_config_the_verify_sweep_stores():
     assert HarmonicDrive(stroke=0.015, frequency=2.995).config_extra() == {}
     again = loads_case(dumps_case(case))
     assert again.drive == case.drive and again.particles == case.particles
+
+
+def test_a_structure_file_at_rest_under_0_N_is_designed_for_the_force_given(tmp_path):
+    """issue 39, item 6: a [structure] whose force_amplitude is 0 N and that has no start ("nothing
+    moves it" to pdamper run) is designed for --force as a file without the key is; the text names the
+    structure's modes (frequency, zeta, the shape at the damper)."""
+    keys = '[structure]\nmass = "25kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.003\n'
+    zero, none = tmp_path / "zero.toml", tmp_path / "none.toml"
+    zero.write_text(keys + 'force_amplitude = "0N"\n')
+    none.write_text(keys)
+    out = [CliRunner().invoke(main, ["design", "--structure", str(p), "--force", "0.4N", "--json"]) for p in (zero, none)]
+    assert all(r.exit_code == 0 for r in out), [r.output for r in out]
+    a, b = (json.loads(r.stdout) for r in out)
+    assert a["filling"] == b["filling"] and a["amplitude_damper_m"] == b["amplitude_damper_m"]
+    assert a["mode_table"] == {"frequency_hz": [pytest.approx(3.0)], "damping_ratio": [pytest.approx(0.003)],
+                               "phi_damper": [1.0], "mass_at_damper_kg": [pytest.approx(25.0)]}
+    text = CliRunner().invoke(main, ["design", "--structure", str(zero), "--force", "0.4N"]).output
+    assert "  modes                 1: 3 Hz, zeta 0.3 %, phi_d 1 (25 kg at the damper)" in text.splitlines()[1]
+    # a start that moves it is left as it is, and a bad value is still the reader's to refuse
+    bad = tmp_path / "bad.toml"
+    bad.write_text(keys + 'force_amplitude = "-1N"\n')
+    r = CliRunner().invoke(main, ["design", "--structure", str(bad), "--force", "0.4N"])
+    assert r.exit_code == 2 and "force_amplitude" in r.output

@@ -105,3 +105,32 @@ def test_studies_need_a_structure_and_good_frequencies():
     # issue 24: --cycles 2 --measure-cycles 1 said "no transient to discard" without saying how many are needed
     with pytest.raises(InputError, match=r"1 measured cycle need at least 3 cycles .*run --cycles 3 or more$"):
         run_response(_small(cycles=2), [2.0], force_amplitude=0.1, measure_cycles=1)
+
+
+def test_a_locked_bed_in_a_forced_response_is_an_added_mass():
+    """The numbers codes ask for and the TMD numbers of a forced response (run_response): on a locked
+    bed (tests/dem_fixtures.locked_case) the floor's acceleration and drift over the measured periods
+    are the structure's carrying the bed, forced from rest, exactly; the bed's fit is a mass m_bed
+    without a dashpot and the mode's detuning 1 / sqrt(1 + mu) - 1."""
+    from dem_fixtures import locked_case
+
+    from pdamper.config import loads_case
+    from pdamper.studies.structure import response_case
+    from pdamper.theory.tmd import added_mass_detuning
+
+    text = locked_case("", structure='mass = "2kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.02\n'
+                       'storey_height = "3m"\nforce_amplitude = "0.5N"\nforce_frequency = "2.9Hz"', text=True)
+    case = loads_case(text[:text.index("[load]")] + "[run]\ncycles = 6\n")
+    res = run_response(case, [2.9], force_amplitude=0.5, measure_cycles=2, progress=False)
+    s = res.summary
+    fs = case.recording.sample_rate
+    t = np.arange(1, int(6 / 2.9 * fs) + 1) / fs
+    x, _, a = response_case(case, 2.9, 0.5).running_drive.carrying(case.bed_mass).motion(t)
+    last = slice(-int(round(2 / 2.9 * fs)), None)  # the measured periods
+    assert s["codes"]["acceleration_peak_m_s2"][0] == pytest.approx(np.max(np.abs(a[last])), rel=1e-3)  # 2.8e-5
+    assert s["codes"]["drift_ratio_peak"][0] == pytest.approx(np.max(np.abs(x[last])) / 3.0, rel=1e-4)  # 8e-7
+    assert s["codes"]["acceleration_peak_m_s2_at_hz"] == [2.9]
+    tm = s["tmd_equivalent"][0]
+    assert s["damper_fits"]["mass_kg"][0] == pytest.approx(case.bed_mass, rel=1e-3)  # measured 5.1e-5
+    assert tm["detuning"][0] == pytest.approx(float(added_mass_detuning(case.bed_mass / 2.0)), rel=1e-3)
+    assert abs(tm["added_damping_ratio"][0]) < 1e-5 and tm["at_frequency_hz"] == 2.9

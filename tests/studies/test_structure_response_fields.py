@@ -97,3 +97,32 @@ def test_start_on_the_bare_orbit_is_steady_from_the_first_period():
     assert rest.summary["bare_run_steady"] == [False]  # from rest, 4 cycles at 0.5 % damping: a transient
     with pytest.raises(InputError, match="--start fields needs the damper's fields"):
         start_phasors(case, [2.0], 0.4, "fields")
+
+
+def test_a_response_from_the_fields_reports_what_codes_ask_for_and_its_tmd():
+    """Every dof's acceleration amplitude is (2 pi f)^2 times the largest stable branch's amplitude,
+    the bare one the steady phasor's; the TMD numbers at the peak are the peak solution's fields."""
+    from pdamper.analysis.codes import Limits
+
+    case = load_case(EXAMPLE, {"structure.storey_height": "2.5m"})
+    f = np.linspace(1.9, 2.1, 21)
+    res = run_response_fields(case, f, step_fields(), force_amplitude=0.2, limits=Limits(drift=0.004))
+    s, c = res.summary, res.summary["codes"]
+    top = np.array([max(v) if isinstance(v, list) else v for v in s["damper_amplitude_m"]])
+    w2 = (2 * np.pi * f) ** 2
+    assert c["by_frequency"]["acceleration_peak_m_s2"][0] == pytest.approx(w2 * top, rel=1e-9)
+    bare = np.abs(case.running_drive.dof_phasors(f, 0.2)[:, 0])
+    assert c["by_frequency_bare"]["acceleration_peak_m_s2"][0] == pytest.approx(w2 * bare, rel=1e-12)
+    assert c["drift_ratio_peak"] == [pytest.approx(np.max(top) / 2.5, rel=1e-9)]
+    assert c["acceleration_rms_m_s2"][0] == pytest.approx(c["acceleration_peak_m_s2"][0] / math.sqrt(2), rel=1e-12)
+    d = c["limits"]["drift"]
+    assert d["value"] == c["drift_ratio_peak"] and d["verdict"] == ["pass" if c["drift_ratio_peak"][0] <= 0.004
+                                                                   else "exceed"]
+    k = int(np.argmin(np.abs(f - s["peak_damped_frequency_hz"])))
+    peak = max((x for x in res.solution.solutions[k] if x.stable), key=lambda x: x.damper_amplitude_m)
+    tm = s["tmd_equivalent"][0]
+    assert tm["equivalent_mass_kg"] == peak.effective_mass_kg
+    assert tm["equivalent_damping_N_s_per_m"] == peak.equivalent_damping_N_s_per_m
+    m, kk, cc, pd = (np.asarray(a) for a in case.running_drive.modal_arrays()[:4])
+    assert tm["added_damping_ratio"][0] == pytest.approx(
+        pd[0]**2 * peak.equivalent_damping_N_s_per_m / (2 * np.sqrt(kk[0] * (m[0] + pd[0]**2 * peak.effective_mass_kg))))

@@ -24,15 +24,23 @@ from pdamper.structure.loads import RandomLoad
 
 from dem_fixtures import locked_case
 
+#: the locked bed's structure (dem_fixtures.locked_case) with a storey of 3 m
+LOCKED_STOREY = 'mass = "2kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.02\nstorey_height = "3m"'
+
 
 @pytest.mark.parametrize("load", [
     'kind = "force_history"\ntime = [0, 0.1, 0.2]\nforce = [0, 1.0, 0]\nduration = "1.5s"',
     'kind = "ground_acceleration"\ntime = [0, 0.1, 0.2]\nacceleration = [0, 1.0, 0]\nduration = "1.5s"',
 ], ids=["force", "ground"])
 def test_a_locked_bed_is_a_pure_added_mass(load):
+    """... and so are its floor acceleration, its drift ratio and its TMD numbers: the bed as an
+    equivalent TMD is a mass m_bed without a dashpot, the mode detuned by 1 / sqrt(1 + mu) - 1."""
     from pdamper.simulation import Simulation
+    from pdamper.structure.linear import dof_motion
+    from pdamper.studies.transient import code_numbers, tmd_equivalent
+    from pdamper.theory.tmd import added_mass_detuning
 
-    case = locked_case(load)
+    case = locked_case(load, structure=LOCKED_STOREY)
     res = Simulation(case).run()
     rec = res.structure
     s = case.running_drive
@@ -43,7 +51,25 @@ def test_a_locked_bed_is_a_pure_added_mass(load):
     assert err < 1e-4  # measured 9.9e-6 (force) and 7.3e-6 (ground)
     assert np.max(np.abs(rec.displacement - bare)) / scale > 100 * err  # the bed's mass is seen: ~0.1
     # every dof is the damper's here (one mode), from the recorded modal coordinates
-    assert np.allclose(rec.dof_displacements(s.dof_shapes()[1])[:, 0], rec.displacement, rtol=0, atol=1e-15)
+    x = rec.dof_displacements(s.dof_shapes()[1])
+    assert np.allclose(x[:, 0], rec.displacement, rtol=0, atol=1e-15)
+    # the floor's absolute acceleration and its drift ratio: the structure carrying the bed, exactly
+    codes = code_numbers(s, rec.time, x, [0], np.array([0]))
+    t = np.concatenate([[0.0], rec.time])
+    _, x_locked, _, a_locked = dof_motion(s.carrying(case.bed_mass), t)
+    a_locked = a_locked + (s.load.values(t)[:, None] if s.load.ground else 0.0)
+    peak = np.max(np.abs(a_locked))
+    err = abs(codes["acceleration_peak_m_s2"][0] - peak) / peak
+    assert err < 1e-3  # measured 4.1e-4 (force), 2.5e-5 (ground)
+    assert abs(codes["acceleration_peak_bare_m_s2"][0] - peak) / peak > 5 * err  # the bed's mass is seen: 1.4e-2, 2.3e-3
+    assert codes["drift_ratio_peak"][0] == pytest.approx(np.max(np.abs(x_locked)) / 3.0, rel=1e-4)  # measured 1.2e-6
+    # the bed as an equivalent TMD: a mass, no dashpot; the mode detuned as by a mass fixed at the damper
+    tm = tmd_equivalent(case, res)
+    mu = case.bed_mass / s.mass
+    assert tm["equivalent_mass_kg"] == pytest.approx(case.bed_mass, rel=1e-3)  # measured 1.1e-4, 7.4e-5
+    assert tm["mass_ratio"] == [pytest.approx(mu, rel=1e-12)] and tm["fit_r2"] > 0.999
+    assert tm["detuning"][0] == pytest.approx(float(added_mass_detuning(mu)), rel=1e-3)  # measured 1.1e-4
+    assert abs(tm["added_damping_ratio"][0]) < 1e-5  # measured 1e-8, 4e-8 (the structure's own: 0.02)
 
 
 def test_the_transient_reports_every_dof_against_the_exact_bare_structure():

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from .codes import settings_line
 from .common import device_option, echo_json, main, user_errors
 
 __all__ = ["calibrate_command"]
@@ -70,6 +71,8 @@ def calibrate_command(campaign, config, fits, seeds, cycles, points, settings, o
         echo_json({**cal.to_dict(), "out": str(out), "plot": plot})
         return
     click.echo(f"pdamper calibrate: {len(cal.strokes_m)} strokes, {len(cal.points)} DEM points x {seeds} seed(s)")
+    for line in settings_line(settings):
+        click.echo(line)
     for k in cal.best:
         click.echo(f"  {k} = {cal.best[k]:.4g} ± {cal.uncertainty[k]:.2g}"
                    + ("" if cal.convex else "  (no clear minimum inside the range: widen it or add strokes)"))

@@ -7,6 +7,7 @@ import functools
 
 import click
 
+from .codes import mode_lines
 from .common import Quantity, ShapeChoice, echo_json, main, parse_sizes, renamed, size_option, user_errors
 
 __all__ = ["design_command", "design_option"]
@@ -262,10 +263,15 @@ def _design_structure(structure_file, o: dict, verify, verify_cycles, verify_str
                                 verify=checked, dropped_load=case.drive.load)
         atomic_write(path, text)
         out["case_file"] = str(path)
+    from ..studies.structure_base import mode_table
+
+    out["mode_table"] = mode_table(case.running_drive)
     if as_json:
         echo_json(out)
         return
-    click.echo("\n".join(_design_structure_lines(sd, out, structure_file)))
+    lines = _design_structure_lines(sd, out, structure_file)
+    lines[1:1] = mode_lines(out["mode_table"])
+    click.echo("\n".join(lines))
 
 
 

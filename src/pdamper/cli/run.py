@@ -86,7 +86,7 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     if as_json:
         echo_json({**summary, "config": str(config), "run_dir": str(written) if written else None})
         return
-    click.echo(_table(config, case, summary, written))
+    click.echo(_table(config, case, summary, written, settings))
 
 
 def _fmt(v, digits=4) -> str:
@@ -105,7 +105,9 @@ def _describe(case) -> str:
     return f"{beds} in {case.container.describe()}; {drive}"
 
 
-def _table(config, case, s, written) -> str:
+def _table(config, case, s, written, settings=()) -> str:
+    from .codes import settings_line
+
     rows = [
         ("case", _describe(case), "", ""),
         ("eta*", _fmt(s["eta_star"]), "[-]", "reduced loss factor, eq. (5)"),
@@ -156,7 +158,7 @@ def _table(config, case, s, written) -> str:
         rows.insert(at + 1, ("", "", "", f"{describe_features(f)}; docs/motion.md"))
     if written is not None:
         rows.append(("run directory", str(written), "", ""))
-    lines = [f"pdamper run {config}"]
+    lines = [f"pdamper run {config}", *settings_line(settings)]
     for name, value, unit, note in rows:
         if name in ("case", "run directory", "motion mode"):
             lines.append(f"  {name:<21}{value}")

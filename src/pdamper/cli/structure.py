@@ -8,6 +8,7 @@ import sys
 
 import click
 
+from .codes import codes_lines, limit_option, settings_line, tmd_lines
 from .common import Quantity, echo_json, fraction_bar, main, user_errors
 from .run import parse_set
 
@@ -93,6 +94,7 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
     mm = lambda x: "n/a" if x is None or not math.isfinite(x) else f"{1e3 * x:.3g} mm"  # noqa: E731
     lines = [
         f"pdamper decay {config}",
+        *settings_line(settings),
         f"  structure             M = {s['mass_kg']:.4g} kg, f_n = {s['natural_frequency_hz']:.4g} Hz, "
         f"zeta = {pct(s['damping_ratio'])}, from {mm(s['initial_displacement_m'])}",
         *([f"  modes                 {s['modes_kept']}: " + ", ".join(f"{f:.4g}" for f in s["mode_frequencies_hz"])
@@ -149,9 +151,10 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
                    "--fields drawn over the fields' branches.")
 @click.option("--dofs", help="The dofs whose amplitudes to report: labels and ranges START:STOP[:STEP] (0-based, "
               "STOP excluded), e.g. 0,18,38 or 0:40:2 (default: every dof, in the JSON).")
+@limit_option
 @user_errors
 def response_command(config, cycles, seed, settings, plot, as_json, frequencies, mode, force, fields_path,
-                     extrapolate, start, measure_cycles, workers, scheduler, sweep, dofs):
+                     extrapolate, start, measure_cycles, workers, scheduler, sweep, dofs, limits):
     """Frequency response of the structure of CONFIG.toml with and without the damper.
 
     DEM (default): at each frequency the structure runs under F0 sin(2 pi f t) for the config's
@@ -169,6 +172,11 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     order, [run] cycles a step, the last --measure-cycles fitted), with the bare structure's own
     stepped sine (exact) and its steady closed form; with --fields drawn over the fields'
     branches, so a jump is seen to follow one branch.
+
+    Also what codes ask for (not with --sweep): every dof's absolute floor acceleration and,
+    with [structure] storey_heights, every storey's drift ratio, each dof's largest over the
+    frequencies with and without the damper, judged by --limit (JSON ``codes``); and the damper
+    as an equivalent TMD at the damped peak (JSON ``tmd_equivalent``).
 
     Every dof's amplitude is in the JSON (``dofs``, ``response_amplitude_m`` per dof); --dofs
     chooses and prints them.
@@ -211,27 +219,36 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     from ..studies.structure_base import bed_x_opt, parse_dofs
 
     wanted = parse_dofs(dofs)
+    from ..analysis.codes import parse_limits
+
+    wanted_limits = parse_limits(limits)
+    if sweep is not None and limits:
+        raise InputError("--limit does not apply to --sweep (the stepped sine reports amplitudes only); leave "
+                         "--sweep out to judge each frequency's run, or use pdamper transient with [load] kind = "
+                         "'stepped_sine'")
     if not as_json:
         for w in warnings:
             click.echo(f"warning: {w}", err=True)
     if sweep is not None:
         return _sweep(case, config, freqs, forces, sweep, fields, extrapolate, measure_cycles, start, workers,
-                      scheduler, wanted, plot, as_json, warnings)
+                      scheduler, wanted, plot, as_json, warnings, settings)
     results, beside, text = [], [], []
     x_opt = bed_x_opt(case)
     for f0 in forces:
         if fields is not None and start is None:
-            res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate, dofs=wanted)
+            res = run_response_fields(case, freqs, fields, force_amplitude=f0, extrapolate=extrapolate, dofs=wanted,
+                                      limits=wanted_limits)
             res.summary.update(warnings=warnings, x_opt_m=x_opt)
             results.append(res)
             beside.append(None)
             text += _fields_lines(dict(res.summary, config=str(config)), config, f0, fields_path, None)
             if wanted is not None:
                 text += _dof_lines(res.summary)
+            text += _codes_text(res.summary)
             continue
         res = run_response(case, freqs, force_amplitude=f0, measure_cycles=measure_cycles, workers=workers,
                            scheduler=scheduler, progress=None if not as_json else False, start=start or "rest",
-                           fields=fields, extrapolate=extrapolate, dofs=wanted)
+                           fields=fields, extrapolate=extrapolate, dofs=wanted, limits=wanted_limits)
         res.summary.update(warnings=warnings, x_opt_m=x_opt)
         prediction = curve = None
         if fields is not None:
@@ -247,6 +264,7 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
         text += _dem_lines(res.summary, config, f0, prediction is not None)
         if wanted is not None:
             text += _dof_lines(res.summary)
+        text += _codes_text(res.summary)
     if plot:
         response_figure(results if len(results) > 1 else results[0], plot,
                         fields=(beside if len(beside) > 1 else beside[0]) if any(b is not None for b in beside)
@@ -260,7 +278,13 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
         return
     if plot:
         text.append(f"  wrote {plot}")
+    text[1:1] = settings_line(settings)
     click.echo("\n".join(text))
+
+
+def _codes_text(s: dict) -> list[str]:
+    """A response's numbers codes ask for and its damper as an equivalent TMD (:mod:`.codes`)."""
+    return codes_lines(s["codes"], over="(the largest over the frequencies)") + tmd_lines(s["tmd_equivalent"])
 
 
 def _dem_lines(s: dict, config, f0: float, prediction: bool) -> list[str]:
@@ -316,7 +340,7 @@ def _dof_lines(s: dict) -> list[str]:
 
 
 def _sweep(case, config, freqs, forces, sweep, fields, extrapolate, measure_cycles, start, workers, scheduler,
-           wanted, plot, as_json, warnings):
+           wanted, plot, as_json, warnings, settings=()):
     """``pdamper response --sweep``: the stepped sines, their tables, the figure over the fields."""
     import numpy as np
 
@@ -369,6 +393,7 @@ def _sweep(case, config, freqs, forces, sweep, fields, extrapolate, measure_cycl
         text.append("  the fields' jumps at " + ", ".join(f"{f:.5g} Hz" for f in curve.summary["jump_frequencies_hz"]))
     if plot:
         text.append(f"  wrote {plot}")
+    text[1:1] = settings_line(settings)
     click.echo("\n".join(text))
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 
+from .codes import settings_line
 from .common import device_option, echo_json, main, until_steady_option, user_errors
 from .run import parse_set
 
@@ -92,6 +93,8 @@ def study_command(name, quick, strokes, seeds, cycles, settings, out, workers, s
         echo_json(summary)
         return
     click.echo(f"pdamper study {name}: {summary['title']}")
+    for line in settings_line(settings):
+        click.echo(line)
     click.echo(f"  {len(ds.stroke)} strokes x {len(ds.seed)} seeds per setting")
     for r in rows:
         click.echo(f"  {r['setting']:<32} peak eta* = {r['eta_star_peak']:.3f} at X = {r['stroke_at_peak_m'] * 1e3:.3g} mm"

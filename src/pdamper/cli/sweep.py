@@ -103,7 +103,7 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
 
         results_figure(ds, plot)
     if [a.key for a in spec.axes] != ["drive.stroke"]:
-        _grid_summary(ds, spec, out, plot, as_json)
+        _grid_summary(ds, spec, out, plot, as_json, settings)
         return
     eta = ds.eta_star
     mean = eta.mean("seed", skipna=True)
@@ -134,6 +134,7 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
         return
     click.echo(f"pdamper sweep {config}: {len(ds.stroke)} strokes x {len(ds.seed)} seeds, {summary['particles']} "
                f"spheres, h = {summary['clearance_m'] * 1e3:.3g} mm, X_opt (theory) = {summary['x_opt_theory_m'] * 1e3:.3g} mm")
+    _echo_settings(settings)
     click.echo(f"  {'X [mm]':>9}  {'eta* mean':>9}  {'min':>7}  {'max':>7}  {'E/cycle [mJ]':>12}  motion mode")
     for i, x in enumerate(ds.stroke.values):
         m = summary["eta_star_mean"][i]
@@ -148,7 +149,7 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
     click.echo(f"  results: {out / 'results.nc'} (xarray), {out / 'results.csv'}" + (f"; figure: {plot}" if plot else ""))
 
 
-def _grid_summary(ds, spec, out, plot, as_json):
+def _grid_summary(ds, spec, out, plot, as_json, settings=()):
     """The report of a sweep over any keys: one row per point, mean/min/max over the seeds."""
     from ..analysis.modes import majority_mode
 
@@ -169,6 +170,7 @@ def _grid_summary(ds, spec, out, plot, as_json):
     shape = " x ".join(f"{len(a.values)} {a.name}" for a in spec.axes)
     click.echo(f"pdamper sweep: {shape} x {len(ds.seed)} seeds, {int(ds.attrs['particles'])} spheres in a "
                f"{ds.attrs['shape']}")
+    _echo_settings(settings)
     shown = {"m": (1e3, "mm"), "rad": (180 / math.pi, "deg"), "m s-1": (1.0, "m/s"), "1": (1.0, "")}
     scale = {}
     for a in spec.axes:
@@ -185,3 +187,11 @@ def _grid_summary(ds, spec, out, plot, as_json):
     if summary["failed_cases"]:
         click.echo(f"  {summary['failed_cases']} case(s) failed numerically; see {out / 'cases'}")
     click.echo(f"  results: {out / 'results.nc'} (xarray), {out / 'results.csv'}" + (f"; figure: {plot}" if plot else ""))
+
+
+def _echo_settings(settings) -> None:
+    """The ``--set`` overrides as given, one line under the header (:func:`pdamper.cli.codes.settings_line`)."""
+    from .codes import settings_line
+
+    for line in settings_line(settings):
+        click.echo(line)

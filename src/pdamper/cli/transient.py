@@ -8,6 +8,7 @@ import sys
 
 import click
 
+from .codes import codes_lines, limit_option, mode_lines, settings_line, tmd_lines
 from .common import echo_json, fraction_bar, main, user_errors
 from .run import parse_set
 
@@ -23,8 +24,9 @@ __all__ = ["transient_command"]
               help="Override any config key, e.g. --set load.scale=2 (repeatable).")
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write the figure (png, svg or pdf).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
+@limit_option
 @user_errors
-def transient_command(config, dofs, seed, settings, plot, as_json):
+def transient_command(config, dofs, seed, settings, plot, as_json, limits):
     """The structure of CONFIG.toml under its [load] in time, with and without the damper.
 
     Runs the coupled DEM for the load's duration (a force history, a ground acceleration, a
@@ -33,16 +35,20 @@ def transient_command(config, dofs, seed, settings, plot, as_json):
     (modal superposition, piecewise-exact in the load); prints each dof's peak and RMS with and
     without the damper and their ratios (damped / bare). Under a ground acceleration the
     displacements are relative to the ground. For a random load also the response PSD and the
-    FRF estimate H1 (Welch) against the exact FRF (JSON ``random``). Nothing is written when a
-    run fails.
+    FRF estimate H1 (Welch) against the exact FRF (JSON ``random``). Also what codes ask for:
+    every dof's absolute floor acceleration and, with [structure] storey_heights, every storey's
+    drift ratio (peak, RMS, residual), each against --limit (JSON ``codes``), and the damper as
+    an equivalent TMD mode by mode (JSON ``tmd_equivalent``). Nothing is written when a run fails.
 
     Examples: pdamper transient examples/frame_quake.toml --plot quake.png;
     pdamper transient examples/mast_hammer.toml --dofs 0:40:2 --json
     """
+    from ..analysis.codes import parse_limits
     from ..config import load_case
     from ..plotting.figure import check_path
     from ..studies.transient import parse_dofs, run_transient
 
+    wanted_limits = parse_limits(limits)
     overrides = parse_set(settings)
     if seed is not None:
         overrides["initial.seed"] = seed
@@ -51,7 +57,7 @@ def transient_command(config, dofs, seed, settings, plot, as_json):
     check_path(plot)
     with fraction_bar("pdamper transient", round(case.duration, 3), "s",
                       not as_json and sys.stderr.isatty()) as progress:
-        res = run_transient(case, dofs=wanted, progress=progress)
+        res = run_transient(case, dofs=wanted, progress=progress, limits=wanted_limits)
     if plot:
         from ..plotting.transient import transient_figure
 
@@ -60,7 +66,11 @@ def transient_command(config, dofs, seed, settings, plot, as_json):
     if as_json:
         echo_json(s)
         return
-    click.echo("\n".join(transient_lines(s, config)))
+    lines = transient_lines(s, config)
+    lines[1:1] = settings_line(settings) + mode_lines(s["mode_table"])
+    at = next(k for k, line in enumerate(lines) if line.startswith("  energy balance error"))
+    lines[at:at] = codes_lines(s["codes"]) + tmd_lines(s["tmd_equivalent"])
+    click.echo("\n".join(lines))
 
 
 def transient_lines(s: dict, config) -> list[str]:

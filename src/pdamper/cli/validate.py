@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from .codes import settings_line
 from .common import echo_json, main, user_errors
 from .run import parse_set
 
@@ -64,6 +65,8 @@ def validate_command(quick, seeds, fig4_seeds, out, report, workers, scheduler, 
                    "total": len(checks), "report": str(report), "seconds": seconds})
         return
     w = max(len(c.name) for c in checks)
+    for line in settings_line(settings):
+        click.echo(line.strip())
     for c in checks:
         click.echo(f"{'PASS' if c.passed else 'FAIL'}  {c.name:<{w}}  expected {c.expected}; measured {c.measured}")
     click.echo(f"{sum(c.passed for c in checks)} of {len(checks)} checks pass ({seconds / 60:.1f} min); report: {report}")

@@ -31,7 +31,7 @@ def load_structure(path, overrides: dict | None = None):
     only ``[structure]`` is enough: ``[particles]`` defaults to the paper's 5 mm steel spheres
     (their count is the design's), ``[container]`` to the paper's cuboid, and a structure given
     without motion (no displacement, velocity or force) gets a nominal 1 mm start (the design
-    does not use it)."""
+    does not use it; a ``force_amplitude`` of 0 N moves nothing either)."""
     from ..config import load_case
 
     return load_case(path, overrides, prepare=_structure_defaults)
@@ -45,9 +45,26 @@ def _structure_defaults(data: dict) -> dict:
                          "natural_frequency = '3Hz', damping_ratio = 0.003 (or modes = [...], or matrices = "
                          "'frame.npz'; docs/structure.md)")
     data.setdefault("particles", {"count": 1})
-    if not any(k in t for k in ("displacement", "velocity", "force_amplitude")):
-        t["displacement"] = "1mm"
+    if "load" not in data and not any(_nonzero(t.get(k), k, dim) for k, dim in _MOVES):
+        t["displacement"] = "1mm"  # nothing moves it (a 0 N force counts as none): the design's nominal start
     return data
+
+
+#: The [structure] keys that move a structure, and their dimensions.
+_MOVES = (("displacement", "length"), ("velocity", "velocity"), ("force_amplitude", "force"))
+
+
+def _nonzero(value, key: str, dimension: str) -> bool:
+    """Does the [structure] ``key``'s ``value`` move the structure? (Not given or 0: no; a value the
+    reader will refuse: yes, so the reader says what is wrong with it.)"""
+    if value is None:
+        return False
+    from ..schema import read_quantity
+
+    try:
+        return read_quantity(value, f"[structure] {key}", dimension) != 0
+    except InputError:
+        return True
 
 
 def design_container(case, *, shape: str | None = None, sizes: dict | None = None):

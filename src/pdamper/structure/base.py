@@ -80,6 +80,11 @@ class StructureBase(DriveBase):
     force_frequency: float | None = param(None, dimension="frequency")
     direction: tuple | None = param(None, kind="list")
     load: object = param(None, kind="custom")
+    #: the dofs' names and the storeys (:mod:`.storeys`), written only when given
+    dof_names: tuple | None = param(None, kind="custom")
+    storey_heights: tuple | None = param(None, kind="list", dimension="length")
+    storey_height: float | None = param(None, dimension="length")
+    storey_dofs: tuple | None = param(None, kind="custom")
 
     config_section = "structure"
     coupled = True
@@ -94,8 +99,13 @@ class StructureBase(DriveBase):
 
     @classmethod
     def config_read_extra(cls, table: dict, base_dir) -> dict:
-        """The load of the case's ``[load]`` section (put in the table by :mod:`pdamper.config`)."""
-        return {"load": table["load"]} if "load" in table else {}
+        """The load of the case's ``[load]`` section (put in the table by :mod:`pdamper.config`), the
+        dofs' names and the storeys' dofs as given (checked by the model: :mod:`.storeys`)."""
+        return {k: table[k] for k in ("load", "dof_names", "storey_dofs") if k in table}
+
+    def config_extra(self) -> dict:
+        """``dof_names`` and ``storey_dofs`` where given."""
+        return {k: list(getattr(self, k)) for k in ("dof_names", "storey_dofs") if getattr(self, k) is not None}
 
     def config_sections(self) -> dict:
         """The sections written after ``[structure]``: ``[load]`` of a load in time
@@ -290,8 +300,32 @@ class StructureBase(DriveBase):
     def dof_shapes(self):
         """(labels, shapes): the dofs of the structure and the mode shapes there (dofs x modes),
         in the modes as the structure runs (with the empty container's mass). One mode: its one
-        dof (label 0), shape 1."""
-        return [0], np.ones((1, 1))
+        dof (label 0, or its ``dof_names``' name), shape 1."""
+        return self._named([0]), np.ones((1, 1))
+
+    def _named(self, labels: list) -> list:
+        """The dofs' labels: ``dof_names`` where given, else ``labels`` (the model's)."""
+        return list(self.dof_names) if self.dof_names is not None else labels
+
+    def _check_dofs(self) -> None:
+        """Last in ``__post_init__`` (the dofs known): ``dof_names`` one per dof, the storeys'
+        keys (:mod:`.storeys`)."""
+        from .storeys import check_dof_names
+
+        names = self.dof_names
+        object.__setattr__(self, "dof_names", None)  # the model's own dofs first, to count them
+        object.__setattr__(self, "dof_names", check_dof_names(names, len(self.dof_shapes()[0])))
+        if isinstance(self.storey_dofs, list):
+            object.__setattr__(self, "storey_dofs", tuple(self.storey_dofs))
+        self.storeys()  # checks the storeys' keys
+
+    def storeys(self):
+        """The storeys' chain (:class:`~pdamper.structure.storeys.Storeys`: the floors' dofs and the
+        storeys' heights, from ``storey_heights`` or ``storey_height`` and ``storey_dofs``), or None
+        where no height is given."""
+        from .storeys import storeys_of
+
+        return storeys_of(self.dof_shapes()[0], self.storey_heights, self.storey_height, self.storey_dofs)
 
     def ground_participation(self, influence=None, participation=None) -> np.ndarray:
         """L_k [kg] of each mode: the generalised force of a ground acceleration a_g is ``-L_k a_g``.

@@ -32,7 +32,7 @@ import numpy as np
 from ..errors import InputError
 from .loads.base import FORM_SINE
 
-__all__ = ["modal_response", "damper_motion", "dof_response", "frequency_response", "ground_velocity"]
+__all__ = ["modal_response", "damper_motion", "dof_response", "dof_motion", "frequency_response", "ground_velocity"]
 
 
 def _modes(structure):
@@ -144,6 +144,20 @@ def damper_motion(structure, times):
     qdd = (b * f - c * qd - k * q) / mass
     out = tuple(z @ pd_ for z in (q, qd, qdd))
     return out if np.ndim(t) else tuple(float(z[0]) for z in out)
+
+
+def dof_motion(structure, times):
+    """(labels, x, v, a): every dof's displacement [m], velocity [m/s] and acceleration [m/s^2],
+    arrays (times x dofs), without the bed under its load in time, exactly (relative to the ground
+    under a ground acceleration: the absolute acceleration adds the ground's, ``load.values(t)``)."""
+    mass, k, c, _, _, _ = (np.asarray(a, dtype=float) for a in structure.modal_arrays())
+    labels, shapes = structure.dof_shapes()
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    q, qd = modal_response(structure, t)
+    b = np.asarray(structure.load.modal_coefficients(structure), dtype=float)
+    qdd = (b * structure.load.values(t)[:, None] - c * qd - k * q) / mass
+    sh = np.asarray(shapes).T
+    return labels, q @ sh, qd @ sh, qdd @ sh
 
 
 def dof_response(structure, times, load=None):

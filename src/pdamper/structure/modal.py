@@ -167,6 +167,7 @@ class ModalStructure(StructureBase, _Modes):
                              "structure's step is explicit in the stiffness: stable for omega h < 2, and Gear's steps "
                              f"reach {_GEAR_STEP_BOUND * 1e6:g} us)" + (", e.g. modes_kept = 4" if self.matrices else ""))
         self._check_motion()
+        self._check_dofs()
 
     @classmethod
     def config_read_extra(cls, table: dict, base_dir) -> dict:
@@ -358,8 +359,8 @@ class ModalStructure(StructureBase, _Modes):
         structure runs (with the container's mass carried)."""
         m = self._modal
         if m["shapes"] is not None:
-            return list(range(m["shapes"].shape[0])), m["shapes"] @ m["basis"]
-        return ["damper", "force", "response"], np.vstack([m["damper"], m["force"], m["response"]])
+            return self._named(list(range(m["shapes"].shape[0]))), m["shapes"] @ m["basis"]
+        return self._named(["damper", "force", "response"]), np.vstack([m["damper"], m["force"], m["response"]])
 
     def ground_participation(self, influence=None, participation=None) -> np.ndarray:
         """L_k of each mode as the structure runs: matrices: ``phi_k^T M r`` with the influence
@@ -416,9 +417,10 @@ class ModalStructure(StructureBase, _Modes):
     def config_extra(self) -> dict:
         """The keys a config file needs beyond the plain fields: ``modes`` or ``matrices``."""
         if self.modes:
-            return {"modes": [dict(m) for m in self.modes]}
+            return {"modes": [dict(m) for m in self.modes], **super().config_extra()}
         m = self.matrices
-        return {"matrices": {k: str(v) for k, v in m.items()} if isinstance(m, dict) else str(m)}
+        return {"matrices": {k: str(v) for k, v in m.items()} if isinstance(m, dict) else str(m),
+                **super().config_extra()}
 
     def describe(self) -> str:
         fs = ", ".join(f"{f:.4g}" for f in self.mode_frequencies[:4]) + (", ..." if self.n_modes > 4 else "")

@@ -74,6 +74,7 @@ class CoupledStructure(StructureBase, _OneMode):
             raise InputError(f"structure.mass = {self.mass:g} kg with stiffness {self.stiffness:g} N/m is beyond what "
                              "a number holds (their product overflows); give the mode's mass, e.g. '7kg'")
         self._check_motion()
+        self._check_dofs()
 
     @classmethod
     def config_read_extra(cls, table: dict, base_dir) -> dict:

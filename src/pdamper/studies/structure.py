@@ -285,7 +285,8 @@ def response_point(case: Case, measure_cycles: int) -> dict:
     f = case.drive.force_frequency
     _, shapes = case.running_drive.dof_shapes()
     dofs = rec.dof_displacements(shapes)
-    return {"amplitude_m": harmonic_amplitude(rec.time, rec.displacement, f, cycles=measure_cycles),
+    return {**_point_codes(case, res, dofs, measure_cycles),
+            "amplitude_m": harmonic_amplitude(rec.time, rec.displacement, f, cycles=measure_cycles),
             "dof_amplitudes_m": [harmonic_amplitude(rec.time, dofs[:, i], f, cycles=measure_cycles)
                                  for i in range(dofs.shape[1])],
             "response_point_amplitude_m": harmonic_amplitude(rec.time, rec.response_displacement, f,
@@ -294,6 +295,23 @@ def response_point(case: Case, measure_cycles: int) -> dict:
             "peak_m": float(np.max(np.abs(rec.displacement[-int(measure_cycles / f * case.recording.sample_rate):]))),
             "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps,
             "wall_time_s": res.wall_time_s, **steadiness(rec.time, rec.displacement, f, measure_cycles)}
+
+
+def _point_codes(case: Case, res, dofs, measure_cycles: int) -> dict:
+    """Over the measured periods of a forced run ``res`` (every dof's displacement ``dofs``): the
+    numbers codes ask for (``codes``: :func:`pdamper.analysis.codes.time_numbers`, no residual) and
+    the damper's equivalent mass and dashpot (``damper_fit``: :func:`pdamper.analysis.tmd.equivalent_damper`)."""
+    from ..analysis.codes import time_numbers
+    from ..analysis.tmd import bed_force, equivalent_damper
+
+    rec = res.structure
+    n = int(round(measure_cycles / case.drive.force_frequency * case.recording.sample_rate))
+    n = max(3, min(n, rec.time.size))
+    codes = time_numbers(rec.time[-n:], dofs[-n:], storeys=case.running_drive.storeys())
+    for key in ("drift_ratio_residual", "residual_window_s"):  # a steady oscillation has none
+        codes.pop(key, None)
+    fw, a, v = bed_force(res.signals, rec, container_mass=case.container.mass)
+    return {"codes": codes, "damper_fit": equivalent_damper(fw[-n:], a[-n:], v[-n:])}
 
 
 def steadiness(time, x, frequency: float, measure_cycles: int = 2) -> dict:
@@ -357,14 +375,18 @@ def _forced(case: Case, frequencies, force_amplitude: float):
 @quantities(frequencies="frequency", force_amplitude="force")
 def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cycles: int = 8,
                  workers: int | None = 1, scheduler: str | None = None, progress: bool | None = None,
-                 start: str = "rest", fields=None, extrapolate: bool = False, dofs=None) -> ResponseResult:
+                 start: str = "rest", fields=None, extrapolate: bool = False, dofs=None,
+                 limits=None) -> ResponseResult:
     """Frequency response of the structure of ``case`` under ``force_amplitude`` [N] at each of
     ``frequencies`` [Hz]; each point runs ``case.cycles`` forcing cycles and measures the last
     ``measure_cycles``, started from rest or on an orbit (``start``, :func:`start_phasors`; the
     fields for ``"fields"``); each point says whether it is steady (:func:`steadiness`).
     ``workers`` > 1 or a ``scheduler`` run the points with the sweep executor (Dask);
     ``workers = 1`` runs them one after another. Every dof's amplitude (or ``dofs``': labels,
-    :func:`pdamper.studies.transient.parse_dofs`) is measured too (``response_amplitude_m``)."""
+    :func:`pdamper.studies.transient.parse_dofs`) is measured too (``response_amplitude_m``), and
+    the numbers codes ask for over the measured periods (``codes``, :func:`response_codes`, against
+    ``limits``) with the damper as an equivalent TMD at the damped peak (``tmd_equivalent``,
+    :func:`response_tmd`; the fit at every frequency ``damper_fits``)."""
     from ..simulation import run_bare_structure
 
     s, freqs = _forced(case, frequencies, force_amplitude)
@@ -433,8 +455,84 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
     summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
+    summary["codes"] = response_codes(s, freqs, [p.get("codes") for p in points], force_amplitude, labels, idx,
+                                      limits=limits)
+    fits = [p.get("damper_fit") for p in points]
+    summary["damper_fits"] = {key: [float(f[key]) if f else math.nan for f in fits]
+                              for key in ("mass_kg", "damping_N_s_per_m", "r2")}
+    summary["tmd_equivalent"] = [response_tmd(s, case.bed_mass, summary, fits[k])]
     return ResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, damped=damped,
                           bare_run=np.asarray(bare_run), bare=bare, solid=solid, points=points, summary=summary)
+
+
+_NO_FIT = {"mass_kg": math.nan, "damping_N_s_per_m": math.nan, "offset_N": math.nan, "r2": math.nan, "samples": 0}
+
+
+def codes_over_frequencies(s, frequencies, per: dict, force_amplitude: float, labels, idx, *, limits=None,
+                           method: str = "") -> dict:
+    """The JSON ``codes`` of a forced response (:func:`pdamper.analysis.codes.code_summary`): ``per``
+    the numbers with the damper per dof (every dof of ``s``) or storey and frequency (key -> a list
+    over the frequencies of lists over the dofs or storeys, None for a failed point), without it the
+    structure's steady harmonic response (:func:`pdamper.analysis.codes.harmonic_numbers`); each dof's (``idx``, ``labels``) and storey's
+    largest over the ``frequencies`` [Hz] and where (``_at_hz``), the lists per frequency in
+    ``by_frequency`` (``by_frequency_bare``)."""
+    from ..analysis.codes import code_summary, harmonic_numbers, worst
+
+    storeys = s.storeys()
+    freqs = np.asarray(frequencies, dtype=float)
+    width = {"acceleration": len(s.dof_shapes()[0]), "drift": len(storeys.labels) if storeys else 0}
+
+    def rows(key, table):  # [frequency][dof] -> [dof][frequency], the dofs asked for
+        w = width[key.split("_")[0]]
+        arr = np.array([r if r is not None else [math.nan] * w for r in table], dtype=float).reshape(freqs.size, w).T
+        return (arr[idx] if key.startswith("acceleration") else arr).tolist()
+
+    damped = {key: rows(key, per[key]) for key in per}
+    bare_all = harmonic_numbers(freqs, s.dof_phasors(freqs, force_amplitude), storeys=storeys)
+    bare = {key: (np.asarray(v)[idx].tolist() if key.startswith("acceleration") else v) for key, v in bare_all.items()}
+    out = code_summary(worst(damped, freqs), worst(bare, freqs), dofs=labels, storeys=storeys, limits=limits,
+                       method=method)
+    out.update(frequencies_hz=freqs.tolist(), by_frequency=damped, by_frequency_bare=bare)
+    return out
+
+
+def response_codes(s, frequencies, point_codes: list, force_amplitude: float, labels, idx, *, limits=None) -> dict:
+    """:func:`codes_over_frequencies` of a DEM response: ``point_codes`` each point's ``codes`` (over its
+    measured periods, :func:`response_point`; None: the point failed)."""
+    keys = ["acceleration_peak_m_s2", "acceleration_rms_m_s2"]
+    if s.storeys() is not None:
+        keys += ["drift_ratio_peak", "drift_ratio_rms"]
+    per = {key: [pc[key] if pc else None for pc in point_codes] for key in keys}
+    return codes_over_frequencies(s, frequencies, per, force_amplitude, labels, idx, limits=limits,
+                                  method="DEM: peak and RMS over the measured periods, the second difference of "
+                                         "the sampled displacements; without the damper: the steady harmonic response")
+
+
+def response_tmd(s, bed_mass: float, summary: dict, fit: dict | None, *, over: str = "") -> dict:
+    """The damper as an equivalent TMD (:func:`pdamper.analysis.tmd.tmd_numbers`) at the damped peak of
+    a forced response (``summary``): ``fit`` its mass and dashpot there; and, from the ratio of the
+    resonant amplitudes R (damped peak over the bare resonance), the added damping ratio of the mode
+    nearest the peak, zeta (1 / R - 1) (a mode's resonant amplitude is F / (2 zeta k)), and its
+    detuning, the damped peak's frequency over the bare resonance's, minus 1 (to the grid's step);
+    ``steady`` False where the damped peak is a transient (then R, and these, are not the steady ones)."""
+    from ..analysis.tmd import tmd_numbers
+
+    fit = fit or _NO_FIT
+    out = tmd_numbers(s.modal_arrays(), bed_mass=bed_mass, damper=fit)
+    f_peak, f_res, ratio = (summary.get(k, math.nan) for k in ("peak_damped_frequency_hz",
+                                                               "resonance_bare_frequency_hz", "peak_reduction"))
+    fs = np.atleast_1d(s.mode_frequencies)
+    j = int(np.argmin(np.abs(fs - f_res))) if math.isfinite(f_res) else 0
+    z = float(np.atleast_1d(s.mode_damping_ratios)[j])
+    grid = np.diff(np.sort(np.asarray(summary.get("frequencies_hz", []), dtype=float)))
+    out.update(at_frequency_hz=float(f_peak), fit=fit,
+               fit_over=over or "the measured periods at the damped peak's frequency",
+               from_peak_ratio={"mode": j + 1, "peak_ratio": float(ratio),
+                                "steady": bool(summary.get("peak_steady", True)),
+                                "added_damping_ratio": z * (1.0 / ratio - 1.0) if ratio > 0 else math.nan,
+                                "detuning": f_peak / f_res - 1.0 if f_res > 0 else math.nan,
+                                "grid_step_hz": float(np.min(grid)) if grid.size else math.nan})
+    return out
 
 
 # --------------------------------------------------------------------------- from the fields
@@ -466,12 +564,14 @@ def _one_or_list(values: list):
 
 @quantities(frequencies="frequency", force_amplitude="force")
 def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: float, extrapolate: bool = False,
-                        points: int = 48, dofs=None) -> FieldsResponseResult:
+                        points: int = 48, dofs=None, limits=None) -> FieldsResponseResult:
     """Frequency response of the structure of ``case`` with the damper as its ``fields`` (a
     :class:`~pdamper.analysis.fields.DamperFields`) at the damper node: every solution per
     frequency, stable or not, the jump frequencies, and the curves without the bed and with it
-    as a solid mass; every dof's amplitude (or ``dofs``') on each stable solution. Refuses
-    (InputError) where the fields do not hold the solution, unless ``extrapolate``."""
+    as a solid mass; every dof's amplitude (or ``dofs``') on each stable solution, the numbers codes
+    ask for (``codes``: the largest stable solution's at each frequency, against ``limits``) and the
+    fields at the peak as an equivalent TMD (``tmd_equivalent``). Refuses (InputError) where the
+    fields do not hold the solution, unless ``extrapolate``."""
     from ..analysis.harmonic import solve_response
 
     s, freqs = _forced(case, frequencies, force_amplitude)
@@ -515,8 +615,39 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
     summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
+    summary["codes"], summary["tmd_equivalent"] = _fields_codes(s, sol, freqs, force_amplitude, labels, idx,
+                                                                case.bed_mass, summary, limits)
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
                                 bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
+
+
+def _fields_codes(s, sol, freqs, force_amplitude, labels, idx, bed_mass, summary, limits):
+    """(codes, [TMD]) of a response from the fields: at each frequency the largest of the stable
+    solutions' numbers (:func:`pdamper.analysis.codes.harmonic_numbers` of every dof's phasors), and
+    the fields of the peak's solution (its effective mass and equivalent damping) as the damper's fit."""
+    from ..analysis.codes import harmonic_numbers
+
+    storeys = s.storeys()
+    every = np.arange(len(s.dof_shapes()[0]))
+    per: dict = {}
+    for f, zs in zip(freqs, _dof_phasors(s, sol, force_amplitude, every)):
+        nums = [harmonic_numbers([f], z[None, :], storeys=storeys) for z in zs]
+        for key in ("acceleration_peak_m_s2", "acceleration_rms_m_s2", "drift_ratio_peak", "drift_ratio_rms"):
+            if storeys is None and key.startswith("drift"):
+                continue
+            per.setdefault(key, []).append(np.max([np.asarray(n[key])[:, 0] for n in nums], axis=0).tolist()
+                                           if nums else None)
+    codes = codes_over_frequencies(s, freqs, per, force_amplitude, labels, idx, limits=limits,
+                                   method="the fields' stable solutions (the largest at each frequency), harmonic")
+    fit = None
+    f_peak = summary["peak_damped_frequency_hz"]
+    if math.isfinite(f_peak):
+        k = int(np.argmin(np.abs(freqs - f_peak)))
+        best = max((x for x in sol.solutions[k] if x.stable), key=lambda x: x.damper_amplitude_m, default=None)
+        if best is not None:
+            fit = {"mass_kg": float(best.effective_mass_kg), "damping_N_s_per_m": float(best.equivalent_damping_N_s_per_m),
+                   "offset_N": 0.0, "r2": math.nan, "samples": 0}
+    return codes, [response_tmd(s, bed_mass, summary, fit, over="the fields at the damped peak (harmonic balance)")]
 
 
 def _dof_phasors(s, sol, force_amplitude: float, idx) -> list:

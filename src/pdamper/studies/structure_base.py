@@ -14,7 +14,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["STEADY_TOLERANCE", "parse_dofs", "select_dofs", "structure_numbers", "bare_resonance", "bed_x_opt"]
+__all__ = ["STEADY_TOLERANCE", "parse_dofs", "select_dofs", "structure_numbers", "mode_table", "bare_resonance",
+           "bed_x_opt"]
 
 #: A point is steady when its amplitude over the last forcing period differs from the one over
 #: the period before, and the two halves of the measured periods from each other, by at most
@@ -55,18 +56,15 @@ def parse_dofs(text) -> list:
 
 
 def select_dofs(structure, wanted) -> tuple[list, np.ndarray]:
-    """(labels, indices) of the dofs ``wanted`` (labels, :func:`parse_dofs`; None: every dof) of
-    ``structure`` (:meth:`~pdamper.structure.StructureBase.dof_shapes`)."""
+    """(labels, indices) of the dofs ``wanted`` (labels or 0-based indices, :func:`parse_dofs`;
+    None: every dof) of ``structure`` (:meth:`~pdamper.structure.StructureBase.dof_shapes`; its
+    ``dof_names`` where given)."""
+    from ..structure.storeys import dof_index
+
     labels, _ = structure.dof_shapes()
     if wanted is None:
         return list(labels), np.arange(len(labels))
-    idx = []
-    for w in wanted:
-        if w not in labels:
-            shown = (f"0 to {len(labels) - 1}" if all(isinstance(x, int) for x in labels)
-                     else ", ".join(map(str, labels)))
-            raise InputError(f"--dofs: {w!r} is not a dof of this structure ({shown})")
-        idx.append(labels.index(w))
+    idx = [dof_index(labels, w, what="--dofs") for w in wanted]
     return [labels[i] for i in idx], np.array(idx, dtype=int)
 
 
@@ -77,6 +75,18 @@ def structure_numbers(s) -> dict:
     if "dofs" in out:
         out["dof_count"] = out.pop("dofs")
     return out
+
+
+def mode_table(s) -> dict:
+    """The structure's modes as it runs (``s``: with the empty container's mass), lists over the modes:
+    ``frequency_hz``, ``damping_ratio``, ``phi_damper`` (the shape at the damper, in the mode's own
+    normalisation: 1 kg modal mass for FE modes) and ``mass_at_damper_kg`` (m_k / phi_k^2, physical)."""
+    m, _, _, pd, _, _ = (np.asarray(a, dtype=float) for a in s.modal_arrays())
+    with np.errstate(divide="ignore"):
+        at = np.where(pd != 0, m / np.where(pd != 0, pd, 1.0) ** 2, math.inf)
+    return {"frequency_hz": np.atleast_1d(s.mode_frequencies).tolist(),
+            "damping_ratio": np.atleast_1d(s.mode_damping_ratios).tolist(), "phi_damper": pd.tolist(),
+            "mass_at_damper_kg": at.tolist()}
 
 
 def bare_resonance(s, force_amplitude: float, near: float) -> dict:

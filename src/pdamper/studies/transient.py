@@ -26,10 +26,11 @@ from ..errors import InputError
 from ..params import Case
 from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
-from .structure_base import STEADY_TOLERANCE, bare_resonance, parse_dofs, select_dofs, structure_numbers
+from .structure_base import STEADY_TOLERANCE, bare_resonance, mode_table, parse_dofs, select_dofs, structure_numbers
 
 __all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs",
-           "select_dofs", "fit_sine", "sweeps_apart", "SWEEPS", "APART", "structure_numbers"]
+           "select_dofs", "fit_sine", "sweeps_apart", "SWEEPS", "APART", "structure_numbers", "code_numbers",
+           "tmd_equivalent"]
 
 #: The directions of a stepped sine.
 SWEEPS = ("up", "down")
@@ -58,13 +59,13 @@ def in_time(case: Case) -> Case:
 
 
 def _dem(case: Case, s, dofs, progress):
-    """(labels, indices, the run, displacements [samples, dofs]) of the dofs ``dofs`` of the
+    """(labels, indices, the run, displacements [samples, every dof]) of the dofs ``dofs`` of the
     structure ``s`` (the case's as it runs) in the coupled DEM of ``case``."""
     from ..simulation import Simulation
 
     labels, idx = select_dofs(s, dofs)
     res = Simulation(case).run(progress=progress)
-    return labels, idx, res, res.structure.dof_displacements(s.dof_shapes()[1][idx])
+    return labels, idx, res, res.structure.dof_displacements(s.dof_shapes()[1])
 
 
 def _peak_rms(x: np.ndarray):
@@ -99,15 +100,19 @@ class TransientResult:
     summary: dict = field(default_factory=dict)
 
 
-def run_transient(case: Case, *, dofs=None, progress=None) -> TransientResult:
+def run_transient(case: Case, *, dofs=None, progress=None, limits=None) -> TransientResult:
     """The coupled DEM of ``case`` under its load in time and the bare structure's exact response:
     every dof's (or ``dofs``': labels) peak and RMS over the run with and without the damper, and
     their ratios (damped / bare: < 1 is a reduction); a random load's PSDs and H1 (module
     docstring). A structure forced harmonically without a ``[load]`` runs under that force from
-    rest (:func:`in_time`). ``progress(fraction)`` is passed to the DEM run."""
+    rest (:func:`in_time`). ``progress(fraction)`` is passed to the DEM run. The numbers codes ask
+    for (summary ``codes``: :func:`code_numbers`, against ``limits``, a
+    :class:`~pdamper.analysis.codes.Limits`) and the damper as an equivalent TMD (``tmd_equivalent``:
+    :func:`tmd_equivalent`) with them."""
     case = in_time(case)
     s = case.running_drive
-    labels, idx, res, damped = _dem(case, s, dofs, progress)
+    labels, idx, res, damped_all = _dem(case, s, dofs, progress)
+    damped = damped_all[:, idx]
     rec = res.structure
     t = rec.time
     _, bare_all = dof_response(s, t)
@@ -143,8 +148,54 @@ def run_transient(case: Case, *, dofs=None, progress=None) -> TransientResult:
     random = _random_spectra(s, t, f, damped, bare, idx) if s.load.stationary else None
     if random is not None:
         summary["random"] = random
+    summary["mode_table"] = mode_table(s)
+    summary["codes"] = code_numbers(s, t, damped_all, labels, idx, limits=limits)
+    summary["tmd_equivalent"] = [tmd_equivalent(case, res)]
     return TransientResult(case=case, time=t, load=f, dofs=list(labels), damped=damped, bare=bare,
                            damper=rec.displacement, damper_bare=damper_bare, random=random, summary=summary)
+
+
+def code_numbers(s, time, damped, labels, idx, *, limits=None) -> dict:
+    """The numbers codes ask for (:mod:`pdamper.analysis.codes`) of the structure ``s`` (as it runs)
+    under its load in time, with the damper (``damped``: every dof's displacement [m] at the record's
+    ``time`` [s], relative to the ground) and without (exact): the absolute floor accelerations of the
+    dofs ``idx`` (``labels``), every storey's drift ratio (peak, RMS, and residual: the mean over the
+    last two periods of the first mode), against ``limits``. The record starts from the structure's
+    state at t = 0."""
+    from ..analysis.codes import code_summary, time_numbers
+
+    _, shapes = s.dof_shapes()
+    t = np.concatenate([[0.0], np.asarray(time, dtype=float)])
+    x0 = np.asarray(shapes) @ np.asarray(s.initial_modal_state()[0], dtype=float)
+    x = np.vstack([x0[None, :], np.asarray(damped, dtype=float)])
+    _, xb = dof_response(s, t)
+    ground = s.load.values(t) if s.load.ground else None
+    storeys = s.storeys()
+    window = 2.0 / float(s.natural_frequency)
+    d, b = (time_numbers(t, y, storeys=storeys, ground=ground, residual_window=window) for y in (x, xb))
+    for out in (d, b):
+        for key in ("acceleration_peak_m_s2", "acceleration_rms_m_s2"):
+            out[key] = [out[key][i] for i in idx]
+    dt = float(t[1] - t[0])
+    return code_summary(d, b, dofs=labels, storeys=storeys, limits=limits, ground=bool(s.load.ground),
+                        method=f"the second difference of the displacements sampled every {dt * 1e3:.3g} ms")
+
+
+def tmd_equivalent(case: Case, res) -> dict:
+    """The damper of ``case`` as an equivalent TMD (:mod:`pdamper.analysis.tmd`) from its coupled run
+    ``res``: the mass and dashpot fitted to the bed's force over the whole record and what they mean
+    for each mode of the structure (as it runs)."""
+    from ..analysis.tmd import bed_force, equivalent_damper, tmd_numbers
+    from ..structure.linear import ground_velocity
+
+    s = case.running_drive
+    rec = res.structure
+    edges = np.concatenate([[0.0], rec.time])
+    vg = ground_velocity(s.load, edges) if s.load is not None and s.load.ground else None
+    fw, a, v = bed_force(res.signals, rec, container_mass=case.container.mass, ground=vg)
+    eq = equivalent_damper(fw, a, v)
+    return {**tmd_numbers(s.modal_arrays(), bed_mass=case.bed_mass, damper=eq), "fit": eq,
+            "fit_over": "the whole record"}
 
 
 def _random_spectra(s, t, f, damped, bare, idx) -> dict:
@@ -245,6 +296,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     run = dataclasses.replace(case, drive=drive)
     s = run.running_drive
     labels, idx, res, X = _dem(run, s, dofs, progress)
+    X = X[:, idx]
     rec = res.structure
     t = rec.time
     starts = load.step_times()

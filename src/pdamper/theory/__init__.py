@@ -23,6 +23,10 @@ The damper's fields from the laws (:mod:`.fields`)
 The energy balance at a structure's resonance (:mod:`.balance`, beyond the paper)
     :class:`Mode`, :func:`required_force`, :class:`OperatingPoint`, :func:`operating_points` --
     the force that holds the damper at a stroke, every stroke a force holds (the design's search).
+The tuned mass damper (:mod:`.tmd`, Den Hartog 1956, Warburton 1982; beyond the paper)
+    :func:`den_hartog_tuning`, :func:`den_hartog_damping`, :func:`den_hartog_peak`,
+    :func:`den_hartog_equivalent_damping`, :func:`warburton_tuning`, :func:`warburton_damping`,
+    :func:`added_mass_detuning` -- what a particle damper is compared with.
 Bouncing collect-and-collide (:mod:`.bouncing`, beyond the paper)
     :func:`impact_phase_bouncing`, :func:`eta_bouncing`, :func:`energy_per_cycle_bouncing`,
     :func:`optimal_stroke_bouncing`, :data:`ETA_MAX_BOUNCING`.
@@ -77,6 +81,9 @@ _WHERE = {
     "wall_modulus_for_contact_time": "coating",
     "natural_frequency": "oscillator", "free_decay": "oscillator", "steady_amplitude": "oscillator",
     "oscillator_response": "oscillator",
+    "den_hartog_tuning": "tmd", "den_hartog_damping": "tmd", "den_hartog_peak": "tmd",
+    "den_hartog_equivalent_damping": "tmd", "warburton_tuning": "tmd", "warburton_damping": "tmd",
+    "added_mass_detuning": "tmd",
 }
 _SUBMODULES = frozenset(_WHERE.values())
 
@@ -133,6 +140,15 @@ if TYPE_CHECKING:  # for type checkers; at run time the names load on first use
     from .balance import Mode, OperatingPoint, operating_points, required_force
     from .oscillator import free_decay, natural_frequency, oscillator_response, steady_amplitude
     from .scattered import energy_per_cycle_scattered, eta_scattered
+    from .tmd import (
+        added_mass_detuning,
+        den_hartog_damping,
+        den_hartog_equivalent_damping,
+        den_hartog_peak,
+        den_hartog_tuning,
+        warburton_damping,
+        warburton_tuning,
+    )
 
 __all__ = [
     "SHAPES",
@@ -177,4 +193,11 @@ __all__ = [
     "free_decay",
     "steady_amplitude",
     "oscillator_response",
+    "den_hartog_tuning",
+    "den_hartog_damping",
+    "den_hartog_peak",
+    "den_hartog_equivalent_damping",
+    "warburton_tuning",
+    "warburton_damping",
+    "added_mass_detuning",
 ]
