@@ -13,7 +13,7 @@ import numpy as np
 from .errors import InputError
 from .geometry.walls import PLANE, wall_distances
 
-__all__ = ["initial_positions"]
+__all__ = ["initial_positions", "floor_capacity"]
 
 from .geometry.shape import GAP as _GAP  # clearance between neighbours and to the floor at the start [m]
 #: Largest initial overlap accepted, as a fraction of the radius.
@@ -40,6 +40,19 @@ def initial_positions(case, rng: np.random.Generator) -> np.ndarray:
     return pos
 
 
+def floor_capacity(container, radius: float) -> int:
+    """Spheres of ``radius`` [m] that the initial block places on the floor of ``container`` (a
+    :class:`~pdamper.params.Container`, its baffles counted) in one layer: the lattice sites
+    without jitter (:func:`_layer_sites`). The one rule of what fits: a run refuses more spheres in
+    one layer than this, and the design (:mod:`pdamper.design`) offers no filling above it.
+
+    >>> from pdamper.params import Container
+    >>> floor_capacity(Container(), 0.005)  # the paper's cuboid, 12 x 4
+    48
+    """
+    return int(len(_layer_sites(container, radius, 0.0)[0]))
+
+
 def _capacity_error(case, n_fit, rad):
     g = case.container.geometry
     if case.initial.arrangement == "scatter":
@@ -51,7 +64,7 @@ def _capacity_error(case, n_fit, rad):
         f"in one layer (at most {n_fit}); use fewer particles, a larger container, {more}")
 
 
-def _layer_sites(case, r, jitter, n_needed=None):
+def _layer_sites(container, r, jitter, n_needed=None):
     """One layer of lattice sites (x, z), ordered from -x, with the jitter they allow (the shape's
     :meth:`~pdamper.geometry.shape.Shape.layer_sites`).
 
@@ -59,7 +72,7 @@ def _layer_sites(case, r, jitter, n_needed=None):
     columns (sites of equal x) are laid from the -x wall on, and a column that would cut a baffle
     moves, with all after it, to just past the baffle; the sites that then no longer fit in the
     container are left out. Each compartment is so filled from its -x side."""
-    c = case.container
+    c = container
     blocking = [b for b in c.baffles if b.gap_below < 2 * r + _GAP]
     if not blocking:
         return c.geometry.layer_sites(r, jitter, n_needed)
@@ -92,17 +105,17 @@ def _block(case, rad, rng):
     r = float(rad.max())  # mixed radii: the lattice of the largest sphere
     n = rad.size
     g = case.container.geometry
-    sites, jx, jz = _layer_sites(case, r, case.initial.jitter, n)
+    sites, jx, jz = _layer_sites(case.container, r, case.initial.jitter, n)
     per_layer = len(sites)
     if per_layer == 0:
         raise InputError(f"particles: a sphere of r = {r * 1e3:g} mm does not fit in the {g.shape}")
     n_layers = int(np.ceil(n / per_layer))
     if n_layers > 1 and case.initial.layers != "auto":
         # report the paper's one-layer capacity (without jitter room) in the message
-        full, _, _ = _layer_sites(case, r, 0.0)
-        if n > len(full):
-            _capacity_error(case, len(full), rad)
-        sites, jx, jz = _layer_sites(case, r, 0.0)
+        full = floor_capacity(case.container, r)
+        if n > full:
+            _capacity_error(case, full, rad)
+        sites, jx, jz = _layer_sites(case.container, r, 0.0)
         per_layer, n_layers = len(sites), 1
     layer_h = 2 * r + _GAP
     lo, hi = g.bounding_box()
@@ -131,12 +144,11 @@ def _scatter(case, rad, rng):
     r = float(rad.max())
     n = rad.size
     g = case.container.geometry
-    sites, jx, jz = _layer_sites(case, r, case.initial.jitter)
+    sites, jx, jz = _layer_sites(case.container, r, case.initial.jitter)
     if len(sites) < n:
-        sites, jx, jz = _layer_sites(case, r, case.initial.jitter, n)
+        sites, jx, jz = _layer_sites(case.container, r, case.initial.jitter, n)
     if len(sites) < n:
-        full, _, _ = _layer_sites(case, r, 0.0)
-        _capacity_error(case, len(full), rad)
+        _capacity_error(case, floor_capacity(case.container, r), rad)
     pick = np.sort(rng.choice(len(sites), size=n, replace=False))
     pos = np.empty((n, 3))
     pos[:, [0, 2]] = sites[pick] + g.jitter(rng, n, jx, jz)

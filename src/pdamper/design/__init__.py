@@ -29,13 +29,13 @@ from ..theory.fields import SCATTERED_MASS_RATIO, closed_form_fields
 from ..theory.rolling import rolling_mass_ratio
 from .case import design_case, design_case_text, design_container, design_for_case, load_structure
 from .filling import (MARGIN_MEASURED, MARGIN_TABLE, MARGINAL, MIN_ROWS, TILT_MARGIN, Design, auto_margin,
-                      check_fits, design_filling, margin_note)
+                      check_fits, design_filling, margin_note, most_spheres)
 from .names import naming
 from .search import StructureDesign, design_for_structure, structure_mode
 from .verify import (ROLLING_MODE, VERIFY_REACH, FillingCheck, RigSweep, Verification, judge_verification,
                      rig_case, rig_sweep, verify_design, verify_factors, verify_filling)
 
-__all__ = ["Design", "design_filling", "design_container", "check_fits", "margin_note", "TILT_MARGIN", "MIN_ROWS",
+__all__ = ["Design", "design_filling", "design_container", "check_fits", "most_spheres", "margin_note", "TILT_MARGIN", "MIN_ROWS",
            "MARGINAL", "MARGIN_TABLE", "MARGIN_MEASURED", "auto_margin", "Mode", "structure_mode",
            "rolling_mass_ratio", "closed_form_fields", "SCATTERED_MASS_RATIO", "required_force", "OperatingPoint",
            "operating_points", "StructureDesign", "design_for_structure", "design_for_case", "load_structure",

@@ -29,7 +29,7 @@ from ..theory.bounds import TILT_MARGIN  # the margin `pdamper theory` uses
 from ..units import quantities
 from .names import name
 
-__all__ = ["Design", "design_filling", "check_fits", "size_name", "MIN_ROWS", "MARGINAL", "TILT_MARGIN",
+__all__ = ["Design", "design_filling", "check_fits", "most_spheres", "size_name", "MIN_ROWS", "MARGINAL", "TILT_MARGIN",
            "MARGIN_TABLE", "MARGIN_MEASURED", "auto_margin", "margin_note"]
 
 #: Fewer rows of spheres along the drive than this: the bed is a thin slab, little mass per wall.
@@ -149,10 +149,15 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
         warnings.append(f"the stroke {x * 1e3:.4g} mm is too large for this container: even one sphere has "
                         f"X_opt = {th.optimal_stroke(th.clearance(big_l, 1, n_max)) * 1e3:.4g} mm; a container at "
                         f"least {h_wanted * 1e3:.4g} mm long along the drive (plus the bed) is needed")
-    if n >= n_max:
-        n = n_max - 1
+    top = most_spheres(geo, r, n_max)
+    if particles is not None and particles > top:
+        raise InputError(f"particles = {particles!r}: only {top} spheres fit on the floor in one layer (the initial "
+                         f"packing of a run); give a filling from 1 to {top}")
+    if n > top:
+        n = top
         warnings.append(f"the stroke {x * 1e3:.4g} mm is too small for this container: {n} of {n_max} spheres "
-                        f"leave X_opt = {th.optimal_stroke(th.clearance(big_l, n, n_max)) * 1e3:.4g} mm; use a "
+                        + (f"(the most that fit on its floor in one layer) " if top < n_max - 1 else "")
+                        + f"leave X_opt = {th.optimal_stroke(th.clearance(big_l, n, n_max)) * 1e3:.4g} mm; use a "
                         "shorter container or smaller spheres")
     h = th.clearance(big_l, n, n_max)
     x_opt = th.optimal_stroke(h)
@@ -193,6 +198,17 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
                   regime=regime, eta_star=eta, energy_per_cycle_J=energy, bed_mass_kg=m_bed, sphere_mass_kg=m_sphere,
                   velocity_amplitude_m_s=v, acceleration_amplitude_m_s2=acc, max_stroke_no_liftoff_m=x_lift,
                   warnings=warnings, geometry=geo)
+
+
+def most_spheres(geo, radius: float, n_max: int) -> int:
+    """The largest filling a design offers in the container shape ``geo`` for spheres of ``radius``
+    [m]: below the clearance law's N_p,max (``n_max``; N_p,max itself has no clearance) and no more
+    than a run places on its floor in one layer (:func:`pdamper.initial.floor_capacity`, the one rule
+    of what fits)."""
+    from ..initial import floor_capacity
+    from ..params import Container
+
+    return min(n_max - 1, floor_capacity(Container(geometry=geo), radius))
 
 
 def _container(shape: str, *, length=None, width=None, container_radius=None, sizes=None):

@@ -25,7 +25,8 @@ from ..geometry import Cuboid
 from ..theory.balance import Mode, operating_points
 from ..theory.fields import closed_form_fields
 from ..units import quantities
-from .filling import MARGIN_TABLE, Design, _margin_warnings, _margin_words, auto_margin, design_filling
+from .filling import (MARGIN_TABLE, Design, _margin_warnings, _margin_words, auto_margin, design_filling,
+                      most_spheres)
 from .names import name
 
 __all__ = ["StructureDesign", "design_for_structure", "structure_mode"]
@@ -188,7 +189,7 @@ def _candidates(container, lengths, radius: float, m_sphere: float, cap: float, 
         if 2 * radius > geo.length_along((0.0, 0.0, 1.0)):
             continue
         n_max = geo.clearance_capacity(radius)
-        for n in range(bounds[0], int(min(n_max - 1, bounds[1])) + 1):
+        for n in range(bounds[0], int(min(most_spheres(geo, radius, n_max), bounds[1])) + 1):
             m_bed = n * m_sphere
             if m_bed > cap * (1 + 1e-12):
                 break

@@ -86,14 +86,16 @@ class Cuboid(ShapeBase):
         site with jitter room (jx, jz) where the container leaves some (the paper's 48 spheres of
         r = 5 mm fill 120 mm x 40.4 mm with no room to spare)."""
         r = radius
-        # rows across the width, each with its start clearance: a width of exactly k diameters
-        # holds k - 1 rows (k rows would leave the outer spheres 1 um inside the walls)
-        nz = int(np.floor((self.width - GAP) / (2 * r + GAP) + 1e-9))
+        # rows across the width as columns along the length: as many as fit side by side
+        # (row_capacity; a width of exactly k diameters holds k), with 1 um gaps and jitter room
+        # only where the width leaves some
+        nz = self.row_capacity(r)
         if nz < 1:
             return np.zeros((0, 2)), 0.0, 0.0
-        # rows across the width: room for jitter only where the width leaves some
-        jz = max(0.0, min(jitter, (self.width - 2 * r * nz - GAP * (nz + 1)) / (2 * nz)))
-        sz = 2 * r + GAP + 2 * jz
+        spare_z = self.width - 2 * r * nz
+        gz = max(0.0, min(GAP, spare_z / (nz + 1)))
+        jz = max(0.0, min(jitter, (spare_z - gz * (nz + 1)) / (2 * nz)))
+        sz = 2 * r + gz + 2 * jz
         # columns along the length: as many as needed (all that fit without overlap when not
         # told), with 1 um gaps and jitter room only where the length leaves some
         nx_full = int(np.floor(self.length / (2 * r) + 1e-9))
