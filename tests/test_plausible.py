@@ -71,3 +71,29 @@ def test_messages_name_the_config_key_not_the_class(key, value, words):
     with pytest.raises(InputError, match=words) as info:
         load_case(Path(__file__).parents[1] / "examples" / "cuboid_36.toml", {key: value})
     assert "contactmodel" not in str(info.value) and "particleset" not in str(info.value)
+
+
+# ------------------------------------------------ a stacked bed that only its symmetry keeps (issue 39 item 5)
+
+VERTICAL = load_case(Path(__file__).parents[1] / "examples" / "vertical_96.toml")
+
+
+def test_a_stacked_bed_without_tilt_is_said_to_have_two_states_whatever_the_law():
+    import warnings
+
+    from pdamper.plausible import SymmetricBedWarning, symmetric_stack
+
+    flat = with_overrides(VERTICAL, {"container.tilt": "0deg"})
+    assert symmetric_stack(flat) == 2
+    for law in ("tanh", "spring"):
+        with pytest.warns(SymmetricBedWarning, match=r"stacked in 2 layers.*two states.*'tanh' \(the default\) the "
+                                                     r"seed picks one.*'spring' the crystal stands.*container.tilt"):
+            check_case(with_overrides(flat, {"contact.tangential": law}))
+    # the paper's tilt (the example's default), one layer, a scatter or given positions: nothing to say
+    quiet = [VERTICAL, with_overrides(flat, {"particles.count": 48, "initial.layers": "one"}),
+             with_overrides(EXAMPLE, {"container.tilt": "0deg"})]
+    for case in quiet:
+        assert symmetric_stack(case) == 0
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", SymmetricBedWarning)
+            check_case(case)

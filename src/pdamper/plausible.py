@@ -6,7 +6,8 @@ fails deep inside a run ("the run became unstable"); here it is caught first, wi
 "drive.stroke = 13 m is 108 times the container's length 0.12 m; did you mean '13mm'?". The same
 for the container's sizes, the radii, the jitter, the settling time ('100' s: "did you mean '100ms'?") and
 the drive's direction (an angle beyond a turn).
-Lift-off (a peak acceleration above g) is allowed, and said (a warning).
+Lift-off (a peak acceleration above g) is allowed, and said (a warning); so is a bed stacked in
+layers with nothing but round-off to break its symmetry (:class:`SymmetricBedWarning`).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from .errors import InputError
 from .schema import spec_of
 from .units import thousandth_hint
 
-__all__ = ["check_case", "memory_needed", "LiftOffWarning"]
+__all__ = ["check_case", "memory_needed", "LiftOffWarning", "SymmetricBedWarning", "symmetric_stack"]
 
 #: Largest plausible container dimension and sphere radius, smallest sphere radius [m].
 _MAX_SIZE, _MAX_RADIUS, _MIN_RADIUS = 5.0, 0.5, 1e-6
@@ -32,6 +33,12 @@ _MAX_ACCEL_G = 50.0
 
 class LiftOffWarning(UserWarning):
     """The drive's peak acceleration exceeds g: the bed leaves the floor (the paper's laws assume A < g)."""
+
+
+class SymmetricBedWarning(UserWarning):
+    """A bed of several layers stacked sphere on sphere in a container without tilt: it has two
+    states (a crystal that only the symmetry keeps, and the melted bed), and which one a run lands
+    on is picked by round-off, the seed and the tangential law (docs/crosscheck.md)."""
 
 
 #: Longest plausible settling time [s]: a bed settles under gravity in well under a second.
@@ -106,8 +113,37 @@ def _check_angles(case) -> None:
                          f"radians){hint}")
 
 
+def symmetric_stack(case) -> int:
+    """The layers of the case's initial block when they are stacked sphere on sphere on a lattice
+    and nothing breaks its symmetry (no tilt: every angle of ``container.tilt`` 0; the block's
+    lattice, not given positions); 0 otherwise (one layer, a tilt, a scatter, given positions)."""
+    from .initial import floor_capacity
+
+    init = case.initial
+    if (init.positions is not None or init.arrangement != "block" or init.layers != "auto"
+            or any(a != 0.0 for a in case.container.tilt)):
+        return 0
+    per_layer = floor_capacity(case.container, max(p.radius for p in case.particles))
+    n = sum(p.count for p in case.particles)
+    return int(math.ceil(n / per_layer)) if 0 < per_layer < n else 0
+
+
+def _symmetric_warning(case) -> None:
+    layers = symmetric_stack(case)
+    if layers < 2:
+        return
+    warnings.warn(f"the bed is stacked in {layers} layers, sphere on sphere, in a container without tilt "
+                  "(container.tilt = 0): nothing but round-off breaks the lattice's symmetry, and such a bed has two "
+                  "states, a crystal of stacked columns that no real container keeps and the melted bed, with "
+                  "different eta* (0.58 and 0.77 at 12 mm on examples/vertical_96.toml); with "
+                  "contact.tangential = 'tanh' (the default) the seed picks one (up to 0.09 apart), with 'spring' the "
+                  "crystal stands. Keep the paper's tilt (container.tilt = '0.1deg', the default) for the melted bed "
+                  "every code agrees on (docs/crosscheck.md)", SymmetricBedWarning, stacklevel=4)
+
+
 def check_case(case, *, analyze: bool = False, analyse: bool | None = None) -> None:
-    """Raise :class:`InputError` for a case that cannot be meant as written; warn at lift-off.
+    """Raise :class:`InputError` for a case that cannot be meant as written; warn at lift-off and
+    of a symmetric stacked bed (:func:`symmetric_stack`).
 
     ``analyze``: the run is analysed by the complex power method, so it needs at least one whole
     cycle after the dropped ones (a warning when it has exactly one); ``analyse`` is its
@@ -120,6 +156,7 @@ def check_case(case, *, analyze: bool = False, analyse: bool | None = None) -> N
             if spec_of(f).dimension == "length" and isinstance(getattr(geo, f.name), (int, float))}
     _check_lengths(case, dims)
     _check_angles(case)
+    _symmetric_warning(case)
     d = case.drive
     d.check_scale(geo.drive_length)  # the drive's own sizes against the container's (a stroke, a swing)
     if d.stroke is not None and d.frequency is not None:
