@@ -4,7 +4,10 @@
   0.5 ms (``time [ms]``, ``force [N]``), for ``mast_hammer.toml``;
 - ``quake_synthetic.csv`` and ``quake_synthetic.AT2``: one synthetic ground acceleration, 12 s at
   100 samples a second, in a CSV (``time [s]``, ``acceleration [g]``) and in the PEER NGA ``.AT2``
-  layout, for ``frame_quake.toml`` and ``mast_quake.toml``.
+  layout, for ``frame_quake.toml`` and ``mast_quake.toml``;
+- ``records/synthetic_1.AT2`` ... ``synthetic_7.AT2``: a suite of seven synthetic ground
+  accelerations (seeds 11-17, soils of f_g 1.6-4 Hz, strong motion of 2-5 s), for
+  ``frame_suite.toml`` (docs/structure.md, "Record suites").
 
 The accelerogram is made here, not recorded: Gaussian noise through the Kanai-Tajimi filter of a
 firm soil (f_g = 2.5 Hz, zeta_g = 0.6), under an envelope that rises over 1.5 s, holds 3 s and
@@ -34,16 +37,23 @@ def hammer():
     return t, f
 
 
-def quake(seed: int = 7, dt: float = 0.01, duration: float = 12.0, peak_g: float = 0.1):
+#: The suite's records: (seed, f_g [Hz], zeta_g, strong motion [s]).
+SUITE = ((11, 1.6, 0.6, 3.0), (12, 2.0, 0.5, 4.0), (13, 2.5, 0.6, 2.0), (14, 3.0, 0.4, 5.0), (15, 3.5, 0.6, 3.0),
+         (16, 4.0, 0.5, 2.5), (17, 2.2, 0.7, 4.5))
+
+
+def quake(seed: int = 7, dt: float = 0.01, duration: float = 12.0, peak_g: float = 0.1, ground_frequency: float = 2.5,
+          ground_damping: float = 0.6, strong: float = 3.0):
     n = int(round(duration / dt))
     t = dt * np.arange(n + 1)
     rng = np.random.default_rng(seed)
     f = np.fft.rfftfreq(4 * n, dt)
-    r2 = (f / 2.5) ** 2
-    kt = (1 + 4 * 0.6**2 * r2) / ((1 - r2) ** 2 + 4 * 0.6**2 * r2) * (f > 0.2) * (f < 20.0)
+    r2 = (f / ground_frequency) ** 2
+    z2 = ground_damping**2
+    kt = (1 + 4 * z2 * r2) / ((1 - r2) ** 2 + 4 * z2 * r2) * (f > 0.2) * (f < 20.0)
     noise = np.fft.irfft((rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)) * np.sqrt(kt), 4 * n)
     a = noise[: n + 1]
-    env = np.where(t < 1.5, (t / 1.5) ** 2, np.where(t < 4.5, 1.0, np.exp(-0.6 * (t - 4.5))))
+    env = np.where(t < 1.5, (t / 1.5) ** 2, np.where(t < 1.5 + strong, 1.0, np.exp(-0.6 * (t - 1.5 - strong))))
     a = a * env
     a -= env * np.sum(a) / np.sum(env)  # no mean velocity left: the ground comes to rest
     a[0] = a[-1] = 0.0
@@ -63,6 +73,14 @@ def main(out: Path = HERE) -> None:
              f"NPTS= {t.size:5d}, DT= {t[1] - t[0]:.4f} SEC"]
     rows = [" ".join(f"{v:14.7E}" for v in a[k:k + 5]) for k in range(0, a.size, 5)]
     (out / "quake_synthetic.AT2").write_text("\n".join(lines + rows) + "\n")
+    (out / "records").mkdir(exist_ok=True)
+    for k, (seed, fg, zg, strong) in enumerate(SUITE, start=1):
+        t, a = quake(seed, ground_frequency=fg, ground_damping=zg, strong=strong)
+        lines = ["SYNTHETIC GROUND MOTION WRITTEN BY PDAMPER EXAMPLES/MAKE_LOADS.PY (NOT A PEER RECORD)",
+                 f"Kanai-Tajimi filtered noise, f_g {fg:g} Hz, zeta_g {zg:g}, seed {seed}, strong motion {strong:g} s, "
+                 "peak 0.1 g", "ACCELERATION TIME SERIES IN UNITS OF G", f"NPTS= {t.size:5d}, DT= {t[1] - t[0]:.4f} SEC"]
+        rows = [" ".join(f"{v:14.7E}" for v in a[j:j + 5]) for j in range(0, a.size, 5)]
+        (out / "records" / f"synthetic_{k}.AT2").write_text("\n".join(lines + rows) + "\n")
 
 
 if __name__ == "__main__":

@@ -17,7 +17,8 @@ _OPTIONS = {"force": "--force", "mode": "--mode", "target_ratio": "--target-rati
             "length": "--length", "length_range": "--length", "width": "--width",
             "container_radius": "--container-radius", "sphere_radius": "--sphere-radius", "particles": "--particles",
             "max_bed_mass": "--max-bed-mass", "max_mass_ratio": "--max-mass-ratio", "strokes": "--verify-strokes",
-            "cycles": "--verify-cycles", "verify": "--verify"}
+            "cycles": "--verify-cycles", "verify": "--verify", "target_peak_ratio": "--target-peak-ratio",
+            "target_rms_ratio": "--target-rms-ratio", "checks": "--checks", "dofs": "--dofs", "load": "--load"}
 
 
 def _in_its_options(func):
@@ -109,6 +110,19 @@ def _particles_option(text):
 @click.option("--target-ratio", type=click.FloatRange(min=0, max=1, min_open=True, max_open=True),
               help="With --structure: the lightest filling whose resonant amplitude is at most this fraction of the "
                    "bare structure's, e.g. 0.5 (default: the filling with the smallest amplitude).")
+@click.option("--target-peak-ratio", type=float, metavar="R",
+              help="With --structure and a [load] (or --load): the lightest filling whose coupled DEM transient cuts "
+                   "the peak to this fraction of the bare structure's, e.g. 0.7 (at the damper point, or every --dofs).")
+@click.option("--target-rms-ratio", type=float, metavar="R",
+              help="With --structure and a [load]: the same for the RMS over the run, e.g. 0.6.")
+@click.option("--dofs", "judged_dofs", metavar="DOFS",
+              help="With --target-peak-ratio/--target-rms-ratio: the dofs the targets hold at, e.g. 2 or 0,2 (labels "
+                   "and ranges as pdamper transient takes them; default: the damper point).")
+@click.option("--load", "load_file", type=click.Path(dir_okay=False), metavar="FILE",
+              help="With the targets: design against this load instead of the file's [load]: a record (.AT2, .csv: "
+                   "a ground acceleration) or a TOML file with a [load] section (a suite: files = [...]).")
+@click.option("--checks", type=click.IntRange(min=1), default=3, show_default=True,
+              help="With the targets: the most coupled DEM transients (one per candidate; a suite: one a record each).")
 @click.option("--margin", type=click.FloatRange(min=1.0),
               help="With --structure: keep the operating stroke at least this factor above X_opt [default: by the "
                    "filling fraction N_p/N_p,max, 1.2 up to 75 % filled to 1.75 at 91 %, above the strokes at which "
@@ -130,8 +144,8 @@ def _particles_option(text):
 @_in_its_options
 def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
                    container_radius, sizes, sphere_radius, radius, density, max_particles, particles, max_bed_mass,
-                   max_mass_ratio, target_ratio, margin, write_case, tilt, verify, verify_cycles, verify_strokes, seeds,
-                   workers, as_json):
+                   max_mass_ratio, target_ratio, target_peak_ratio, target_rms_ratio, judged_dofs, load_file, checks,
+                   margin, write_case, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
     With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
@@ -152,8 +166,18 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
 
     Example: pdamper design --structure examples/frame_3hz.toml --mode 1 --force 1.5N
 
+    Against a load in time (--structure CASE with a [load], or --load FILE; --target-peak-ratio
+    and/or --target-rms-ratio, at the damper point or every --dofs): candidates screened by the
+    closed-form fields in the structure's equations in time, the lightest expected to meet the
+    targets checked by coupled DEM transients (at most --checks), the lightest that meets them
+    written by --write-case; a target no filling within the bounds meets is said so, with the
+    best achievable and the reasons measured on its run.
+
     Example: pdamper design --structure examples/frame_3hz.toml --force 1.5N --target-ratio 0.5 --length 80mm:160mm
     --write-case frame_design.toml
+
+    Example: pdamper design --structure examples/frame_quake.toml --target-peak-ratio 0.97 --target-rms-ratio 0.93
+    --length 80mm:200mm --write-case quake_design.toml
     """
     from ..design import design_filling, verify_filling
     from ..errors import InputError
@@ -161,6 +185,18 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
 
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
     sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
+    if target_peak_ratio is not None or target_rms_ratio is not None:
+        return _design_load(structure_file, dict(
+            force=force, frequency=frequency, stroke=stroke, target_ratio=target_ratio, verify=verify or None,
+            max_particles=max_particles, tilt=tilt, margin=margin, mode=mode_number if mode_number != 1 else None),
+            dict(target_peak_ratio=target_peak_ratio, target_rms_ratio=target_rms_ratio, dofs=judged_dofs,
+                 shape=shape, sizes=sizes, sphere_radius=radius, density=density, length=length,
+                 length_range=length_range, particles=particles, max_bed_mass=max_bed_mass,
+                 max_mass_ratio=max_mass_ratio, checks=checks), load_file, write_case, as_json)
+    for name, value in (("--dofs", judged_dofs), ("--load", load_file)):
+        if value is not None:
+            raise InputError(f"{name} belongs to the design against a load in time: give --target-peak-ratio and/or "
+                             "--target-rms-ratio with it")
     if structure_file is not None:
         return _design_structure(structure_file, dict(
             mode=mode_number, force=force, frequency=frequency, stroke=stroke, shape=shape, length=length,
@@ -393,4 +429,91 @@ def _design_structure_lines(sd, out, structure_file) -> list:
     if "case_file" in out:
         lines.append(f"  wrote {out['case_file']} (the damper, its rig [drive] and the [structure]: pdamper sweep, "
                      "fields, response, transient run it)")
+    return lines
+
+
+def _design_load(structure_file, refused: dict, o: dict, load_file, write_case, as_json):
+    """``pdamper design --structure CASE --target-peak-ratio R --target-rms-ratio R``: the design
+    against the case's load in time (:func:`pdamper.design.design_for_load`), printed, its case
+    written."""
+    from ..design import design_for_load, load_design_text, load_structure
+    from ..errors import InputError
+    from ..io.files import atomic_write
+    from ..studies.transient import parse_dofs
+
+    if structure_file is None:
+        raise InputError("--target-peak-ratio / --target-rms-ratio design against a load in time: give --structure "
+                         "CASE.toml (a [structure] with a [load], or --load FILE)")
+    words = {"force": "--force", "frequency": "--frequency", "stroke": "--stroke", "target_ratio": "--target-ratio",
+             "verify": "--verify", "max_particles": "--max-particles", "tilt": "--tilt", "margin": "--margin",
+             "mode": "--mode"}
+    for key, value in refused.items():
+        if value is not None:
+            raise InputError(f"{words[key]} does not apply to the design against a load in time (the targets are "
+                             "judged on coupled DEM transients under the [load]); leave it out")
+    if write_case is not None:
+        _check_case_path(write_case)
+    length, rng = o.pop("length"), o.pop("length_range")
+    rng = _length_range(rng) if rng is not None else None
+    if isinstance(length, tuple):
+        if rng is not None:
+            raise InputError("give --length LOW:HIGH or --length-range LOW:HIGH, not both")
+        length, rng = None, length
+    case = load_structure(structure_file, load=load_file)
+    o["dofs"] = parse_dofs(o["dofs"])
+    o["particles"] = _particles_option(o["particles"]) if o["particles"] is not None else None
+    td = design_for_load(case, length=length, length_range=rng, **o)
+    out = td.to_dict()
+    out["structure_file"] = str(structure_file)
+    if write_case is not None:
+        from pathlib import Path
+
+        path = Path(write_case)
+        command = " ".join(["pdamper design --structure", str(structure_file)]
+                           + [f"--target-peak-ratio {td.target_peak_ratio:g}"] * (td.target_peak_ratio is not None)
+                           + [f"--target-rms-ratio {td.target_rms_ratio:g}"] * (td.target_rms_ratio is not None)
+                           + ([f"--load {load_file}"] if load_file else []))
+        atomic_write(path, load_design_text(td, case, command=command, name=path.name))
+        out["case_file"] = str(path)
+    if as_json:
+        echo_json(out)
+        return
+    click.echo("\n".join(design_load_lines(td, out, structure_file)))
+
+
+def design_load_lines(td, out, structure_file) -> list:
+    """The report of a design against a load in time (``td``: :class:`pdamper.design.TransientDesign`)."""
+    mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
+    words = lambda rs: ", ".join(f"{r:.3g}" for r in rs)  # noqa: E731
+    aims = [f"peak ratio <= {td.target_peak_ratio:g}" if td.target_peak_ratio is not None else "",
+            f"RMS ratio <= {td.target_rms_ratio:g}" if td.target_rms_ratio is not None else ""]
+    b = td.search
+    lines = [f"pdamper design --structure {structure_file}: against a load in time, {' and '.join(a for a in aims if a)} "
+             f"(with / without the damper) at {', '.join(map(str, td.dofs))}",
+             f"  load                  {td.load}" + (f" ({td.records} records: the ratio of the means)"
+                                                     if td.records > 1 else ""),
+             f"  structure             first mode {td.natural_frequency_hz:.5g} Hz, {td.mass_at_damper_kg:.4g} kg at the "
+             "damper",
+             f"  screened              {td.candidates} fillings (lengths {b['lengths_m'][0] * 1e3:.4g}-"
+             f"{b['lengths_m'][1] * 1e3:.4g} mm" + "".join(f", {k} {v * 1e3:.4g} g" for k, v in
+                                                            b["max_bed_mass_kg"].items())
+             + f"): {td.screen_met} expected to meet the targets (closed-form fields in the structure's equations in "
+             "time)",
+             f"  DEM checks            {len(td.checks)} (at most {b['checks']}), lightest expected first:"]
+    for c in td.checks:
+        lines.append(f"    {c.particles:>4} of {c.max_particles:<4} {c.bed_mass_kg * 1e3:8.4g} g in {c.length_m * 1e3:6.4g} mm"
+                     f"  peak {words(c.peak_ratio)} (screen {words(c.screen_peak_ratio)})  RMS {words(c.rms_ratio)} "
+                     f"(screen {words(c.screen_rms_ratio)})  {'meets' if c.met else 'misses'}")
+    chosen = td.design if td.met else td.best
+    if td.met:
+        lines.append(f"  design                {chosen.particles} of {chosen.max_particles} spheres, "
+                     f"{chosen.bed_mass_kg * 1e3:.4g} g, in a {chosen.container} (X_opt = {mm(chosen.x_opt_m)}): peak "
+                     f"ratio {words(chosen.peak_ratio)}, RMS ratio {words(chosen.rms_ratio)} (DEM): met")
+    else:
+        lines.append("  not met: " + td.reasons[0])
+        lines += [f"    why: {r}" for r in td.reasons[1:]]
+    lines += [f"warning: {w}" for w in td.warnings]
+    if "case_file" in out:
+        lines.append(f"  wrote {out['case_file']} (the {'design' if td.met else 'best achievable'} with the [load]: "
+                     "pdamper transient runs it)")
     return lines

@@ -55,6 +55,12 @@ def transient_command(config, dofs, seed, settings, plot, as_json, limits):
     case = load_case(config, overrides)
     wanted = parse_dofs(dofs)
     check_path(plot)
+    from ..studies.suite import is_suite
+
+    if is_suite(case):  # [load] files = [...]: one transient a record
+        from .suite import transient_suite
+
+        return transient_suite(case, config, wanted, plot, as_json)
     with fraction_bar("pdamper transient", round(case.duration, 3), "s",
                       not as_json and sys.stderr.isatty()) as progress:
         res = run_transient(case, dofs=wanted, progress=progress, limits=wanted_limits)

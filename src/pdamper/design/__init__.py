@@ -15,6 +15,10 @@ One module per idea (docs/structure.md, "Design for a structure"; docs/engine.md
 - :mod:`.case` -- the case: :func:`load_structure` (a structure file, read by
   :func:`pdamper.config.load_case`), :func:`design_for_case`, :func:`design_case` and
   :func:`design_case_text` (the design written as one runnable case);
+- :mod:`.transient` -- the design against a load in time: :func:`design_for_load` (candidates
+  screened by the closed-form fields in the structure's equations in time, the lightest expected to
+  meet the targets checked by coupled DEM transients), its :class:`TransientDesign`,
+  :func:`load_design_case` and :func:`load_design_text` (the design with its load, one case);
 - :mod:`.names` -- how its messages name its parameters (:func:`naming`: the CLI's options).
 
 The closed forms it rests on (:func:`rolling_mass_ratio`, :func:`closed_form_fields`,
@@ -32,6 +36,8 @@ from .filling import (MARGIN_MEASURED, MARGIN_TABLE, MARGINAL, MIN_ROWS, TILT_MA
                       check_fits, design_filling, margin_note, most_spheres)
 from .names import naming
 from .search import StructureDesign, design_for_structure, structure_mode
+from .transient import (TransientCheck, TransientDesign, check_candidate, design_for_load, load_design_case,
+                        load_design_text, measured_reasons, screen_candidates)
 from .verify import (ROLLING_MODE, VERIFY_REACH, FillingCheck, RigSweep, Verification, judge_verification,
                      rig_case, rig_sweep, verify_design, verify_factors, verify_filling)
 
@@ -41,4 +47,5 @@ __all__ = ["Design", "design_filling", "design_container", "check_fits", "most_s
            "operating_points", "StructureDesign", "design_for_structure", "design_for_case", "load_structure",
            "verify_factors", "judge_verification", "ROLLING_MODE", "VERIFY_REACH", "verify_design", "verify_filling",
            "Verification", "FillingCheck", "RigSweep", "rig_case", "rig_sweep", "design_case", "design_case_text",
-           "naming"]
+           "naming", "TransientDesign", "TransientCheck", "design_for_load", "screen_candidates", "check_candidate",
+           "measured_reasons", "load_design_case", "load_design_text"]

@@ -24,17 +24,60 @@ from .search import StructureDesign, design_for_structure
 __all__ = ["load_structure", "design_container", "design_for_case", "design_case", "design_case_text"]
 
 
-def load_structure(path, overrides: dict | None = None):
+def load_structure(path, overrides: dict | None = None, *, load=None):
     """The :class:`~pdamper.params.Case` of a structure file for the design: a config with a
     ``[structure]`` section (one mode: mass with stiffness or natural_frequency; or ``modes =
     [...]``; or ``matrices = ...``), read by :func:`pdamper.config.load_case`. A file with
     only ``[structure]`` is enough: ``[particles]`` defaults to the paper's 5 mm steel spheres
     (their count is the design's), ``[container]`` to the paper's cuboid, and a structure given
     without motion (no displacement, velocity or force) gets a nominal 1 mm start (the design
-    does not use it; a ``force_amplitude`` of 0 N moves nothing either)."""
+    does not use it; a ``force_amplitude`` of 0 N moves nothing either).
+
+    ``load``: the load in time to design against instead of the file's ``[load]``: a record file
+    (a ground acceleration: a PEER ``.AT2`` file, a CSV of ``time`` and ``acceleration``) or a TOML
+    file whose ``[load]`` section is taken (its files relative to it)."""
     from ..config import load_case
 
-    return load_case(path, overrides, prepare=_structure_defaults)
+    if load is None:
+        return load_case(path, overrides, prepare=_structure_defaults)
+    table = _load_table(load)
+
+    def prepare(data):
+        data = {**data, "load": table}
+        if isinstance(data.get("structure"), dict):  # the load in time moves it, not the file's harmonic force
+            data["structure"] = {k: v for k, v in data["structure"].items()
+                                 if k not in ("force_amplitude", "force_frequency")}
+        return _structure_defaults(data)
+
+    return load_case(path, overrides, prepare=prepare)
+
+
+def _load_table(path) -> dict:
+    """The ``[load]`` table of ``path`` (:func:`load_structure`'s ``load``), its files absolute."""
+    import tomllib
+    from pathlib import Path
+
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{names.name('load')} {str(path)!r}: no such file; give a record (.AT2, .csv) or a TOML file "
+                         "with a [load] section")
+    if p.suffix.lower() != ".toml":
+        return {"kind": "ground_acceleration", "file": str(p.resolve())}
+    try:
+        table = tomllib.loads(p.read_text(encoding="utf-8")).get("load")
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as exc:
+        raise InputError(f"{names.name('load')} {str(path)!r}: cannot be read as TOML ({exc})") from None
+    if not isinstance(table, dict):
+        raise InputError(f"{names.name('load')} {str(path)!r}: the file has no [load] section")
+    root = p.resolve().parent
+    out = dict(table)
+    for key in ("file", "files"):
+        v = out.get(key)
+        if isinstance(v, str) and v.strip():
+            out[key] = str(Path(v) if Path(v).is_absolute() else root / v)
+        elif key == "files" and isinstance(v, list):
+            out[key] = [str(Path(x) if Path(x).is_absolute() else root / x) if isinstance(x, str) else x for x in v]
+    return out
 
 
 def _structure_defaults(data: dict) -> dict:

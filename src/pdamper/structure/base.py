@@ -128,6 +128,7 @@ class StructureBase(DriveBase):
             if self.force_amplitude != 0:
                 raise InputError(f"structure.force_amplitude = {shown(self.force_amplitude)} N and a [load] both move the "
                                  "structure; give one: force_amplitude = 0 with the [load], or no [load]")
+            object.__setattr__(self, "load", self.load.for_structure(self))  # e.g. a record scaled at its period
         f0 = self.force_amplitude
         if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 >= 0 and math.isfinite(f0)):
             raise InputError(f"structure.force_amplitude = {shown(f0)} N; must be >= 0 (0: free motion)")

@@ -32,12 +32,17 @@ and what it answers:
 ``values(t)``                  f(t) at times t [s] (the kernels' function, in numpy)
 ``modal_coefficients(s)``      b_k of each mode of the structure ``s``: its generalised force is
                                ``b_k f(t)`` (a force: phi_k(force); the ground: -L_k)
+``records()``                  the loads of a suite of records, one transient each (a load of
+                               ``files = [...]``); a load alone: itself
+``for_structure(s)``           the load as the structure ``s`` runs it (a record scaled to a
+                               spectral acceleration at the structure's first period); else itself
 ``describe()``                 one line for people
 =============================  ==================================================================
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,7 +52,8 @@ import numpy as np
 from ...errors import InputError, shown
 from ...schema import OwnTable, param, read_fields, register_tagged, write_fields
 
-__all__ = ["LoadBase", "SampledLoad", "SampledFields", "LOADS", "register_load", "FORM_LINEAR", "FORM_SINE", "linear_rows", "table_values"]
+__all__ = ["LoadBase", "SampledLoad", "SampledFields", "Record", "LOADS", "register_load", "FORM_LINEAR", "FORM_SINE",
+           "linear_rows", "table_values", "RECORD_SUFFIXES"]
 
 #: Registered load kinds by tag (``[load] kind``).
 LOADS: dict[str, type] = {}
@@ -171,8 +177,32 @@ class LoadBase(OwnTable):
         structure's force point, ``b_k = phi_k(force)``."""
         return np.asarray(structure.modal_arrays()[4], dtype=float)
 
+    def records(self) -> tuple:
+        """The loads to run one transient each: a load alone is itself (a suite of records,
+        :class:`SampledLoad` with ``files``, one load a record)."""
+        return (self,)
+
+    def for_structure(self, structure):
+        """The load as ``structure`` runs it (the structure asks when it is made); itself unless
+        it depends on the structure (a record scaled at the structure's first period)."""
+        return self
+
     def describe(self) -> str:
         return self.label()
+
+
+#: The suffixes of the files a folder of records (``[load] files = "folder"``) is read from.
+RECORD_SUFFIXES = (".at2", ".csv", ".txt", ".dat", ".tsv", ".h5", ".hdf5", ".hdf", ".mat", ".tdms")
+
+
+@dataclass(frozen=True)
+class Record:
+    """One record of a suite: its file's ``name`` (a path), the samples' ``time`` [s] and
+    ``values`` (in SI, as the load's samples: N or m/s^2), unscaled."""
+
+    name: str
+    time: tuple
+    values: tuple
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -182,6 +212,8 @@ class SampledFields:
     samples' column there, their times, a scale and the run's length (key ``duration``)."""
 
     file: str | None = param(None, kind="custom")
+    #: a suite of records (:class:`Record`, config ``files = [...]`` or a folder): one transient each
+    files: tuple = param((), kind="custom")
     column: str | None = param(None, kind="custom")
     time: tuple = param((), kind="list", dimension="time")
     scale: float = 1.0
@@ -202,6 +234,7 @@ class SampledLoad(LoadBase):
         """Times strictly increasing from 0 (a record starting later is moved to 0), values finite,
         at least 2; ``scale`` finite, ``duration`` > 0."""
         name = self.samples_field
+        self._check_files()
         t = np.asarray(self.time, dtype=float)
         f = np.asarray(getattr(self, name), dtype=float)
         where = f" (file {self.file})" if self.file else ""
@@ -221,10 +254,54 @@ class SampledLoad(LoadBase):
             raise InputError(f"load.scale = {shown(sc)}; must be a finite number (1: the samples as given)")
         _positive(self.duration_s, "load.duration", "s", "'10s'", allow_none=True)
 
+    def _check_files(self) -> None:
+        """A suite (``files``): records of a name and samples, its own samples the first record's
+        (as the config reads it; given only ``files``, taken from it); every record a load of this
+        kind (checked as it is made, :meth:`records`)."""
+        files = self.files
+        if not files:
+            object.__setattr__(self, "files", ())
+            return
+        if isinstance(files, (str, bytes)) or not isinstance(files, (tuple, list)) or not all(
+                isinstance(r, Record) for r in files):
+            raise InputError(f"load.files: give the records' files in a config ([load] files = ['a.AT2', 'b.AT2'] "
+                             "or a folder), or Record(name, time, values) objects")
+        object.__setattr__(self, "files", tuple(files))
+        if self.file is not None:
+            raise InputError("[load] give either file = '...' (one record) or files = [...] (a suite), not both")
+        first = files[0]
+        if not self.time:
+            object.__setattr__(self, "time", tuple(first.time))
+            object.__setattr__(self, self.samples_field, tuple(first.values))
+
+    def records(self) -> tuple:
+        """One load a record of the suite (``files``; each checked as a load of this kind, with
+        this load's other keys: its scale, duration, target), in the suite's order; a load of one
+        record: itself."""
+        if not self.files:
+            return (self,)
+        import warnings
+
+        from .record_check import RecordWarning
+
+        out = []
+        for rec in self.files:
+            try:
+                with warnings.catch_warnings():  # the suite said each record's check when it was read
+                    warnings.simplefilter("ignore", RecordWarning)
+                    out.append(dataclasses.replace(self, files=(), file=rec.name, time=tuple(rec.time),
+                                                   **{self.samples_field: tuple(rec.values)}))
+            except InputError as exc:
+                raise InputError(f"[load] files: {Path(rec.name).name}: {exc}") from None
+        return tuple(out)
+
     @classmethod
     def config_read_extra(cls, table: dict, base_dir, read_signal) -> dict:
         """``file = "hammer.csv"`` (relative to the config file) and ``column`` (the samples'
-        column where the file names it otherwise): the file's columns, read by ``read_signal``."""
+        column where the file names it otherwise): the file's columns, read by ``read_signal``;
+        or ``files = ["a.AT2", "b.AT2"]`` (or a folder: its record files, by name) for a suite."""
+        if "files" in table:
+            return cls._read_files(table, base_dir, read_signal)
         if "column" in table and "file" not in table:
             raise InputError("[load] column names a column of a file; give file = '...' with it")
         if "file" not in table:
@@ -251,9 +328,56 @@ class SampledLoad(LoadBase):
         return {"file": str(path), "column": column, "time": tuple(sig.time.tolist()),
                 cls.samples_field: tuple(sig.values.tolist())}
 
+    @classmethod
+    def _read_files(cls, table: dict, base_dir, read_signal) -> dict:
+        """The suite of ``files``: a list of paths or one folder (relative to the config file),
+        each read by ``read_signal`` (:func:`pdamper.io.records.read_signal`)."""
+        given = [k for k in ("file", "time", cls.samples_field) if k in table]
+        if given:
+            raise InputError(f"[load] give either files = [...] (a suite of records) or {', '.join(given)}, not both")
+        value = table["files"]
+        root = Path(base_dir if base_dir is not None else Path.cwd())
+        if isinstance(value, str) and value.strip():
+            folder = Path(value) if Path(value).is_absolute() else root / value
+            if not folder.is_dir():
+                raise InputError(f"[load] files = {shown(value)}: not a folder; give the records as a list, files = "
+                                 "['a.AT2', 'b.AT2'], or a folder of them")
+            paths = sorted(p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")
+                           and p.suffix.lower() in RECORD_SUFFIXES)
+            if not paths:
+                raise InputError(f"[load] files = {shown(value)}: the folder holds no record file "
+                                 f"({', '.join(RECORD_SUFFIXES)})")
+        elif isinstance(value, list) and value and all(isinstance(v, str) and v.strip() for v in value):
+            paths = [Path(v) if Path(v).is_absolute() else root / v for v in value]
+        else:
+            raise InputError(f"[load] files = {shown(value)}: give a list of record files, e.g. files = ['a.AT2', "
+                             "'b.AT2'], or a folder of them, files = 'records'")
+        column = table.get("column")
+        if column is not None and (not isinstance(column, str) or not column.strip()):
+            raise InputError(f"[load] column = {shown(column)} must be the name of the {cls.samples_field} column")
+        if read_signal is None:
+            raise InputError("[load] files: no reader given (read the case with pdamper.config)")
+        records = []
+        for path in paths:
+            try:
+                sig = read_signal(path.resolve(), cls.signal_role, column=column)
+            except InputError as exc:
+                raise InputError(f"[load] files: {exc}") from None
+            records.append(Record(name=str(path.resolve()), time=tuple(sig.time.tolist()),
+                                  values=tuple(sig.values.tolist())))
+        first = records[0]
+        return {"files": tuple(records), "column": column, "time": first.time, cls.samples_field: first.values}
+
     def config_table(self) -> dict:
         """Its table: the file (and column) it was read from, else the inline samples."""
         out = write_fields(self)
+        if self.files:
+            out.pop("time", None)
+            out.pop(self.samples_field, None)
+            out["files"] = [r.name for r in self.files]
+            if self.column:
+                out["column"] = str(self.column)
+            return out
         if self.file:
             out.pop("time", None)
             out.pop(self.samples_field, None)
@@ -276,7 +400,17 @@ class SampledLoad(LoadBase):
         """``(FORM_LINEAR, rows)``: piecewise linear through the scaled samples, zero after the last."""
         return FORM_LINEAR, linear_rows(self.time, np.asarray(getattr(self, self.samples_field)) * self.scale)
 
+    def target_words(self) -> str:
+        """What the scale was set to reach, in words ("scaled to PGA 0.3 g"); "" for a plain scale."""
+        return ""
+
     def _source_words(self) -> str:
+        if self.files:
+            names = [Path(r.name).name for r in self.files]
+            shown = ", ".join(names if len(names) <= 4 else names[:3] + ["..."])
+            target = self.target_words()
+            each = f", each {target}" if target else f", each x {self.scale:g}" if self.scale != 1.0 else ""
+            return f"a suite of {len(names)} records ({shown}; pdamper transient runs each, a single run the first){each}"
         src = Path(self.file).name if self.file else "inline samples"
         scaled = f" x {self.scale:g}" if self.scale != 1.0 else ""
         return f"{src}{scaled}, {len(self.time)} samples over {self.record_length:.4g} s"
