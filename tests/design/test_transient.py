@@ -98,6 +98,11 @@ def test_a_bed_whose_x_opt_is_above_the_response_is_said_to_stay_below_it(tmp_pa
     m = td.best.measured
     assert not td.met and m["largest_stroke_m"] < m["x_opt_m"] and m["stroke_below_x_opt_share"] == 1.0
     assert any("stayed below X_opt" in r for r in td.reasons)
+    # the load's significant duration: a steady sine burst of 1.5 s holds 5-95 % of its Arias intensity in 0.9 x 1.5 s
+    assert m["significant_duration_s"] == pytest.approx(1.35, abs=0.01)
+    z_b, z_d = 0.005, 0.909 * td.best.bed_mass_kg / (2 * case.running_drive.mass)
+    build = lambda z: (1 - math.exp(-2 * math.pi * z * m["strong_motion_periods"])) / z  # noqa: E731
+    assert m["peak_ratio_bound"] == pytest.approx(build(z_b + z_d) / build(z_b), rel=1e-3)
     # the solid-mass number is the exact response of the structure carrying the bed
     st = case.running_drive
     tt = np.linspace(0.0, case.duration, 4001)

@@ -93,7 +93,7 @@ def test_a_python_caller_builds_a_suite_of_records():
 @pytest.mark.parametrize("change, words", [
     ({"files": "nowhere"}, r"\[load\] files = 'nowhere': not a folder"),
     ({"files": []}, r"\[load\] files = \[\]: give a list of record files"),
-    ({"files": ["q1.csv", "missing.csv"]}, r"\[load\] files: file not found: .*missing.csv"),
+    ({"files": ["q1.csv", "missing.csv"]}, r"\[load\] files: .*file not found: .*missing.csv"),
     ({"file": "q1.csv"}, r"\[load\] give either files = \[...\] .* or file, not both"),
     ({"scale": 2.0}, r"\[load\] scale and pga both set the records' scale"),
     ({"sa": "0.1g"}, r"\[load\] pga and sa are both given"),

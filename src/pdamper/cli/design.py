@@ -453,6 +453,7 @@ def _design_load(structure_file, refused: dict, o: dict, load_file, write_case, 
                              "judged on coupled DEM transients under the [load]); leave it out")
     if write_case is not None:
         _check_case_path(write_case)
+    given = dict(o)
     length, rng = o.pop("length"), o.pop("length_range")
     rng = _length_range(rng) if rng is not None else None
     if isinstance(length, tuple):
@@ -469,16 +470,45 @@ def _design_load(structure_file, refused: dict, o: dict, load_file, write_case, 
         from pathlib import Path
 
         path = Path(write_case)
-        command = " ".join(["pdamper design --structure", str(structure_file)]
-                           + [f"--target-peak-ratio {td.target_peak_ratio:g}"] * (td.target_peak_ratio is not None)
-                           + [f"--target-rms-ratio {td.target_rms_ratio:g}"] * (td.target_rms_ratio is not None)
-                           + ([f"--load {load_file}"] if load_file else []))
+        command = _load_command_line(structure_file, td, given, load_file)
         atomic_write(path, load_design_text(td, case, command=command, name=path.name))
         out["case_file"] = str(path)
     if as_json:
         echo_json(out)
         return
     click.echo("\n".join(design_load_lines(td, out, structure_file)))
+
+
+def _load_command_line(structure_file, td, o: dict, load_file) -> str:
+    """The design's command with the options given (for the written case's header)."""
+    import shlex
+
+    mm = lambda x: f"{x * 1e3:.6g}mm"  # noqa: E731
+    words = ["pdamper design --structure", shlex.quote(str(structure_file))]
+    for name, value in (("--target-peak-ratio", td.target_peak_ratio), ("--target-rms-ratio", td.target_rms_ratio)):
+        if value is not None:
+            words.append(f"{name} {value:g}")
+    if o["dofs"] is not None:
+        words.append(f"--dofs {shlex.quote(str(o['dofs']))}")
+    if load_file:
+        words.append(f"--load {shlex.quote(str(load_file))}")
+    length = o["length"] if o["length"] is not None else o["length_range"]
+    if length is not None:
+        words.append("--length " + (":".join(mm(v) for v in length) if isinstance(length, tuple)
+                                    else length if isinstance(length, str) else mm(length)))
+    for key, value in (o["sizes"] or {}).items():
+        if value is not None:
+            words.append(f"--size {key}={value if isinstance(value, str) else mm(value)}")
+    for name, key, fmt in (("--shape", "shape", "{}"), ("--particles", "particles", "{}"),
+                           ("--max-mass-ratio", "max_mass_ratio", "{:g}"), ("--density", "density", "{:g}kg/m^3")):
+        if o[key] is not None:
+            words.append(f"{name} {fmt.format(o[key])}")
+    if o["sphere_radius"] is not None:
+        words.append(f"--sphere-radius {mm(o['sphere_radius'])}")
+    if o["max_bed_mass"] is not None:
+        words.append(f"--max-bed-mass {o['max_bed_mass'] * 1e3:.6g}g")
+    words.append(f"--checks {o['checks']}")
+    return " ".join(words)
 
 
 def design_load_lines(td, out, structure_file) -> list:

@@ -1,7 +1,7 @@
 """The design against a load in time: the lightest filling whose coupled DEM transient meets a
 target peak ratio and RMS ratio (with / without the damper) under the structure's ``[load]``.
 
-The designer's question (issue 39): "my frame, this record (or this suite of records): which
+The designer's question: "my frame, this record (or this suite of records): which
 damper cuts the top floor's peak by 30 % and its RMS by 40 %?" Three steps, each a function:
 
 1. **The candidates** (:func:`pdamper.design.search._candidates`): every container length of the
@@ -23,8 +23,8 @@ damper cuts the top floor's peak by 30 % and its RMS by 40 %?" Three steps, each
    expects to meet the targets; at most ``checks`` runs. The lightest candidate whose DEM ratios
    meet the targets is the design (:class:`TransientDesign`, ``met``); else the best one checked is
    the best achievable, with the reasons measured on its run (:func:`measured_reasons`: the stroke
-   below X_opt during the strong motion, the peak before the bed engages, the added mass
-   detuning).
+   below X_opt during the large swing, the peak before the bed engages, the added mass detuning,
+   a strong motion too short for damping to bound the peak).
 
 The ratios are the damper point's (default) or those of the dofs asked for, each target at
 every one of them; under a suite the mean with the damper over the mean without (the codes'
@@ -42,6 +42,7 @@ import numpy as np
 
 from ..errors import InputError, shown
 from ..theory.fields import closed_form_fields
+from ..theory.rolling import ETA_MAX
 from .case import _bed, design_container
 from .filling import design_filling
 from .names import name
@@ -50,10 +51,10 @@ from .search import _Candidate, _candidates, _lengths, _particle_bounds, structu
 __all__ = ["TransientDesign", "TransientCheck", "Screen", "design_for_load", "screen_candidates", "check_candidate",
            "measured_reasons", "load_design_case", "load_design_text", "ENGAGED", "STRONG"]
 
-#: The bed "works" from the first time the response with the damper departs from the bare one by
-#: this share of the bare peak (the peak before it came before the bed engaged).
+#: The bed "works" from the time it has dissipated this share of the energy it takes over the run
+#: (a peak before it came before the bed engaged).
 ENGAGED = 0.1
-#: The strong motion: where the bare response's envelope is at least this share of its peak.
+#: The large swing: where the bare response's envelope is at least this share of its peak.
 STRONG = 0.5
 #: The screen's steps per period of the highest mode (fourth-order Runge-Kutta).
 _STEPS_PER_PERIOD = 40
@@ -317,14 +318,17 @@ def measured_reasons(run, *, x_opt: float, bed_mass: float, targets=(None, None)
     (:class:`~pdamper.studies.transient.TransientResult`) fell short, measured on it:
 
     - **the peak before the bed engages**: the damper point's bare peak came at ``peak_time_s``,
-      before ``engaged_time_s``, the first time the response with the damper departed from the
-      bare one by :data:`ENGAGED` of the bare peak;
-    - **the stroke below X_opt during the strong motion** (where the bare envelope is at least
-      :data:`STRONG` of its peak): the share of that time the damper point's amplitude (its
-      running peak over a period of the first mode) stayed below X_opt, and its largest;
+      before ``engaged_time_s``, when the bed had dissipated :data:`ENGAGED` of the energy it took
+      over the run (``dissipated_share_at_peak``: its share by the peak);
+    - **the stroke below X_opt during the large swing** (where the bare envelope is at least
+      :data:`STRONG` of its peak, ``large_swing_s``): the share of that time the damper point's
+      amplitude (its running peak over a period of the first mode) stayed below X_opt, and its largest;
     - **the added mass detuning**: the bare structure carrying the bed as a rigid mass (exact):
       its peak over the bare peak (above 1: the bed's mass alone moves the structure to where the
-      load has more, which its damping must first undo).
+      load has more, which its damping must first undo);
+    - **the strong motion too short** for damping to bound the peak (:func:`_duration_bound`): the
+      peak ratio of a resonant burst of the load's significant duration with this bed at its best,
+      above the peak target.
     """
     from ..structure.linear import damper_motion
 
@@ -334,8 +338,14 @@ def measured_reasons(run, *, x_opt: float, bed_mass: float, targets=(None, None)
     f1 = float(np.min(st.mode_frequencies))
     bare_peak = float(np.max(np.abs(xb)))
     k_peak = int(np.argmax(np.abs(xb)))
-    apart = np.nonzero(np.abs(x - xb) > ENGAGED * bare_peak)[0]
-    engaged = float(t[apart[0]]) if apart.size else math.inf
+    lost = np.asarray(run.dissipated, dtype=float) if run.dissipated is not None else None
+    if lost is not None and lost[-1] > 0:
+        engaged = float(t[np.argmax(lost >= ENGAGED * lost[-1])])   # the bed's first tenth of its work
+        share_at_peak = float(max(lost[k_peak], 0.0) / lost[-1])
+    else:
+        apart = np.nonzero(np.abs(x - xb) > ENGAGED * bare_peak)[0]
+        engaged = float(t[apart[0]]) if apart.size else math.inf
+        share_at_peak = math.nan
     # running peak over one period of the first mode: the damper point's amplitude
     dt = float(t[1] - t[0]) if t.size > 1 else 1.0
     width = max(1, int(round(1.0 / (f1 * dt))))
@@ -347,25 +357,65 @@ def measured_reasons(run, *, x_opt: float, bed_mass: float, targets=(None, None)
     largest = float(np.max(env[strong])) if strong.any() else float(np.max(env))
     solid, _, _ = damper_motion(st.carrying(bed_mass), t)
     solid_ratio = float(np.max(np.abs(solid)) / bare_peak) if bare_peak > 0 else math.nan
-    numbers = {"peak_time_s": float(t[k_peak]), "engaged_time_s": engaged, "strong_motion_s": list(t_strong),
+    duration, periods, bound, zeta_b, zeta_d = _duration_bound(run, st, bed_mass, f1)
+    numbers = {"peak_time_s": float(t[k_peak]), "engaged_time_s": engaged, "dissipated_share_at_peak": share_at_peak, "large_swing_s": list(t_strong),
                "stroke_below_x_opt_share": below, "largest_stroke_m": largest, "x_opt_m": float(x_opt),
-               "solid_mass_peak_ratio": solid_ratio, "bare_peak_m": bare_peak}
+               "solid_mass_peak_ratio": solid_ratio, "bare_peak_m": bare_peak, "significant_duration_s": duration,
+               "strong_motion_periods": periods, "peak_ratio_bound": bound}
     reasons = []
     if engaged > numbers["peak_time_s"]:
         when = f"{engaged:.3g} s" if math.isfinite(engaged) else "never within the run"
-        reasons.append(f"the peak came at {numbers['peak_time_s']:.3g} s, before the bed started to work (the response "
-                       f"with the damper departed from the bare one by {100 * ENGAGED:g} % of the bare peak at {when})")
+        done = (f"it had dissipated {100 * share_at_peak:.2g} % of the energy it took over the run by then, "
+                f"{100 * ENGAGED:g} % by {when}" if math.isfinite(share_at_peak) else
+                f"the response with the damper departed from the bare one by {100 * ENGAGED:g} % of the bare peak at "
+                f"{when}")
+        reasons.append(f"the peak came at {numbers['peak_time_s']:.3g} s, before the bed started to work ({done})")
     if below > 0.25:
-        reasons.append(f"during the strong motion ({t_strong[0]:.3g}-{t_strong[1]:.3g} s) the damper's stroke stayed "
-                       f"below X_opt = {1e3 * x_opt:.3g} mm for {100 * below:.0f} % of the time (largest "
-                       f"{1e3 * largest:.3g} mm): the bed mostly scattered, below its collect-and-collide motion")
+        reasons.append(f"while the structure swung at more than half its bare peak ({t_strong[0]:.3g}-{t_strong[1]:.3g} "
+                       f"s) the damper's stroke stayed below X_opt = {1e3 * x_opt:.3g} mm for {100 * below:.0f} % of the time (largest "
+                       f"{1e3 * largest:.3g} mm): there the bed scatters, below its collect-and-collide motion")
     if solid_ratio > 1.0:
         reasons.append(f"the added mass detunes: the bed as a rigid mass alone raises the peak by "
                        f"{100 * (solid_ratio - 1):.2g} % (the load has more at the lowered frequency)")
+    if targets[0] is not None and bound > targets[0]:
+        reasons.append(f"the load's strong motion is short: {duration:.3g} s (D5-95, its Arias intensity from 5 to 95 %), "
+                       f"{periods:.3g} periods of the {f1:.3g} Hz mode; a resonant burst that long, with the structure's "
+                       f"zeta = {100 * zeta_b:.2g} % and this bed at its best from the first cycle (eta* = {ETA_MAX:.3g}: "
+                       f"{100 * zeta_d:.2g} % more), still leaves a peak ratio of {bound:.3g}: the peak is set by how "
+                       "long the load builds up, which damping changes little; more bed mass or another target")
     if not reasons and peak is not None:
         reasons.append("the bed engaged and worked above X_opt, but did not take enough energy: more bed mass (a "
                        "longer or wider container, more spheres) or a larger mass bound")
     return numbers, reasons
+
+
+def _duration_bound(run, st, bed_mass: float, f1: float):
+    """(D5-95 [s], periods of the first mode in it, the peak ratio bound, zeta of the structure, the
+    bed's largest zeta): the significant duration of the load (Trifunac & Brady 1975: the time
+    between 5 % and 95 % of the integral of f^2) and the peak ratio of a resonant harmonic burst of
+    N = f1 D5-95 periods with and without the damping of the bed at the rolling law's largest eta*,
+
+        X(zeta) ~ (1 - exp(-2 pi zeta N)) / zeta,   bound = X(zeta_b + zeta_d) / X(zeta_b),
+
+    zeta_d = eta*_max m_bed phi_d^2 / (2 m) (the bed's dashpot eta* m_bed Omega, eqs. 4-5)."""
+    f = np.asarray(run.load, dtype=float)
+    t = np.asarray(run.time, dtype=float)
+    ia = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] ** 2 + f[:-1] ** 2) * np.diff(t))])
+    if not ia[-1] > 0:
+        return 0.0, 0.0, 1.0, math.nan, math.nan
+    t5, t95 = float(t[np.argmax(ia >= 0.05 * ia[-1])]), float(t[np.argmax(ia >= 0.95 * ia[-1])])
+    duration = t95 - t5
+    periods = f1 * duration
+    mass, _, _, pd, _, _ = (np.asarray(a, dtype=float) for a in st.modal_arrays())
+    j = int(np.argmin(st.mode_frequencies))
+    zeta_b = float(st.mode_damping_ratios[j])
+    zeta_d = ETA_MAX * bed_mass * pd[j] ** 2 / (2.0 * mass[j])
+
+    def build(z):
+        return (1.0 - math.exp(-2 * math.pi * z * periods)) / z if z > 0 else 2 * math.pi * periods
+
+    bound = build(zeta_b + zeta_d) / build(zeta_b) if periods > 0 else 1.0
+    return duration, periods, float(bound), zeta_b, float(zeta_d)
 
 
 def _running_max(x: np.ndarray, width: int) -> np.ndarray:

@@ -85,7 +85,8 @@ class TransientResult:
     Attributes: ``time`` [s] (the samples' ends); ``load`` f(t) there [N or m/s^2]; ``dofs`` the
     labels; ``damped`` / ``bare`` [samples, dofs] displacements [m] (relative to the ground
     under a ground acceleration); ``damper`` / ``damper_bare`` the damper point's; ``random``
-    the PSDs and FRFs of a random load (None else); ``summary`` plain numbers for JSON.
+    the PSDs and FRFs of a random load (None else); ``summary`` plain numbers for JSON;
+    ``dissipated`` the bed's dissipated energy [J] from t = 0 on.
     """
 
     case: Case
@@ -98,6 +99,8 @@ class TransientResult:
     damper_bare: np.ndarray
     random: dict | None = None
     summary: dict = field(default_factory=dict)
+    #: the energy the bed has dissipated (contact damping and friction) from t = 0 on [J], at ``time``
+    dissipated: np.ndarray | None = None
 
 
 def run_transient(case: Case, *, dofs=None, progress=None, limits=None) -> TransientResult:
@@ -151,7 +154,9 @@ def run_transient(case: Case, *, dofs=None, progress=None, limits=None) -> Trans
     summary["mode_table"] = mode_table(s)
     summary["codes"] = code_numbers(s, t, damped_all, labels, idx, limits=limits)
     summary["tmd_equivalent"] = [tmd_equivalent(case, res)]
-    return TransientResult(case=case, time=t, load=f, dofs=list(labels), damped=damped, bare=bare,
+    lost = res.energy.damping + res.energy.friction
+    dissipated = np.interp(t, res.energy.time, lost) - float(np.interp(0.0, res.energy.time, lost))
+    return TransientResult(case=case, time=t, load=f, dofs=list(labels), damped=damped, bare=bare, dissipated=dissipated,
                            damper=rec.displacement, damper_bare=damper_bare, random=random, summary=summary)
 
 

@@ -167,12 +167,12 @@ class GroundAcceleration(GroundMixin, SampledLoad, SampledFields):
         if order is not None:
             object.__setattr__(self, "acceleration",
                                tuple(baseline_correct(self.time, self.acceleration, order).tolist()))
+        self._resolve_target()
         if self.files:  # a suite: each record checked as read (records() builds them without a word)
             for rec in self.records():
                 _warn(rec.record_check, Path(rec.file).name)
         else:
             _warn(self.record_check, Path(self.file).name if self.file else "[load] acceleration")
-        self._resolve_target()
 
     @property
     def record_check(self) -> RecordCheck:
