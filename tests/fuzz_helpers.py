@@ -401,6 +401,11 @@ LOAD_TABLES = {
     "column": {"kind": "force_history", "file": "force.csv", "column": "force"},
     "influence": {"kind": "ground_acceleration", "time": [0.0, 0.01, 0.02], "acceleration": [0.0, 1.0, 0.0],
                   "influence": [1.0]},
+    # a suite of records, each scaled to a target (docs/structure.md, "Record suites")
+    "suite_pga": {"kind": "ground_acceleration", "files": ["quake.csv", "quake.AT2"], "pga": "0.1g", "duration": "3s"},
+    "suite_sa": {"kind": "ground_acceleration", "files": ["quake.AT2"], "sa": "0.2g", "sa_period": "0.5s",
+                 "sa_damping": 0.05},
+    "suite_force": {"kind": "force_history", "files": ["force.csv"], "scale": 0.5},
 }
 
 

@@ -1,9 +1,8 @@
 """A suite of records in ``[load]`` (``files = [...]`` or a folder) and the records' targets (``pga``,
 ``sa`` at the structure's first period): read, written back, refused in one line naming the key.
 
-The fuzz part breaks the suite's keys as tests/structure/test_fuzz_loads.py breaks the other
-loads' (the invariant: a clear one-line InputError naming ``[load]`` and the key, or a case whose
-kernel bundles build).
+The fuzz suite breaks the suite's keys with every other load's: its tables are in
+tests/fuzz_helpers.py (``LOAD_TABLES``: ``suite_pga``, ``suite_sa``, ``suite_force``).
 """
 
 from __future__ import annotations
@@ -14,9 +13,8 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
 
-from fuzz_helpers import FUZZ, no_hang
+from fuzz_helpers import no_hang
 from pdamper.config import case_from_dict, dumps_case, loads_case
 from pdamper.engine.build import build
 from pdamper.errors import InputError
@@ -114,33 +112,3 @@ def test_an_empty_folder_and_a_period_out_of_range_are_named(tmp_path):
         _case(dict(SA, files="empty"), tmp_path)
     with pytest.raises(InputError, match=r"\[load\] sa_period = 1000 s; give a period from 0.01 to 100 s"):
         _case(dict(SA, sa_period="1000s"), tmp_path)
-
-
-VALUES = st.recursive(
-    st.one_of(st.none(), st.booleans(), st.integers(), st.floats(allow_nan=True, allow_infinity=True),
-              st.text(max_size=10), st.sampled_from(["q1.csv", "q2.AT2", "records", ".", "q1.csv/"]),
-              st.builds(lambda x, u: f"{x:g}{u}", st.floats(allow_nan=True, allow_infinity=True),
-                        st.sampled_from(["g", "m/s^2", "s", "ms", "kg", "Hz", ""]))),
-    lambda inner: st.one_of(st.lists(inner, max_size=4), st.dictionaries(st.text(max_size=6), inner, max_size=3)),
-    max_leaves=6)
-KEYS = [(name, key) for name, table in (("pga", SUITE), ("sa", SA)) for key in table if key != "kind"] + [
-    ("sa", "sa_period")]
-
-
-@FUZZ
-@given(target=st.sampled_from(KEYS), value=VALUES)
-def test_any_value_at_any_suite_key_gives_a_clear_error_or_a_case(tmp_path_factory, target, value):
-    folder = tmp_path_factory.mktemp("suite")
-    _write(folder)
-    name, key = target
-    table = dict(SUITE if name == "pga" else SA, **{key: value})
-    try:
-        case = _case(table, folder)
-    except InputError as exc:
-        msg = str(exc)
-        assert "\n" not in msg and len(msg) < 2000, msg
-        assert "load" in msg and (key in msg or key == "files" and "file" in msg), \
-            f"[load] {key} = {value!r}: the message does not name it: {msg}"
-        return
-    for load in case.drive.load.records():
-        assert math.isfinite(load.scale) and load.scale > 0 and load.duration > 0

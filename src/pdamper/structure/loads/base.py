@@ -338,12 +338,22 @@ class SampledLoad(LoadBase):
         value = table["files"]
         root = Path(base_dir if base_dir is not None else Path.cwd())
         if isinstance(value, str) and value.strip():
-            folder = Path(value) if Path(value).is_absolute() else root / value
-            if not folder.is_dir():
-                raise InputError(f"[load] files = {shown(value)}: not a folder; give the records as a list, files = "
-                                 "['a.AT2', 'b.AT2'], or a folder of them")
-            paths = sorted(p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")
-                           and p.suffix.lower() in RECORD_SUFFIXES)
+            from ...errors import checked_file, unreadable_file
+
+            try:
+                folder = checked_file(Path(value) if Path(value).is_absolute() else root / value, "folder of records",
+                                      directory_ok=True,
+                                      missing=f"[load] files = {shown(value)}: not a folder; give the records as a "
+                                              "list, files = ['a.AT2', 'b.AT2'], or a folder of them")
+                if not folder.is_dir():
+                    raise InputError(f"[load] files = {shown(value)}: not a folder; give the records as a list, files = "
+                                     "['a.AT2', 'b.AT2'], or a folder of them")
+                paths = sorted(p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")
+                               and p.suffix.lower() in RECORD_SUFFIXES)
+            except OSError as exc:
+                raise unreadable_file(folder, exc, "folder of records") from None
+            except InputError as exc:
+                raise InputError(str(exc) if str(exc).startswith("[load]") else f"[load] files: {exc}") from None
             if not paths:
                 raise InputError(f"[load] files = {shown(value)}: the folder holds no record file "
                                  f"({', '.join(RECORD_SUFFIXES)})")

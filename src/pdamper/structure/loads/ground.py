@@ -58,12 +58,15 @@ def read_acceleration(value, key: str) -> float:
         if text.endswith("g") and not text.endswith("kg"):
             try:
                 return float(text[:-1]) * STANDARD_GRAVITY
-            except ValueError:
+            except (ValueError, OverflowError):
                 pass
         return parse_quantity(text, "acceleration", name=key)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(f"{key} = {shown(value)}; give an acceleration, e.g. '0.3g' or '2.94m/s^2'")
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:
+        raise InputError(f"{key} = {shown(value)}: too large a number; give an acceleration, e.g. '0.3g'") from None
 
 
 class GroundMixin:
@@ -225,7 +228,12 @@ class GroundAcceleration(GroundMixin, SampledLoad, SampledFields):
         where ``sa`` is given without it; else itself."""
         if self.sa is None or self.sa_period is not None:
             return self
-        return dataclasses.replace(self, sa_period=1.0 / float(np.min(structure.mode_frequencies)))
+        f1 = float(np.min(structure.mode_frequencies))
+        if not SA_PERIODS[0] <= 1.0 / f1 <= SA_PERIODS[1]:
+            raise InputError(f"the structure's first mode at {f1:.4g} Hz (structure.natural_frequency, or its mass and "
+                             f"stiffness, modes or matrices) puts the target [load] sa at a period of {1.0 / f1:.4g} s, "
+                             f"outside {SA_PERIODS[0]:g}-{SA_PERIODS[1]:g} s; check the structure, or give [load] sa_period")
+        return dataclasses.replace(self, sa_period=1.0 / f1)
 
     @classmethod
     def config_read_extra(cls, table: dict, base_dir, read_signal) -> dict:
