@@ -152,3 +152,24 @@ def test_the_command_prints_json_with_met_and_refuses_what_does_not_apply(tmp_pa
     assert none.exit_code == 2 and "needs a [structure] and a [load]" in none.output
     with pytest.raises(InputError, match="target_peak_ratio = 1.5"):
         design_for_load(load_structure(path), target_peak_ratio=1.5)
+
+
+def test_against_a_suite_the_ratio_is_that_of_the_means_over_the_records(tmp_path):
+    names = []
+    for k, amplitude in enumerate((0.3, 0.2)):
+        t = np.arange(0.0, 2.0, 0.005)
+        a = amplitude * np.sin(2 * math.pi * 3.0 * t) * (t < 1.5)
+        names.append(f"r{k}.csv")
+        (tmp_path / names[-1]).write_text("time [s],acceleration [m/s^2]\n"
+                                          + "".join(f"{x:.4f},{y:.8g}\n" for x, y in zip(t, a)))
+    text = _tiny(tmp_path, _shake()).read_text()
+    text = text[:text.index("[load]")] + f'[load]\nkind = "ground_acceleration"\nfiles = {names!r}\n'
+    (tmp_path / "suite.toml").write_text(text)
+    case = load_structure(tmp_path / "suite.toml")
+    td = design_for_load(case, target_rms_ratio=0.9, checks=1)
+    chk = td.checks[0]
+    assert td.records == 2 and chk.records == 2
+    runs = chk.summary["runs"]
+    mean = lambda key: np.mean([r[key] for r in runs])  # noqa: E731
+    assert chk.rms_ratio[0] == pytest.approx(mean("damper_rms_m") / mean("damper_rms_bare_m"), rel=1e-12)
+    assert chk.met == (chk.rms_ratio[0] <= 0.9)
