@@ -8,7 +8,6 @@ tests/fuzz_helpers.py (``LOAD_TABLES``: ``suite_pga``, ``suite_sa``, ``suite_for
 from __future__ import annotations
 
 import copy
-import math
 import warnings
 
 import numpy as np

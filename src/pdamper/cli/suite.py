@@ -4,32 +4,20 @@
 from __future__ import annotations
 
 import math
-import sys
-
-import click
-
-from .common import echo_json, fraction_bar
 
 __all__ = ["transient_suite", "suite_lines"]
 
 
-def transient_suite(case, config, dofs, plot, as_json) -> None:
-    """Run the suite of ``case`` (``dofs``: the labels asked for) and print it; ``plot`` the figure."""
+def transient_suite(case, config, dofs, plot, as_json, limits=None) -> None:
+    """Run the suite of ``case`` (``dofs``: the labels asked for; ``limits`` each record's codes
+    limits, in its JSON) and print it; ``plot`` the figure."""
+    from ..plotting.suite import suite_figure
     from ..studies.suite import run_suite
+    from .transient import shown_run
 
     total = sum(load.duration for load in case.drive.load.records())
-    with fraction_bar("pdamper transient (suite)", round(total, 3), "s",
-                      not as_json and sys.stderr.isatty()) as progress:
-        res = run_suite(case, dofs=dofs, progress=progress)
-    if plot:
-        from ..plotting.suite import suite_figure
-
-        suite_figure(res, plot)
-    s = dict(res.summary, config=str(config), plot=plot)
-    if as_json:
-        echo_json(s)
-        return
-    click.echo("\n".join(suite_lines(s, config)))
+    shown_run("pdamper transient (suite)", total, lambda progress: run_suite(case, dofs=dofs, progress=progress, limits=limits),
+              suite_figure, suite_lines, config, plot, as_json)
 
 
 def suite_lines(s: dict, config) -> list[str]:

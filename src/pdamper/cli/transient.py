@@ -60,23 +60,33 @@ def transient_command(config, dofs, seed, settings, plot, as_json, limits):
     if is_suite(case):  # [load] files = [...]: one transient a record
         from .suite import transient_suite
 
-        return transient_suite(case, config, wanted, plot, as_json)
-    with fraction_bar("pdamper transient", round(case.duration, 3), "s",
-                      not as_json and sys.stderr.isatty()) as progress:
-        res = run_transient(case, dofs=wanted, progress=progress, limits=wanted_limits)
-    if plot:
-        from ..plotting.transient import transient_figure
+        return transient_suite(case, config, wanted, plot, as_json, limits=wanted_limits)
+    from ..plotting.transient import transient_figure
 
-        transient_figure(res, plot)
+    def printed(s, config):
+        lines = transient_lines(s, config)
+        lines[1:1] = settings_line(settings) + mode_lines(s["mode_table"])
+        at = next(k for k, line in enumerate(lines) if line.startswith("  energy balance error"))
+        lines[at:at] = codes_lines(s["codes"]) + tmd_lines(s["tmd_equivalent"])
+        return lines
+
+    shown_run("pdamper transient", case.duration,
+              lambda progress: run_transient(case, dofs=wanted, progress=progress, limits=wanted_limits),
+              transient_figure, printed, config, plot, as_json)
+
+
+def shown_run(desc: str, total: float, run, figure, lines, config, plot, as_json) -> None:
+    """``run(progress)`` under a bar of ``total`` seconds (on a terminal, not with ``as_json``), its
+    ``figure(result, plot)`` written, its summary printed as JSON or as ``lines(summary, config)``."""
+    with fraction_bar(desc, round(total, 3), "s", not as_json and sys.stderr.isatty()) as progress:
+        res = run(progress)
+    if plot:
+        figure(res, plot)
     s = dict(res.summary, config=str(config), plot=plot)
     if as_json:
         echo_json(s)
         return
-    lines = transient_lines(s, config)
-    lines[1:1] = settings_line(settings) + mode_lines(s["mode_table"])
-    at = next(k for k, line in enumerate(lines) if line.startswith("  energy balance error"))
-    lines[at:at] = codes_lines(s["codes"]) + tmd_lines(s["tmd_equivalent"])
-    click.echo("\n".join(lines))
+    click.echo("\n".join(lines(s, config)))
 
 
 def transient_lines(s: dict, config) -> list[str]:

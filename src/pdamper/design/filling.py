@@ -156,7 +156,7 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
     if n > top:
         n = top
         warnings.append(f"the stroke {x * 1e3:.4g} mm is too small for this container: {n} of {n_max} spheres "
-                        + (f"(the most that fit on its floor in one layer) " if top < n_max - 1 else "")
+                        + ("(the most that fit on its floor in one layer) " if top < n_max - 1 else "")
                         + f"leave X_opt = {th.optimal_stroke(th.clearance(big_l, n, n_max)) * 1e3:.4g} mm; use a "
                         "shorter container or smaller spheres")
     h = th.clearance(big_l, n, n_max)

@@ -161,6 +161,22 @@ def _particle_bounds(particles) -> tuple:
     return lo, hi
 
 
+def _mass_caps(max_bed_mass, max_mass_ratio, m_at_damper: float) -> dict:
+    """The bed-mass bounds [kg] given, by the parameter that gives them: ``max_bed_mass`` [kg] and
+    ``max_mass_ratio`` of the mode's mass at the damper ``m_at_damper`` [kg]."""
+    from ..errors import shown
+
+    caps = {}
+    for key, bound in (("max_bed_mass", max_bed_mass), ("max_mass_ratio", max_mass_ratio)):
+        if bound is not None and not (bound > 0 and math.isfinite(bound)):
+            raise InputError(f"{name(key)} = {shown(bound)}: must be > 0 (a mass ratio of 0.01 is 1 % of the mode's mass)")
+    if max_bed_mass is not None:
+        caps["max_bed_mass"] = max_bed_mass
+    if max_mass_ratio is not None:
+        caps["max_mass_ratio"] = max_mass_ratio * m_at_damper
+    return caps
+
+
 @dataclass(frozen=True, kw_only=True)
 class _Candidate:
     """A filling the design may choose: ``particles`` of ``max_particles`` in ``geometry``."""
@@ -357,14 +373,7 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     bounds = _particle_bounds(particles)
     m_sphere = rho * 4.0 / 3.0 * math.pi * r**3
     m_at_damper = md.mass / md.phi_damper**2
-    caps = {}
-    for key, bound in (("max_bed_mass", max_bed_mass), ("max_mass_ratio", max_mass_ratio)):
-        if bound is not None and not (bound > 0 and math.isfinite(bound)):
-            raise InputError(f"{name(key)} = {bound!r}: must be > 0 (a mass ratio of 0.01 is 1 % of the mode's mass)")
-    if max_bed_mass is not None:
-        caps["max_bed_mass"] = max_bed_mass
-    if max_mass_ratio is not None:
-        caps["max_mass_ratio"] = max_mass_ratio * m_at_damper
+    caps = _mass_caps(max_bed_mass, max_mass_ratio, m_at_damper)
     cap = min(caps.values(), default=math.inf)
     if cap < m_sphere:
         raise InputError(f"the bed-mass bound {cap * 1e3:.4g} g is below one sphere's mass ({m_sphere * 1e3:.4g} g); "

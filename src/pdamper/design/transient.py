@@ -46,7 +46,7 @@ from ..theory.rolling import ETA_MAX
 from .case import _bed, design_container
 from .filling import design_filling
 from .names import name
-from .search import _Candidate, _candidates, _lengths, _particle_bounds, structure_mode
+from .search import _Candidate, _candidates, _lengths, _mass_caps, _particle_bounds, structure_mode
 
 __all__ = ["TransientDesign", "TransientCheck", "Screen", "design_for_load", "screen_candidates", "check_candidate",
            "measured_reasons", "load_design_case", "load_design_text", "ENGAGED", "STRONG"]
@@ -472,14 +472,7 @@ def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_
     md = structure_mode(s, 1)
     m_sphere = rho * 4.0 / 3.0 * math.pi * r**3
     m_at_damper = md.mass / md.phi_damper**2
-    caps = {}
-    for key, bound in (("max_bed_mass", max_bed_mass), ("max_mass_ratio", max_mass_ratio)):
-        if bound is not None and not (bound > 0 and math.isfinite(bound)):
-            raise InputError(f"{name(key)} = {shown(bound)}: must be > 0 (a mass ratio of 0.01 is 1 % of the mode's mass)")
-    if max_bed_mass is not None:
-        caps["max_bed_mass"] = float(max_bed_mass)
-    if max_mass_ratio is not None:
-        caps["max_mass_ratio"] = float(max_mass_ratio) * m_at_damper
+    caps = _mass_caps(max_bed_mass, max_mass_ratio, m_at_damper)
     cap = min(caps.values(), default=math.inf)
     cands = _candidates(container, lengths, r, m_sphere, cap, bounds)
     if not cands:

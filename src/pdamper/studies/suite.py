@@ -102,10 +102,11 @@ class SuiteResult:
     summary: dict = field(default_factory=dict)
 
 
-def run_suite(case: Case, *, dofs=None, progress=None) -> SuiteResult:
+def run_suite(case: Case, *, dofs=None, progress=None, limits=None) -> SuiteResult:
     """One coupled DEM transient (:func:`~pdamper.studies.transient.run_transient`) for each record
     of the case's suite (``[load] files``; a load of one record runs once), in turn, and the
-    statistics over them (module docstring). ``progress(fraction)`` over the whole suite."""
+    statistics over them (module docstring). ``progress(fraction)`` over the whole suite; ``limits``
+    each record's codes limits (:func:`~pdamper.studies.transient.run_transient`)."""
     case = in_time(case)
     s = case.drive
     loads = s.load.records()
@@ -120,7 +121,7 @@ def run_suite(case: Case, *, dofs=None, progress=None) -> SuiteResult:
                 progress((_start + fraction * _length) / total)
 
         try:
-            runs.append(run_transient(one, dofs=dofs, progress=step if progress is not None else None))
+            runs.append(run_transient(one, dofs=dofs, progress=step if progress is not None else None, limits=limits))
         except InputError as exc:
             raise InputError(f"record {len(runs) + 1} of {len(loads)} ({_name(load)}): {exc}") from None
         done += load.duration

@@ -264,7 +264,7 @@ class SampledLoad(LoadBase):
             return
         if isinstance(files, (str, bytes)) or not isinstance(files, (tuple, list)) or not all(
                 isinstance(r, Record) for r in files):
-            raise InputError(f"load.files: give the records' files in a config ([load] files = ['a.AT2', 'b.AT2'] "
+            raise InputError("load.files: give the records' files in a config ([load] files = ['a.AT2', 'b.AT2'] "
                              "or a folder), or Record(name, time, values) objects")
         object.__setattr__(self, "files", tuple(files))
         if self.file is not None:
