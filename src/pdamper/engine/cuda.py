@@ -534,7 +534,7 @@ def _pack(jobs, threads):
     # the recorded channels: allocated on the GPU, not copied (every row a case records is written
     # before it is read): here only their shape
     out = np.zeros((C, o["out"])) if SIMULATOR else np.lib.stride_tricks.as_strided(np.zeros(1), (C, o["out"]), (0, 0))
-    shared = 8 * lay.SHARED_FIELDS * N
+    shared = lay.shared_bytes(N, bd)
     return lay.Batch(st=st, gv=gv, th=th, iv=iv, ci=ci, cf=cf, walls=walls, out=out), tb, bd, shared
 
 

@@ -43,7 +43,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["Batch", "layout", "row_widths", "WARP", "MAX_WARPS", "MAX_SPHERES", "SPHERES_PER_LANE", "RESULT", "WALL_ROW",
-           "PARTIALS", "SHARED_FIELDS"]
+           "PARTIALS", "SHARED_FIELDS", "STATE_SLOTS", "shared_bytes"]
 
 #: Lanes of a warp.
 WARP = 32
@@ -66,6 +66,10 @@ ST_FIELDS = 76
 # ---- the block's shared memory, one value per sphere (field f of sphere i at f * N + i)
 S_X, S_V, S_SPIN, S_MOVED, S_RAD = 0, 3, 6, 9, 15
 SHARED_FIELDS = 16
+#: Words a thread keeps of its loop's state in the block's shared memory, after the spheres' fields
+#: (slot ``k`` of thread ``t`` at ``SHARED_FIELDS N + k bd + t``; :func:`pdamper.kernels.gpu.forces.get`):
+#: the step's counters, clock, flags and times live there, not in registers through every phase.
+STATE_SLOTS = 24
 
 #: Values of a pair's result: the force on i (3), the unit normal from i to j (3), the friction force
 #: on i (3), the slip (3), the friction coefficient c and the Coulomb limit (Gear's friction row).
@@ -139,3 +143,9 @@ def row_widths(n: int, threads: int) -> dict:
     """The widths of a case's rows of ``st`` and ``cf`` for ``n`` spheres (padded) and ``threads``
     a block."""
     return {"st": ST_FIELDS * n, "cf": CF_FIXED + PARTIALS * threads * 3}
+
+
+def shared_bytes(n: int, threads: int) -> int:
+    """The dynamic shared memory [B] of a block of ``threads`` for ``n`` spheres (padded): the spheres'
+    hot fields and each thread's state slots."""
+    return 8 * (SHARED_FIELDS * n + STATE_SLOTS * threads)

@@ -37,17 +37,18 @@ from ..contact import FRICTION_CAP, contact, drop_history, floor_slip, keeps_his
 from ..drive import parametric_motion
 from ..forces import STATUS_LIST_OVERFLOW, STATUS_OK, STATUS_OVERLAP, pair_geometry
 from . import targets  # noqa: F401  (registers the laws' dispatch for the CUDA target)
+from .targets import SIMULATOR
 from .batch import (F_BED_MASS, F_DIRECTION, F_GRAVITY, F_JUMP, F_PAR, F_PARTIALS, F_SAMPLE_INTERVAL, F_SKIN,
                     IINERT, I_CULPRIT, I_DRIVE, I_EN_ROWS, I_FAIL_STEP, I_FLOOR, I_FRAME_EVERY, I_FR_ROWS, I_LIST,
                     I_N, I_NMAT, I_NW, I_PRIMED, I_ROW0, I_STARTED, I_STATUS, I_TIME, I_WF_ROWS, MASS, MOVED,
                     O_ENERGY, O_FIRST, O_FRAMES, O_INPAIR, O_INROW, O_MAT, O_MP, O_N, O_P, O_PCAP, O_PD, O_PK, O_PV,
                     O_RES, O_ROW, O_SEC, O_TP, O_TW, O_TWALL, O_W, O_WD, O_WK, O_WKIND, O_WMP, O_WROW, O_WRS, O_WV,
-                    PARTIALS, RAD, REF, R_C, R_F, R_LIM, R_N, R_S, R_T, S_MOVED, S_RAD, S_SPIN,
+                    PARTIALS, RAD, REF, SHARED_FIELDS, R_C, R_F, R_LIM, R_N, R_S, R_T, S_MOVED, S_RAD, S_SPIN,
                     S_V, S_X, X)
-from .warp import block_max, block_min_int, block_or, block_scan, block_sum, out_of_time, sync
+from .warp import block_max, block_min_int, block_or, block_scan, block_sum, opaque, out_of_time, sync
 
-__all__ = ["Block", "block", "load_spheres", "store_spheres", "rebuild", "pair_laws", "sphere_force", "elastic",
-           "ledger", "table_of", "record_sample", "motion_at", "prime", "start_drive", "vote", "keep_state", "RUNNING",
+__all__ = ["Block", "block", "fresh", "get", "put", "getf", "putf", "load_spheres", "store_spheres", "rebuild", "pair_laws", "sphere_force", "elastic",
+           "ledger", "table_of", "fresh", "record_sample", "motion_at", "prime", "start_drive", "vote", "keep_state", "RUNNING",
            "INTEGRANDS", "THIS_STEP", "MOVED_FAR", "TIME_UP", "FAILED"]
 
 #: A thread's ledger rows in ``cf`` (:func:`ledger`): its running sums (work done by the container,
@@ -74,16 +75,70 @@ class Block(NamedTuple):
     ci: np.ndarray
     cf: np.ndarray
     walls: np.ndarray   #: (W, 7)
-    sh: np.ndarray      #: the block's shared memory: SHARED_FIELDS values a sphere
+    sh: np.ndarray      #: the block's shared memory: SHARED_FIELDS values a sphere, then the threads' state slots
+    si: np.ndarray      #: the same shared memory as integers (the threads' integer state slots)
     red: np.ndarray     #: shared: a word a warp for the block's reductions
 
 
 @cuda.jit(device=True, inline="always")
-def block(bt, c, sh, red):
+def block(bt, c, sh, si, red):
     """Case ``c``'s :class:`Block` for the calling thread (``bt``: the :class:`~.batch.Batch`)."""
     ci = bt.ci[c]
     return Block(cuda.threadIdx.x, cuda.blockDim.x, ci[I_N], ci[O_N], bt.st[c], bt.gv[c], bt.th[c], bt.iv[c], ci,
-                 bt.cf[c], bt.walls[c * ci[O_W]:(c + 1) * ci[O_W]], sh, red)
+                 bt.cf[c], bt.walls[c * ci[O_W]:(c + 1) * ci[O_W]], sh, si, red)
+
+
+if SIMULATOR:
+    # (the simulator runs the kernels as Python: nothing to keep from hoisting, and each call of a
+    # device function costs it a swap of the module's globals, so these are plain functions there)
+    def fresh(b):
+        return b
+
+    def get(b, k):
+        return b.si[SHARED_FIELDS * b.N + k * b.bd + b.tid]
+
+    def put(b, k, v):
+        b.si[SHARED_FIELDS * b.N + k * b.bd + b.tid] = v
+
+    def getf(b, k):
+        return b.sh[SHARED_FIELDS * b.N + k * b.bd + b.tid]
+
+    def putf(b, k, v):
+        b.sh[SHARED_FIELDS * b.N + k * b.bd + b.tid] = v
+else:
+    @cuda.jit(device=True)
+    def fresh(b):
+        """``b`` with its thread, block size and sphere counts read afresh (:func:`~.warp.opaque`): what
+        a phase computes from them (a field's offset, the first sphere of a lane) is its own, not
+        hoisted out of the persistent loop and kept live through every other phase."""
+        return Block(opaque(b.tid), opaque(b.bd), opaque(b.n), opaque(b.N), b.st, b.gv, b.th, b.iv, b.ci, b.cf,
+                     b.walls, b.sh, b.si, b.red)
+
+    @cuda.jit(device=True)
+    def _slot(b, k):
+        """Where this thread's state slot ``k`` is in the block's shared memory (:data:`~.batch.STATE_SLOTS`)."""
+        return SHARED_FIELDS * b.N + k * b.bd + b.tid
+
+    @cuda.jit(device=True)
+    def get(b, k):
+        """This thread's integer state slot ``k`` (a loop's counter, clock or flag kept in shared memory,
+        read where it is used instead of held in a register through every phase)."""
+        return b.si[_slot(fresh(b), k)]
+
+    @cuda.jit(device=True)
+    def put(b, k, v):
+        """Set this thread's integer state slot ``k`` to ``v``."""
+        b.si[_slot(fresh(b), k)] = v
+
+    @cuda.jit(device=True)
+    def getf(b, k):
+        """This thread's float state slot ``k``."""
+        return b.sh[_slot(fresh(b), k)]
+
+    @cuda.jit(device=True)
+    def putf(b, k, v):
+        """Set this thread's float state slot ``k`` to ``v``."""
+        b.sh[_slot(fresh(b), k)] = v
 
 
 @cuda.jit(device=True, inline="always")
@@ -134,6 +189,7 @@ def store_spheres(b):
 def start_drive(b):
     """The drive starts (after the settling): the velocities relative to the container jump by
     ``-jump``, this thread's running sums restart."""
+    b = fresh(b)
     N = b.N
     i = b.tid
     while i < b.n:
@@ -239,6 +295,7 @@ def rebuild(b, table, lb, tb):
     ``transfer_history``), with each pair's constants and each sphere's list of the pairs it is the
     second of; the reference positions taken. Returns the status: ``STATUS_LIST_OVERFLOW`` when the
     pairs pass the case's capacity (then the old list stands)."""
+    b = fresh(b)
     tid = b.tid
     bd = b.bd
     n = b.n
@@ -353,6 +410,7 @@ def pair_laws(b, table, lb, tb, dt, step):
     pair. ``dt``: the tanh law's friction guard's step (Gear: none), ``step``: the step taken. The
     pairs' powers and a spring's loss go to this thread's sums of the step (:func:`ledger`). Returns
     ``(status, culprit)`` of this thread's pairs; a barrier after."""
+    b = fresh(b)
     N = b.N
     ci = b.ci
     iv = b.iv
@@ -468,6 +526,7 @@ def _add_pair(gv, res, P, p, acc, i, sign, ri):
 def _pair_sums(b, acc, i, lb, tb):
     """Force and torque on sphere ``i`` from its pairs, in ascending partner order (the pairs it is
     the second of, then its own), into ``acc[i]`` (force, torque)."""
+    b = fresh(b)
     N = b.N
     ci = b.ci
     iv = b.iv
@@ -514,6 +573,7 @@ def sphere_force(b, table, acc, i, lb, tb, dt, step):
     buffer ``tb`` into ``1 - tb``, the friction rows noted), summed one after another as the CPU sums
     them. The walls' powers, a spring's loss and their force along the drive go to this thread's
     sums of the step (:func:`ledger`). Returns the status."""
+    b = fresh(b)
     N = b.N
     ci = b.ci
     gv = b.gv
@@ -617,6 +677,7 @@ def elastic(b, i, lb, tb, spring):
     """Energy [J] in the Hertz springs of sphere ``i``'s own pairs and its walls, and in their
     tangential springs (time buffer ``tb``) under a law with history (``spring``):
     :func:`pdamper.kernels.forces.elastic_energy`'s terms of this sphere."""
+    b = fresh(b)
     N = b.N
     ci = b.ci
     iv = b.iv
@@ -666,6 +727,7 @@ def record_sample(b, out, kk, motion, lb, tb, spring):
     the block's sums of the threads' running sums (:func:`ledger`; the impulse restarts), the
     energies, a frame; ``motion``: the container's ``(x, v)`` [m, m/s] at the sample's end. Every
     thread of the block calls it."""
+    b = fresh(b)
     N = b.N
     ci = b.ci
     cf = b.cf
@@ -749,6 +811,7 @@ def prime(b, table, lb, tb, dt):
     law evaluated with the springs not advanced (nothing moved; ``dt``: the tanh law's friction
     guard's step). Returns ``(status, lb)``: the rebuild's status and the list buffer in use; the
     walls are the integrator's (:func:`sphere_force` with ``step = 0``)."""
+    b = fresh(b)
     N = b.N
     i = b.tid
     while i < b.n:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from numba import cuda, float64
+from numba import cuda, float64, int64
 
 from ..contact import keeps_history
 from ..forces import STATUS_NAN, STATUS_OK
@@ -31,8 +31,8 @@ from .batch import (A, AL, ALP, AP, F_DIRECTION, F_DT, F_GRAVITY, F_INTERVAL, F_
                     S_V, S_X)
 from .forces import (FAILED, MOVED_FAR, RUNNING, THIS_STEP, TIME_UP, block, keep_state, ledger, load_spheres,
                      motion_at, pair_laws, prime, rebuild, record_sample, sphere_force, start_drive, store_spheres,
-                     table_of, vote)
-from .warp import clock, sync
+                     table_of, vote, fresh, get, put, getf, putf)
+from .warp import clock, opaque, sync
 
 __all__ = ["batch_verlet", "verlet_kernel", "case_time"]
 
@@ -60,159 +60,234 @@ def case_time(g, dt, settle, seg_steps, seg_samples, interval):
     return float(j * seg_samples) * interval + float(q - j * seg_steps) * dt
 
 
+#: The Verlet kernel's state slots (:func:`~.forces.get`): its step, list and time buffers, whether the
+#: list is to be rebuilt, the drive has started and the run is primed, the status and culprit of a
+#: failure, the steps of this launch, whether its time is up, the launch's clock at its start; the
+#: container's position and velocity at the step's end, the lane's largest squared displacement.
+(U_G, U_LB, U_TK, U_MOVED, U_STARTED, U_PRIMED, U_STATUS, U_CULPRIT, U_DONE, U_STOP, U_START, U_XC, U_VC,
+ U_DISP) = range(14)
+
+
 def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
     """Advance every case of the batch ``bt`` (:class:`~.batch.Batch`; block ``c`` is case ``c``) by
     at most ``max_steps`` steps, and with ``max_cycles`` > 0 no further than the step on which its
     block's clock passes that many cycles; ``tb``: the contact table's arrays and constants of every
-    case, ``law`` and ``tlaw`` the damping and tangential laws' markers."""
+    case, ``law`` and ``tlaw`` the damping and tangential laws' markers. The loop's state lives in
+    each thread's slots of shared memory (``U_*``), read where it is used."""
     c = cuda.blockIdx.x
-    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere)
+    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere), the threads' slots
+    hoti = cuda.shared.array(0, int64)  # (the same memory: the threads' integer slots)
     red = cuda.shared.array(MAX_WARPS, float64)  # a word a warp for the block's reductions
-    b = block(bt, c, hot, red)
     acc = cuda.shared.array((MAX_SPHERES, 6), float64)  # each sphere's force and torque
-    ci = b.ci
-    cf = b.cf
-    st = b.st
-    sh = b.sh
-    if ci[I_STATUS] != STATUS_OK:
+    b = block(bt, c, hot, hoti, red)
+    if b.ci[I_STATUS] != STATUS_OK:
         return
     table = table_of(tb, law, tlaw)
     spring = keeps_history(tlaw)
-    tid = b.tid
-    bd = b.bd
-    n = b.n
-    N = b.N
-    g = ci[I_STEP]
-    lb = ci[I_LIST]
-    tk = ci[I_TIME]
-    moved = ci[I_MOVED]
-    started = ci[I_STARTED]
-    primed = ci[I_PRIMED]
-    run = ledger(b, RUNNING)
-    now = ledger(b, THIS_STEP)
+    for k, slot in ((U_G, I_STEP), (U_LB, I_LIST), (U_TK, I_TIME), (U_MOVED, I_MOVED), (U_STARTED, I_STARTED),
+                    (U_PRIMED, I_PRIMED)):
+        put(b, k, b.ci[slot])
+    put(b, U_STATUS, STATUS_OK)
+    put(b, U_CULPRIT, -1)
+    put(b, U_DONE, 0)
+    put(b, U_STOP, 0)
     load_spheres(b)
-    status = STATUS_OK
-    culprit = -1
-    done = 0
-    stop = 0
-    start = clock()
-    while g < ci[I_TOTAL_STEPS] and done < max_steps and stop == 0:
-        dt = cf[F_DT]
-        half = 0.5 * dt
-        settle = ci[I_SETTLE_STEPS]
+    put(b, U_START, clock())
+    while get(b, U_G) < b.ci[I_TOTAL_STEPS] and get(b, U_DONE) < max_steps and get(b, U_STOP) == 0:
+        b = fresh(block(bt, opaque(c), hot, hoti, red))
+        ci = b.ci
+        cf = b.cf
         # ---- the drive starts: velocities relative to the container jump, the sums restart
-        if g == settle and started == 0:
+        if get(b, U_G) == ci[I_SETTLE_STEPS] and get(b, U_STARTED) == 0:
             start_drive(b)
-            started = 1
+            put(b, U_STARTED, 1)
         # ---- the initial accelerations (run_verlet's priming): list and forces at the start
-        if primed == 0:
-            status, lb = prime(b, table, lb, tk, dt)
-            xc, vc, ac = motion_at(b, case_time(g, dt, settle, ci[I_SEG_STEPS], ci[I_SEG_SAMPLES], cf[F_INTERVAL]))
-            i = tid
-            while i < n:
-                sphere_force(b, table, acc, i, lb, tk, dt, 0.0)
-                im = st[IMASS * N + i]
-                ii = st[IINERT * N + i]
-                for k in range(3):
-                    a0 = acc[i, k] * im + cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k]
-                    st[(A + k) * N + i] = a0
-                    st[(AP + k) * N + i] = a0
-                    w0 = acc[i, 3 + k] * ii
-                    st[(AL + k) * N + i] = w0
-                    st[(ALP + k) * N + i] = w0
-                i += bd
-            tk = 1 - tk
-            primed = 1
-            moved = 0
-            if status != STATUS_OK:
+        if get(b, U_PRIMED) == 0:
+            if _prime(b, table, acc) != STATUS_OK:
                 break
+        b = fresh(b)
+        now = ledger(b, THIS_STEP)
         for k in range(4):
-            cf[now + k] = 0.0
-        t = case_time(g + 1, dt, settle, ci[I_SEG_STEPS], ci[I_SEG_SAMPLES], cf[F_INTERVAL])
+            b.cf[now + k] = 0.0
         # ---- rebuild the list when a sphere moved too far in the previous step
-        if moved != 0:
-            status = rebuild(b, table, lb, tk)
+        if get(b, U_MOVED) != 0:
+            status = rebuild(b, table, get(b, U_LB), get(b, U_TK))
+            put(b, U_STATUS, status)
             if status == STATUS_OK:
-                lb = 1 - lb
+                put(b, U_LB, 1 - get(b, U_LB))
         # ---- drift with the half-step velocity; velocities predicted to the full step
-        disp = 0.0
-        i = tid
-        while i < n:
-            for k in range(3):
-                a = st[(A + k) * N + i]
-                v = sh[(S_V + k) * N + i]
-                if spring:
-                    # what the drift moves and turns the sphere by: the springs advance by it
-                    sh[(S_MOVED + k) * N + i] = dt * (v + half * a)
-                    sh[(S_MOVED + 3 + k) * N + i] = dt * (sh[(S_SPIN + k) * N + i] + half * st[(AL + k) * N + i])
-                x = sh[(S_X + k) * N + i] + dt * (v + half * a)
-                sh[(S_X + k) * N + i] = x
-                sh[(S_V + k) * N + i] = v + half * (3.0 * a - st[(AP + k) * N + i])
-                sh[(S_SPIN + k) * N + i] = sh[(S_SPIN + k) * N + i] + half * (3.0 * st[(AL + k) * N + i]
-                                                                            - st[(ALP + k) * N + i])
-                dd = x - st[(REF + k) * N + i]
-                disp = max(disp, dd * dd)
-            i += bd
-        sync(bd)
+        _drift(fresh(b), spring)
         # ---- the pairs' contact law
-        st_, cu = pair_laws(b, table, lb, tk, dt, dt)
+        b = fresh(b)
+        st_, cu = pair_laws(b, table, get(b, U_LB), get(b, U_TK), b.cf[F_DT], b.cf[F_DT])
         if st_ != STATUS_OK:
-            status = st_
-            culprit = cu
+            put(b, U_STATUS, st_)
+            put(b, U_CULPRIT, cu)
         # ---- each sphere's force and torque, the half kick with the new accelerations
-        xc, vc, ac = motion_at(b, t)
-        i = tid
-        while i < n:
-            st_ = sphere_force(b, table, acc, i, lb, tk, dt, dt)
-            if st_ != STATUS_OK:
-                status = st_
-                culprit = i
-            im = st[IMASS * N + i]
-            ii = st[IINERT * N + i]
-            bad = False
-            for k in range(3):
-                an = acc[i, k] * im + (cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k])
-                a = st[(A + k) * N + i]
-                vn = sh[(S_V + k) * N + i] + half * (an - 2.0 * a + st[(AP + k) * N + i])
-                sh[(S_V + k) * N + i] = vn
-                st[(AP + k) * N + i] = a
-                st[(A + k) * N + i] = an
-                wn = acc[i, 3 + k] * ii
-                al = st[(AL + k) * N + i]
-                sh[(S_SPIN + k) * N + i] = sh[(S_SPIN + k) * N + i] + half * (wn - 2.0 * al + st[(ALP + k) * N + i])
-                st[(ALP + k) * N + i] = al
-                st[(AL + k) * N + i] = wn
-                if not (math.fabs(vn) < 1e6):
-                    bad = True
-            if bad and culprit < 0:
-                status = STATUS_NAN
-                culprit = i
-            i += bd
-        tk = 1 - tk
+        _kick(fresh(b), table, acc)
+        b = fresh(b)
+        put(b, U_TK, 1 - get(b, U_TK))
         # ---- this thread's ledger: the step's powers and impulse
-        fd = cf[now + 3]
-        cf[run] += vc * fd * dt
-        cf[run + 1] += cf[now] * dt
-        cf[run + 2] += cf[now + 1] * dt
-        if spring:
-            cf[run + 2] += cf[now + 2]
-        cf[run + 3] += fd * dt
-        g += 1
-        done += 1
+        _ledger(b, spring)
+        put(b, U_G, get(b, U_G) + 1)
+        put(b, U_DONE, get(b, U_DONE) + 1)
         # ---- the block's vote: a rebuild next step, the launch's time, a failure
-        bits, status, culprit = vote(b, MOVED_FAR if 3.0 * disp > 0.25 * cf[F_SKIN] * cf[F_SKIN] else 0, status,
-                                     culprit, start, max_cycles)
-        moved = bits & MOVED_FAR
-        stop = bits & TIME_UP
+        skin = b.cf[F_SKIN]
+        bits, status, culprit = vote(b, MOVED_FAR if 3.0 * getf(b, U_DISP) > 0.25 * skin * skin else 0,
+                                     get(b, U_STATUS), get(b, U_CULPRIT), get(b, U_START), max_cycles)
+        put(b, U_STATUS, status)
+        put(b, U_CULPRIT, culprit)
+        put(b, U_MOVED, bits & MOVED_FAR)
+        put(b, U_STOP, bits & TIME_UP)
         if bits & FAILED:
             break
         # ---- a sample ends: the block's sums, the energies, a frame
-        if g > settle and g % ci[I_SUB] == 0:
-            record_sample(b, bt.out[c], g // ci[I_SUB] - 1 - ci[I_SETTLE_SAMPLES], (xc, vc), lb, tk, spring)
+        b = fresh(b)
+        g = get(b, U_G)
+        sub = b.ci[I_SUB]
+        if g > b.ci[I_SETTLE_STEPS] and g % sub == 0:
+            record_sample(b, bt.out[c], g // sub - 1 - b.ci[I_SETTLE_SAMPLES], (getf(b, U_XC), getf(b, U_VC)),
+                          get(b, U_LB), get(b, U_TK), spring)
     # ---- leave the state and the clock for the next launch
-    sync(bd)
+    b = fresh(b)
+    sync(b.bd)
     store_spheres(b)
-    if tid == 0:
-        ci[I_STEP] = g
-        ci[I_MOVED] = moved
-        keep_state(b, lb, tk, started, primed, status, culprit, g)
+    if b.tid == 0:
+        b.ci[I_STEP] = get(b, U_G)
+        b.ci[I_MOVED] = get(b, U_MOVED)
+        keep_state(b, get(b, U_LB), get(b, U_TK), get(b, U_STARTED), get(b, U_PRIMED), get(b, U_STATUS),
+                   get(b, U_CULPRIT), get(b, U_G))
+
+
+@cuda.jit(device=True)
+def _time(b, g):
+    """The case's time [s] at the end of step ``g`` (:func:`case_time` of its clock)."""
+    ci = b.ci
+    return case_time(g, b.cf[F_DT], ci[I_SETTLE_STEPS], ci[I_SEG_STEPS], ci[I_SEG_SAMPLES], b.cf[F_INTERVAL])
+
+
+@cuda.jit(device=True)
+def _prime(b, table, acc):
+    """The initial accelerations (run_verlet's priming): the list and the forces at the start, the
+    history's time buffer flipped. Returns the status (also in the thread's slot)."""
+    dt = b.cf[F_DT]
+    status, lb = prime(b, table, get(b, U_LB), get(b, U_TK), dt)
+    put(b, U_LB, lb)
+    put(b, U_STATUS, status)
+    b = fresh(b)
+    xc, vc, ac = motion_at(b, _time(b, get(b, U_G)))
+    N = b.N
+    st = b.st
+    cf = b.cf
+    tk = get(b, U_TK)
+    i = b.tid
+    while i < b.n:
+        sphere_force(b, table, acc, i, lb, tk, dt, 0.0)
+        im = st[IMASS * N + i]
+        ii = st[IINERT * N + i]
+        for k in range(3):
+            a0 = acc[i, k] * im + cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k]
+            st[(A + k) * N + i] = a0
+            st[(AP + k) * N + i] = a0
+            w0 = acc[i, 3 + k] * ii
+            st[(AL + k) * N + i] = w0
+            st[(ALP + k) * N + i] = w0
+        i += b.bd
+    b = fresh(b)
+    put(b, U_TK, 1 - get(b, U_TK))
+    put(b, U_PRIMED, 1)
+    put(b, U_MOVED, 0)
+    return status
+
+
+@cuda.jit(device=True)
+def _drift(b, spring):
+    """Each lane's spheres drift with the half-step velocity, their velocities predicted to the full
+    step (the springs' displacements noted); the lane's largest squared displacement since the list
+    was built into its slot. A barrier after."""
+    dt = b.cf[F_DT]
+    half = 0.5 * dt
+    N = b.N
+    st = b.st
+    sh = b.sh
+    disp = 0.0
+    i = b.tid
+    while i < b.n:
+        for k in range(3):
+            a = st[(A + k) * N + i]
+            v = sh[(S_V + k) * N + i]
+            if spring:
+                # what the drift moves and turns the sphere by: the springs advance by it
+                sh[(S_MOVED + k) * N + i] = dt * (v + half * a)
+                sh[(S_MOVED + 3 + k) * N + i] = dt * (sh[(S_SPIN + k) * N + i] + half * st[(AL + k) * N + i])
+            x = sh[(S_X + k) * N + i] + dt * (v + half * a)
+            sh[(S_X + k) * N + i] = x
+            sh[(S_V + k) * N + i] = v + half * (3.0 * a - st[(AP + k) * N + i])
+            sh[(S_SPIN + k) * N + i] = sh[(S_SPIN + k) * N + i] + half * (3.0 * st[(AL + k) * N + i]
+                                                                        - st[(ALP + k) * N + i])
+            dd = x - st[(REF + k) * N + i]
+            disp = max(disp, dd * dd)
+        i += b.bd
+    putf(b, U_DISP, disp)
+    sync(b.bd)
+
+
+@cuda.jit(device=True)
+def _kick(b, table, acc):
+    """Each lane's spheres' force and torque (:func:`~.forces.sphere_force`) and the half kick with
+    the new accelerations; the container's motion at the step's end into the thread's slots."""
+    dt = b.cf[F_DT]
+    half = 0.5 * dt
+    xc, vc, ac = motion_at(b, _time(b, get(b, U_G) + 1))
+    putf(b, U_XC, xc)
+    putf(b, U_VC, vc)
+    b = fresh(b)
+    N = b.N
+    st = b.st
+    sh = b.sh
+    cf = b.cf
+    lb = get(b, U_LB)
+    tk = get(b, U_TK)
+    i = b.tid
+    while i < b.n:
+        st_ = sphere_force(b, table, acc, i, lb, tk, dt, dt)
+        if st_ != STATUS_OK:
+            put(b, U_STATUS, st_)
+            put(b, U_CULPRIT, i)
+        im = st[IMASS * N + i]
+        ii = st[IINERT * N + i]
+        bad = False
+        for k in range(3):
+            an = acc[i, k] * im + (cf[F_GRAVITY + k] - ac * cf[F_DIRECTION + k])
+            a = st[(A + k) * N + i]
+            vn = sh[(S_V + k) * N + i] + half * (an - 2.0 * a + st[(AP + k) * N + i])
+            sh[(S_V + k) * N + i] = vn
+            st[(AP + k) * N + i] = a
+            st[(A + k) * N + i] = an
+            wn = acc[i, 3 + k] * ii
+            al = st[(AL + k) * N + i]
+            sh[(S_SPIN + k) * N + i] = sh[(S_SPIN + k) * N + i] + half * (wn - 2.0 * al + st[(ALP + k) * N + i])
+            st[(ALP + k) * N + i] = al
+            st[(AL + k) * N + i] = wn
+            if not (math.fabs(vn) < 1e6):
+                bad = True
+        if bad and get(b, U_CULPRIT) < 0:
+            put(b, U_STATUS, STATUS_NAN)
+            put(b, U_CULPRIT, i)
+        i += b.bd
+
+
+@cuda.jit(device=True)
+def _ledger(b, spring):
+    """This thread's running sums take the step's powers and impulse (:func:`~.forces.ledger`)."""
+    cf = b.cf
+    dt = cf[F_DT]
+    run = ledger(b, RUNNING)
+    now = ledger(b, THIS_STEP)
+    fd = cf[now + 3]
+    cf[run] += getf(b, U_VC) * fd * dt
+    cf[run + 1] += cf[now] * dt
+    cf[run + 2] += cf[now + 1] * dt
+    if spring:
+        cf[run + 2] += cf[now + 2]
+    cf[run + 3] += fd * dt

@@ -247,6 +247,33 @@ else:
         return _clock64()
 
 
+if SIMULATOR:
+    def opaque(x):
+        """``x`` (the simulator has no compiler to keep from hoisting)."""
+        return x
+else:
+    @intrinsic
+    def _opaque(typingctx, x):
+        """``x`` (an integer) through one ``mov`` of inline PTX with a side effect: the compiler cannot
+        hoist what is computed from the result out of the loop it is read in, nor merge two reads."""
+        if not isinstance(x, types.Integer):
+            return None
+        bits = x.bitwidth
+        sig = x(x)
+
+        def codegen(context, builder, signature, args):
+            mov = ir.InlineAsm(ir.FunctionType(ir.IntType(bits), [ir.IntType(bits)]), f"mov.b{bits} $0, $1;",
+                               "=l,l" if bits == 64 else "=r,r", side_effect=True)
+            return builder.call(mov, [args[0]])
+
+        return sig, codegen
+
+    @cuda.jit(device=True)
+    def opaque(x):
+        """``x``, computed afresh where it is read (:func:`_opaque`)."""
+        return _opaque(x)
+
+
 @cuda.jit(device=True)
 def out_of_time(start, max_cycles):
     """Whether a launch bounded by time has used its ``max_cycles`` (> 0; 0: bounded by steps alone)
