@@ -484,7 +484,7 @@ def _pack(jobs, threads):
     gv = np.zeros((C, o["gv"]))
     th = np.zeros((C, o["th"], 5))
     iv = np.zeros((C, o["iv"]), dtype=np.int32)
-    ci = np.zeros((C, lay.CI), dtype=np.int64)
+    ci = np.zeros((C, widths["ci"]), dtype=np.int64)
     cf = np.zeros((C, widths["cf"]))
     walls = np.zeros((C * W, 7))
     st[:, lay.RAD * N:(lay.IINERT + 1) * N] = 1.0  # (padding spheres: never read)
@@ -534,7 +534,7 @@ def _pack(jobs, threads):
     # the recorded channels: allocated on the GPU, not copied (every row a case records is written
     # before it is read): here only their shape
     out = np.zeros((C, o["out"])) if SIMULATOR else np.lib.stride_tricks.as_strided(np.zeros(1), (C, o["out"]), (0, 0))
-    shared = lay.shared_bytes(N, bd)
+    shared = 8 * lay.SHARED_FIELDS * N
     return lay.Batch(st=st, gv=gv, th=th, iv=iv, ci=ci, cf=cf, walls=walls, out=out), tb, bd, shared
 
 

@@ -43,7 +43,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["Batch", "layout", "row_widths", "WARP", "MAX_WARPS", "MAX_SPHERES", "SPHERES_PER_LANE", "RESULT", "WALL_ROW",
-           "PARTIALS", "SHARED_FIELDS", "STATE_SLOTS", "shared_bytes"]
+           "PARTIALS", "SHARED_FIELDS", "STATE_SLOTS"]
 
 #: Lanes of a warp.
 WARP = 32
@@ -66,10 +66,6 @@ ST_FIELDS = 76
 # ---- the block's shared memory, one value per sphere (field f of sphere i at f * N + i)
 S_X, S_V, S_SPIN, S_MOVED, S_RAD = 0, 3, 6, 9, 15
 SHARED_FIELDS = 16
-#: Words a thread keeps of its loop's state in the block's shared memory, after the spheres' fields
-#: (slot ``k`` of thread ``t`` at ``SHARED_FIELDS N + k bd + t``; :func:`pdamper.kernels.gpu.forces.get`):
-#: the step's counters, clock, flags and times live there, not in registers through every phase.
-STATE_SLOTS = 24
 
 #: Values of a pair's result: the force on i (3), the unit normal from i to j (3), the friction force
 #: on i (3), the slip (3), the friction coefficient c and the Coulomb limit (Gear's friction row).
@@ -90,12 +86,19 @@ PARTIALS = 4
  O_ROW, O_SEC, O_FIRST, O_MP, O_INROW, O_INPAIR, O_WMP, O_MAT, O_WALK, O_LEVEL, O_WKIND,
  O_ENERGY, O_FRAMES, O_N, O_P, O_W, O_TP, O_TW, O_TWALL) = range(32, 62)
 CI = 64
+#: Values a thread keeps of its loop's state (:func:`pdamper.kernels.gpu.forces.get`): the step's counters,
+#: clock, flags and times live in the case's rows, read where they are used, not in registers through
+#: every phase; integer slot ``k`` of thread ``t`` at ``ci[CI + k bd + t]``, float slot ``k`` after the
+#: threads' ledger rows in ``cf`` (:data:`F_STATE`).
+STATE_SLOTS = 20
 
 # ---- cf: the case's float slots
 (F_DT, F_INTERVAL, F_SAMPLE_INTERVAL, F_SKIN, F_BED_MASS, F_T, F_H, F_HS, F_TOL, F_H_MIN, F_H_MAX) = range(11)
 F_GRAVITY, F_DIRECTION, F_JUMP, F_PAR = 11, 14, 17, 20
 F_PARTIALS = 24     #: (3, threads, PARTIALS) each thread's ledger rows (pdamper.kernels.gpu.forces.ledger)
 CF_FIXED = F_PARTIALS
+#: The threads' float state slots in ``cf`` start ``F_STATE x threads`` after :data:`F_PARTIALS`.
+F_STATE = 3 * PARTIALS
 
 
 class Batch(NamedTuple):
@@ -105,7 +108,7 @@ class Batch(NamedTuple):
     gv: np.ndarray      #: (C, .) float: pairs and sphere-wall contacts
     th: np.ndarray      #: (C, ., 5) float: the tangential history, a row a contact (pairs, then walls)
     iv: np.ndarray      #: (C, .) int32: lists, material pairs, Gear's rows
-    ci: np.ndarray      #: (C, CI) int64: counts, clock, status, offsets
+    ci: np.ndarray      #: (C, CI + STATE_SLOTS x threads) int64: counts, clock, status, offsets, the threads' slots
     cf: np.ndarray      #: (C, .) float: clock, drive, running sums
     walls: np.ndarray   #: (C x W, 7) float: the walls' primitives, W rows a case
     out: np.ndarray     #: (C, .) float: the recorded channels
@@ -140,12 +143,8 @@ def layout(n: int, p: int, w: int, spring: bool, samples: int, frames: int) -> d
 
 
 def row_widths(n: int, threads: int) -> dict:
-    """The widths of a case's rows of ``st`` and ``cf`` for ``n`` spheres (padded) and ``threads``
-    a block."""
-    return {"st": ST_FIELDS * n, "cf": CF_FIXED + PARTIALS * threads * 3}
+    """The widths of a case's rows of ``st``, ``ci`` and ``cf`` for ``n`` spheres (padded) and
+    ``threads`` a block."""
+    return {"st": ST_FIELDS * n, "ci": CI + STATE_SLOTS * threads,
+            "cf": CF_FIXED + (F_STATE + STATE_SLOTS) * threads}
 
-
-def shared_bytes(n: int, threads: int) -> int:
-    """The dynamic shared memory [B] of a block of ``threads`` for ``n`` spheres (padded): the spheres'
-    hot fields and each thread's state slots."""
-    return 8 * (SHARED_FIELDS * n + STATE_SLOTS * threads)

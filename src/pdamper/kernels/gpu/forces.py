@@ -38,12 +38,12 @@ from ..drive import parametric_motion
 from ..forces import STATUS_LIST_OVERFLOW, STATUS_OK, STATUS_OVERLAP, pair_geometry
 from . import targets  # noqa: F401  (registers the laws' dispatch for the CUDA target)
 from .targets import SIMULATOR
-from .batch import (F_BED_MASS, F_DIRECTION, F_GRAVITY, F_JUMP, F_PAR, F_PARTIALS, F_SAMPLE_INTERVAL, F_SKIN,
+from .batch import (CI, F_STATE, F_BED_MASS, F_DIRECTION, F_GRAVITY, F_JUMP, F_PAR, F_PARTIALS, F_SAMPLE_INTERVAL, F_SKIN,
                     IINERT, I_CULPRIT, I_DRIVE, I_EN_ROWS, I_FAIL_STEP, I_FLOOR, I_FRAME_EVERY, I_FR_ROWS, I_LIST,
                     I_N, I_NMAT, I_NW, I_PRIMED, I_ROW0, I_STARTED, I_STATUS, I_TIME, I_WF_ROWS, MASS, MOVED,
                     O_ENERGY, O_FIRST, O_FRAMES, O_INPAIR, O_INROW, O_MAT, O_MP, O_N, O_P, O_PCAP, O_PD, O_PK, O_PV,
                     O_RES, O_ROW, O_SEC, O_TP, O_TW, O_TWALL, O_W, O_WD, O_WK, O_WKIND, O_WMP, O_WROW, O_WRS, O_WV,
-                    PARTIALS, RAD, REF, SHARED_FIELDS, R_C, R_F, R_LIM, R_N, R_S, R_T, S_MOVED, S_RAD, S_SPIN,
+                    PARTIALS, RAD, REF, R_C, R_F, R_LIM, R_N, R_S, R_T, S_MOVED, S_RAD, S_SPIN,
                     S_V, S_X, X)
 from .warp import block_max, block_min_int, block_or, block_scan, block_sum, opaque, out_of_time, sync
 
@@ -75,17 +75,16 @@ class Block(NamedTuple):
     ci: np.ndarray
     cf: np.ndarray
     walls: np.ndarray   #: (W, 7)
-    sh: np.ndarray      #: the block's shared memory: SHARED_FIELDS values a sphere, then the threads' state slots
-    si: np.ndarray      #: the same shared memory as integers (the threads' integer state slots)
+    sh: np.ndarray      #: the block's shared memory: SHARED_FIELDS values a sphere
     red: np.ndarray     #: shared: a word a warp for the block's reductions
 
 
 @cuda.jit(device=True, inline="always")
-def block(bt, c, sh, si, red):
+def block(bt, c, sh, red):
     """Case ``c``'s :class:`Block` for the calling thread (``bt``: the :class:`~.batch.Batch`)."""
     ci = bt.ci[c]
     return Block(cuda.threadIdx.x, cuda.blockDim.x, ci[I_N], ci[O_N], bt.st[c], bt.gv[c], bt.th[c], bt.iv[c], ci,
-                 bt.cf[c], bt.walls[c * ci[O_W]:(c + 1) * ci[O_W]], sh, si, red)
+                 bt.cf[c], bt.walls[c * ci[O_W]:(c + 1) * ci[O_W]], sh, red)
 
 
 if SIMULATOR:
@@ -95,16 +94,16 @@ if SIMULATOR:
         return b
 
     def get(b, k):
-        return b.si[SHARED_FIELDS * b.N + k * b.bd + b.tid]
+        return b.ci[CI + k * b.bd + b.tid]
 
     def put(b, k, v):
-        b.si[SHARED_FIELDS * b.N + k * b.bd + b.tid] = v
+        b.ci[CI + k * b.bd + b.tid] = v
 
     def getf(b, k):
-        return b.sh[SHARED_FIELDS * b.N + k * b.bd + b.tid]
+        return b.cf[F_PARTIALS + (F_STATE + k) * b.bd + b.tid]
 
     def putf(b, k, v):
-        b.sh[SHARED_FIELDS * b.N + k * b.bd + b.tid] = v
+        b.cf[F_PARTIALS + (F_STATE + k) * b.bd + b.tid] = v
 else:
     @cuda.jit(device=True)
     def fresh(b):
@@ -112,33 +111,33 @@ else:
         a phase computes from them (a field's offset, the first sphere of a lane) is its own, not
         hoisted out of the persistent loop and kept live through every other phase."""
         return Block(opaque(b.tid), opaque(b.bd), opaque(b.n), opaque(b.N), b.st, b.gv, b.th, b.iv, b.ci, b.cf,
-                     b.walls, b.sh, b.si, b.red)
-
-    @cuda.jit(device=True)
-    def _slot(b, k):
-        """Where this thread's state slot ``k`` is in the block's shared memory (:data:`~.batch.STATE_SLOTS`)."""
-        return SHARED_FIELDS * b.N + k * b.bd + b.tid
+                     b.walls, b.sh, b.red)
 
     @cuda.jit(device=True)
     def get(b, k):
-        """This thread's integer state slot ``k`` (a loop's counter, clock or flag kept in shared memory,
-        read where it is used instead of held in a register through every phase)."""
-        return b.si[_slot(fresh(b), k)]
+        """This thread's integer state slot ``k`` (:data:`~.batch.STATE_SLOTS`: a loop's counter, clock
+        or flag kept in the case's row, read where it is used instead of held in a register through
+        every phase)."""
+        b = fresh(b)
+        return b.ci[CI + k * b.bd + b.tid]
 
     @cuda.jit(device=True)
     def put(b, k, v):
         """Set this thread's integer state slot ``k`` to ``v``."""
-        b.si[_slot(fresh(b), k)] = v
+        b = fresh(b)
+        b.ci[CI + k * b.bd + b.tid] = v
 
     @cuda.jit(device=True)
     def getf(b, k):
         """This thread's float state slot ``k``."""
-        return b.sh[_slot(fresh(b), k)]
+        b = fresh(b)
+        return b.cf[F_PARTIALS + (F_STATE + k) * b.bd + b.tid]
 
     @cuda.jit(device=True)
     def putf(b, k, v):
         """Set this thread's float state slot ``k`` to ``v``."""
-        b.sh[_slot(fresh(b), k)] = v
+        b = fresh(b)
+        b.cf[F_PARTIALS + (F_STATE + k) * b.bd + b.tid] = v
 
 
 @cuda.jit(device=True, inline="always")

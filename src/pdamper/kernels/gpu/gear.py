@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 
-from numba import cuda, float64, int32, int64
+from numba import cuda, float64, int32
 
 from ..contact import corrected_friction, keeps_history, pair_point_velocity, scatter
 from ..forces import STATUS_NAN, STATUS_OK
@@ -322,16 +322,15 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
     is case ``c``), as :func:`pdamper.kernels.gear.run_gear` does over the CPU stepper's spans; with
     ``max_cycles`` > 0, also no further than the step on which its block's clock passes that many
     cycles. The arguments as :func:`.verlet.batch_verlet`'s; the loop's state lives in each thread's
-    slots of shared memory (``U_*``), read where it is used."""
+    state slots in the case's rows (``U_*``), read where it is used."""
     c = cuda.blockIdx.x
-    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere), the threads' slots
-    hoti = cuda.shared.array(0, int64)  # (the same memory: the threads' integer slots)
+    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere)
     red = cuda.shared.array(MAX_WARPS, float64)  # a word a warp for the block's reductions
     # the corrector's increments (position, angle) of each sphere, and the walk's levels
     dl = cuda.shared.array((MAX_SPHERES, 6), float64)
     last = cuda.shared.array(MAX_SPHERES, int32)
     top = cuda.shared.array(1, int32)
-    b = block(bt, c, hot, hoti, red)
+    b = block(bt, c, hot, red)
     if b.ci[I_STATUS] != STATUS_OK:
         return
     table = table_of(tb, law, tlaw)
@@ -348,7 +347,7 @@ def batch_gear(bt, tb, law, tlaw, max_steps, max_cycles):
     load_spheres(b)
     put(b, U_START, clock())
     while get(b, U_SPAN) < b.ci[I_SPANS] and get(b, U_DONE) < max_steps and get(b, U_STOP) == 0:
-        b = fresh(block(bt, opaque(c), hot, hoti, red))
+        b = fresh(block(bt, opaque(c), hot, red))
         ts = b.cf[F_INTERVAL]
         # ---- a span ends: the next one starts at its exact time (the CPU stepper's next call)
         t0, t_end, recording = _span_of(b)

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from numba import cuda, float64, int64
+from numba import cuda, float64
 
 from ..contact import keeps_history
 from ..forces import STATUS_NAN, STATUS_OK
@@ -73,13 +73,12 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
     at most ``max_steps`` steps, and with ``max_cycles`` > 0 no further than the step on which its
     block's clock passes that many cycles; ``tb``: the contact table's arrays and constants of every
     case, ``law`` and ``tlaw`` the damping and tangential laws' markers. The loop's state lives in
-    each thread's slots of shared memory (``U_*``), read where it is used."""
+    each thread's state slots in the case's rows (``U_*``), read where it is used."""
     c = cuda.blockIdx.x
-    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere), the threads' slots
-    hoti = cuda.shared.array(0, int64)  # (the same memory: the threads' integer slots)
+    hot = cuda.shared.array(0, float64)  # the spheres' hot state (SHARED_FIELDS a sphere)
     red = cuda.shared.array(MAX_WARPS, float64)  # a word a warp for the block's reductions
     acc = cuda.shared.array((MAX_SPHERES, 6), float64)  # each sphere's force and torque
-    b = block(bt, c, hot, hoti, red)
+    b = block(bt, c, hot, red)
     if b.ci[I_STATUS] != STATUS_OK:
         return
     table = table_of(tb, law, tlaw)
@@ -94,7 +93,7 @@ def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
     load_spheres(b)
     put(b, U_START, clock())
     while get(b, U_G) < b.ci[I_TOTAL_STEPS] and get(b, U_DONE) < max_steps and get(b, U_STOP) == 0:
-        b = fresh(block(bt, opaque(c), hot, hoti, red))
+        b = fresh(block(bt, opaque(c), hot, red))
         ci = b.ci
         cf = b.cf
         # ---- the drive starts: velocities relative to the container jump, the sums restart
