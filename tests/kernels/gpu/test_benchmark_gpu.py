@@ -85,7 +85,7 @@ def _ptx_report(tmp_path, kernels):
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="issue 38 not met yet: Gear 246-255 registers (spring: 112 B of spill stores), Verlet 208-250 "
+                   reason="issue 38 not met yet: Gear 176-220 registers, Verlet 168-210, no spills "
                           "(benchmarks/gpu.py --ptx, docs/performance.md)")
 def test_production_kernels_keep_to_128_registers_without_spills(tmp_path):
     """The largest and the smallest production kernel (Gear with the spring, Verlet with the tanh law;
