@@ -30,6 +30,9 @@ Run it:
   together on one GPU.
 - :class:`SweepSpec`, :func:`run_sweep` -- a stroke sweep over seeds on all cores or a Dask
   cluster, written to a resumable store; :func:`open_results` -- its labelled dataset.
+- :class:`Unknowns`, :func:`run_ensemble` -- the case at Latin hypercube samples of a file of
+  distributions over its keys (``U.toml``), resumable, a ``sample`` dimension in its dataset;
+  :func:`open_ensemble` -- that dataset.
 
 Evaluate and design:
 
@@ -104,6 +107,9 @@ _LAZY = {
     "SweepSpec": "studies",
     "run_sweep": "studies",
     "open_results": "studies",
+    "Unknowns": "studies.ensemble",
+    "run_ensemble": "studies.ensemble",
+    "open_ensemble": "studies.ensemble",
 }
 
 __all__ = [
@@ -117,7 +123,7 @@ __all__ = [
     # run it
     "load_case", "Simulation", "RunResult", "run_case", "run_cases",
     # sweep it
-    "SweepSpec", "run_sweep", "open_results",
+    "SweepSpec", "run_sweep", "open_results", "Unknowns", "run_ensemble", "open_ensemble",
     # evaluate and design
     "complex_power", "analyze_record", "theory", "run_decay", "run_response", "design_filling",
     # units and errors
@@ -151,6 +157,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .design import design_filling
     from .excitation import HarmonicDrive, SampledDrive, Still
     from .structure import CoupledStructure, ModalStructure
+    from .studies.ensemble import Unknowns, open_ensemble, run_ensemble
     from .studies.structure import run_decay, run_response
     from .geometry import Cuboid, Cylinder
     from .materials import PVC, STEEL_S235, Material

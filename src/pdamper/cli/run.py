@@ -10,6 +10,7 @@ import click
 from ..errors import InputError
 from .common import (Quantity, device_option, echo_json, fraction_bar, main, parse_set, until_steady_option,
                      user_errors)
+from .ensemble import uncertain_options
 
 __all__ = ["run_command", "parse_set", "DEFAULT_FPS"]
 
@@ -37,9 +38,10 @@ DEFAULT_FPS = 100.0
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units) instead of the table.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False),
               help="Write the run directory (config.toml, signals.csv, energy.csv, result.json).")
+@uncertain_options(eta=True)
 @user_errors
 def run_command(config, stroke, frequency, cycles, seed, integrator, settings, trajectory, fps, until_steady, device,
-                as_json, out_dir):
+                as_json, out_dir, ensemble):
     """Simulate the particle damper of CONFIG.toml and print eta* and the energy per cycle.
 
     Options override the file's values; quantities take units (12mm, 2Hz). See
@@ -48,6 +50,10 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     Every run also reports the bed's motion mode (docs/motion.md), measured on the recorded
     trajectory (a coarse one at 50 frames/s, 25 frames a cycle above 2 Hz, is recorded
     for it if none is asked for).
+
+    With --uncertain U.toml --samples N: the case at N samples of the unknowns of U.toml
+    (docs/ensembles.md): eta*'s percentiles, the share meeting --target-eta-star, which unknowns
+    matter.
 
     Example: pdamper run examples/cuboid_36.toml --stroke 20mm --trajectory --out runs/x20
     """
@@ -72,6 +78,8 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
     if device is not None:
         case = on_device(case, device)
     check_device(case.numerics.device)  # no GPU: one line now, not after the setup
+    if ensemble is not None:
+        return _run_ensemble(ensemble, case, config, trajectory, out_dir, until_steady, as_json)
     if out_dir is not None:
         check_run_dir(out_dir)  # fail before a long run, not after it
 
@@ -87,6 +95,16 @@ def run_command(config, stroke, frequency, cycles, seed, integrator, settings, t
         echo_json({**summary, "config": str(config), "run_dir": str(written) if written else None})
         return
     click.echo(_table(config, case, summary, written, settings))
+
+
+def _run_ensemble(ensemble, case, config, trajectory, out_dir, until_steady, as_json):
+    """``run --uncertain``: the case at every sample (:func:`pdamper.cli.ensemble.run_uncertain`)."""
+    from .ensemble import run_uncertain
+
+    if trajectory or out_dir is not None:
+        raise InputError(f"{'--trajectory' if trajectory else '--out'} belongs to one run; an ensemble keeps its "
+                         "samples in its --store")
+    run_uncertain(ensemble, case, config, study="run", as_json=as_json, until_steady=until_steady)
 
 
 def _fmt(v, digits=4) -> str:

@@ -10,6 +10,7 @@ import click
 
 from .codes import codes_lines, limit_option, settings_line, tmd_lines
 from .common import Quantity, echo_json, fraction_bar, main, user_errors
+from .ensemble import uncertain_options
 from .run import parse_set
 
 __all__ = ["decay_command", "response_command"]
@@ -142,8 +143,8 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
                    "prediction (needs --fields).")
 @click.option("--measure-cycles", type=click.IntRange(min=1), default=8, show_default=True,
               help="Last cycles of each run over which the steady amplitude is measured.")
-@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Local worker processes (>1: the sweep executor, Dask).")
+@click.option("--workers", type=click.IntRange(min=1),
+              help="Local worker processes (>1: the sweep executor, Dask; default 1, with --uncertain all cores).")
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="Run on an existing Dask cluster.")
 @click.option("--sweep", type=click.Choice(["up", "down", "both"]),
               help="A stepped sine over the frequencies instead of a run per frequency: one DEM run, --cycles "
@@ -152,9 +153,10 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
 @click.option("--dofs", help="The dofs whose amplitudes to report: labels and ranges START:STOP[:STEP] (0-based, "
               "STOP excluded), e.g. 0,18,38 or 0:40:2 (default: every dof, in the JSON).")
 @limit_option
+@uncertain_options(executor=False, ratios=True)
 @user_errors
 def response_command(config, cycles, seed, settings, plot, as_json, frequencies, mode, force, fields_path,
-                     extrapolate, start, measure_cycles, workers, scheduler, sweep, dofs, limits):
+                     extrapolate, start, measure_cycles, workers, scheduler, sweep, dofs, limits, ensemble):
     """Frequency response of the structure of CONFIG.toml with and without the damper.
 
     DEM (default): at each frequency the structure runs under F0 sin(2 pi f t) for the config's
@@ -180,6 +182,11 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
 
     Every dof's amplitude is in the JSON (``dofs``, ``response_amplitude_m`` per dof); --dofs
     chooses and prints them.
+
+    With --uncertain U.toml --samples N: the DEM response at N samples of the unknowns
+    (docs/ensembles.md), each on its own grid around its mode unless --frequencies is given: the
+    peak ratio per dof (the largest amplitude over the grid with the damper over without), the share
+    meeting --target-peak-ratio, which unknowns matter; --plot draws the ratio's CDF.
 
     Examples: pdamper response examples/structure_36.toml --force 0.4N --plot response.png;
     pdamper response examples/mast_modal.toml --force 0.3N --fields fields_36.nc --plot r.png;
@@ -226,6 +233,13 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
         raise InputError("--limit does not apply to --sweep (the stepped sine reports amplitudes only); leave "
                          "--sweep out to judge each frequency's run, or use pdamper transient with [load] kind = "
                          "'stepped_sine'")
+    if ensemble is not None:
+        if limits:
+            raise InputError("--limit judges one response; an ensemble reports its ratios' percentiles and shares: "
+                             "leave --limit out or --uncertain out")
+        return _response_ensemble(ensemble, case, config, frequencies, freqs, forces, fields_path, sweep, start,
+                                  measure_cycles, mode, workers, scheduler, wanted, plot, as_json)
+    workers = workers or 1
     if not as_json:
         for w in warnings:
             click.echo(f"warning: {w}", err=True)
@@ -285,6 +299,21 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
 def _codes_text(s: dict) -> list[str]:
     """A response's numbers codes ask for and its damper as an equivalent TMD (:mod:`.codes`)."""
     return codes_lines(s["codes"], over="(the largest over the frequencies)") + tmd_lines(s["tmd_equivalent"])
+
+
+def _response_ensemble(ensemble, case, config, frequencies, freqs, forces, fields_path, sweep, start, measure_cycles,
+                       mode, workers, scheduler, wanted, plot, as_json):
+    """``response --uncertain``: the DEM response at every sample (:func:`pdamper.cli.ensemble.run_uncertain`)."""
+    from ..errors import InputError
+    from .ensemble import run_uncertain
+
+    for flag, given in (("--fields", fields_path), ("--sweep", sweep), ("--start", start),
+                        ("a second --force", len(forces) > 1)):
+        if given:
+            raise InputError(f"{flag} does not apply to an ensemble (one DEM response per sample, from rest)")
+    run_uncertain(ensemble, case, config, study="response", as_json=as_json, plot=plot, dofs=wanted,
+                  frequencies=freqs if frequencies is not None else None, force_amplitude=forces[0],
+                  measure_cycles=measure_cycles, mode=mode, workers=workers, scheduler=scheduler)
 
 
 def _dem_lines(s: dict, config, f0: float, prediction: bool) -> list[str]:

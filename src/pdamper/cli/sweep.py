@@ -11,6 +11,7 @@ import click
 import numpy as np
 
 from .common import device_option, echo_json, main, until_steady_option, user_errors
+from .ensemble import uncertain_options
 from .run import parse_set
 
 __all__ = ["sweep_command"]
@@ -44,13 +45,18 @@ __all__ = ["sweep_command"]
 @click.option("--measured", type=click.Path(exists=True), metavar="CAMPAIGN",
               help="Draw a measured campaign ('pdamper campaign') with error bars on the --plot figure.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (no progress bar).")
+@uncertain_options(executor=False, store=False, eta=True)
 @user_errors
 def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, scheduler, keep, until_steady, device,
-                  plot, repair, measured, as_json):
+                  plot, repair, measured, as_json, ensemble):
     """Run CONFIG.toml over a range of strokes (or any config keys) and report eta*.
 
     Every (point, seed) case is independent and written to the store as soon as it finishes;
     an interrupted sweep re-run with the same command resumes where it stopped.
+
+    With --uncertain U.toml --samples N: the sweep at N samples of the unknowns (docs/ensembles.md), its
+    store --out; eta*'s percentiles per point, which unknowns move the best eta* over the grid;
+    --plot draws the CDF of the best eta*.
 
     Examples: pdamper sweep examples/cuboid_36.toml --seeds 3 --plot sweep_36.png;
     pdamper sweep examples/cuboid_36.toml --vary drive.stroke=5mm:30mm:6 --vary drive.frequency=1Hz:4Hz:4
@@ -75,6 +81,9 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
     axes = tuple(parse_axis(v) for v in vary)
     if strokes is None and not axes:
         strokes = "0.5mm:50mm:40"
+    if ensemble is not None:
+        return _sweep_ensemble(ensemble, base, config, axes, strokes, seeds, out, workers, scheduler, until_steady,
+                               keep, repair, measured, plot, as_json)
     spec = SweepSpec(base=base, axes=axes, strokes=parse_strokes(strokes) if strokes is not None else None,
                      seeds=tuple(range(seeds)))
     out = Path(out) if out else Path(f"{Path(config).stem}_sweep")
@@ -147,6 +156,25 @@ def sweep_command(config, strokes, vary, seeds, cycles, settings, out, workers, 
     if summary["failed_cases"]:
         click.echo(f"  {summary['failed_cases']} case(s) failed numerically; see {out / 'cases'}")
     click.echo(f"  results: {out / 'results.nc'} (xarray), {out / 'results.csv'}" + (f"; figure: {plot}" if plot else ""))
+
+
+def _sweep_ensemble(ensemble, base, config, axes, strokes, seeds, out, workers, scheduler, until_steady, keep, repair,
+                    measured, plot, as_json):
+    """``sweep --uncertain``: the sweep at every sample (:func:`pdamper.cli.ensemble.run_uncertain`)."""
+    from ..errors import InputError
+    from ..studies import Axis, parse_strokes
+    from .ensemble import run_uncertain
+
+    for flag, given in (("--seeds", seeds > 1), ("--repair", repair), ("--measured", measured),
+                        ("--signals", keep != "signals")):
+        if given:
+            raise InputError(f"{flag} does not apply to an ensemble" + (
+                ": give the seed as an unknown in U.toml (key = \"initial.seed\", distribution = \"uniform\", "
+                "low = 0, high = 999)" if flag == "--seeds" else ""))
+    if strokes is not None:
+        axes = (Axis(key="drive.stroke", values=tuple(parse_strokes(strokes)), spacing="list"),) + tuple(axes)
+    run_uncertain(ensemble, base, config, study="run", as_json=as_json, plot=plot, out=out, axes=axes,
+                  until_steady=until_steady, workers=workers, scheduler=scheduler)
 
 
 def _grid_summary(ds, spec, out, plot, as_json, settings=()):

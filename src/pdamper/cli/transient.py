@@ -8,8 +8,10 @@ import sys
 
 import click
 
+from ..errors import InputError
 from .codes import codes_lines, limit_option, mode_lines, settings_line, tmd_lines
 from .common import echo_json, fraction_bar, main, user_errors
+from .ensemble import uncertain_options
 from .run import parse_set
 
 __all__ = ["transient_command"]
@@ -25,8 +27,9 @@ __all__ = ["transient_command"]
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write the figure (png, svg or pdf).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
 @limit_option
+@uncertain_options(ratios=True)
 @user_errors
-def transient_command(config, dofs, seed, settings, plot, as_json, limits):
+def transient_command(config, dofs, seed, settings, plot, as_json, limits, ensemble):
     """The structure of CONFIG.toml under its [load] in time, with and without the damper.
 
     Runs the coupled DEM for the load's duration (a force history, a ground acceleration, a
@@ -39,6 +42,10 @@ def transient_command(config, dofs, seed, settings, plot, as_json, limits):
     every dof's absolute floor acceleration and, with [structure] storey_heights, every storey's
     drift ratio (peak, RMS, residual), each against --limit (JSON ``codes``), and the damper as
     an equivalent TMD mode by mode (JSON ``tmd_equivalent``). Nothing is written when a run fails.
+
+    With --uncertain U.toml --samples N: the transient at N samples of the unknowns (docs/ensembles.md):
+    the peak and RMS ratios' percentiles per dof, the share meeting --target-peak-ratio and
+    --target-rms-ratio with its interval, which unknowns matter; --plot draws the ratio's CDF.
 
     Examples: pdamper transient examples/frame_quake.toml --plot quake.png;
     pdamper transient examples/mast_hammer.toml --dofs 0:40:2 --json
@@ -54,6 +61,13 @@ def transient_command(config, dofs, seed, settings, plot, as_json, limits):
         overrides["initial.seed"] = seed
     case = load_case(config, overrides)
     wanted = parse_dofs(dofs)
+    if ensemble is not None:
+        from .ensemble import run_uncertain
+
+        if limits:
+            raise InputError("--limit judges one transient; an ensemble reports its ratios' percentiles and shares: "
+                             "leave --limit out or --uncertain out")
+        return run_uncertain(ensemble, case, config, study="transient", as_json=as_json, plot=plot, dofs=wanted)
     check_path(plot)
     from ..studies.suite import is_suite
 

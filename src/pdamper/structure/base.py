@@ -71,6 +71,13 @@ class StructureBase(DriveBase):
         f_F [Hz], > 0, needed when F0 > 0.
     direction : (x, y, z) or None
         Direction of the motion in the lab frame (y up), instead of ``angle``.
+    stiffness_scale, mass_scale : float
+        > 0 (default 1): K and M of the model times these (a frame 10 % softer than its model:
+        ``stiffness_scale = 0.9``; an ensemble's unknowns, docs/ensembles.md). Every mode's
+        frequency moves by sqrt(stiffness_scale / mass_scale), its modal mass by mass_scale; the
+        mode shapes and the damping ratios stay as given. A model of plain numbers (``mass`` and
+        ``stiffness``) takes them into those numbers (and is written so); an FE model keeps them
+        beside its matrices.
     """
 
     force_amplitude: float = param(0.0, dimension="force")
@@ -85,6 +92,8 @@ class StructureBase(DriveBase):
     storey_heights: tuple | None = param(None, kind="list", dimension="length")
     storey_height: float | None = param(None, dimension="length")
     storey_dofs: tuple | None = param(None, kind="custom")
+    stiffness_scale: float = param(1.0, kind="number", write_default=False)
+    mass_scale: float = param(1.0, kind="number", write_default=False)
 
     config_section = "structure"
     coupled = True
@@ -113,6 +122,14 @@ class StructureBase(DriveBase):
         return {} if self.load is None else {"load": self.load.config_table()}
 
     # ---- checks
+    def _check_scales(self) -> None:
+        """``stiffness_scale`` and ``mass_scale``: finite numbers > 0."""
+        for name in ("stiffness_scale", "mass_scale"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):
+                raise InputError(f"structure.{name} = {v!r}; must be a number > 0 (1: the model as given; "
+                                 "0.9: 10 % less)")
+
     def _check_motion(self) -> None:
         """Validate what moves it (``force_amplitude``, ``force_frequency``, ``displacement``,
         ``velocity``, ``load``) and its direction; something must move it."""

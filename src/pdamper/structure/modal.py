@@ -131,6 +131,7 @@ class ModalStructure(StructureBase, _Modes):
 
     def __post_init__(self):
         self._prepare()
+        self._check_scales()
         object.__setattr__(self, "_carried", 0.0)
         given = [k for k in ("modes", "matrices") if getattr(self, k)]
         if len(given) != 1:
@@ -155,6 +156,13 @@ class ModalStructure(StructureBase, _Modes):
                 object.__setattr__(self, "rayleigh_modes", tuple(int(v) if float(v).is_integer() else v
                                                                  for v in self.rayleigh_modes))
             data = modes_from_matrices(self)
+        if self.stiffness_scale != 1.0 or self.mass_scale != 1.0:
+            # K and M scaled: the same shapes, modal masses times mass_scale, frequencies times
+            # sqrt(stiffness_scale / mass_scale), the damping ratios as they were
+            data["modal_mass"] = data["modal_mass"] * self.mass_scale
+            data["frequency"] = data["frequency"] * math.sqrt(self.stiffness_scale / self.mass_scale)
+            if data.get("mass_shapes") is not None:
+                data["mass_shapes"] = data["mass_shapes"] * self.mass_scale
         # the modes as given (or computed): every dof's shape, a ground load's participation and
         # the container's mass carried later are taken in them (carrying: basis)
         data.update(basis=np.eye(data["frequency"].size), damper0=data["damper"].copy(),

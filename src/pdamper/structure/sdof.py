@@ -63,6 +63,14 @@ class CoupledStructure(StructureBase, _OneMode):
 
     def __post_init__(self):
         self._prepare()
+        self._check_scales()
+        if self.stiffness_scale != 1.0 or self.mass_scale != 1.0:  # taken into the numbers (written so)
+            for name, scale in (("stiffness", self.stiffness_scale), ("mass", self.mass_scale)):
+                v = getattr(self, name)
+                if isinstance(v, (int, float)) and not isinstance(v, bool):
+                    object.__setattr__(self, name, v * scale)
+            object.__setattr__(self, "stiffness_scale", 1.0)
+            object.__setattr__(self, "mass_scale", 1.0)
         for name, unit, ex in (("mass", "kg", "'7kg'"), ("stiffness", "N/m", "1105 (N/m)")):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):

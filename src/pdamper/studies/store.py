@@ -179,6 +179,9 @@ def _shortest(v) -> str:
 class ResultStore:
     """A sweep's result directory (see the module docstring)."""
 
+    #: ``record(file)``: the case record of a case file (a dict), or why it is not one (a str)
+    record = staticmethod(lambda f: _valid_record(f))
+
     def __init__(self, path, meta: dict):
         self.path = Path(path)
         self.meta = _upgrade(meta)
@@ -341,7 +344,7 @@ class ResultStore:
         skipped (:meth:`set_aside_bad` moves such files out of the way)."""
         out = []
         for f in sorted((self.path / "cases").glob("*.json")):
-            rec = _valid_record(f)
+            rec = self.record(f)
             if isinstance(rec, dict):
                 out.append(rec)
         return out
@@ -351,7 +354,7 @@ class ResultStore:
         computed again) and return ``(file, reason)`` of each."""
         bad = []
         for f in sorted((self.path / "cases").glob("*.json")):
-            why = _valid_record(f)
+            why = self.record(f)
             if isinstance(why, str):
                 target = f.with_name(f.name + ".bad")
                 k = 1
