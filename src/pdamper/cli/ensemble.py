@@ -100,7 +100,8 @@ def uncertain_options(*, executor: bool = True, ratios: bool = False, eta: bool 
     return deco
 
 
-def run_uncertain(opts: EnsembleOptions, base, config, *, study: str, as_json: bool, plot=None, out=None,
+def run_uncertain(opts: EnsembleOptions, base, config, *, study: str, as_json: bool, command: str | None = None,
+                  plot=None, out=None,
                   axes=(), dofs=None, frequencies=None, force_amplitude=None, measure_cycles: int = 8, mode: int = 1,
                   until_steady=None, workers=None, scheduler=None) -> None:
     """Run the ensemble of ``base`` (the command's case) and print its report; ``plot`` the ratio's
@@ -145,7 +146,7 @@ def run_uncertain(opts: EnsembleOptions, base, config, *, study: str, as_json: b
     if as_json:
         echo_json({"config": str(config), "ensemble": s, **paths})
         return
-    lines = [f"pdamper {study} {config} --uncertain {opts.uncertain} --samples {opts.samples}"]
+    lines = [f"pdamper {command or study} {config} --uncertain {opts.uncertain} --samples {opts.samples}"]
     lines += summary_lines(s)
     lines.append(f"  results               {paths['results_nc']} (xarray), {paths['results_csv']}"
                  + "".join(f"; figure: {p}" for p in (plot, opts.tornado) if p))

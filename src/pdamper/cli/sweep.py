@@ -173,7 +173,7 @@ def _sweep_ensemble(ensemble, base, config, axes, strokes, seeds, out, workers, 
                 "low = 0, high = 999)" if flag == "--seeds" else ""))
     if strokes is not None:
         axes = (Axis(key="drive.stroke", values=tuple(parse_strokes(strokes)), spacing="list"),) + tuple(axes)
-    run_uncertain(ensemble, base, config, study="run", as_json=as_json, plot=plot, out=out, axes=axes,
+    run_uncertain(ensemble, base, config, study="run", command="sweep", as_json=as_json, plot=plot, out=out, axes=axes,
                   until_steady=until_steady, workers=workers, scheduler=scheduler)
 
 

@@ -637,7 +637,8 @@ def summarize(ds, *, target_peak_ratio: float | None = None, target_rms_ratio: f
         if grid:
             flat = eta.reshape(-1, n)
             out["eta_star"] = {k: v.tolist() for k, v in percentiles(flat, axis=1).items()}
-            out["eta_star_points"] = [dict(zip(grid, idx)) for idx in np.ndindex(*eta.shape[:-1])]
+            out["eta_star_points"] = [{d: ds[d].values[i].item() for d, i in zip(grid, idx)}
+                                      for idx in np.ndindex(*eta.shape[:-1])]
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
                 best = np.nanmax(flat, axis=0)
@@ -668,6 +669,8 @@ def summarize(ds, *, target_peak_ratio: float | None = None, target_rms_ratio: f
             raise InputError("--target-eta-star: this ensemble has no eta*")
         targets["eta_star"] = share_meeting(-decisive["eta_star"], -target_eta_star, confidence=confidence)
         targets["eta_star"]["target"] = float(target_eta_star)
+    if "peak_steady" in ds:  # a response: the samples whose damped peak had not settled
+        out["unsteady"] = int(((ds["peak_steady"] == 0) & (ds["failed"] == 0)).sum())
     out["targets"] = targets
     out["ranking"] = ranking
     out["unknowns"] = json.loads(ds.attrs.get("unknowns", "[]"))
@@ -685,8 +688,11 @@ def summary_lines(s: dict, *, top: int = 5) -> list:
     if s.get("eta_star") is not None:
         e = s["eta_star"]
         if isinstance(e["p50"], list):
-            lines.append(f"  eta* (best over the grid per point: see JSON) median over points "
-                         f"{_pct(float(np.nanmedian(e['p50'])) if np.isfinite(e['p50']).any() else None)}")
+            lines.append("  eta* over the samples at each point of the grid (percentiles 5, 50, 95):")
+            for point, a, b, c in zip(s["eta_star_points"], e["p05"], e["p50"], e["p95"]):
+                where = ", ".join(f"{k} {v * 1e3:.4g} mm" if k == "stroke" else f"{k} {v:.4g}"
+                                  if isinstance(v, float) else f"{k} {v}" for k, v in point.items())
+                lines.append(f"    {where:<30} p05 {_pct(a):>6}  p50 {_pct(b):>6}  p95 {_pct(c):>6}")
         else:
             lines.append(f"  eta*                  p05 {_pct(e['p05'])}  p50 {_pct(e['p50'])}  p95 {_pct(e['p95'])}")
     if s.get("peak_ratio") is not None:
@@ -696,6 +702,9 @@ def summary_lines(s: dict, *, top: int = 5) -> list:
         for k, d in enumerate(s["dofs"]):
             lines.append(f"  {str(d):>9}  {_pct(p['p05'][k]):>8}  {_pct(p['p50'][k]):>6}  {_pct(p['p95'][k]):>6}  "
                          f"{_pct(r['p05'][k]):>8}  {_pct(r['p50'][k]):>6}  {_pct(r['p95'][k]):>6}")
+    if s.get("unsteady"):
+        lines.append(f"  not steady            the damped peak of {s['unsteady']} sample(s) had not settled by the end of "
+                     "its run: give more --cycles")
     for q, t in s.get("targets", {}).items():
         words = {"peak_ratio": "peak ratio <= {:g}", "rms_ratio": "RMS ratio <= {:g}", "eta_star": "eta* >= {:g}"}
         what = words[q].format(t["target"]) if q in words else "both targets"
