@@ -3,8 +3,9 @@ is fuzzed (tests/test_fuzz_config.py): any value at any entry of a valid file, a
 
 The invariant (issue 42): a broken file gives one clear line, an :class:`InputError` naming the file and
 the table's number (and its key where it has one), or unknowns whose samples make cases (or refuse a
-sample with a line naming it); never another exception, never a hang. No DEM is run. Size:
-tests/fuzz_helpers.py (``PDAMPER_FUZZ=long`` for a long run)."""
+sample with a line naming it); never another exception, never a hang. No DEM is run. The file's bytes
+and names are broken by the suite's reader tests (:func:`fuzz_helpers.reader_tests`), its entries and
+keys here. Size: tests/fuzz_helpers.py (``PDAMPER_FUZZ=long`` for a long run)."""
 
 from __future__ import annotations
 
@@ -12,10 +13,11 @@ import copy
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from fuzz_helpers import DAMAGE, FUZZ, no_hang
+from fuzz_helpers import FUZZ, Reader, counted, reader_tests
 from pdamper.config import load_case
 from pdamper.errors import InputError
 from pdamper.studies.unknowns import DISTRIBUTIONS, Unknowns, sample, sample_case
@@ -77,7 +79,7 @@ VALUES = st.recursive(
 
 def _read_and_sample(tables, source="U.toml"):
     """Read, sample 3 and make their cases, as an ensemble does before it runs."""
-    with no_hang("the unknowns' reader"):
+    with counted("uncertainty file (U.toml): entries and keys", "the unknowns' reader"):
         unknowns = Unknowns.from_tables(tables, source=source, folder=EXAMPLES)
         for i, values in enumerate(sample(unknowns, 3, seed=1).points()):
             try:
@@ -120,20 +122,21 @@ def test_any_key_is_a_case_key_or_named_in_a_clear_line(key):
         assert "\n" not in msg and ("#1" in msg or msg.startswith("sample ")), msg
 
 
-@FUZZ
-@given(damage=DAMAGE)
-def test_a_damaged_file_gives_a_clear_line_or_samples(tmp_path_factory, damage):
-    how, fn = damage
-    p = tmp_path_factory.mktemp("u") / "U.toml"
-    p.write_bytes(fn(FILE.encode()))
-    try:
-        with no_hang(f"U.toml {how}"):
-            unknowns = Unknowns.read(p)
-            sample(unknowns, 2, seed=0)
-    except InputError as exc:
-        msg = str(exc)
-        assert "\n" not in msg and "Traceback" not in msg, msg
-        assert str(p) in msg or "--uncertain" in msg, msg
+def _read_file(path):
+    """What ``--uncertain`` does with the file: read it and draw its samples."""
+    return sample(Unknowns.read(path), 3, seed=1)
+
+
+def _finite(drawn):
+    for key, column in drawn.columns.items():
+        assert len(column) == 3 and all(isinstance(v, str) or np.isfinite(v) for v in column), key
+
+
+#: The unknowns' file in the fuzz suite's reader tests (tests/fuzz_helpers.py): damaged bytes, random
+#: bytes, every kind of file name.
+UNKNOWNS_FILE = Reader(name="uncertainty file (U.toml)", suffix=".toml", good=lambda folder: FILE.encode(),
+                       read=_read_file, check=_finite)
+TestUnknownsFile = reader_tests(UNKNOWNS_FILE)
 
 
 @pytest.mark.parametrize("n", [0, -1, 2.5, True])

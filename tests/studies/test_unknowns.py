@@ -198,9 +198,9 @@ def test_a_broken_file_is_one_line_naming_what_is_wrong(tmp_path, text, words):
 
 
 def test_a_missing_or_unreadable_file_is_one_line(tmp_path):
-    with pytest.raises(InputError, match="--uncertain .*nothing.toml: no such file"):
+    with pytest.raises(InputError, match=r"unknowns' file \(--uncertain\) not found: .*nothing.toml"):
         Unknowns.read(tmp_path / "nothing.toml")
-    with pytest.raises(InputError, match="a folder"):
+    with pytest.raises(InputError, match="is a directory; give the unknowns' file"):
         Unknowns.read(tmp_path)
     (tmp_path / "bin.toml").write_bytes(b"\xff\xfe\x00[[unknown]]")
     with pytest.raises(InputError, match="cannot read the unknowns' file"):

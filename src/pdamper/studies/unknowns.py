@@ -426,28 +426,26 @@ class Unknowns:
     def read(cls, path) -> "Unknowns":
         """The unknowns of the file ``path`` (``U.toml``, the module docstring); every error one line
         naming the file, the table's number and key, the value as written and what is allowed."""
-        p = Path(path)
+        from ..config import parse_toml
+        from ..errors import checked_file, shown_path, unreadable_file
+
+        p = checked_file(path, "unknowns' file (--uncertain)")
         try:
             text = p.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise InputError(f"--uncertain {p}: no such file") from None
-        except IsADirectoryError:
-            raise InputError(f"--uncertain {p}: a folder; give the unknowns' .toml file") from None
-        except (OSError, UnicodeDecodeError, ValueError) as exc:
-            why = getattr(exc, "strerror", None) or " ".join(str(exc).split())[:120]
-            raise InputError(f"cannot read the unknowns' file {str(p)[:200]!r}: {why}") from None
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"{p}: invalid TOML: {' '.join(str(exc).split())}; one [[unknown]] table per unknown, "
-                             "key = \"...\", distribution = \"...\"") from None
+        except UnicodeDecodeError as exc:
+            raise InputError(f"cannot read the unknowns' file {shown_path(p)}: byte {exc.start} is not UTF-8 text; "
+                             "save it as UTF-8") from None
+        except (OSError, ValueError) as exc:
+            raise unreadable_file(p, exc, "unknowns' file") from None
+        src = shown_path(p)
+        data = parse_toml(text, source=src)
         foreign = [k for k in data if k != "unknown"]
         if foreign:
-            raise InputError(f"{p}: unknown entry {foreign[0]!r}; the file holds [[unknown]] tables only")
+            raise InputError(f"{src}: unknown entry {_shown(foreign[0])}; the file holds [[unknown]] tables only")
         if "unknown" not in data:
-            raise InputError(f"{p}: no [[unknown]] tables; give one per unknown, e.g. [[unknown]] key = "
+            raise InputError(f"{src}: no [[unknown]] tables; give one per unknown, e.g. [[unknown]] key = "
                              "\"structure.stiffness_scale\", distribution = \"normal\", mean = 1.0, std = 0.05")
-        return cls.from_tables(data["unknown"], source=str(p), folder=p.parent)
+        return cls.from_tables(data["unknown"], source=src, folder=p.parent)
 
 
 def _files(values, key, folder, where):
@@ -458,16 +456,16 @@ def _files(values, key, folder, where):
     for k, v in enumerate(values):
         if not isinstance(v, str) or not v.strip():
             raise InputError(f"{where} (key = 'load.file'): values[{k}] = {_shown(v)}; give a file name in quotes")
+        from ..errors import checked_file
+
         f = Path(v)
         if not f.is_absolute() and folder is not None:
             f = Path(folder) / f
         try:
-            found = f.is_file()
-        except (OSError, ValueError):
-            found = False
-        if not found:
-            raise InputError(f"{where} (key = 'load.file'): values[{k}] = {_shown(v)}: no such file"
-                             + (f" (looked in {folder})" if folder is not None and not Path(v).is_absolute() else ""))
+            f = checked_file(f, "record file", missing="no such file" + (
+                f" (looked in {folder})" if folder is not None and not Path(v).is_absolute() else ""))
+        except InputError as exc:
+            raise InputError(f"{where} (key = 'load.file'): values[{k}] = {_shown(v)}: {exc}") from None
         out.append(str(f.resolve()))
     return out
 
