@@ -14,8 +14,10 @@ It runs ``--serial`` of the ensemble's samples one after another in this process
 (:func:`pdamper.studies.transient.run_transient`, after a short warm-up run so that no compilation is
 timed), then the whole ensemble of ``--samples`` on ``--workers`` local processes
 (:func:`pdamper.studies.ensemble.run_ensemble`, a fresh store), and prints the ensemble's wall time
-against ``--samples`` x the mean serial transient, the summary and the JSON (``--json FILE``).
-A timing on a machine shared with other work is a timing of that machine: say so with the numbers.
+against ``--samples`` x the mean serial transient, and the CPU time the samples took in the workers
+against the serial ones' (the same samples run in both), the load average, the summary and the JSON
+(``--json FILE``). A timing on a machine shared with other work is a timing of that machine: the
+CPU times say what the ensemble itself costs.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import argparse
 import importlib.util
 import json
 import math
+import os
 import shutil
 import tempfile
 import time
@@ -33,39 +36,18 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 
-U_TOML = """
-[[unknown]]
-key = "structure.stiffness_scale"
-distribution = "normal"
-mean = 1.0
-std = 0.05
+def unknowns(scale: float):
+    """The unknowns (the tables a U.toml file holds), the record's ``scale`` the middle of its own."""
+    from pdamper.studies.unknowns import Unknowns
 
-[[unknown]]
-key = "contact.friction"
-distribution = "uniform"
-low = 0.05
-high = 0.2
+    return Unknowns.from_tables([
+        {"key": "structure.stiffness_scale", "distribution": "normal", "mean": 1.0, "std": 0.05},
+        {"key": "contact.friction", "distribution": "uniform", "low": 0.05, "high": 0.2},
+        {"key": "load.scale", "distribution": "truncated", "mean": scale, "std": 0.15 * scale, "low": 0.7 * scale,
+         "high": 1.3 * scale},
+        {"key": "container.tilt", "distribution": "uniform", "low": "0deg", "high": "0.2deg"},
+        {"key": "initial.seed", "distribution": "uniform", "low": 0, "high": 999}], source="benchmarks/ensemble.py")
 
-[[unknown]]
-key = "load.scale"
-distribution = "truncated"
-mean = {scale!r}
-std = {std!r}
-low = {low!r}
-high = {high!r}
-
-[[unknown]]
-key = "container.tilt"
-distribution = "uniform"
-low = "0deg"
-high = "0.2deg"
-
-[[unknown]]
-key = "initial.seed"
-distribution = "uniform"
-low = 0
-high = 999
-"""
 
 CASE = """# benchmarks/ensemble.py: 36 spheres on the top floor of a 3-storey frame under a ground acceleration
 [container]
@@ -149,31 +131,40 @@ def main(argv=None):
     path = write_case(folder, args.duration)
     base = load_case(path)
     scale = base.drive.load.scale
-    (folder / "U.toml").write_text(U_TOML.format(scale=scale, std=0.15 * scale, low=0.7 * scale, high=1.3 * scale))
-    spec = EnsembleSpec(base=base, unknowns=folder / "U.toml", samples=args.samples, study="transient")
+    u = unknowns(scale)
+    spec = EnsembleSpec(base=base, unknowns=u, samples=args.samples, study="transient")
     run_transient(load_case(path, {"load.duration": "0.2s"}))  # compile (or load the cache) untimed
 
-    serial = []
+    serial, serial_cpu = [], []
     for i in range(min(args.serial, args.samples)):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         run_transient(spec.case(i))
         serial.append(time.perf_counter() - t0)
-    one = float(np.mean(serial))
+        serial_cpu.append(time.process_time() - c0)
+    one, one_cpu = float(np.mean(serial)), float(np.mean(serial_cpu))
+    load_before = os.getloadavg()[0]
 
     store = folder / "store"
     shutil.rmtree(store, ignore_errors=True)
     t0 = time.perf_counter()
-    ds = run_ensemble(base, folder / "U.toml", args.samples, store, study="transient", workers=args.workers,
+    ds = run_ensemble(base, u, args.samples, store, study="transient", workers=args.workers,
                       progress=False)
     wall = time.perf_counter() - t0
+    load_after = os.getloadavg()[0]
     s = summarize(ds, target_peak_ratio=0.9, target_rms_ratio=0.8)
     in_workers = float(np.nansum(ds.wall_time.values))
+    cpu_workers = float(np.nansum(ds.cpu_time.values))
+    same = ds.isel(sample=slice(0, len(serial)))  # the serial samples, run again in the workers
     out = {
         "samples": args.samples, "workers": args.workers, "duration_s": args.duration, "particles": base.n_particles,
         "dofs": ds.dof.values.tolist(), "load_scale": scale, "serial_samples": len(serial), "serial_s": serial,
         "one_transient_s": one, "serial_estimate_s": args.samples * one, "ensemble_wall_s": wall,
         "ensemble_vs_serial": wall / (args.samples * one), "speedup": args.samples * one / wall,
         "sample_dem_time_sum_s": in_workers, "sample_dem_time_mean_s": in_workers / args.samples,
+        "serial_cpu_s": serial_cpu, "one_transient_cpu_s": one_cpu, "sample_cpu_time_sum_s": cpu_workers,
+        "same_samples_in_workers_wall_s": same.wall_time.values.tolist(),
+        "same_samples_in_workers_cpu_s": same.cpu_time.values.tolist(),
+        "load_average_before": load_before, "load_average_after": load_after, "cores": os.cpu_count(),
         "summary": s, "folder": str(folder),
     }
     print(f"{args.samples} samples of a {args.duration:g} s transient, {base.n_particles} spheres on a 3-storey frame, "
@@ -183,8 +174,13 @@ def main(argv=None):
     print(f"  {args.samples} x one transient                              {args.samples * one:8.1f} s")
     print(f"  the ensemble (run_ensemble, {args.workers} workers)              {wall:8.1f} s   "
           f"= {wall / (args.samples * one):.3f} x serial, speed-up {args.samples * one / wall:.2f}")
-    print(f"  the samples' own DEM time (in the workers)          {in_workers:8.1f} s   "
+    print(f"  the samples' own wall time (in the workers)         {in_workers:8.1f} s   "
           f"(mean {in_workers / args.samples:.1f} s a sample)")
+    print(f"  CPU: one transient here {one_cpu:.1f} s, the samples in the workers {cpu_workers:.1f} s "
+          f"(mean {cpu_workers / args.samples:.1f} s; {args.samples} x one: {args.samples * one_cpu:.1f} s)")
+    print(f"  the serial samples again in the workers: wall {', '.join(f'{x:.1f}' for x in same.wall_time.values)} s,"
+          f" CPU {', '.join(f'{x:.1f}' for x in same.cpu_time.values)} s")
+    print(f"  load average {load_before:.1f} before the ensemble, {load_after:.1f} after ({os.cpu_count()} cores)")
     print("\n".join(summary_lines(s)))
     if args.json:
         args.json.write_text(json.dumps(out, indent=2, default=lambda v: None if isinstance(v, float) and

@@ -23,33 +23,8 @@ from pdamper.errors import InputError
 from pdamper.studies.unknowns import DISTRIBUTIONS, Unknowns, sample, sample_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-FILE = f"""
-[[unknown]]
-key = "structure.stiffness_scale"
-distribution = "normal"
-mean = 1.0
-std = 0.05
-
-[[unknown]]
-key = "container.tilt"
-distribution = "uniform"
-low = "0deg"
-high = "0.2deg"
-
-[[unknown]]
-key = "contact.pair[steel,pvc].friction"
-distribution = "lognormal"
-mean = 0.1
-std = 0.03
-
-[[unknown]]
-key = "load.scale"
-distribution = "truncated"
-mean = 4.0
-std = 1.0
-low = 2.8
-high = 5.2
-
+#: The unknowns of examples/unknowns/frame_quake.toml and a choice of the frame's records and fillings.
+FILE = (EXAMPLES / "unknowns" / "frame_quake.toml").read_text() + f"""
 [[unknown]]
 key = "particles.count"
 distribution = "choice"

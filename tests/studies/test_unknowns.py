@@ -6,6 +6,7 @@ it is about)."""
 from __future__ import annotations
 
 import math
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -18,51 +19,16 @@ from pdamper.studies.unknowns import Unknown, Unknowns, sample, sample_case, var
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
-U_TOML = """
-[[unknown]]
-key = "structure.stiffness_scale"
-distribution = "normal"
-mean = 1.0
-std = 0.05
-
-[[unknown]]
-key = "container.tilt"
-distribution = "uniform"
-low = "0deg"
-high = "0.2deg"
-
-[[unknown]]
-key = "contact.friction"
-distribution = "lognormal"
-mean = 0.1
-std = 0.03
-
-[[unknown]]
-key = "load.scale"
-distribution = "truncated"
-mean = 4.0
-std = 1.0
-low = 2.8
-high = 5.2
-
-[[unknown]]
-key = "initial.seed"
-distribution = "uniform"
-low = 0
-high = 9
-
-[[unknown]]
-key = "load.file"
-distribution = "choice"
-values = ["quake_synthetic.csv", "quake_synthetic.AT2"]
-"""
+#: examples/unknowns/frame_quake.toml (a normal, a uniform, a truncated normal, an angle, whole numbers)
+#: and a lognormal of a material pair and a choice of records.
+TABLES = tomllib.loads((EXAMPLES / "unknowns" / "frame_quake.toml").read_text())["unknown"] + [
+    {"key": "contact.pair[steel,pvc].friction", "distribution": "lognormal", "mean": 0.1, "std": 0.03},
+    {"key": "load.file", "distribution": "choice", "values": ["quake_synthetic.csv", "quake_synthetic.AT2"]}]
 
 
 @pytest.fixture
-def unknowns(tmp_path):
-    p = tmp_path / "U.toml"
-    p.write_text(U_TOML.replace('"quake_synthetic', f'"{EXAMPLES}/quake_synthetic'))
-    return Unknowns.read(p)
+def unknowns():
+    return Unknowns.from_tables(TABLES, source="U.toml", folder=EXAMPLES)
 
 
 def _cdf(u: Unknown):
@@ -80,7 +46,7 @@ def _cdf(u: Unknown):
 def test_the_file_reads_with_units_in_si(unknowns):
     by = {u.key: u for u in unknowns}
     assert by["container.tilt"].high == pytest.approx(math.radians(0.2), rel=1e-15)
-    assert (by["contact.friction"].mean, by["contact.friction"].std) == (0.1, 0.03)
+    assert (by["contact.pair[steel,pvc].friction"].mean, by["contact.pair[steel,pvc].friction"].std) == (0.1, 0.03)
     assert by["load.file"].values == (str(EXAMPLES / "quake_synthetic.csv"), str(EXAMPLES / "quake_synthetic.AT2"))
     assert variable_name("contact.pair[steel,pvc].friction") == "contact_pair_steel_pvc_friction"
 
@@ -95,17 +61,18 @@ def test_every_stratum_of_every_marginal_is_hit_once(unknowns, n):
             # mapped through the inverse CDF: the CDF of the values is the hypercube's coordinate again
             np.testing.assert_allclose(_cdf(u)(x.astype(float)), s.u[:, j], rtol=1e-9, atol=1e-12)
     seeds = np.asarray(s.columns["initial.seed"])
-    if n == 64:  # ten whole numbers, 0 ... 9 both included, each drawn 6 or 7 times of 64
-        counts = np.bincount(seeds, minlength=10)
-        assert counts.min() >= 6 and counts.max() <= 7 and seeds.min() == 0 and seeds.max() == 9
+    if n == 64:  # a thousand whole numbers, 0 ... 999 both included: each of 64 strata of 15.6 numbers once
+        strata = np.floor(seeds / (1000 / 64)).astype(int)
+        assert sorted(strata) == list(range(64)) and seeds.min() >= 0 and seeds.max() <= 999
         files = s.columns["load.file"]
         assert sorted(files.count(f) for f in set(files)) == [32, 32]
 
 
-def test_the_same_file_n_and_seed_give_the_same_samples(unknowns, tmp_path):
+def test_the_same_file_n_and_seed_give_the_same_samples(unknowns):
     a = sample(unknowns, 16, seed=3)
-    b = sample(Unknowns.read(tmp_path / "U.toml"), 16, seed=3)
-    assert a.points() == b.points()
+    assert a.points() == sample(Unknowns.from_tables(TABLES, folder=EXAMPLES), 16, seed=3).points()
+    path = EXAMPLES / "unknowns" / "frame_quake.toml"
+    assert sample(Unknowns.read(path), 16, seed=3).points() == sample(Unknowns.read(path), 16, seed=3).points()
     assert sample(unknowns, 16, seed=4).points() != a.points()
 
 
@@ -117,6 +84,7 @@ def test_a_case_at_a_sample_carries_every_value(unknowns):
         c = sample_case(base, v)
         assert c.drive.natural_frequency == pytest.approx(3.0 * math.sqrt(v["structure.stiffness_scale"]), rel=1e-12)
         assert c.container.tilt == (v["container.tilt"],) * 3 and c.contact.friction == v["contact.friction"]
+        assert c.contact.friction_for("steel", "pvc") == v["contact.pair[steel,pvc].friction"]
         assert c.drive.load.scale == v["load.scale"] and c.drive.load.file == v["load.file"]
         assert c.initial.seed == v["initial.seed"] and c.drive.load.duration == base.drive.load.duration
 

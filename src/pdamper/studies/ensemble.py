@@ -40,7 +40,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..params import Case
-from .store import ResultStore, VARIABLES, _command_line, _first_difference
+from .store import ResultStore, VARIABLES, _command_line, _first_difference, clear_unfinished, make_directories
 from .unknowns import Samples, Unknown, Unknowns, key_kind, sample, sample_case, variable_name
 
 __all__ = ["EnsembleSpec", "EnsembleStore", "run_ensemble", "open_ensemble", "summarize", "summary_lines",
@@ -50,6 +50,22 @@ FORMAT = "pdamper-ensemble-store/1"
 
 
 # ----------------------------------------------------------------------------- the studies a sample runs
+
+class _Timed:
+    """Picklable ``case -> record`` of ``run`` (a one-sample function) with the CPU time [s] its
+    process spent on the sample (``cpu_time_s``: beside the wall time, what a sample costs on a
+    machine shared with other work)."""
+
+    def __init__(self, run):
+        self.run = run
+
+    def __call__(self, case) -> dict:
+        import time
+
+        t0 = time.process_time()
+        out = self.run(case)
+        return {**out, "cpu_time_s": time.process_time() - t0}
+
 
 def _one_run(case, until_steady=None):
     """A run study's sample: :func:`pdamper.studies.sweep.run_one` (no signals kept)."""
@@ -131,10 +147,11 @@ _RATIOS = {
     "damper_peak_ratio": ("damper_peak_ratio", "1", "peak ratio at the damper point", False),
     "energy_balance_error": ("energy_balance_error", "1", "energy ledger residual", False),
     "wall_time": ("wall_time_s", "s", "wall-clock time of the sample", False),
+    "cpu_time": ("cpu_time_s", "s", "CPU time of the sample's process", False),
 }
 
 STUDIES = {
-    "run": Study("run", {k: (*v, False) for k, v in VARIABLES.items()},
+    "run": Study("run", {**{k: (*v, False) for k, v in VARIABLES.items()}, "cpu_time": _RATIOS["cpu_time"]},
                  lambda spec: functools.partial(_one_run, until_steady=spec.until_steady), batches=True, analyze=True),
     "transient": Study("transient", {
         **_RATIOS, "rms": ("rms_m", "m", "RMS displacement with the damper", True),
@@ -326,7 +343,7 @@ class EnsembleStore(ResultStore):
         """Open the store at ``path`` for ``spec`` (creating it), refusing another ensemble."""
         from .._version import __version__
         from ..config import dumps_case
-        from ..io.files import atomic_write, json_safe, remove_stale_temporaries
+        from ..io.files import atomic_write, json_safe
 
         path = Path(path)
         text = dumps_case(spec.base, name="ensemble base")
@@ -339,25 +356,20 @@ class EnsembleStore(ResultStore):
             try:
                 old = json.loads(meta_file.read_text())
             except (OSError, ValueError) as exc:
-                raise InputError(f"{meta_file}: not a readable pdamper result store ({exc}); use another --out") from None
+                raise InputError(f"{meta_file}: not a readable pdamper result store ({exc}); use another --store") from None
             if old.get("format") != FORMAT:
                 raise InputError(f"{path}: a result store of another kind (a sweep's?), not an ensemble's; use "
-                                 "another --out")
+                                 "another --store")
             if old.get("fingerprint") != fp:
                 raise InputError(f"{path}: this result store holds another ensemble "
-                                 f"({_ensemble_difference(old, text, described)}); use another --out or delete the "
-                                 "store to start over")
+                                 f"({_ensemble_difference(old, text, described)}); use another --store (a sweep's "
+                                 "--out) or delete the store to start over")
             old_history = old.get("history", [])
-        elif path.exists() and (not path.is_dir() or any(p.name != "cases" for p in path.iterdir())
-                                or any((path / "cases").glob("*"))):
-            raise InputError(f"{path}: exists and is not a pdamper ensemble store; choose another --out")
-        try:
-            (path / "cases").mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise InputError(f"cannot create the result store {path}: {exc.strerror or exc}; give an --out where "
-                             "you can write") from None
-        for d in (path, path / "cases"):
-            remove_stale_temporaries(d)
+        else:
+            clear_unfinished(path)
+            if path.exists() and (not path.is_dir() or any(path.iterdir())):
+                raise InputError(f"{path}: exists and is not a pdamper ensemble store; choose another --store")
+        make_directories(path)
         meta = {"format": FORMAT, "fingerprint": fp, "config": text, "pdamper_version": __version__,
                 "ensemble": described, "axes": described["axes"], "seeds": [],
                 "values": json_safe(spec.drawn.points()),
@@ -460,11 +472,7 @@ class EnsembleStore(ResultStore):
                 "long_name": f"sampled {u['key']} ({u['distribution']})", "distribution": json.dumps(params),
                 "role": "unknown"})
         ds.attrs.update({
-            "Conventions": "CF-1.10",
-            "title": f"pdamper {ens['study']} ensemble: {n} samples of {len(ens['unknowns'])} unknowns",
-            "source": f"pdamper {self.meta.get('pdamper_version', __version__)} DEM simulation",
-            "history": "\n".join(self.meta.get("history", [])),
-            "config": self.meta["config"],
+            **self.provenance(f"pdamper {ens['study']} ensemble: {n} samples of {len(ens['unknowns'])} unknowns"),
             "pdamper_version": self.meta.get("pdamper_version", __version__),
             "study": ens["study"], "samples": n, "sampling_seed": int(ens["seed"]),
             "sampling": ens.get("sampling", "Latin hypercube"),
@@ -553,7 +561,7 @@ def run_ensemble(base: Case, unknowns, n: int, path, *, seed: int = 0, study: st
     todo = [it for it in items if not store.has(it[0])]
     if todo:
         st = STUDIES[study]
-        run = st.runner(spec)
+        run = _Timed(st.runner(spec))
         kw = dict(workers=workers, scheduler=scheduler, progress=progress, total=len(items),
                   done=len(items) - len(todo))
         if st.batches:

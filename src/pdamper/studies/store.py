@@ -244,22 +244,12 @@ class ResultStore:
             seeds = sorted(set(seeds) | {int(r["seed"]) for r in found})
             old_history = [f"store.json rebuilt from {len(found)} case files ({_command_line()})"]
         else:
-            if path.is_dir():  # what a store whose store.json could not be written (disk full, kill -9) left
-                remove_stale_temporaries(path)
-                empty = path / "cases"
-                if empty.is_dir() and not any(empty.iterdir()):
-                    empty.rmdir()
+            clear_unfinished(path)
             if path.exists() and (not path.is_dir() or any(path.iterdir())):
                 hint = (" It has case files but no store.json: re-run the same command with --repair to rebuild it"
                         if (path / "cases").is_dir() and any((path / "cases").glob("*.json")) else "")
                 raise InputError(f"{path}: exists and is not a pdamper result store; choose another --out.{hint}")
-        try:
-            (path / "cases").mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise InputError(f"cannot create the result store {path}: {exc.strerror or exc}; give an --out where "
-                             "you can write") from None
-        for d in (path, path / "cases"):  # left by a writer killed between writing and renaming
-            remove_stale_temporaries(d)
+        make_directories(path)
         meta = {"format": FORMAT, "fingerprint": fp, "config": text, "axes": axes, "seeds": seeds,
                 "pdamper_version": __version__, "base": json_safe(case_to_dict(base)),
                 "attrs": json_safe(attrs or {}),
@@ -443,11 +433,7 @@ class ResultStore:
         geo = base.container.geometry
         varied = ", ".join(a["key"] for a in self.axes)
         ds.attrs.update({
-            "Conventions": "CF-1.10",
-            "title": f"pdamper sweep over {varied}: {base.n_particles} spheres in a {geo.shape}",
-            "source": f"pdamper {self.meta.get('pdamper_version', __version__)} DEM simulation",
-            "history": "\n".join(self.meta.get("history", [])),
-            "config": self.meta["config"],
+            **self.provenance(f"pdamper sweep over {varied}: {base.n_particles} spheres in a {geo.shape}"),
             "varied_keys": varied,
             "pdamper_version": self.meta.get("pdamper_version", __version__),
             "shape": geo.shape,
@@ -461,6 +447,15 @@ class ResultStore:
             **{k: (float("nan") if v is None else v) for k, v in self.meta.get("attrs", {}).items()},
         })
         return ds
+
+    def provenance(self, title: str) -> dict:
+        """The dataset attributes that say where it comes from: CF conventions, ``title``, the
+        source (pdamper's version), the history of commands and the configuration."""
+        from .._version import __version__
+
+        return {"Conventions": "CF-1.10", "title": title,
+                "source": f"pdamper {self.meta.get('pdamper_version', __version__)} DEM simulation",
+                "history": "\n".join(self.meta.get("history", [])), "config": self.meta["config"]}
 
     def write_outputs(self, ds) -> None:
         """Write ``results.nc`` (CF-style netCDF) and ``results.csv`` (one row per case) atomically."""
@@ -487,6 +482,28 @@ class ResultStore:
                              "case(s), each written whole: once it can be written (space freed, or the store copied to a "
                              "writable place), re-run the same command on it to resume (nothing finished is computed "
                              "again)") from None
+
+
+def clear_unfinished(path: Path) -> None:
+    """What a store whose ``store.json`` could not be written (a full disk, ``kill -9``) left at
+    ``path``: its temporary files and an empty ``cases/`` folder, removed."""
+    if path.is_dir():
+        remove_stale_temporaries(path)
+        empty = path / "cases"
+        if empty.is_dir() and not any(empty.iterdir()):
+            empty.rmdir()
+
+
+def make_directories(path: Path) -> None:
+    """A store's folder and its ``cases/`` made, the temporary files of a writer killed between
+    writing and renaming removed."""
+    try:
+        (path / "cases").mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the result store {path}: {exc.strerror or exc}; give an --out where "
+                         "you can write") from None
+    for d in (path, path / "cases"):
+        remove_stale_temporaries(d)
 
 
 def _valid_record(f: Path):
