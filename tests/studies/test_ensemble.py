@@ -17,6 +17,7 @@ import sys
 
 import numpy as np
 import pytest
+from ensemble_helpers import STIFFNESS, synthetic_store
 from sweep_helpers import kill_after
 
 from dem_fixtures import locked_case
@@ -27,7 +28,6 @@ from pdamper.studies.unknowns import Unknown, Unknowns, sample
 from pdamper.theory import oscillator_response
 
 FORCED = 'mass = "2kg"\nnatural_frequency = "3Hz"\ndamping_ratio = 0.02\nforce_amplitude = "1N"\nforce_frequency = "3Hz"'
-STIFFNESS = Unknowns((Unknown(key="structure.stiffness_scale", distribution="normal", mean=1.0, std=0.1),))
 
 
 def _forced_locked_bed():
@@ -67,32 +67,11 @@ def test_every_sample_is_its_closed_form_with_and_without_the_bed(tmp_path):
     assert s["targets"]["peak_ratio"]["met"] == 2 and s["ranking"]["peak_ratio"][0]["key"] == "structure.stiffness_scale"
 
 
-def _synthetic_store(tmp_path, ratios):
-    """A transient ensemble's store whose samples' records are written by hand (no DEM): sample i has
-    peak ratios ``ratios[i]`` at the two dofs of a modal structure, RMS ratios 0.9 of them."""
-    base = loads_case(locked_case('kind = "force_history"\ntime = [0, 0.1]\nforce = [0, 1.0]\nduration = "0.5s"',
-                                  structure='modes = [{frequency = "3Hz", damping_ratio = 0.02, modal_mass = "2kg", '
-                                            'damper = 1.0, force = 1.0, response = 0.5}]', text=True))
-    spec = EnsembleSpec(base=base, unknowns=STIFFNESS, samples=len(ratios), study="transient",
-                        dofs=("damper", "response"))
-    store = EnsembleStore.create_or_open(tmp_path / "store", spec)
-    for (key, point, seed, _), r in zip(spec.items(), ratios):
-        if r is None:
-            store.save_sample(key, point, seed, {"failed": "a synthetic failure"})
-            continue
-        store.save_sample(key, point, seed, {
-            "peak_m": [0.01 * x for x in r], "rms_m": [0.005 * x for x in r], "peak_bare_m": [0.01, 0.01],
-            "rms_bare_m": [0.005, 0.005], "peak_ratio": list(r), "rms_ratio": [0.9 * x for x in r],
-            "damper_peak_ratio": r[0], "damper_rms_ratio": 0.9 * r[0], "energy_balance_error": 1e-4,
-            "steps": 10, "wall_time_s": 1.0})
-    return spec, store
-
-
 def test_the_share_meeting_a_target_and_its_interval_on_a_synthetic_ensemble(tmp_path):
     rng = np.random.default_rng(5)
     ratios = [(float(a), float(b)) for a, b in zip(rng.uniform(0.5, 0.9, 40), rng.uniform(0.4, 0.8, 40))]
     ratios[3] = None  # a failed sample meets no target
-    spec, store = _synthetic_store(tmp_path, ratios)
+    spec, store = synthetic_store(tmp_path, ratios)
     ds = store.dataset()
     assert ds.peak_ratio.dims == ("sample", "dof") and ds.dof.values.tolist() == ["damper", "response"]
     assert int(ds.failed.sum()) == 1 and math.isnan(float(ds.peak_ratio[3, 0]))
@@ -119,7 +98,7 @@ def test_the_share_meeting_a_target_and_its_interval_on_a_synthetic_ensemble(tmp
 
 
 def test_the_store_refuses_another_ensemble_naming_the_difference(tmp_path):
-    spec, store = _synthetic_store(tmp_path, [(0.5, 0.5)] * 3)
+    spec, store = synthetic_store(tmp_path, [(0.5, 0.5)] * 3)
     again = EnsembleSpec(base=spec.base, unknowns=STIFFNESS, samples=4, study="transient", dofs=("damper", "response"))
     with pytest.raises(InputError, match="another ensemble \\(3 samples there, 4 now: a Latin hypercube of another N"):
         EnsembleStore.create_or_open(tmp_path / "store", again)
@@ -203,3 +182,20 @@ def test_a_gpu_that_fails_mid_ensemble_is_one_line_and_keeps_what_finished(tiny_
     ds = run_ensemble(base, tmp_path / "U.toml", 4, tmp_path / "store", progress=False)
     assert calls == [2, 2, 2] and not ds.failed.any() and np.isfinite(ds.eta_star.values).all()
     assert all((tmp_path / "store" / "cases" / k).read_bytes() == v for k, v in stored.items())
+
+
+@pytest.mark.cluster
+def test_an_ensemble_on_a_dask_scheduler_gives_the_numbers_of_the_local_cores(tiny_config, tmp_path):
+    """The same samples on a Dask cluster given by its address (``--scheduler``) and on the local
+    cores: every sample's eta* and steps bit for bit."""
+    from dask.distributed import LocalCluster
+
+    (tmp_path / "U.toml").write_text(U_TINY)
+    base = loads_case(tiny_config.read_text())
+    local = run_ensemble(base, tmp_path / "U.toml", 2, tmp_path / "local", workers=1, progress=False)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+        remote = run_ensemble(base, tmp_path / "U.toml", 2, tmp_path / "remote", scheduler=cluster.scheduler_address,
+                              progress=False)
+    for name in ("eta_star", "steps", "contact_friction", "initial_seed"):
+        np.testing.assert_array_equal(remote[name].values, local[name].values)
+    assert np.isfinite(remote.eta_star.values).all()

@@ -130,13 +130,15 @@ class _Response:
 class Study:
     """What a sample runs: ``variables`` ``{name: (record key, units, long name, per dof)}``, the
     one-sample function ``runner(spec)``, whether its cases may run on the GPU engine's batches
-    (``batches``) and ``analyze`` (its cases are checked as analysed by the complex power)."""
+    (``batches``; a sweep's axes then too), ``analyze`` (its cases are checked as analysed by the
+    complex power) and ``structure`` (it needs a structure and reports its dofs)."""
 
     name: str
     variables: dict
     runner: object
     batches: bool = False
     analyze: bool = False
+    structure: bool = False
 
 
 _RATIOS = {
@@ -158,12 +160,13 @@ STUDIES = {
         "rms_bare": ("rms_bare_m", "m", "RMS displacement without the damper (exact linear response)", True),
         "damper_rms_ratio": ("damper_rms_ratio", "1", "RMS ratio at the damper point", False),
         "steps": ("steps", "1", "time steps taken", False)},
-        lambda spec: _Transient(spec.dofs)),
+        lambda spec: _Transient(spec.dofs), structure=True),
     "response": Study("response", {
         **_RATIOS, "peak_frequency": ("peak_frequency_hz", "Hz", "frequency of the damper point's largest amplitude",
                                       False),
         "peak_steady": ("peak_steady", "1", "the damped peak is steady (1) or not (0)", False)},
-        lambda spec: _Response(spec.dofs, spec.frequencies, spec.force_amplitude, spec.measure_cycles, spec.mode)),
+        lambda spec: _Response(spec.dofs, spec.frequencies, spec.force_amplitude, spec.measure_cycles, spec.mode),
+        structure=True),
 }
 
 
@@ -242,7 +245,7 @@ class EnsembleSpec:
         object.__setattr__(self, "_cases", tuple(cases))
         object.__setattr__(self, "_grids", tuple(grids))
         object.__setattr__(self, "_cautions", tuple(said))
-        if self.study != "run":
+        if study.structure:
             from .structure_base import select_dofs
 
             if not self.base.drive.coupled:
@@ -484,7 +487,7 @@ class EnsembleStore(ResultStore):
 
     def _dof_labels(self, base) -> list:
         ens = self.meta["ensemble"]
-        if ens["study"] == "run":
+        if not self.study.structure:
             return []
         from .structure_base import select_dofs
 
