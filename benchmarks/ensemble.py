@@ -164,6 +164,7 @@ def main(argv=None):
         "serial_cpu_s": serial_cpu, "one_transient_cpu_s": one_cpu, "sample_cpu_time_sum_s": cpu_workers,
         "same_samples_in_workers_wall_s": same.wall_time.values.tolist(),
         "same_samples_in_workers_cpu_s": same.cpu_time.values.tolist(),
+        "steps_mean": float(np.mean(ds.steps.values)), "serial_steps_mean": float(np.mean(same.steps.values)),
         "load_average_before": load_before, "load_average_after": load_after, "cores": os.cpu_count(),
         "summary": s, "folder": str(folder),
     }
@@ -180,6 +181,8 @@ def main(argv=None):
           f"(mean {cpu_workers / args.samples:.1f} s; {args.samples} x one: {args.samples * one_cpu:.1f} s)")
     print(f"  the serial samples again in the workers: wall {', '.join(f'{x:.1f}' for x in same.wall_time.values)} s,"
           f" CPU {', '.join(f'{x:.1f}' for x in same.cpu_time.values)} s")
+    print(f"  steps: the {args.samples} samples {np.mean(ds.steps.values):,.0f} a sample on average, the "
+          f"{len(serial)} serial ones {np.mean(same.steps.values):,.0f}")
     print(f"  load average {load_before:.1f} before the ensemble, {load_after:.1f} after ({os.cpu_count()} cores)")
     print("\n".join(summary_lines(s)))
     if args.json:

@@ -1,7 +1,7 @@
 """``--uncertain U.toml --samples N`` on the command line (pdamper.cli.ensemble): the report and its
 JSON (``ensemble = {samples, peak_ratio, rms_ratio, eta_star}``, percentiles per dof) from a store
-whose samples are all there (nothing runs), one DEM ensemble of two tiny samples, and the one-line
-refusals."""
+whose samples are all there (nothing runs), and the one-line refusals (a run ensemble's JSON from a
+DEM run: tests/studies/test_ensemble.py, the kill -9 test)."""
 
 from __future__ import annotations
 
@@ -60,17 +60,6 @@ def test_the_report_as_text(synthetic):
     assert "24 samples (Latin hypercube) of 1 unknowns, 24 finished" in r.output
     assert "    damper" in r.output and "response" in r.output and "Wilson" in r.output
     assert "what moves peak_ratio" in r.output
-
-
-def test_a_run_ensemble_of_two_tiny_samples(tiny, tmp_path):
-    (tmp_path / "U.toml").write_text('[[unknown]]\nkey = "contact.friction"\ndistribution = "uniform"\n'
-                                     'low = 0.05\nhigh = 0.3\n')
-    r = run(["run", str(tiny), "--uncertain", str(tmp_path / "U.toml"), "--samples", "2", "--workers", "1",
-             "--store", str(tmp_path / "store"), "--json"])
-    assert r.exit_code == 0, r.output
-    s = json.loads(r.stdout)["ensemble"]
-    assert s["samples"] == 2 and s["peak_ratio"] is None and s["rms_ratio"] is None
-    assert set(s["eta_star"]) == {"p05", "p50", "p95"} and s["eta_star"]["p05"] <= s["eta_star"]["p95"]
 
 
 @pytest.mark.parametrize("args, words", [

@@ -67,6 +67,22 @@ def test_every_sample_is_its_closed_form_with_and_without_the_bed(tmp_path):
     assert s["targets"]["peak_ratio"]["met"] == 2 and s["ranking"]["peak_ratio"][0]["key"] == "structure.stiffness_scale"
 
 
+def test_a_response_sample_is_its_run_responses_peaks_per_dof():
+    """A response sample (no executor: the sample function itself) reports per dof the largest
+    amplitude over the grid with the damper over the bare closed form's largest on the same grid."""
+    from pdamper.studies.ensemble import _Response
+    from pdamper.studies.structure import run_response
+
+    case = loads_case(locked_case("", structure=FORCED.replace("1N", "0.3N"), text=True).split("[load]")[0]
+                      + "[run]\ncycles = 4\n")
+    rec = _Response(None, (2.9, 3.1), None, 2, 1)(case)
+    s = run_response(case, (2.9, 3.1), force_amplitude=0.3, measure_cycles=2, workers=1, progress=False).summary
+    damped, bare = np.max(s["response_amplitude_m"], axis=1), np.max(s["response_amplitude_bare_m"], axis=1)
+    np.testing.assert_allclose(rec["peak_m"], damped, rtol=0)  # the same seeded runs, bit for bit
+    np.testing.assert_allclose(rec["peak_ratio"], damped / bare, rtol=1e-15)
+    assert rec["rms_ratio"] == rec["peak_ratio"] and rec["damper_peak_ratio"] == s["peak_reduction"]
+
+
 def test_the_share_meeting_a_target_and_its_interval_on_a_synthetic_ensemble(tmp_path):
     rng = np.random.default_rng(5)
     ratios = [(float(a), float(b)) for a, b in zip(rng.uniform(0.5, 0.9, 40), rng.uniform(0.4, 0.8, 40))]
