@@ -87,7 +87,7 @@ from .contact import read_restitution
 from .contact.cor_constant import ConstantRestitution
 from .contact.cor_table import TabulatedRestitution
 from .contact.cor_thornton import ThorntonRestitution
-from .errors import InputError, checked_file, shown_path, unreadable_file, shown
+from .errors import InputError, read_text_file, shown_path, shown
 from .io.files import atomic_write
 from . import structure as _structures  # noqa: F401  (registers the structure models as drives)
 from .excitation import DRIVES, read_motion_csv
@@ -224,14 +224,7 @@ def load_case(path, overrides: dict | None = None, *, prepare=None) -> Case:
 
     Every case file pdamper reads goes through here (the commands, the studies, the design).
     """
-    path = checked_file(path, "config file")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputError(f"cannot read config file {shown_path(path)}: byte {exc.start} is not UTF-8 text; save it "
-                         "as UTF-8") from None
-    except OSError as exc:
-        raise unreadable_file(path, exc, "config file") from None
+    path, text = read_text_file(path, "config file")
     return loads_case(text, overrides, source=shown_path(path), base_dir=path.parent, prepare=prepare)
 
 

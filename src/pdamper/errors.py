@@ -21,7 +21,7 @@ import os
 import re
 from pathlib import Path
 
-__all__ = ["PdamperError", "InputError", "SimulationError", "shown", "shown_path", "checked_file",
+__all__ = ["PdamperError", "InputError", "SimulationError", "shown", "shown_path", "checked_file", "read_text_file",
            "unreadable_file"]
 
 
@@ -175,3 +175,16 @@ def checked_file(path, what: str = "file", *, directory_ok: bool = False, missin
     elif not stat.S_ISREG(st.st_mode):  # reading a pipe would wait for a writer for ever
         raise InputError(f"{shown_path(path)} is not a regular file (a pipe, a device or a socket); give the {what}")
     return p
+
+
+def read_text_file(path, what: str = "file") -> tuple[Path, str]:
+    """``(path, its text)`` of the UTF-8 text file ``path`` (:func:`checked_file` first), or an
+    :class:`InputError` naming it: not UTF-8 (the byte), or a file the system cannot read."""
+    p = checked_file(path, what)
+    try:
+        return p, p.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"cannot read {what} {shown_path(p)}: byte {exc.start} is not UTF-8 text; save it "
+                         "as UTF-8") from None
+    except OSError as exc:
+        raise unreadable_file(p, exc, what) from None

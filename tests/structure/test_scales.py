@@ -22,16 +22,20 @@ from pdamper.theory.oscillator import steady_amplitude
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
-def test_a_single_mode_takes_the_scales_into_its_numbers():
+def test_a_single_mode_runs_with_its_scales_and_keeps_its_numbers():
     s = CoupledStructure(mass=7.0, stiffness=1105.0, damping_ratio=0.005, force_amplitude=0.4, force_frequency=2.0,
                          stiffness_scale=0.81, mass_scale=1.1)
-    assert (s.mass, s.stiffness) == (7.0 * 1.1, 1105.0 * 0.81) and (s.stiffness_scale, s.mass_scale) == (1.0, 1.0)
+    assert (s.mass, s.stiffness, s.stiffness_scale, s.mass_scale) == (7.0, 1105.0, 0.81, 1.1)  # as given
     f = np.linspace(1.5, 2.5, 7)
     exact = steady_amplitude(f, mass=7.7, stiffness=1105.0 * 0.81, damping_ratio=0.005, force_amplitude=0.4)
     np.testing.assert_allclose(s.steady_amplitude(f, 0.4), exact, rtol=1e-12)
-    again = CoupledStructure(mass=s.mass, stiffness=s.stiffness, damping_ratio=0.005, force_amplitude=0.4,
-                             force_frequency=2.0)
-    assert again == s  # nothing left to scale twice
+    assert s.natural_frequency == pytest.approx(math.sqrt(1105.0 * 0.81 / 7.7) / (2 * math.pi), rel=1e-15)
+    runs = s.carrying(0.0)  # what runs: the scales taken in, nothing to scale twice
+    assert (runs.mass, runs.stiffness, runs.stiffness_scale, runs.mass_scale) == (7.0 * 1.1, 1105.0 * 0.81, 1.0, 1.0)
+    assert runs.damping == pytest.approx(s.damping, rel=1e-15) and runs.carrying(0.0) is runs
+    with_container = s.carrying(0.3)
+    assert with_container.mass == pytest.approx(7.7 + 0.3, rel=1e-15) and with_container.damping == pytest.approx(
+        s.damping, rel=1e-15)
 
 
 @pytest.mark.parametrize("name", ["mast_modal", "mast_fe", "frame_quake", "structure_36"])
@@ -63,8 +67,8 @@ def test_an_fe_model_scales_its_static_compliance_and_its_ground_participation()
     np.testing.assert_allclose(s.ground_participation(), 2.0 * plain.ground_participation(), rtol=1e-12)
 
 
-@pytest.mark.parametrize("value", [0, -0.1, "abc", float("nan"), float("inf"), True])
-def test_a_scale_that_is_not_a_positive_number_is_one_line(value):
-    with pytest.raises(InputError, match=r"structure\] stiffness_scale.*(must be a number > 0|cannot read|must be a "
-                                         r"number)"):
+@pytest.mark.parametrize("value", [0, -0.1, "abc", float("nan"), float("inf"), True, 1e300, 0.001])
+def test_a_scale_that_is_no_factor_of_a_model_is_one_line(value):
+    with pytest.raises(InputError, match=r"structure\] stiffness_scale.*(must be a number from 0.01 to 100|cannot "
+                                         r"read|must be a number|not a finite)"):
         load_case(EXAMPLES / "structure_36.toml", {"structure.stiffness_scale": value})

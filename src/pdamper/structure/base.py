@@ -48,10 +48,12 @@ from ..excitation import DriveBase
 from ..schema import param
 from ..units import thousandth_hint
 
-__all__ = ["StructureBase", "MAX_STRUCTURE_HZ"]
+__all__ = ["StructureBase", "MAX_STRUCTURE_HZ", "SCALES"]
 
 #: Highest natural or forcing frequency of a structure [Hz].
 MAX_STRUCTURE_HZ = 1000.0
+#: The range of ``stiffness_scale`` and ``mass_scale``: a model off by a factor, not another structure.
+SCALES = (0.01, 100.0)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -75,9 +77,10 @@ class StructureBase(DriveBase):
         > 0 (default 1): K and M of the model times these (a frame 10 % softer than its model:
         ``stiffness_scale = 0.9``; an ensemble's unknowns, docs/ensembles.md). Every mode's
         frequency moves by sqrt(stiffness_scale / mass_scale), its modal mass by mass_scale; the
-        mode shapes and the damping ratios stay as given. A model of plain numbers (``mass`` and
-        ``stiffness``) takes them into those numbers (and is written so); an FE model keeps them
-        beside its matrices.
+        mode shapes and the damping ratios stay as given. The fields ``mass`` and ``stiffness`` of a
+        single mode, the modes given as data and the matrices stay as given (and are written so,
+        with the scales beside); what runs (:meth:`carrying`) has them taken in. From 0.01 to 100
+        (:data:`SCALES`).
     """
 
     force_amplitude: float = param(0.0, dimension="force")
@@ -92,8 +95,8 @@ class StructureBase(DriveBase):
     storey_heights: tuple | None = param(None, kind="list", dimension="length")
     storey_height: float | None = param(None, dimension="length")
     storey_dofs: tuple | None = param(None, kind="custom")
-    stiffness_scale: float = param(1.0, kind="number", write_default=False)
-    mass_scale: float = param(1.0, kind="number", write_default=False)
+    stiffness_scale: float = param(1.0, dimension="dimensionless", write_default=False)
+    mass_scale: float = param(1.0, dimension="dimensionless", write_default=False)
 
     config_section = "structure"
     coupled = True
@@ -123,12 +126,13 @@ class StructureBase(DriveBase):
 
     # ---- checks
     def _check_scales(self) -> None:
-        """``stiffness_scale`` and ``mass_scale``: finite numbers > 0."""
+        """``stiffness_scale`` and ``mass_scale``: numbers from :data:`SCALES`' low to its high."""
+        lo, hi = SCALES
         for name in ("stiffness_scale", "mass_scale"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):
-                raise InputError(f"structure.{name} = {v!r}; must be a number > 0 (1: the model as given; "
-                                 "0.9: 10 % less)")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (lo <= v <= hi):
+                raise InputError(f"structure.{name} = {shown(v)}; must be a number from {lo:g} to {hi:g}, the model's "
+                                 f"{'K' if name == 'stiffness_scale' else 'M'} times it (1: as given; 0.9: 10 % less)")
 
     def _check_motion(self) -> None:
         """Validate what moves it (``force_amplitude``, ``force_frequency``, ``displacement``,
@@ -167,10 +171,12 @@ class StructureBase(DriveBase):
     def check_scale(self, length: float) -> None:
         """A start (``displacement``, ``velocity``) or resonant swing (F0 / K / 2 zeta of the first
         mode) beyond twice the container's ``length`` [m], or a frequency beyond 1 kHz (no damper
-        test; the time step would vanish): an InputError with the fix."""
+        test; the time step would vanish): an InputError with the fix. The model as it runs: its
+        scales taken in (:meth:`carrying` of no mass)."""
+        model = self.carrying(0.0)
         if not self.natural_frequency <= MAX_STRUCTURE_HZ:
             raise InputError(f"structure: a natural frequency of {self.natural_frequency:.3g} Hz (structure.mass = "
-                             f"{self.mass:g} kg, stiffness {self.stiffness:.3g} N/m) is beyond {MAX_STRUCTURE_HZ:g} Hz; "
+                             f"{model.mass:g} kg, stiffness {model.stiffness:.3g} N/m) is beyond {MAX_STRUCTURE_HZ:g} Hz; "
                              "check structure.mass and structure.stiffness / natural_frequency (a number without a "
                              "unit is SI)")
         ff = self.force_frequency
@@ -194,10 +200,10 @@ class StructureBase(DriveBase):
                                  "[structure] mass, stiffness or natural_frequency and damping_ratio (a number without "
                                  "a unit is SI)")
             return
-        resonant = self.force_amplitude / self.stiffness / max(2.0 * self.modal_damping_ratio, 0.02)
+        resonant = self.force_amplitude / model.stiffness / max(2.0 * self.modal_damping_ratio, 0.02)
         if resonant > 2 * length:
             raise InputError(f"structure.force_amplitude = {self.force_amplitude:g} N would swing the structure "
-                             f"(structure.mass = {self.mass:g} kg, stiffness {self.stiffness:.3g} N/m) by about "
+                             f"(structure.mass = {model.mass:g} kg, stiffness {model.stiffness:.3g} N/m) by about "
                              f"{resonant:.3g} m at resonance (F0 / K / 2 zeta), beyond twice the container's length "
                              f"{length:g} m; give a smaller force or check the mass (a number without a unit is SI)")
 

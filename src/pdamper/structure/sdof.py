@@ -64,13 +64,6 @@ class CoupledStructure(StructureBase, _OneMode):
     def __post_init__(self):
         self._prepare()
         self._check_scales()
-        if self.stiffness_scale != 1.0 or self.mass_scale != 1.0:  # taken into the numbers (written so)
-            for name, scale in (("stiffness", self.stiffness_scale), ("mass", self.mass_scale)):
-                v = getattr(self, name)
-                if isinstance(v, (int, float)) and not isinstance(v, bool):
-                    object.__setattr__(self, name, v * scale)
-            object.__setattr__(self, "stiffness_scale", 1.0)
-            object.__setattr__(self, "mass_scale", 1.0)
         for name, unit, ex in (("mass", "kg", "'7kg'"), ("stiffness", "N/m", "1105 (N/m)")):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and math.isfinite(v)):
@@ -78,7 +71,7 @@ class CoupledStructure(StructureBase, _OneMode):
         z = self.damping_ratio
         if isinstance(z, bool) or not isinstance(z, (int, float)) or not (0.0 <= z < 1.0):
             raise InputError(f"structure.damping_ratio = {shown(z)}; must be in [0, 1), e.g. 0.005 (0.5 %)")
-        if not math.isfinite(self.stiffness * self.mass):
+        if not math.isfinite(self._k * self._m):
             raise InputError(f"structure.mass = {self.mass:g} kg with stiffness {self.stiffness:g} N/m is beyond what "
                              "a number holds (their product overflows); give the mode's mass, e.g. '7kg'")
         self._check_motion()
@@ -113,14 +106,24 @@ class CoupledStructure(StructureBase, _OneMode):
 
     # ---- the one mode
     @property
+    def _m(self) -> float:
+        """M of the model: ``mass`` times ``mass_scale`` [kg]."""
+        return self.mass * self.mass_scale
+
+    @property
+    def _k(self) -> float:
+        """K of the model: ``stiffness`` times ``stiffness_scale`` [N/m]."""
+        return self.stiffness * self.stiffness_scale
+
+    @property
     def damping(self) -> float:
         """c = 2 zeta sqrt(K M) [N s/m]."""
-        return 2.0 * self.damping_ratio * math.sqrt(self.stiffness * self.mass)
+        return 2.0 * self.damping_ratio * math.sqrt(self._k * self._m)
 
     @property
     def natural_frequency(self) -> float:
         """f_n = sqrt(K/M) / 2 pi [Hz] (without the bed)."""
-        return math.sqrt(self.stiffness / self.mass) / (2.0 * math.pi)
+        return math.sqrt(self._k / self._m) / (2.0 * math.pi)
 
     @property
     def mode_frequencies(self) -> np.ndarray:
@@ -142,9 +145,9 @@ class CoupledStructure(StructureBase, _OneMode):
         forced = 0.0
         if self.force_amplitude > 0:
             wf = 2.0 * math.pi * self.force_frequency
-            res = self.force_amplitude / self.stiffness / max(2.0 * self.damping_ratio, 0.02)
-            forced = max(wf, w) * max(res, steady_amplitude(self.force_frequency, mass=self.mass,
-                                                            stiffness=self.stiffness, damping_ratio=self.damping_ratio,
+            res = self.force_amplitude / self._k / max(2.0 * self.damping_ratio, 0.02)
+            forced = max(wf, w) * max(res, steady_amplitude(self.force_frequency, mass=self._m,
+                                                            stiffness=self._k, damping_ratio=self.damping_ratio,
                                                             force_amplitude=self.force_amplitude))
         return free + 2.0 * forced
 
@@ -159,7 +162,7 @@ class CoupledStructure(StructureBase, _OneMode):
 
             return damper_motion(self, t)
 
-        return oscillator_response(t, mass=self.mass, stiffness=self.stiffness, damping_ratio=self.damping_ratio,
+        return oscillator_response(t, mass=self._m, stiffness=self._k, damping_ratio=self.damping_ratio,
                                    force_amplitude=self.force_amplitude, force_frequency=self.force_frequency or 0.0,
                                    displacement=self.displacement, velocity=self.velocity)
 
@@ -170,21 +173,23 @@ class CoupledStructure(StructureBase, _OneMode):
         if self.load is not None:
             return self.load_kernel_drive()
         om = 2.0 * math.pi * (self.force_frequency or 0.0)
-        par = np.array([self.mass, self.stiffness, self.damping, self.force_amplitude, om])
+        par = np.array([self._m, self._k, self.damping, self.force_amplitude, om])
         st = np.zeros((2, 5))
         st[0, 0] = self.displacement
         return "structure", par, np.zeros((1, 5)), st
 
     def carrying(self, mass: float):
         """The structure with the empty container's ``mass`` [kg] on it: M + m_c, the same K and
-        the same dashpot c (its damping ratio falls as 1/sqrt(M + m_c)); itself for no mass."""
-        if mass == 0.0:
+        the same dashpot c (its damping ratio falls as 1/sqrt(M + m_c)), the scales taken into M and
+        K (what runs: :attr:`pdamper.params.Case.running_drive`); itself for no mass and no scale."""
+        if mass == 0.0 and self.stiffness_scale == 1.0 and self.mass_scale == 1.0:
             return self
-        m2 = self.mass + mass
-        return dataclasses.replace(self, mass=m2, damping_ratio=self.damping / (2.0 * math.sqrt(self.stiffness * m2)))
+        m2 = self._m + mass
+        return dataclasses.replace(self, mass=m2, stiffness=self._k, stiffness_scale=1.0, mass_scale=1.0,
+                                   damping_ratio=self.damping / (2.0 * math.sqrt(self._k * m2)))
 
     def describe(self) -> str:
-        return f"structure M = {self.mass:g} kg, f_n = {self.natural_frequency:.4g} Hz, {self._forced_words()}"
+        return f"structure M = {self._m:g} kg, f_n = {self.natural_frequency:.4g} Hz, {self._forced_words()}"
 
     def response_motion(self, t):
         """Displacement [m] of the response point (the structure itself) without the bed."""
@@ -196,23 +201,23 @@ class CoupledStructure(StructureBase, _OneMode):
         from ..theory.oscillator import steady_amplitude
 
         if added_mass == 0.0:
-            return np.asarray(steady_amplitude(frequencies, mass=self.mass, stiffness=self.stiffness,
+            return np.asarray(steady_amplitude(frequencies, mass=self._m, stiffness=self._k,
                                                damping_ratio=self.damping_ratio, force_amplitude=force_amplitude))
-        m2 = self.mass + added_mass
-        zeta2 = self.damping / (2.0 * math.sqrt(self.stiffness * m2))
-        return np.asarray(steady_amplitude(frequencies, mass=m2, stiffness=self.stiffness, damping_ratio=zeta2,
+        m2 = self._m + added_mass
+        zeta2 = self.damping / (2.0 * math.sqrt(self._k * m2))
+        return np.asarray(steady_amplitude(frequencies, mass=m2, stiffness=self._k, damping_ratio=zeta2,
                                            force_amplitude=force_amplitude))
 
     def modal_arrays(self):
         """(modal masses [kg], stiffnesses [N/m], dampings [N s/m], mode shape at the damper, at the
         force, at the response point): the structure as its one mode, every shape 1."""
         one = np.ones(1)
-        return (np.array([self.mass]), np.array([self.stiffness]), np.array([self.damping]), one, one.copy(),
+        return (np.array([self._m]), np.array([self._k]), np.array([self.damping]), one, one.copy(),
                 one.copy())
 
     def record_info(self) -> dict:
         """What :class:`pdamper.recorders.structure.StructureRecord` keeps of the structure."""
-        return {"mass_kg": self.mass, "stiffness_N_m": self.stiffness, "x0_m": self.displacement,
+        return {"mass_kg": self._m, "stiffness_N_m": self._k, "x0_m": self.displacement,
                 "v0_m_s": self.velocity}
 
     def structure_summary(self) -> dict:
@@ -225,7 +230,7 @@ class CoupledStructure(StructureBase, _OneMode):
         ``wall_force`` [N] the bed's wall force along the drive at that moment; returns a0."""
         if self.load is not None:
             return self.load_start_state(st, wall_force)
-        a0 = (-self.damping * self.velocity - self.stiffness * self.displacement - wall_force) / self.mass
+        a0 = (-self.damping * self.velocity - self._k * self.displacement - wall_force) / self._m
         st[0, 0:4] = (self.displacement, self.velocity, a0, 0.0)
         st[1, :] = 0.0
         return a0

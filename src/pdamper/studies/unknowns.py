@@ -427,16 +427,9 @@ class Unknowns:
         """The unknowns of the file ``path`` (``U.toml``, the module docstring); every error one line
         naming the file, the table's number and key, the value as written and what is allowed."""
         from ..config import parse_toml
-        from ..errors import checked_file, shown_path, unreadable_file
+        from ..errors import read_text_file, shown_path
 
-        p = checked_file(path, "unknowns' file (--uncertain)")
-        try:
-            text = p.read_text(encoding="utf-8")
-        except UnicodeDecodeError as exc:
-            raise InputError(f"cannot read the unknowns' file {shown_path(p)}: byte {exc.start} is not UTF-8 text; "
-                             "save it as UTF-8") from None
-        except (OSError, ValueError) as exc:
-            raise unreadable_file(p, exc, "unknowns' file") from None
+        p, text = read_text_file(path, "unknowns' file (--uncertain)")
         src = shown_path(p)
         data = parse_toml(text, source=src)
         foreign = [k for k in data if k != "unknown"]
