@@ -224,6 +224,21 @@ class EnsembleSpec:
             object.__setattr__(self, "dofs", tuple(self.dofs))
         if self.frequencies is not None:
             object.__setattr__(self, "frequencies", tuple(float(f) for f in np.atleast_1d(self.frequencies)))
+        if study.structure:
+            from .structure_base import select_dofs
+            from .suite import is_suite
+
+            if not self.base.drive.coupled:
+                raise InputError(f"a {self.study} ensemble needs a structure ([structure] and its load); "
+                                 "a damper on its rig takes a run ensemble (pdamper run --uncertain)")
+            if is_suite(self.base):
+                raise InputError("an ensemble over a suite of records: make the record an unknown instead, "
+                                 "[[unknown]] key = \"load.file\", distribution = \"choice\", values = [the suite's "
+                                 "files], and give [load] one file")
+            labels, _ = select_dofs(self.base.running_drive, self.dofs)
+            object.__setattr__(self, "_dofs", tuple(labels))
+        else:
+            object.__setattr__(self, "_dofs", ())
         drawn = sample(u, self.samples, self.seed)
         object.__setattr__(self, "_drawn", drawn)
         cases, grids, said = [], [], []
@@ -245,16 +260,6 @@ class EnsembleSpec:
         object.__setattr__(self, "_cases", tuple(cases))
         object.__setattr__(self, "_grids", tuple(grids))
         object.__setattr__(self, "_cautions", tuple(said))
-        if study.structure:
-            from .structure_base import select_dofs
-
-            if not self.base.drive.coupled:
-                raise InputError(f"a {self.study} ensemble needs a structure ([structure] and its load); "
-                                 "a damper on its rig takes a run ensemble (pdamper run --uncertain)")
-            labels, _ = select_dofs(self.base.running_drive, self.dofs)
-            object.__setattr__(self, "_dofs", tuple(labels))
-        else:
-            object.__setattr__(self, "_dofs", ())
 
     @property
     def drawn(self) -> Samples:
