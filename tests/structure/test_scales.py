@@ -70,5 +70,5 @@ def test_an_fe_model_scales_its_static_compliance_and_its_ground_participation()
 @pytest.mark.parametrize("value", [0, -0.1, "abc", float("nan"), float("inf"), True, 1e300, 0.001])
 def test_a_scale_that_is_no_factor_of_a_model_is_one_line(value):
     with pytest.raises(InputError, match=r"structure\] stiffness_scale.*(must be a number from 0.01 to 100|cannot "
-                                         r"read|must be a number|not a finite)"):
+                                         r"read|must be a number|not a finite|expected a pure number)"):
         load_case(EXAMPLES / "structure_36.toml", {"structure.stiffness_scale": value})
