@@ -1,9 +1,11 @@
-"""Nobody switches on a drive's or a container shape's kind outside the kind's own module: callers
-ask the drive or the shape what it can do (docs/engine.md, 3a and 3b).
+"""Nobody switches on a drive's, a container shape's or a restitution law's kind outside the kind's own
+module: callers ask the drive, the shape or the law what it can do (docs/engine.md, 3a and 3b;
+:mod:`pdamper.contact.restitution`).
 
 The scan reads every module of ``src/pdamper`` with :mod:`ast` (not its text) and reports, outside
 the owners (``geometry/``: the shapes; ``excitation.py`` and ``structure/``: the drives;
-``kernels/drive.py``: the kernels' side of the drive protocol):
+``kernels/drive.py``: the kernels' side of the drive protocol; ``contact/cor_*.py`` and
+``contact/restitution.py``: the restitution laws):
 
 - a comparison (``==``, ``!=``, ``in``, ``not in``, ``is``, ``is not``) of a kind tag or a drive
   section (``"harmonic"``, ``"structure"``, ``"cuboid"``, ...) with an expression about a kind
@@ -12,7 +14,7 @@ the owners (``geometry/``: the shapes; ``excitation.py`` and ``structure/``: the
 - a list, tuple or set of two or more kind tags (a ``click.Choice`` of two shapes, ``SHAPES =
   ("cuboid", "cylinder")``);
 - a subscript by a kind tag of a table about kinds (``_DRIVE_OWN["samples"]``);
-- ``isinstance(x, C)`` / ``type(x) is C`` with C a registered drive or shape class;
+- ``isinstance(x, C)`` / ``type(x) is C`` with C a registered drive, shape or restitution-law class;
 - ``hasattr(x, ...)`` on a drive, structure, shape or geometry, or with an attribute only some
   kinds have; ``getattr(x, name, default)`` with such an attribute (a switch in disguise).
 
@@ -30,7 +32,7 @@ import pytest
 
 SRC = Path(os.environ.get("PDAMPER_SRC", Path(__file__).resolve().parents[1] / "src" / "pdamper"))
 #: the modules that own the kinds
-OWNERS = ("geometry/", "excitation.py", "structure/", "kernels/drive.py")
+OWNERS = ("geometry/", "excitation.py", "structure/", "kernels/drive.py", "contact/cor_", "contact/restitution.py")
 #: words of an expression about a kind
 KIND_WORDS = ("kind", "shape", "drive", "geo", "section")
 #: objects whose attributes a hasattr may not ask about
@@ -40,13 +42,14 @@ KIND_OBJECTS = ("drive", "structure", "shape", "geo", "geometry")
 def _registry():
     """(tags, class names, attributes only some kinds have), from the registries as they are now."""
     import pdamper.config  # noqa: F401  (registers the structures)
+    from pdamper.contact import RESTITUTION_LAWS
     from pdamper.excitation import DRIVES
     from pdamper.geometry import SHAPES
 
-    tags = set(DRIVES) | set(SHAPES) | {cls.config_section for cls in DRIVES.values()}
-    names = {cls.__name__ for cls in (*DRIVES.values(), *SHAPES.values())}
+    tags = set(DRIVES) | set(SHAPES) | set(RESTITUTION_LAWS) | {cls.config_section for cls in DRIVES.values()}
+    names = {cls.__name__ for cls in (*DRIVES.values(), *SHAPES.values(), *RESTITUTION_LAWS.values())}
     partial = set()
-    for family in (DRIVES.values(), SHAPES.values()):
+    for family in (DRIVES.values(), SHAPES.values(), RESTITUTION_LAWS.values()):
         attrs = [set(dir(cls)) | {f.name for f in dataclasses.fields(cls)} for cls in family]
         partial |= set.union(*attrs) - set.intersection(*attrs)
     return tags, names, {a for a in partial if not a.startswith("__")}
@@ -126,9 +129,9 @@ def scan(src: Path = SRC) -> list:
     return out
 
 
-def test_no_drive_or_shape_switch_outside_their_modules():
+def test_no_drive_shape_or_law_switch_outside_their_modules():
     found = scan()
-    assert not found, "switches on a drive or shape kind outside its module:\n" + "\n".join(found)
+    assert not found, "switches on a drive, shape or restitution-law kind outside its module:\n" + "\n".join(found)
 
 
 @pytest.mark.parametrize("code", [
@@ -144,6 +147,9 @@ def test_no_drive_or_shape_switch_outside_their_modules():
     'w = getattr(geo, "width", L)',
     'own = _DRIVE_OWN["samples"]',
     'if drive_key == "structure": pass',
+    'if isinstance(cor, ThorntonRestitution): pass',
+    'if law.kind == "thornton": pass',
+    'p_y = getattr(cor, "yield_pressure", 0.0)',
 ])
 def test_the_scan_sees_each_form_of_a_switch(code):
     tags, names, partial = _registry()

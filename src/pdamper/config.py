@@ -83,10 +83,7 @@ import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 
-from .contact import read_restitution
-from .contact.cor_constant import ConstantRestitution
-from .contact.cor_table import TabulatedRestitution
-from .contact.cor_thornton import ThorntonRestitution
+from .contact import read_restitution, restitution_value
 from .errors import InputError, read_text_file, shown_path, shown
 from .io.files import atomic_write
 from . import structure as _structures  # noqa: F401  (registers the structure models as drives)
@@ -610,16 +607,6 @@ def _material_to(m: Material):
     return _fields_to(m)
 
 
-def _law_to(law):
-    if isinstance(law, ConstantRestitution):
-        return float(law.value)
-    if isinstance(law, TabulatedRestitution):
-        return {"law": "table", "speeds": [float(v) for v in law.speeds], "values": [float(v) for v in law.values]}
-    if isinstance(law, ThorntonRestitution):
-        return {"law": "thornton", "yield_pressure": float(law.yield_pressure)}
-    raise InputError(f"cannot write restitution law {shown(law)} to a config file")
-
-
 #: The plain fields of an object as config keys (:func:`pdamper.schema.write_fields`).
 _fields_to = write_fields
 
@@ -640,17 +627,17 @@ def case_to_dict(case: Case) -> dict:
     ct = case.contact
     plain = _fields_to(ct)
     # friction, restitution, then the rest: the order of the text a store's fingerprint was taken of
-    contact = {"friction": plain.pop("friction"), "restitution": _law_to(ct.restitution), **plain}
+    contact = {"friction": plain.pop("friction"), "restitution": restitution_value(ct.restitution), **plain}
     pairs = []
     for key, mu in ct.pair_friction.items():
         pairs.append({"materials": list(key), "friction": _num(mu)})
     for key, law in ct.pair_restitution.items():
         for p in pairs:
             if tuple(p["materials"]) == tuple(key) and "restitution" not in p:
-                p["restitution"] = _law_to(law)
+                p["restitution"] = restitution_value(law)
                 break
         else:
-            pairs.append({"materials": list(key), "restitution": _law_to(law)})
+            pairs.append({"materials": list(key), "restitution": restitution_value(law)})
     if pairs:
         contact["pair"] = pairs
 

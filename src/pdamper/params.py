@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from .contact.cor_constant import ConstantRestitution
 from .contact.friction_tanh import DEFAULT_TAU
-from .contact import DAMPING_CHOICES, TANGENTIAL_CHOICES, read_restitution
+from .contact import DAMPING_CHOICES, TANGENTIAL_CHOICES, kernel_law, read_restitution
 from .contact.hertz_gonthier import V_IN_FLOOR
 from .errors import InputError, shown
 from .excitation import DriveBase, HarmonicDrive
@@ -239,6 +239,17 @@ class ContactModel:
     def restitution_for(self, a: str, b: str):
         """COR law for the material pair (a, b)."""
         return self.pair_restitution.get((a, b), self.pair_restitution.get((b, a), self.restitution))
+
+    def written_laws(self) -> "ContactModel":
+        """This model with every COR law as a config file holds it: a law of your own (any object with
+        ``restitution(speed)``) as the table law of its values at the kernels' speeds
+        (:func:`pdamper.contact.kernel_law`: the kernels run the same bits), refused in one line where it
+        cannot be tabulated once for every contact; this model itself when every law is pdamper's."""
+        law = kernel_law(self.restitution)
+        pairs = {k: kernel_law(v) for k, v in self.pair_restitution.items()}
+        if law is self.restitution and all(pairs[k] is v for k, v in self.pair_restitution.items()):
+            return self
+        return dataclasses.replace(self, restitution=law, pair_restitution=pairs)
 
 
 @dataclass(frozen=True, kw_only=True)

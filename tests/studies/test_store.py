@@ -172,3 +172,31 @@ def test_a_stroke_typed_back_to_15_digits_is_the_stored_stroke_not_a_near_duplic
     on_grid = store.on_grid(again)
     assert on_grid.strokes == tuple(grid) + (0.02,)
     assert [k for k, _, _ in on_grid.items()][:3] == [k for k, _, _ in first.items()]
+
+
+class _Softening:
+    """A restitution law of a user's own: any object with restitution(speed)."""
+
+    def restitution(self, speed):
+        return 0.95 - 0.1 * np.tanh(np.asarray(speed, dtype=float))
+
+
+def test_a_sweep_takes_a_users_restitution_law_as_its_table_and_runs_the_same_bits(tiny_config, tmp_path):
+    """Issue 42: run_sweep refused a law of the user's own ("cannot write restitution law <... object
+    at 0x...> to a config file"). It is swept as the table law of its values, which the store's config
+    holds; the case runs to the bits of run_case with the user's object."""
+    import dataclasses
+
+    from pdamper import run_case
+    from pdamper.config import loads_case
+    from pdamper.contact import TabulatedRestitution
+
+    base = load_case(tiny_config)
+    base = dataclasses.replace(base, contact=dataclasses.replace(base.contact, restitution=_Softening()))
+    spec = SweepSpec(base=base, strokes=(0.012,), seeds=(0,))
+    assert spec.base.contact.restitution == TabulatedRestitution.from_law(_Softening())
+    ds = run_sweep(spec, tmp_path / "store", workers=1, progress=False, keep="none")
+    stored = json.loads((tmp_path / "store" / "store.json").read_text())["config"]
+    assert loads_case(stored).contact.restitution == TabulatedRestitution.from_law(_Softening())
+    own = run_case(dataclasses.replace(spec.case({"drive.stroke": 0.012}, 0), contact=base.contact))
+    assert ds.eta_star.values.ravel().tolist() == [own.eta_star]

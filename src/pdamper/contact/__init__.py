@@ -9,11 +9,16 @@
 - :mod:`.friction_tanh` -- regularised Coulomb friction, eq. (2) (tangential choice ``"tanh"``, default).
 - :mod:`.tangential_spring` -- incremental tangential spring, Mindlin's stiffness, Coulomb cap
   (tangential choice ``"spring"``).
-- :mod:`.cor_constant`, :mod:`.cor_table`, :mod:`.cor_thornton` -- coefficient of restitution laws.
+- :mod:`.cor_constant`, :mod:`.cor_table`, :mod:`.cor_thornton` -- coefficient of restitution laws,
+  one module each behind the protocol of :mod:`.restitution` (registered in :data:`RESTITUTION_LAWS`).
 
-A COR law is a Python object with ``restitution(speed)``; the kernels see every law as a table of
-the damping law's coefficient over log-spaced impact speeds (:func:`.cor_table.tabulate_law`), so
-one compiled kernel serves all COR laws. A damping law is a :class:`.damping.DampingLaw`, chosen
+A COR law answers ``restitution(speed)``, ``kernel_table()`` and ``config_value()``
+(:class:`.restitution.RestitutionLaw`); the kernels see every law as a table of the damping law's
+coefficient over log-spaced impact speeds (:func:`.restitution.tabulate_law`), so one compiled
+kernel serves all COR laws. **A new COR law** is one file here and one import line below (its
+``@register_restitution`` registers it); nothing else names it. A law of your own (any object with
+``restitution(speed)``) runs and is written to config files as the table law of its values
+(:func:`kernel_law`). A damping law is a :class:`.damping.DampingLaw`, chosen
 by name (``ContactModel.damping``) from :data:`DAMPING_LAWS`; each is compiled into its own
 kernels. **A new damping law** is one file here plus one line in :data:`DAMPING_LAWS` (see
 :mod:`.damping`). A tangential law is a :class:`.tangential.TangentialLaw`, chosen by name
@@ -23,16 +28,17 @@ kernels. **A new damping law** is one file here plus one line in :data:`DAMPING_
 import difflib
 
 from . import friction_tanh, hertz_gonthier, hertz_tsuji, tangential_spring
-from .cor_constant import ConstantRestitution
+from .cor_constant import ConstantRestitution, read_coefficient
 from .cor_table import TabulatedRestitution
 from .cor_thornton import ThorntonRestitution
+from .restitution import RESTITUTION_LAWS as _RESTITUTION_LAWS
+from .restitution import SPEED_GRID, RestitutionLaw, register_restitution, tabulate_law
 from .damping import DampingLaw
 from .tangential import TangentialLaw
 from .friction_tanh import DEFAULT_TAU
 from .hertz import hertz_energy, hertz_stiffness
 from .hertz_gonthier import contact_time, damping_parameter
 from ..errors import InputError
-from ..schema import check_keys, read_list, read_quantity
 
 #: Damping law name -> :class:`~.damping.DampingLaw`: the registry of ``contact.damping``.
 DAMPING_LAWS = {law.name: law for law in (*hertz_gonthier.LAWS, *hertz_tsuji.LAWS)}
@@ -46,13 +52,20 @@ TANGENTIAL_LAWS = {law.name: law for law in (friction_tanh.LAW, tangential_sprin
 #: The allowed values of ``contact.tangential``, the default first.
 TANGENTIAL_CHOICES = tuple(TANGENTIAL_LAWS)
 
-#: The keys of a restitution law's table in a config file, by law.
-LAW_KEYS = {"constant": ("law", "value"), "table": ("law", "speeds", "values"), "thornton": ("law", "yield_pressure")}
+#: COR law tag -> class: the registry of ``restitution = {law = ...}`` (:mod:`.restitution`; the
+#: imports of the law modules above register them).
+RESTITUTION_LAWS = _RESTITUTION_LAWS
+
+
+
+def _choices(words) -> str:
+    words = [repr(w) for w in words]
+    return ", ".join(words[:-1]) + f" or {words[-1]}" if len(words) > 1 else words[0]
 
 
 def read_restitution(value, section: str, key: str = "restitution"):
-    """A COR law as a config gives it: a number (constant) or a table ``{law = "constant" |
-    "table" | "thornton", ...}``; a law object (anything with ``restitution``) as it is."""
+    """A COR law as a config gives it: a number (constant) or a table ``{law = <a registered law>,
+    ...}``; a law object (anything with ``restitution``) as it is."""
     if hasattr(value, "restitution"):
         return value
     name = f"[{section}] {key}"
@@ -70,40 +83,37 @@ def read_restitution(value, section: str, key: str = "restitution"):
 def _law(value, section, key):
     name = f"[{section}] {key}"
     if isinstance(value, (bool, int, float, str)):
-        return ConstantRestitution(value=_dimless(value, name))
+        return ConstantRestitution(value=read_coefficient(value, name))
     if not isinstance(value, dict):
         raise InputError(f"{name} = {value!r}: give a number such as 0.9 or a table "
                          "{law = 'table', speeds = [...], values = [...]} or {law = 'thornton', "
                          "yield_pressure = '1.5GPa'}")
     law = value.get("law")
     if law is None:
-        raise InputError(f"{name}: the table needs law = 'constant', 'table' or 'thornton'")
-    if law not in LAW_KEYS:
-        near = difflib.get_close_matches(str(law), list(LAW_KEYS), n=1, cutoff=0.5)
+        raise InputError(f"{name}: the table needs law = {_choices(RESTITUTION_LAWS)}")
+    cls = RESTITUTION_LAWS.get(law) if isinstance(law, str) else None
+    if cls is None:
+        near = difflib.get_close_matches(str(law), list(RESTITUTION_LAWS), n=1, cutoff=0.5)
         hint = f"did you mean {near[0]!r}? " if near else ""
-        raise InputError(f"{name}: law = {law!r} is unknown; {hint}choose 'constant', 'table' or 'thornton'")
-    sub = f"{section}.{key}"
-    check_keys(value, sub, LAW_KEYS[law])
-    for req in LAW_KEYS[law][1:]:
-        if req not in value:
-            raise InputError(f"{name}: law = {law!r} needs {req!r}")
-    if law == "constant":
-        return ConstantRestitution(value=_dimless(value["value"], f"[{sub}] value"))
-    if law == "thornton":
-        return ThorntonRestitution(yield_pressure=read_quantity(value["yield_pressure"], f"[{sub}] yield_pressure",
-                                                                "pressure"))
-    speeds = read_list(value["speeds"], f"[{sub}] speeds", "velocity")
-    vals = value["values"]
-    if not isinstance(vals, list):
-        raise InputError(f"[{sub}] values = {vals!r} must be a list of numbers in (0, 1]")
-    values = tuple(_dimless(v, f"[{sub}] values[{k}]") for k, v in enumerate(vals))
-    return TabulatedRestitution(speeds=speeds, values=values)
+        raise InputError(f"{name}: law = {law!r} is unknown; {hint}choose {_choices(RESTITUTION_LAWS)}")
+    return cls.from_config(value, section, key)
 
 
-def _dimless(value, label) -> float:
-    if isinstance(value, bool) or isinstance(value, (dict, list)):
-        raise InputError(f"{label} = {value!r} must be a number")
-    return read_quantity(value, label, "dimensionless")
+def kernel_law(law) -> RestitutionLaw:
+    """``law`` as the COR-law protocol has it (:mod:`.restitution`): a pdamper law as it is; any other
+    object with ``restitution(speed)`` as the table law of its values at the kernels' speeds
+    (:meth:`TabulatedRestitution.from_law`: the kernels' table of it, bit for bit); one that cannot be
+    tabulated so is refused in one line saying how to tabulate it."""
+    if isinstance(law, RestitutionLaw):
+        return law
+    return TabulatedRestitution.from_law(law)
+
+
+def restitution_value(law):
+    """What a config file holds for the COR law ``law``: a number (a constant) or its table; a law of
+    your own as the table law of its values (:func:`kernel_law`)."""
+    return kernel_law(law).config_value()
+
 
 __all__ = [
     "ConstantRestitution",
@@ -116,6 +126,13 @@ __all__ = [
     "TANGENTIAL_LAWS",
     "TANGENTIAL_CHOICES",
     "read_restitution",
+    "RestitutionLaw",
+    "RESTITUTION_LAWS",
+    "register_restitution",
+    "kernel_law",
+    "restitution_value",
+    "SPEED_GRID",
+    "tabulate_law",
     "contact_time",
     "hertz_stiffness",
     "hertz_energy",

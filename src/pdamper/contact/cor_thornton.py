@@ -24,8 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..schema import convert_fields, param
 from ..jit import njit
+from ..schema import convert_fields, param
+from .restitution import SPEED_GRID, RestitutionLaw, register_restitution
 
 __all__ = ["ThorntonRestitution", "yield_speed", "thornton_restitution"]
 
@@ -49,8 +50,9 @@ def thornton_restitution(speed, v_y: float):
     return out[()]
 
 
+@register_restitution
 @dataclass(frozen=True, kw_only=True)
-class ThorntonRestitution:
+class ThorntonRestitution(RestitutionLaw):
     """Thornton (1997) epsilon(v) with a limiting contact (yield) pressure.
 
     Parameters
@@ -60,7 +62,7 @@ class ThorntonRestitution:
     """
 
     yield_pressure: float = param(dimension="pressure")
-    kind: str = "thornton"
+    kind: str = param("thornton", kind="tag", key="law")
 
     def __post_init__(self):
         convert_fields(self, "restitution")
@@ -70,3 +72,11 @@ class ThorntonRestitution:
     def restitution(self, speed, *, e_star: float, r_star: float, m_star: float, **_):
         """epsilon at impact speed(s) [m/s] for a contact with E* [Pa], R* [m], m* [kg]."""
         return thornton_restitution(speed, yield_speed(self.yield_pressure, e_star, r_star, m_star))
+
+    def kernel_table(self):
+        """``(eps, p_y)``: epsilon over ``v / v_y`` on the kernels' grid and the yield pressure [Pa]; the
+        kernel computes each contact's yield speed ``v_y`` from it and its E*, R*, m*."""
+        return np.clip(thornton_restitution(SPEED_GRID, 1.0), 1e-6, 1.0), float(self.yield_pressure)
+
+    def describe(self) -> str:
+        return f"Thornton (1997), p_y = {self.yield_pressure / 1e9:g} GPa"

@@ -13,10 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact import DAMPING_LAWS, TANGENTIAL_LAWS
+from ..contact import DAMPING_LAWS, SPEED_GRID, TANGENTIAL_LAWS, kernel_law
 from ..contact.cor_constant import ConstantRestitution
-from ..contact.cor_table import SPEED_GRID, tabulate_law
-from ..contact.cor_thornton import ThorntonRestitution, thornton_restitution
 from ..contact.hertz import hertz_stiffness
 from ..contact.hertz_gonthier import contact_time, effective_radius
 from ..contact.tangential_spring import damping_ratio as tangential_damping_ratio
@@ -156,13 +154,8 @@ def _contact_table(case, mats) -> ContactTable:
             modulus[mp] = effective_modulus(mats[a], mats[b])
             shear_modulus[mp] = effective_shear_modulus(mats[a], mats[b])
             friction[mp] = case.contact.friction_for(mats[a].name, mats[b].name)
-            cor = _restitution(case.contact, mats[a], mats[b])
-            if isinstance(cor, ThorntonRestitution):
-                # the table is over v / v_y; the kernel computes v_y per contact
-                yield_pressure[mp] = cor.yield_pressure
-                eps = np.clip(thornton_restitution(SPEED_GRID, 1.0), 1e-6, 1.0)
-            else:
-                eps = tabulate_law(cor)
+            # epsilon over impact speed, or over v / v_y (p_y > 0: the kernel computes v_y per contact)
+            eps, yield_pressure[mp] = kernel_law(_restitution(case.contact, mats[a], mats[b])).kernel_table()
             coefficient[mp] = law.coefficient(eps)
             if case.contact.tangential_damping:
                 tangential_damping[mp] = tangential_damping_ratio(eps)

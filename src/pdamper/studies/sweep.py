@@ -10,6 +10,7 @@ paper's drive pauses between points), so the cases can run in any order, anywher
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from pathlib import Path
@@ -213,7 +214,10 @@ class SweepSpec:
                                    Axis(key="drive.frequency", values=[1.0, 2.0])], seeds=[0])
 
     A base case with a rig drive beside its structure (:attr:`pdamper.params.Case.rig`) is swept
-    on its rig (:attr:`~pdamper.params.Case.on_rig`): a sweep characterises the damper.
+    on its rig (:attr:`~pdamper.params.Case.on_rig`): a sweep characterises the damper. A restitution
+    law of your own in it (any object with ``restitution(speed)``) is swept as the table law of its
+    values, which the store's config holds and the kernels run to the same bits
+    (:meth:`pdamper.params.ContactModel.written_laws`).
     """
 
     base: Case
@@ -222,7 +226,9 @@ class SweepSpec:
     strokes: tuple | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "base", self.base.on_rig)
+        base = self.base.on_rig
+        contact = base.contact.written_laws()  # a COR law of the user's own: the table law its config holds
+        object.__setattr__(self, "base", base if contact is base.contact else dataclasses.replace(base, contact=contact))
         axes = list(self.axes)
         if self.strokes is not None:
             strokes = tuple(float(x) for x in np.atleast_1d(_si_values(self.strokes, "length", "strokes")))
