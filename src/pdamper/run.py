@@ -87,7 +87,7 @@ class RunResult:
 
     @property
     def mode(self) -> str | None:
-        """Motion mode of the bed (:mod:`pdamper.analysis.modes`), None without a periodic drive."""
+        """Motion mode of the bed (:mod:`pdamper.analysis.modes`), None for a drive without a frequency."""
         return self.extras.get("mode")
 
     @property
@@ -366,8 +366,8 @@ def _simulation(case: Case, recorders, analyze: bool, checked: bool = False):
     it was ``checked``."""
     recorders = list(recorders)
     builtin = default_recorders(case)
-    periodic = float(case.drive.frequency or 0.0) > 0
-    classify = analyze and periodic
+    has_frequency = float(case.drive.frequency or 0.0) > 0
+    classify = analyze and has_frequency
     if classify and not case.recording.trajectory_fps:
         from .analysis.modes import mode_fps
 
@@ -379,7 +379,7 @@ def _result(case: Case, record, recorders, analyze: bool, classify: bool, cycles
     """The run's :class:`RunResult` from what its simulation recorded: the complex power, the
     motion mode, the coupled structure's amplitudes."""
     out = record.outputs
-    periodic = float(case.drive.frequency or 0.0) > 0
+    has_frequency = float(case.drive.frequency or 0.0) > 0
     analysis = None
     if analyze and case.drive.analysable:
         analysis = analyze_signals(case, record.signals)
@@ -387,7 +387,7 @@ def _result(case: Case, record, recorders, analyze: bool, classify: bool, cycles
     if analysis is not None:
         st = analysis.statistics
         extras.update(eta_star_error=st.eta_star_error, steady=st.steady)
-    if periodic:
+    if has_frequency:
         extras["cycles_run"] = cycles_run
     if record.structure is not None:
         extras.update(structure_amplitudes(case, record.structure, record.energy))

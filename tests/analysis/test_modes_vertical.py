@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pdamper.analysis.fields import mode_family as field_family
-from pdamper.analysis.modes import (COLLIDE_MODES, THRESHOLDS, VERTICAL_MODES, classify_features, mode_family,
+from pdamper.analysis.modes import (COLLIDE_MODES, THRESHOLDS, VERTICAL_MODES, classify_features, family_of,
                                     vertical_clearance, vertical_features)
 
 R = 0.005
@@ -157,7 +157,7 @@ def _case(name, **over):
     ("cuboid_36", {"container.baffles": [{"position": "0mm"}], "drive.angle": "90deg"}, "horizontal"),
 ])
 def test_the_family_is_asked_of_the_drive_and_the_container(name, over, family):
-    assert mode_family(_case(name, **over)) == family
+    assert family_of(_case(name, **over)) == family
 
 
 def test_the_free_height_above_two_layers():
@@ -191,3 +191,11 @@ def test_dem_two_layers_at_12mm_collect_and_collide_between_floor_and_lid():
     mode, f = _dem("12mm", 4)
     assert mode == "bouncing-collect-and-collide", f
     assert f["sync"] > 0.9 and min(f["floor_impacts"], f["lid_impacts"]) >= 0.5
+
+
+def test_the_old_name_of_family_of_warns_and_gives_the_same_family():
+    from pdamper.analysis import modes
+
+    with pytest.warns(DeprecationWarning, match=r"mode_family is deprecated; use .*family_of"):
+        assert modes.mode_family(_case("vertical_96")) == "vertical"
+    assert "mode_family" not in modes.__all__

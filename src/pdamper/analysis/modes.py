@@ -3,7 +3,7 @@
 Pure functions on trajectory arrays in the **container frame** (x along the container's length,
 y up from the floor, z across), as :class:`pdamper.simulation.RunResult` records them; they know
 nothing of the simulator. Three families of names, one per kind of bed motion; which one applies
-is asked of the case (:func:`mode_family`): the drive's direction against gravity
+is asked of the case (:func:`family_of`): the drive's direction against gravity
 (``drive.vertical_share``) and the container's floor sections (``container.compartments``).
 
 - **horizontal** (:func:`mode_features`, :class:`ModeFeatures`): a drive within 45 deg of the
@@ -134,11 +134,12 @@ from typing import ClassVar
 
 import numpy as np
 
+from .._deprecated import renamed_function
 
 __all__ = ["MODES", "HORIZONTAL_MODES", "VERTICAL_MODES", "COMPARTMENT_MODES", "COLLIDE_MODES", "THRESHOLDS",
            "MODE_FRAMES_PER_CYCLE", "ModeFeatures", "VerticalFeatures", "CompartmentFeatures", "mode_features",
            "vertical_features", "compartment_features", "floor_flights", "classify_features", "classify_trajectory",
-           "mode_family", "mode_fps", "describe_features", "case_clearance", "vertical_clearance", "floor_capacity",
+           "family_of", "mode_fps", "describe_features", "case_clearance", "vertical_clearance", "floor_capacity",
            "bed_centre", "majority_mode", "container_track"]
 
 #: The names of a bed moved along the floor, in the order the classifier checks them.
@@ -190,7 +191,7 @@ def mode_fps(frequency: float, sample_rate: float, base: float = 50.0) -> float:
 
 # --------------------------------------------------------------------------- what the case says
 
-def mode_family(case, thresholds: dict | None = None) -> str:
+def family_of(case, thresholds: dict | None = None) -> str:
     """Which family of names applies to ``case``: ``"vertical"`` when its drive is within 45 deg of
     gravity (``drive.vertical_share`` >= cos 45 deg), ``"compartments"`` when baffles split the
     floor into sections along x (``container.compartments``) and the drive moves the bed across
@@ -203,6 +204,11 @@ def mode_family(case, thresholds: dict | None = None) -> str:
     if across and len(case.container.compartments(_largest_radius(case))) > 1:
         return "compartments"
     return "horizontal"
+
+
+#: The old name of :func:`family_of` (warns; docs/names.md): :func:`pdamper.analysis.fields.mode_family`
+#: is the family of a mode ("collide", "other"), a different thing.
+mode_family = renamed_function(family_of, "mode_family")
 
 
 def _largest_radius(case) -> float:
@@ -718,18 +724,18 @@ def describe_features(features: dict) -> str:
 def classify_trajectory(trajectory: dict, case, *, thresholds: dict | None = None):
     """(mode, features) of a recorded trajectory (``time``, ``position``, ``radius``) of ``case``
     (a :class:`pdamper.params.Case`: container, drive and the transient ``drop_cycles`` to skip),
-    in the family :func:`mode_family` picks."""
+    in the family :func:`family_of` picks."""
     from ..geometry.tilt import container_vectors
 
     drive = case.drive
     freq = float(drive.frequency or 0.0)
     if freq <= 0:
-        raise ValueError("motion modes need a periodic drive with a frequency")
+        raise ValueError("motion modes need a drive with a frequency")
     gvec, dvec = container_vectors(case.container.tilt, case.gravity, drive.lab_direction())
     off, _, _ = container_track(trajectory, case)
     args = (trajectory["time"], trajectory["position"], trajectory["radius"])
     common = dict(frequency=freq, start_time=case.drop_cycles / freq, container_position=off, thresholds=thresholds)
-    family = mode_family(case, thresholds)
+    family = family_of(case, thresholds)
     if family == "vertical":
         height, h_v = vertical_clearance(case)
         feats = vertical_features(*args, height=height, clearance=h_v, drive_dir=dvec, **common)
