@@ -427,3 +427,25 @@ def test_locked_needs_the_container_track():
     t, pos = frames(rolling_centre)
     rolling = features(t, pos, container_position=0.013 * np.sin(2 * np.pi * F * t))
     assert rolling.relative > 1.0 and classify_features(rolling) == "rolling-collect-and-collide"
+
+
+def test_each_family_holds_its_names_and_thresholds_in_one_table():
+    """The lists of the classifier are made from the families' tables (one module a family): every
+    name once, the collide names of each family, every threshold given by exactly one table."""
+    import pytest as _pytest
+
+    from pdamper.analysis import modes
+    from pdamper.analysis.modes.common import ModeFamily, register_family
+
+    assert list(modes.FAMILIES) == ["horizontal", "vertical", "compartments"]
+    assert modes.MODES == tuple(dict.fromkeys(m for f in modes.FAMILIES.values() for m in f.modes))
+    assert modes.COLLIDE_MODES == tuple(m for f in modes.FAMILIES.values() for m in f.collide)
+    own = [k for f in modes.FAMILIES.values() for k in f.thresholds]
+    assert len(own) == len(set(own)) and set(own) <= set(modes.THRESHOLDS)
+    assert modes.HORIZONTAL_MODES == modes.FAMILIES["horizontal"].modes
+    # a family that gives a threshold another family gives is refused
+    twice = ModeFamily(name="other", modes=("x",), collide=(), thresholds={"sync_min": 0.5},
+                       applies=lambda case, th: False, measure=None, describe=None)
+    with _pytest.raises(ValueError, match="already given"):
+        register_family(twice)
+    assert "other" not in modes.FAMILIES and modes.THRESHOLDS["sync_min"] == 0.7
