@@ -6,9 +6,11 @@ have changed, whatever a busy machine's timings say.
 Compiles, in two fresh processes with empty kernel caches (numba does not show the code of a
 cached function), the integrators of a short run of the case with velocity Verlet and with Gear --
 the sources on ``PYTHONPATH`` (this checkout) and those of ``--baseline`` -- and compares the
-x86 assembly of ``run_verlet``, ``run_gear`` and ``compute_forces`` with the symbols' mangled names,
-local labels and addresses blanked (a renamed function or bundle changes those, not the code).
-Prints, per kernel, the instruction count of each side and whether the code is identical. A
+x86 instructions of ``run_verlet``, ``run_gear`` and ``compute_forces`` (the labels and instructions
+of the assembly, not its data directives) with the symbols' mangled names, local labels and
+addresses blanked (a renamed function or bundle changes those, not the code; a function compiled
+but never called adds a data symbol, not an instruction). Prints, per kernel, the instruction count
+of each side and whether the code is identical. A
 refactor that keeps the arithmetic and the data layout (a bundle of scalars that LLVM takes apart)
 gives identical code; otherwise time it (``step_cost.py``, ``gear_step.py --baseline``).
 """
@@ -63,8 +65,14 @@ def assembly(src: str | None, case: Path) -> dict:
     return json.loads(r.stdout.splitlines()[-1])
 
 
+def _code(asm: str) -> list:
+    """The instructions and labels of an assembly listing (its directives left out)."""
+    return [line for line in asm.splitlines() if line.strip() and not line.lstrip().startswith(".")
+            and not line.lstrip().startswith("#")]
+
+
 def _instructions(asm: str) -> int:
-    return sum(1 for line in asm.splitlines() if line.startswith("\t") and not line.startswith("\t."))
+    return sum(1 for line in _code(asm) if line.startswith("\t"))
 
 
 def main(argv=None) -> int:
@@ -76,7 +84,7 @@ def main(argv=None) -> int:
     base = assembly(args.baseline, args.case)
     differ = 0
     for name in KERNELS:
-        same = this[name] == base[name]
+        same = _code(this[name]) == _code(base[name])
         differ += not same
         print(f"{name:16s} instructions this {_instructions(this[name]):6d} baseline {_instructions(base[name]):6d}  "
               f"{'identical code' if same else 'CODE DIFFERS'}")

@@ -140,7 +140,7 @@ def test_transient_runs_on_the_examples(name):
     k = s["dofs"].index(38 if "dof_count" in s else 0)  # the mast's tip, the container's place
     assert s["peak_m"][k] == pytest.approx(s["damper_peak_m"], rel=1e-9)
     assert s["peak_bare_m"][k] == pytest.approx(s["damper_peak_bare_m"], rel=1e-9) and s["damper_peak_bare_m"] > 0
-    assert s["energy_balance_error"] is None if s["ground"] else s["energy_balance_error"] < 1e-3
+    assert s["energy_balance_error"] < 1e-3  # a ground acceleration's too (issue 42)
     assert ("random" in s) == (name == "structure_random")
 
 

@@ -69,7 +69,7 @@ from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OV
                      no_friction_record)
 from .neighbours import max_displacement_sq, rebuild_lists
 from .record import record_sample
-from .structure import advance_structure
+from .structure import advance_structure, ground_on_bed
 
 __all__ = ["run_gear", "GEAR_C", "predict_dof", "step_to_boundary", "shorter_step", "next_step"]
 
@@ -543,6 +543,9 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             continue
         # accept: correct the prediction into the Nordsieck vector
         _correct(nord, pred, dlt)
+        if coupled:
+            # under a ground acceleration, its inertial force's work on the bed (the ground's frame)
+            sums[0] += ground_on_bed(drive, bodies.mass, nord[1], inv_h, vc, hs)
         if spring:
             p0 = pred[0].reshape(-1)
             for m in range(anchor.shape[0]):

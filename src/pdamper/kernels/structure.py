@@ -39,7 +39,8 @@ the same sums). Each mode takes the step above (:func:`modal_step`); for one mod
 
 ``drive.state`` (2 + N x 5): row 0 = (x_c, v_c, a_c, F_ext at the last step, velocity of the force
 point at the last step); row 1 = (external work [J], modal damping loss [J], displacement of the
-response point [m], ground acceleration now [m/s^2] (a load in time), -); row 2 + k = (q_k, q_k',
+response point [m], ground acceleration now [m/s^2] (a load in time), the ground's power on the bed
+at the last step [W] (:func:`ground_work`)); row 2 + k = (q_k, q_k',
 q_k'', -, -).
 
 **A load in time** (drive kind :data:`~pdamper.kernels.drive.DRIVE_MODAL_LOAD`, 5; the loads of
@@ -62,8 +63,14 @@ rows by increasing time t_j, f(t) given by the last row with ``t_j <= t`` (0 bef
   (a stepped sine: a frequency a row, each phase continuing the last).
 
 The external work is ``int f(t) sum_k b_k q_k' dt`` (trapezoidal), the power the load puts into
-the modes (a ground acceleration's on the structure alone: the bed's ledger is kept in the
-ground's frame without the ground's inertial force on it).
+the modes. Under a ground acceleration everything is kept in the ground's frame, where the ground's
+inertial force ``-m a_g`` acts on every mass: on the structure's (the container's carried mass
+included: it is in ``L_k``) through ``b_k``, and on the bed, whose share the time loops add
+(:func:`ground_work`, with the bed's momentum along the drive in the ground's frame at each step's
+end): the external work is then the load's work on the whole system (the relative input energy of
+earthquake engineering), and the coupled ledger closes under it as under a force; the bed's ledger
+adds the bed's share to its ``work`` (what is done on the bed from outside it), and closes too. ``state[1, 4]``
+keeps the ground's power on the bed at the last step (the trapezoid's other end).
 """
 
 from __future__ import annotations
@@ -78,7 +85,7 @@ from .bundles import CoupledMotion, marker_class
 from .drive import is_loaded, is_modal
 
 __all__ = ["structure_step", "modal_step", "loaded_step", "load_value", "LOAD_LINEAR", "LOAD_SINE", "record_structure", "run_structure_alone", "advance_structure",
-           "record_coupled"]
+           "record_coupled", "is_ground", "ground_work", "ground_on_bed"]
 
 
 #: Form of a load table (``drive.par[0]`` of a load in time): piecewise linear through samples.
@@ -150,6 +157,47 @@ def loaded_step(drive, t, dt, fw):
     fe = load_value(drive.load, par[0], t)
     _modes_step(drive, dt, fw, fe, 6)
     drive.state[1, 3] = par[1] * fe
+
+
+@njit
+def is_ground(drive):
+    """True for a coupled structure under a ground acceleration (``drive.par[1]`` of a load in time):
+    the time loops then add the ground's work on the bed (:func:`ground_work`)."""
+    return is_loaded(drive) and drive.par[1] != 0.0
+
+
+@njit
+def ground_work(drive, momentum, dt):
+    """Add the work of the ground's inertial force on the bed over the step of ``dt`` [s] that ended now
+    to the external work (``state[1, 0]``; module docstring): the power ``-a_g P`` with the ground's
+    acceleration now (``state[1, 3]``) and ``momentum`` P, the bed's momentum along the drive in the
+    ground's frame [kg m/s], trapezoidal as the structure's own work (the power at the last step in
+    ``state[1, 4]``). Returns the work [J] (the bed's ledger adds it to its ``work``)."""
+    st = drive.state
+    p = -st[1, 3] * momentum
+    w = 0.5 * dt * (st[1, 4] + p)
+    st[1, 0] += w
+    st[1, 4] = p
+    return w
+
+
+@njit
+def ground_on_bed(drive, mass, velocity, scale, vc, dt):
+    """Under a ground acceleration (:func:`is_ground`; nothing otherwise), add its work on the bed over
+    the step of ``dt`` [s] that ended now (:func:`ground_work`), the bed's momentum along the drive in
+    the ground's frame being ``sum_i m_i (scale v_i . d + vc)``: ``mass`` (N,) [kg], ``velocity`` (N, >= 3)
+    the spheres' velocities in the container frame over ``scale`` (Verlet: the velocities and 1; Gear:
+    its Nordsieck row ``r_1`` and ``1/h``), ``vc`` the container's velocity relative to the ground [m/s].
+    Returns the work [J] (0 without a ground acceleration), which the bed's ledger adds to its ``work``."""
+    if not is_ground(drive):
+        return 0.0
+    d = drive.direction
+    p = 0.0
+    m_bed = 0.0
+    for i in range(mass.shape[0]):
+        p += mass[i] * (velocity[i, 0] * d[0] + velocity[i, 1] * d[1] + velocity[i, 2] * d[2])
+        m_bed += mass[i]
+    return ground_work(drive, scale * p + m_bed * vc, dt)
 
 
 @njit

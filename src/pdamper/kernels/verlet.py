@@ -9,7 +9,9 @@ The container's acceleration enters as the pseudo-force ``-m a_c(t) d``.
 The loop also accumulates what the recorders need: the impulse of the wall forces along the
 drive over each sample interval, and the energy ledger (work of the container, dissipation by
 normal damping and by friction -- the tanh law's power times the step, a tangential spring's
-loss of the step as it is), in ``samples.sums``. A tangential spring advances by the displacement
+loss of the step as it is), in ``samples.sums``; under a ground acceleration, the work of the
+ground's inertial force on the bed, into the structure's external work
+(:func:`~pdamper.kernels.structure.ground_on_bed`). A tangential spring advances by the displacement
 the drift gives the contact point (``state.moved``), so it follows the positions exactly; the
 priming evaluation does not advance it.
 """
@@ -25,7 +27,7 @@ from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OV
                      no_friction_record)
 from .neighbours import max_displacement_sq, rebuild_lists
 from .record import record_sample
-from .structure import advance_structure
+from .structure import advance_structure, ground_on_bed
 
 __all__ = ["run_verlet"]
 
@@ -158,6 +160,9 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
                     culprit = k // 3
                     break
         sums[0] += vc * fd * dt
+        if coupled:
+            # under a ground acceleration, its inertial force's work on the bed (the ground's frame)
+            sums[0] += ground_on_bed(drive, bodies.mass, vel, 1.0, vc, dt)
         sums[1] += p_n * dt
         sums[2] += p_f * dt
         if spring:

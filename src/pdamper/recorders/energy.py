@@ -2,8 +2,10 @@
 
 Columns (all [J], lab frame, at the end of each sample interval): kinetic, rotational,
 potential (gravity), elastic (Hertz springs, 2/5 k delta^5/2), the work done by the container
-on the particles since the drive started (``int v_c d.F_walls dt``), and the energy dissipated
-since then by normal damping and by friction. Balance:
+on the particles since the drive started (``int v_c d.F_walls dt``; on a structure under a ground
+acceleration, kept in the ground's frame, also the ground's inertial force's, ``-int a_g P dt`` with
+P the bed's momentum along the drive), and the energy dissipated since then by normal damping and by
+friction. Balance:
 ``E_kin + E_rot + E_pot + E_el - W + D_n + D_f = const``.
 """
 

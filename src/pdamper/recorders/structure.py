@@ -12,6 +12,11 @@ walls did on the bed, the same sum the structure lost to the bed) the whole syst
 the kernels), ``E_bed`` the bed's mechanical energy (lab frame), ``D_bed`` its damping and friction
 losses. The response point's displacement (N modes: ``sum_k phi_k(response) q_k``; one mode: x_s)
 is recorded too.
+
+Under a ground acceleration the ledger is kept in the ground's frame: ``W_ext`` is the work of the
+ground's inertial force on the whole system, the bed's share included (which the bed's ``work`` holds
+too), so the balance closes as under a force (docs/structure.md, "Energy ledger of the coupled
+system").
 """
 
 from __future__ import annotations
