@@ -153,7 +153,7 @@ def probe_module(where: Path):
         assert old in src, "kernels/gear.py changed: update benchmarks/gear_probe.py"
         src = src.replace(old, new)
     src = src.replace("        arg = 0\n", "        arg = 0\n        arg_i = 0\n", 1)
-    call = "        dfx, dfy, dfz, dpf = _implicit_friction(bodies, dlt_x, dlt_a, hs, record)\n"
+    call = "        dfx, dfy, dfz, dpf = _implicit_friction(bodies, dlt_x, dlt_a, hs, record, samples.split)\n"
     assert call in src, "kernels/gear.py changed: update benchmarks/gear_probe.py"
     src = src.replace(call, call + "        if mode == 3:\n            _implicit_normal(bodies, dlt_x, hs, pairs, walls)\n")
     src += _IMPLICIT_NORMAL

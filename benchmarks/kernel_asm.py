@@ -6,11 +6,14 @@ have changed, whatever a busy machine's timings say.
 Compiles, in two fresh processes with empty kernel caches (numba does not show the code of a
 cached function), the integrators of a short run of the case with velocity Verlet and with Gear --
 the sources on ``PYTHONPATH`` (this checkout) and those of ``--baseline`` -- and compares the
-x86 instructions of ``run_verlet``, ``run_gear`` and ``compute_forces`` (the labels and instructions
-of the assembly, not its data directives) with the symbols' mangled names, local labels and
-addresses blanked (a renamed function or bundle changes those, not the code; a function compiled
-but never called adds a data symbol, not an instruction). Prints, per kernel, the instruction count
-of each side and whether the code is identical. A
+x86 instructions of ``run_verlet``, ``run_gear`` and ``compute_forces`` with every function they compile
+(the instructions of the assembly, not its data directives) with the symbols' mangled names, local
+labels and addresses blanked (a renamed function or bundle changes those, not the code; a function
+compiled but never called adds a data symbol, not an instruction). The kernel's Python entry wrapper
+(numba's ``cpython.`` function, which unboxes the arguments once per call from Python) is compared
+apart: a bundle with another field changes it, not the step. Prints, per kernel, the instruction
+count of its compiled functions on each side and whether they are identical, and whether the
+wrapper is. A
 refactor that keeps the arithmetic and the data layout (a bundle of scalars that LLVM takes apart)
 gives identical code; otherwise time it (``step_cost.py``, ``gear_step.py --baseline``).
 """
@@ -20,6 +23,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -40,9 +44,16 @@ for integrator in ("verlet", "gear"):
     Simulation(dataclasses.replace(case, numerics=dataclasses.replace(case.numerics, integrator=integrator))).run()
 
 def blank(asm):
-    asm = re.sub(r"_ZN[0-9A-Za-z_$.]+", "SYM", asm)
-    asm = re.sub(r"\.L[A-Za-z0-9_$.]+", "LBL", asm)
-    return re.sub(r"0x[0-9a-f]+", "HEX", asm)
+    # the instructions' symbols and labels blanked; the function names (".type NAME,@function" and
+    # "NAME:") kept, so that the listing still splits into its functions
+    lines = []
+    for line in asm.splitlines():
+        if line.startswith("\t") and not line.startswith("\t."):
+            line = re.sub(r"_ZN[0-9A-Za-z_$.]+", "SYM", line)
+            line = re.sub(r"\.L[A-Za-z0-9_$.]+", "LBL", line)
+            line = re.sub(r"0x[0-9a-f]+", "HEX", line)
+        lines.append(line)
+    return "\n".join(lines)
 
 out = {}
 for name, d in (("run_verlet", verlet.run_verlet), ("run_gear", gear.run_gear), ("compute_forces", forces.compute_forces)):
@@ -65,14 +76,17 @@ def assembly(src: str | None, case: Path) -> dict:
     return json.loads(r.stdout.splitlines()[-1])
 
 
-def _code(asm: str) -> list:
-    """The instructions and labels of an assembly listing (its directives left out)."""
-    return [line for line in asm.splitlines() if line.strip() and not line.lstrip().startswith(".")
-            and not line.lstrip().startswith("#")]
-
-
-def _instructions(asm: str) -> int:
-    return sum(1 for line in _code(asm) if line.startswith("\t"))
+def _functions(asm: str) -> tuple[list, list]:
+    """(the compiled functions' instructions, the Python entry wrapper's) of an assembly listing, each a
+    list of instruction lines per function in the listing's order (directives left out)."""
+    compiled, wrapper = [], []
+    for name in re.findall(r"\.type\s+(\S+),@function", asm):
+        i = asm.index("\n" + name + ":")
+        j = asm.find(".Lfunc_end", i)
+        body = [line for line in asm[i:j if j > 0 else None].splitlines()[1:]
+                if line.startswith("\t") and not line.startswith("\t.")]
+        (wrapper if "cpython" in name else compiled).append(body)
+    return compiled, wrapper
 
 
 def main(argv=None) -> int:
@@ -84,10 +98,12 @@ def main(argv=None) -> int:
     base = assembly(args.baseline, args.case)
     differ = 0
     for name in KERNELS:
-        same = _code(this[name]) == _code(base[name])
+        (ca, wa), (cb, wb) = _functions(this[name]), _functions(base[name])
+        same = ca == cb
         differ += not same
-        print(f"{name:16s} instructions this {_instructions(this[name]):6d} baseline {_instructions(base[name]):6d}  "
-              f"{'identical code' if same else 'CODE DIFFERS'}")
+        n_a, n_b = sum(map(len, ca)), sum(map(len, cb))
+        print(f"{name:16s} instructions this {n_a:6d} baseline {n_b:6d}  {'identical code' if same else 'CODE DIFFERS'}"
+              f"; Python entry wrapper {'identical' if wa == wb else 'differs'}")
     return 1 if differ else 0
 
 

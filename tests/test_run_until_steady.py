@@ -37,8 +37,21 @@ def test_a_tight_tolerance_runs_every_configured_cycle(tiny):
 
 
 def test_every_run_reports_its_error_and_steadiness(tiny):
-    s = run_case(tiny).summary()
+    res = run_case(tiny)
+    s = res.summary()
     assert 0 < s["eta_star_error"] < 1 and isinstance(s["steady"], bool) and s["cycles_run"] == tiny.cycles
+    # beside eta* on the result itself (issue 42): the analysis' statistics, and in its repr
+    st = res.analysis.statistics
+    assert res.eta_star_error == st.eta_star_error == s["eta_star_error"] and res.steady is st.steady is s["steady"]
+    assert repr(res).startswith(f"RunResult(eta_star={res.eta_star:.6g}, eta_star_error={res.eta_star_error:.6g}, "
+                                f"steady={res.steady!r}, mode=")
+
+
+def test_a_run_without_an_analysis_has_no_error_and_no_steadiness(tiny):
+    import math
+
+    res = run_case(dataclasses.replace(tiny, cycles=3), analyze=False)
+    assert res.analysis is None and math.isnan(res.eta_star_error) and res.steady is None
 
 
 @pytest.mark.parametrize("bad", [0.0, -1.0, float("nan")])

@@ -75,6 +75,19 @@ class RunResult:
         return float(self.analysis.eta_star) if self.analysis is not None else math.nan
 
     @property
+    def eta_star_error(self) -> float:
+        """Standard error of eta* [-] over the analysed cycles (:mod:`pdamper.analysis.steady`: the cycle
+        energies' long-run variance); NaN without an analysis or below two analysed cycles."""
+        return float(self.analysis.eta_star_error) if self.analysis is not None else math.nan
+
+    @property
+    def steady(self) -> bool | None:
+        """Whether the run reached steady state: the first and second halves of the analysed cycles
+        agree within two standard errors, over at least 4 cycles (:mod:`pdamper.analysis.steady`);
+        None without an analysis."""
+        return bool(self.analysis.steady) if self.analysis is not None else None
+
+    @property
     def effective_mass_kg(self) -> float:
         """The bed's effective (apparent) mass ``Im(P) / (1/2 Omega |V*|^2)`` [kg], the container's
         own mass ``case.container.mass`` removed (:attr:`pdamper.analysis.PowerResult.effective_mass_kg`)."""
@@ -409,5 +422,5 @@ def _result(case: Case, record, recorders, analyze: bool, classify: bool, cycles
 
 
 # short reprs: names, shapes and key numbers (a notebook shows a line, not a dump)
-RunResult._repr_first = ("eta_star", "mode")
+RunResult._repr_first = ("eta_star", "eta_star_error", "steady", "mode")
 RunResult.__repr__ = short_repr

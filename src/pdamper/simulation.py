@@ -27,7 +27,8 @@ from .engine import warmup
 from .engine.build import CELLS_THRESHOLD, auto_time_step, build
 from .engine.steppers import GEAR_MIN_STEP, stepper_for
 from .errors import InputError, shown
-from .kernels.bundles import ENERGY_COLUMNS, FRAME_COLUMNS, STRUCTURE_COLUMNS, Samples
+from .kernels.bundles import (CONTACT_TYPES, ENERGY_COLUMNS, FRAME_COLUMNS, NO_SPLIT, STRUCTURE_COLUMNS, ContactSplit,
+                              Samples)
 from .params import Case
 from .recorders.base import Recorded, RunInfo, State, check_recorders
 from .recorders.energy import EnergyRecorder
@@ -183,10 +184,16 @@ class Simulation:
         interval = self.stepper.sample_interval
         # a structure's record: its columns, then its modal coordinates (every dof's motion follows)
         modes = self.drive.n_modes if self.case.drive.coupled else 0
+        split = NO_SPLIT  # the ledger by contact type: compiled in only when a recorder asks for it
+        if "energy_by_contact" in channels:
+            k = len(CONTACT_TYPES)
+            split = ContactSplit(self.engine.wall_types, np.zeros((k, 3)), np.zeros((k, 2)), np.zeros((k, 2)),
+                                 np.zeros((n, k, 2)))
         return Samples(interval=float(interval), wall_force=np.zeros(rows["wall_force"]),
                        energy=np.zeros((rows["energy"], len(ENERGY_COLUMNS))),
                        frames=np.zeros((frames, self.n, FRAME_COLUMNS)), frame_every=int(frame_every),
-                       structure=np.zeros((rows["structure"], len(STRUCTURE_COLUMNS) + modes)), sums=np.zeros(4))
+                       structure=np.zeros((rows["structure"], len(STRUCTURE_COLUMNS) + modes)), sums=np.zeros(4),
+                       split=split)
 
     # ------------------------------------------------------------------ running
     def settle(self) -> None:
@@ -218,6 +225,8 @@ class Simulation:
         a0 = self.drive.start_state(e.drive.state)
         self.stepper.start_drive(jump, a0)
         self.samples.sums[:] = 0.0
+        if "energy_by_contact" in self._channels:
+            self.samples.split.sums[:] = 0.0
 
     def advance(self, n_samples: int | None = None, *, progress=None) -> None:
         """Drive ``n_samples`` more samples (default: to the end of the case's duration), calling
@@ -236,15 +245,16 @@ class Simulation:
             self.sample = stop
             due = [r for r in python if stop % r.every == 0]
             if due:
-                state = self.state()
+                state = self.state(contacts=any("contacts" in r.channels for r in due))
                 for r in due:
                     r.record(state)
             if progress is not None:
                 progress(self.sample / self.n_samples)
         self._wall += _time.perf_counter() - t0
 
-    def state(self) -> State:
-        """The state now, as the Python recorders see it (:class:`~pdamper.recorders.base.State`)."""
+    def state(self, contacts: bool = False) -> State:
+        """The state now, as the Python recorders see it (:class:`~pdamper.recorders.base.State`); with
+        ``contacts``, the contacts touching now and their normal forces too (:meth:`contacts`)."""
         e = self.engine
         t = self.time
         xc, vc, ac = self.drive.container_motion(t, e.drive.state)
@@ -256,7 +266,23 @@ class Simulation:
         return State(sample=self.sample - 1, time=t, position=views[0], velocity=views[1], spin=views[2],
                      container_position=float(np.ravel(xc)[0]), container_velocity=float(np.ravel(vc)[0]),
                      container_acceleration=float(np.ravel(ac)[0]), direction=e.drive.direction,
-                     work=float(sums[0]), damping=float(sums[1]), friction=float(sums[2]))
+                     work=float(sums[0]), damping=float(sums[1]), friction=float(sums[2]),
+                     contacts=self.contacts() if contacts else None)
+
+    def contacts(self):
+        """The contacts touching now, each with its normal force (a
+        :class:`~pdamper.recorders.contacts.Contacts`; :func:`pdamper.kernels.forces.touching_contacts`)."""
+        from .kernels.forces import touching_contacts
+        from .recorders.contacts import Contacts
+
+        e = self.engine
+        cap = e.pairs.row[-1] + e.n + e.walls.n_candidates[0]
+        ends = np.zeros((cap, 2), dtype=np.int64)
+        force = np.zeros(cap)
+        kind = np.zeros(cap, dtype=np.int64)
+        m = touching_contacts(e.bodies, e.pairs, e.walls, e.table, e.wall_types, ends, force, kind)
+        return Contacts(time=self.time, ends=ends[:m], normal_force=force[:m], kind=kind[:m],
+                        wall_names=e.wall_names, n_spheres=e.n)
 
     def finalize(self) -> RunRecord:
         """The recorders' results and how the run went."""
@@ -271,6 +297,8 @@ class Simulation:
             channels["frames"] = s.frames[: k // s.frame_every]
         if "structure" in self._channels:
             channels["structure"] = s.structure[:k]
+        if "energy_by_contact" in self._channels:
+            channels["energy_by_contact"] = s.split.record[:k]
         data = Recorded(info=self.info, time_end=(np.arange(k) + 1) * self.interval, channels=channels)
         outputs = {r.name: r.finalize(data) for r in self.recorders}
         st = self.stepper

@@ -22,8 +22,8 @@ from ..errors import InputError
 from ..geometry.tilt import container_vectors
 from ..geometry.walls import CYLINDER_INSIDE, PLANE
 from ..initial import initial_positions
-from ..kernels.bundles import (TANGENTIAL_COLUMNS, Bodies, CellSearch, ContactTable, CoupledMotion, DirectSearch,
-                               Drive, PairList, PrescribedMotion, Search, WallList)
+from ..kernels.bundles import (CONTACT_TYPES, TANGENTIAL_COLUMNS, Bodies, CellSearch, ContactTable, CoupledMotion,
+                               DirectSearch, Drive, PairList, PrescribedMotion, Search, WallList)
 from ..kernels.drive import DRIVE_KINDS
 from ..materials import effective_modulus, effective_shear_modulus
 from ..params import Case
@@ -51,6 +51,9 @@ class Engine:
     wall_names: tuple
     #: the fixed step [s] for Verlet (:func:`auto_time_step`)
     dt: float
+    #: (W,) int: each wall's row of :data:`~pdamper.kernels.bundles.CONTACT_TYPES` (the floor, the
+    #: container's other walls, the baffles), for the ledger's split by contact type
+    wall_types: np.ndarray = None
 
     @property
     def n(self) -> int:
@@ -109,7 +112,8 @@ def build(case: Case) -> Engine:
     gvec, dvec = container_vectors(case.container.tilt, case.gravity, case.drive.lab_direction())
     drive = drive_bundle(case.running_drive, gvec, dvec)
     return Engine(case=case, bodies=bodies, pairs=grow_pairs(None, max(16, n * 8), n), walls=walls, search=search,
-                  table=table, drive=drive, search_name=search_name, wall_names=wall_names, dt=auto_time_step(case))
+                  table=table, drive=drive, search_name=search_name, wall_names=wall_names, dt=auto_time_step(case),
+                  wall_types=_wall_types(case, walls))
 
 
 def drive_bundle(drive, gravity=None, direction=None) -> Drive:
@@ -206,6 +210,17 @@ def _walls(case, bodies, table, wall_material):
                      damping=np.zeros((n, nw)), effective_radius=r_star,
                      tangential=np.zeros((n, nw, len(TANGENTIAL_COLUMNS))))
     return walls, tuple(names)
+
+
+def _wall_types(case, walls) -> np.ndarray:
+    """Each wall's row of :data:`~pdamper.kernels.bundles.CONTACT_TYPES`: the floor, the shape's other
+    walls, then the baffles (:meth:`pdamper.params.Container.walls` lists the shape's first)."""
+    own = len(case.container.geometry.walls()[0])
+    types = np.array([CONTACT_TYPES.index("wall" if w < own else "baffle") for w in range(walls.kind.shape[0])],
+                     dtype=np.int64)
+    if walls.floor >= 0:
+        types[walls.floor] = CONTACT_TYPES.index("floor")
+    return types
 
 
 def _search(case, rad, n):

@@ -141,7 +141,8 @@ class VerletStepper(_Stepper):
         span = VerletSpan(steps=0, dt=1.0, t0=0.0, step0=0, sub=1, record=False, skip_samples=0, prime=False)
         return [(run_verlet, (span, b, self.state, e.pairs, e.walls, e.search, e.table, e.drive, samples)),
                 (record_sample, (0, samples, b, e.pairs, e.walls, e.drive, 0.0, 0.0)),
-                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, self.state.moved, no_friction_record())),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, self.state.moved, no_friction_record(),
+                                  samples.split)),
                 (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
 
     def start_drive(self, jump, a0) -> None:
@@ -235,9 +236,9 @@ class GearStepper(_Stepper):
                 (record_sample, (0, samples, b, e.pairs, e.walls, e.drive, 0.0, 0.0)),
                 # the kernel passes column views, which numba types as layout 'A' (from Python a
                 # one-sphere view would be typed 'C')
-                (_implicit_friction, (b, view, view, 1.0, s.friction)),
+                (_implicit_friction, (b, view, view, 1.0, s.friction, samples.split)),
                 (_predict, (s.nordsieck, s.predicted, 1.0, 1.0, b)),
-                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, s.moved, s.friction)),
+                (compute_forces, (b, e.pairs, e.walls, e.table, 1.0, 1.0, s.moved, s.friction, samples.split)),
                 (rebuild_lists, (b, e.pairs, e.walls, e.search, e.table))]
 
     def start_drive(self, jump, a0) -> None:

@@ -23,6 +23,7 @@ bundle             holds
 :class:`Drive`     gravity, the drive direction and the prescribed or coupled container motion
 :class:`Samples`   what is recorded at the end of each sample interval, and the running sums
 :class:`FrictionRecord`  the touching friction contacts of one force evaluation (Gear)
+:class:`ContactSplit`  the ledger's dissipation by contact type, when asked for
 :class:`ContactConstants`, :class:`ContactGeometry`  one contact as a force loop hands it to the
                    contact law (:func:`pdamper.kernels.contact.contact`): its constants, its
                    geometry now
@@ -33,7 +34,8 @@ bundle             holds
 **Markers.** Some choices are made by the *type* of an empty bundle rather than by a value:
 :attr:`Search.method` (:class:`DirectSearch` or :class:`CellSearch`) and :attr:`Drive.coupling`
 (:class:`PrescribedMotion` or :class:`CoupledMotion`), as :attr:`ContactTable.law` picks the damping
-law and :attr:`ContactTable.tangential` the tangential law. numba compiles a kernel for the marker
+law, :attr:`ContactTable.tangential` the tangential law and :attr:`Samples.split` (:class:`SplitOff` or a
+:class:`ContactSplit`) whether the ledger is split by contact type. numba compiles a kernel for the marker
 it is given, so a run compiles the pair search, the structure code and the laws it uses and no other (the link cells and the structure's step are ~2 CPU-s of a
 first run's compiling that a small bed on a prescribed drive never needs).
 """
@@ -48,7 +50,8 @@ __all__ = ["Bodies", "PairList", "WallList", "Search", "DirectSearch", "CellSear
            "PrescribedMotion", "CoupledMotion", "marker_class", "Samples", "FrictionRecord", "ContactConstants",
            "ContactGeometry",
            "VerletState", "GearState", "VerletSpan", "GearSpan", "ENERGY_COLUMNS", "STRUCTURE_COLUMNS",
-           "FRAME_COLUMNS", "TANGENTIAL_COLUMNS", "SAVED_HISTORY_ROWS", "NO_LOAD"]
+           "FRAME_COLUMNS", "TANGENTIAL_COLUMNS", "SAVED_HISTORY_ROWS", "NO_LOAD", "CONTACT_TYPES", "SplitOff",
+           "ContactSplit", "NO_SPLIT"]
 
 #: Columns of :attr:`Samples.energy`: kinetic (lab frame), rotational, potential, elastic, work done
 #: by the container, dissipated by normal damping, dissipated by friction [J].
@@ -205,6 +208,35 @@ class Drive(NamedTuple):
     load: np.ndarray = NO_LOAD   #: (K, 4) a structure's load in time (DRIVE_MODAL_LOAD, kernels/structure.py)
 
 
+#: The contact types of the ledger's split by contact type (the rows of :class:`ContactSplit`'s arrays;
+#: the ``"energy_by_contact"`` channel): sphere-sphere pairs, the floor, the container's other walls,
+#: the baffles.
+CONTACT_TYPES = ("sphere", "floor", "wall", "baffle")
+
+
+class SplitOff(NamedTuple):
+    """:attr:`Samples.split` of a run whose ledger is not split by contact type: an empty marker, so
+    the kernels compiled for it hold none of the split (:func:`pdamper.kernels.forces.split_add` and
+    its kin resolve to nothing)."""
+
+
+class ContactSplit(NamedTuple):
+    """The energy ledger's dissipation split by contact type (:data:`CONTACT_TYPES`), when a recorder
+    asks for the ``"energy_by_contact"`` channel (:attr:`Samples.split`; its *type* puts the split into
+    the kernels compiled for it)."""
+
+    wall_type: np.ndarray        #: (W,) int: the row of :data:`CONTACT_TYPES` of each wall
+    power: np.ndarray            #: (4, 3) of the last force evaluation, per type: normal damping power [W],
+                                 #: tanh friction power [W], a tangential spring's loss [J]
+    sums: np.ndarray             #: (4, 2) running, per type: dissipated by normal damping, by friction [J]
+    last: np.ndarray             #: (4, 2) Gear's damping and friction powers at the last accepted step [W]
+    record: np.ndarray           #: (n, 4, 2) ``sums`` at the end of each sample (the channel)
+
+
+#: :attr:`Samples.split` of a run without the split.
+NO_SPLIT = SplitOff()
+
+
 class Samples(NamedTuple):
     """What the integrators write at the end of each sample interval (the recorders' kernel
     channels, :mod:`pdamper.recorders.base`); a channel with no rows is not recorded."""
@@ -218,13 +250,16 @@ class Samples(NamedTuple):
                                  #: coordinates q_k (one mode: x_s) where the array has the columns
     sums: np.ndarray             #: (4,) running: work by the container, damping loss, friction loss [J],
                                  #: impulse along the drive since the last sample [N s]
+    split: tuple = NO_SPLIT      #: a ContactSplit: the ledger's dissipation by contact type (NO_SPLIT: not
+                                 #: recorded, none of it compiled)
 
 
 class FrictionRecord(NamedTuple):
     """The touching friction contacts of one force evaluation, for Gear's implicit pass: pairs
     first, then the floor, then the other walls (``ends`` their end rows)."""
 
-    bodies: np.ndarray           #: (capacity, 2) int: (i, j), j = -1 at a wall
+    bodies: np.ndarray           #: (capacity, 2) int: (i, j), j < 0 at a wall (-1 - w at wall w with the
+                                 #: ledger split by contact type, else -1)
     rows: np.ndarray             #: (capacity, 8): normal (3), slip (3), secant coefficient c, mu F_N
     ends: np.ndarray             #: (3,) int
 

@@ -289,7 +289,7 @@ def drop_history(law, hist, row):
 @njit(inline="always")
 def note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, c, lim):
     """Write a touching friction contact into row ``m`` of Gear's friction record
-    (:class:`pdamper.kernels.bundles.FrictionRecord`): bodies ``(i, j)`` (``j = -1`` at a wall),
+    (:class:`pdamper.kernels.bundles.FrictionRecord`): bodies ``(i, j)`` (``j < 0`` at a wall),
     unit normal ``n``, slip ``t`` [m/s], friction coefficient ``c`` [N s/m], Coulomb limit ``lim`` [N]."""
     record.bodies[m, 0] = i
     record.bodies[m, 1] = j

@@ -19,22 +19,102 @@ import math
 
 import numpy as np
 
+from numba.extending import overload
+
 from ..contact.hertz import hertz_energy
 from ..contact.tangential_spring import spring_energy
 from ..geometry.walls import wall_distance
-from ..jit import njit
-from .bundles import ContactConstants, ContactGeometry, FrictionRecord
-from .contact import (FRICTION_CAP, contact, drop_history, floor_slip, keeps_history, note_friction_row,
-                      pair_point_velocity, scatter, wall_point_velocity)
+from ..jit import JIT, njit
+from .bundles import ContactConstants, ContactGeometry, ContactSplit, FrictionRecord
+from .contact import (FRICTION_CAP, contact, damping_at_touch, drop_history, floor_slip, keeps_history, law_force,
+                      note_friction_row, pair_point_velocity, scatter, wall_point_velocity)
 
-__all__ = ["compute_forces", "pair_geometry", "elastic_energy", "no_friction_record", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN",
-           "STATUS_LIST_OVERFLOW", "STATUS_WALL_OVERFLOW"]
+__all__ = ["compute_forces", "pair_geometry", "elastic_energy", "no_friction_record", "split_add", "split_clear",
+           "wall_type_of", "wall_row", "touching_contacts",
+           "SPHERE", "FLOOR", "STATUS_OK", "STATUS_OVERLAP", "STATUS_NAN", "STATUS_LIST_OVERFLOW",
+           "STATUS_WALL_OVERFLOW"]
+
+#: Rows of the contact types (:data:`pdamper.kernels.bundles.CONTACT_TYPES`) the loops know by
+#: themselves: sphere pairs and the floor (the other walls' from ``ContactSplit.wall_type``).
+SPHERE = 0
+FLOOR = 1
 
 STATUS_OK = 0
 STATUS_LIST_OVERFLOW = 1
 STATUS_WALL_OVERFLOW = 2
 STATUS_OVERLAP = 3
 STATUS_NAN = 4
+
+
+def _is_split(split_type) -> bool:
+    """Whether a numba type is a :class:`~pdamper.kernels.bundles.ContactSplit` (not the empty marker)."""
+    return getattr(split_type, "instance_class", None) is ContactSplit
+
+
+def split_add(split, kind, p_n, p_f, e_f):
+    """Add a contact's damping power ``p_n`` [W], tanh friction power ``p_f`` [W] and spring loss ``e_f``
+    [J] to row ``kind`` of the split's ``power`` (compiled kernels only: nothing for the empty marker
+    :class:`~pdamper.kernels.bundles.SplitOff`, resolved when the kernel is compiled)."""
+    raise NotImplementedError("split_add is compiled into the kernels")
+
+
+def split_clear(split):
+    """Zero the split's ``power`` before a force evaluation (compiled kernels only; as :func:`split_add`)."""
+    raise NotImplementedError("split_clear is compiled into the kernels")
+
+
+def wall_type_of(split, w):
+    """Wall ``w``'s row of :data:`~pdamper.kernels.bundles.CONTACT_TYPES` (compiled kernels only; 0
+    for the empty marker, whose :func:`split_add` ignores it)."""
+    raise NotImplementedError("wall_type_of is compiled into the kernels")
+
+
+def wall_row(split, w):
+    """What Gear's friction record holds as the second body of a contact with wall ``w``: ``-1 - w`` with
+    the split (its implicit pass then finds the wall's type), -1 without it (compiled kernels only)."""
+    raise NotImplementedError("wall_row is compiled into the kernels")
+
+
+@overload(wall_row, inline="always", jit_options=JIT)
+def _wall_row(split, w):
+    if not _is_split(split):
+        return lambda split, w: -1
+    return lambda split, w: -1 - w
+
+
+@overload(split_add, inline="always", jit_options=JIT)
+def _split_add(split, kind, p_n, p_f, e_f):
+    if not _is_split(split):
+        return lambda split, kind, p_n, p_f, e_f: None
+
+    def impl(split, kind, p_n, p_f, e_f):
+        p = split.power
+        p[kind, 0] += p_n
+        p[kind, 1] += p_f
+        p[kind, 2] += e_f
+
+    return impl
+
+
+@overload(split_clear, inline="always", jit_options=JIT)
+def _split_clear(split):
+    if not _is_split(split):
+        return lambda split: None
+
+    def impl(split):
+        p = split.power
+        for r in range(p.shape[0]):
+            for c in range(p.shape[1]):
+                p[r, c] = 0.0
+
+    return impl
+
+
+@overload(wall_type_of, inline="always", jit_options=JIT)
+def _wall_type_of(split, w):
+    if not _is_split(split):
+        return lambda split, w: 0
+    return lambda split, w: split.wall_type[w]
 
 
 @njit
@@ -66,9 +146,11 @@ def pair_geometry(dx, dy, dz, d2, cut, rvx, rvy, rvz, wx, wy, wz):
 
 
 @njit
-def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
+def compute_forces(bodies, pairs, walls, table, dt, step, moved, record, split):
     """Zero and fill ``bodies.force`` [N] and ``bodies.torque`` [N m]; update the contact history
-    in ``pairs`` and ``walls`` in place.
+    in ``pairs`` and ``walls`` in place. With the ledger split by contact type (``split`` a
+    :class:`~pdamper.kernels.bundles.ContactSplit`, not the empty marker), ``split.power`` receives the
+    dissipated powers by contact type too (sphere pairs, the floor, each wall's type).
 
     ``dt`` [s] is the current step of the tanh law's friction guard
     (:data:`~pdamper.kernels.contact.FRICTION_CAP`; Gear passes a vanishing step), ``step`` [s] the
@@ -124,6 +206,7 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
     room = record.rows.shape[0]
     collect = room > 0
     limit = table.overlap_limit
+    split_clear(split)
     m = 0
     for i in range(n):
         force[i, 0] = 0.0
@@ -151,7 +234,9 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
         if d2 >= cut * cut:
             if pvin[a] != 0.0:
                 pvin[a] = 0.0
-                e_f += drop_history(tlaw, pth, a)
+                ed = drop_history(tlaw, pth, a)
+                e_f += ed
+                split_add(split, SPHERE, 0.0, 0.0, ed)
             continue
         nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
             dx, dy, dz, d2, cut, vel[i, 0] - vel[j, 0], vel[i, 1] - vel[j, 1], vel[i, 2] - vel[j, 2],
@@ -173,6 +258,7 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
         p_n += pn
         p_f += pf
         e_f += ef
+        split_add(split, SPHERE, pn, pf, ef)
         if ff > 0.0 and m < room:
             note_friction_row(record, m, i, j, nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
@@ -194,7 +280,9 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
             if delta <= 0.0:
                 if wvin[i, floor] != 0.0:
                     wvin[i, floor] = 0.0
-                    e_f += drop_history(tlaw, wth, i * nw + floor)
+                    ed = drop_history(tlaw, wth, i * nw + floor)
+                    e_f += ed
+                    split_add(split, FLOOR, 0.0, 0.0, ed)
                 continue
             if delta > limit * ri:
                 status = STATUS_OVERLAP
@@ -219,8 +307,9 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
             p_n += pn
             p_f += pf
             e_f += ef
+            split_add(split, FLOOR, pn, pf, ef)
             if ff > 0.0 and m < room:
-                note_friction_row(record, m, i, -1, 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
+                note_friction_row(record, m, i, wall_row(split, floor), 0.0, 1.0, 0.0, tx, 0.0, tz, ff, lim)
                 m += 1
             # (the tangential force has no y part: the slip has none, and neither has a spring)
             scatter(force, torque, i, -1, (ftx, fn, ftz), (0.0, 1.0, 0.0), (ftx, 0.0, ftz), 1.0, 0.0, -ri, 0.0)
@@ -239,7 +328,9 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
         if delta <= 0.0:
             if wvin[i, w] != 0.0:
                 wvin[i, w] = 0.0
-                e_f += drop_history(tlaw, wth, i * nw + w)
+                ed = drop_history(tlaw, wth, i * nw + w)
+                e_f += ed
+                split_add(split, wall_type_of(split, w), 0.0, 0.0, ed)
             continue
         if delta > limit * ri:
             status = STATUS_OVERLAP
@@ -269,8 +360,9 @@ def compute_forces(bodies, pairs, walls, table, dt, step, moved, record):
         p_n += pn
         p_f += pf
         e_f += ef
+        split_add(split, wall_type_of(split, w), pn, pf, ef)
         if ff > 0.0 and m < room:
-            note_friction_row(record, m, i, -1, nx, ny, nz, tx, ty, tz, ff, lim)
+            note_friction_row(record, m, i, wall_row(split, w), nx, ny, nz, tx, ty, tz, ff, lim)
             m += 1
         fx = fn * nx + ftx
         fy = fn * ny + fty
@@ -336,3 +428,94 @@ def elastic_energy(bodies, pairs, walls):
         if wth[r, 3] > 0.0:
             et += spring_energy(wth[r, 0], wth[r, 1], wth[r, 2], wth[r, 3])
     return e + et
+
+
+@njit
+def touching_contacts(bodies, pairs, walls, table, wall_type, ends, normal_force, kind):
+    """The contacts touching now and the normal force of each, into the rows of ``ends`` (M, 2) int,
+    ``normal_force`` (M,) [N] and ``kind`` (M,) int (M: the listed pairs, the spheres and the wall
+    candidates, enough by construction); returns how many rows it wrote.
+
+    A row is ``(i, j)``: spheres ``i < j``, or sphere ``i`` and wall ``w`` as ``j = -1 - w``; ``kind``
+    its row of :data:`~pdamper.kernels.bundles.CONTACT_TYPES` (sphere pairs, the floor, then
+    ``wall_type[w]``). Touching: the bodies overlap (the force loops' test). The normal force is the
+    damping law's at the present overlap and approach rate with the contact's damping parameter as
+    the force loops keep it (a contact that started since they last ran: the one it starts with),
+    pushing when positive. Nothing is changed: what a Python recorder asks for at a sample's end
+    (the ``"contacts"`` channel of :mod:`pdamper.recorders.base`)."""
+    pos = bodies.position
+    vel = bodies.velocity
+    rad = bodies.radius
+    mass = bodies.mass
+    first = pairs.first
+    second = pairs.second
+    pvin = pairs.approach_speed
+    pd = pairs.damping
+    pk = pairs.stiffness
+    pmp = pairs.material_pair
+    wall_kind = walls.kind
+    wall_data = walls.data
+    wvin = walls.approach_speed
+    wd = walls.damping
+    wk = walls.stiffness
+    wmp = walls.material_pair
+    wrs = walls.effective_radius
+    n = pos.shape[0]
+    m = 0
+    for a in range(pairs.row[n]):
+        i = first[a]
+        j = second[a]
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dz = pos[j, 2] - pos[i, 2]
+        cut = rad[i] + rad[j]
+        d2 = dx * dx + dy * dy + dz * dz
+        if d2 >= cut * cut:
+            continue
+        # the force loop's geometry (its overlap and approach rate, to the bit)
+        nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
+            dx, dy, dz, d2, cut, vel[i, 0] - vel[j, 0], vel[i, 1] - vel[j, 1], vel[i, 2] - vel[j, 2], 0.0, 0.0, 0.0)
+        normal_force[m] = _normal_force(table, pk[a], pmp[a], rad[i] * rad[j] / cut, pairs.friction_cap[a] / FRICTION_CAP,
+                                        delta, ddot, pvin[a], pd[a])
+        ends[m, 0] = i
+        ends[m, 1] = j
+        kind[m] = SPHERE
+        m += 1
+    floor = walls.floor
+    if floor >= 0:
+        for i in range(n):
+            delta = rad[i] - pos[i, 1]
+            if delta <= 0.0:
+                continue
+            normal_force[m] = _normal_force(table, wk[i, floor], wmp[i, floor], wrs[i, floor], mass[i], delta,
+                                            -vel[i, 1], wvin[i, floor], wd[i, floor])
+            ends[m, 0] = i
+            ends[m, 1] = -1 - floor
+            kind[m] = FLOOR
+            m += 1
+    for c in range(walls.n_candidates[0]):
+        i = walls.candidate_body[c]
+        w = walls.candidate_wall[c]
+        s, nx, ny, nz = wall_distance(wall_kind[w], wall_data, w, pos[i, 0], pos[i, 1], pos[i, 2])
+        delta = rad[i] - s
+        if delta <= 0.0:
+            continue
+        ddot = -(vel[i, 0] * nx + vel[i, 1] * ny + vel[i, 2] * nz)
+        normal_force[m] = _normal_force(table, wk[i, w], wmp[i, w], wrs[i, w], mass[i], delta, ddot, wvin[i, w],
+                                        wd[i, w])
+        ends[m, 0] = i
+        ends[m, 1] = -1 - w
+        kind[m] = wall_type[w]
+        m += 1
+    return m
+
+
+@njit(inline="always")
+def _normal_force(table, k, mp, r_star, m_star, delta, ddot, v_in, d):
+    """The damping law's normal force [N] of a contact now, with its damping parameter as
+    :func:`pdamper.kernels.contact.contact` would hold it (fixed anew when it starts or is struck
+    harder than before), its history left as it is."""
+    if v_in == 0.0 or ddot > v_in:
+        d = damping_at_touch(table, ddot, mp, k, r_star, m_star)
+    fn, fdamp = law_force(table.law, k, delta, ddot, d)
+    return fn

@@ -65,10 +65,10 @@ import math
 from ..jit import njit
 from .contact import corrected_friction, floor_slip, keeps_history, pair_point_velocity, scatter, wall_point_velocity
 from .drive import drive_motion, is_coupled
-from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
-                     no_friction_record)
+from .forces import (FLOOR, SPHERE, STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW,
+                     compute_forces, no_friction_record, split_add, wall_type_of)
 from .neighbours import max_displacement_sq, rebuild_lists
-from .record import record_sample
+from .record import integrate_split, record_sample
 from .structure import advance_structure, ground_on_bed
 
 __all__ = ["run_gear", "GEAR_C", "predict_dof", "step_to_boundary", "shorter_step", "next_step"]
@@ -238,7 +238,7 @@ def wall_friction_step(cf, lim, n, t, u, e, ri, g, a, kk):
 
 
 @njit
-def _implicit_friction(bodies, dv, dw, hs, record):
+def _implicit_friction(bodies, dv, dw, hs, record, split):
     """Re-evaluate the friction of every contact that :func:`~pdamper.kernels.forces.compute_forces`
     recorded at its corrected slip (linearly implicit in the slip, Gauss-Seidel over the
     contacts) and add the change to the Gear increments ``dv`` (positions) and ``dw`` (angles) in
@@ -252,7 +252,8 @@ def _implicit_friction(bodies, dv, dw, hs, record):
     docstring).
 
     Returns ``(dfx, dfy, dfz, dp_f)``: the change of the walls' force on the spheres [N] and of
-    the friction power [W].
+    the friction power [W]; with the ledger split by contact type (``split``), the change of each
+    type's friction power is added to ``split.power`` too.
     """
     rad = bodies.radius
     inv_m = bodies.inv_mass
@@ -283,8 +284,10 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         gx, gy, gz, fx, fy, fz = corrected_friction(c, fr[q, 7], kk, a, tx, ty, tz,
                                                     dcx - dcn * nx, dcy - dcn * ny, dcz - dcn * nz)
         # power: the new force on the corrected slip, minus the explicit c s^2
-        dpf += -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
-                 + fz * (tz + dcz - dcn * nz + a * kk * gz)) - c * vt * vt
+        dp = -(fx * (tx + dcx - dcn * nx + a * kk * gx) + fy * (ty + dcy - dcn * ny + a * kk * gy)
+               + fz * (tz + dcz - dcn * nz + a * kk * gz)) - c * vt * vt
+        dpf += dp
+        split_add(split, SPHERE, 0.0, dp, 0.0)
         scatter(dv, dw, i, j, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), hh * inv_m[i], hh * inv_m[j],
                 hh * inv_i[i] * ri, hh * inv_i[j] * rj)
     # ---- the floor: n = +y, slip (v_x + r w_z, 0, v_z - r w_x)
@@ -295,6 +298,7 @@ def _implicit_friction(bodies, dv, dw, hs, record):
         gx, gz, dp = floor_friction_step(fr[q, 6], fr[q, 7], fr[q, 3], fr[q, 5], dv[i, 0], dv[i, 2], dw[i, 0],
                                          dw[i, 2], ri, g, a, kk)
         dpf += dp
+        split_add(split, FLOOR, 0.0, dp, 0.0)
         scatter(dv, dw, i, -1, (gx, 0.0, gz), (0.0, 1.0, 0.0), (gx, 0.0, gz), hh * inv_m[i], 0.0,
                 -(hh * inv_i[i] * ri), 0.0)
         dfx += gx
@@ -311,6 +315,7 @@ def _implicit_friction(bodies, dv, dw, hs, record):
                                             (dv[i, 0], dv[i, 1], dv[i, 2]), (dw[i, 0], dw[i, 1], dw[i, 2]), ri, g, a,
                                             kk)
         dpf += dp
+        split_add(split, wall_type_of(split, -1 - ids[q, 1]), 0.0, dp, 0.0)
         scatter(dv, dw, i, -1, (gx, gy, gz), (nx, ny, nz), (gx, gy, gz), hh * inv_m[i], 0.0, -(hh * inv_i[i] * ri),
                 0.0)
         dfx += gx
@@ -437,7 +442,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             return (STATUS_LIST_OVERFLOW if r == -1 else STATUS_WALL_OVERFLOW), 0, -1, t, h, 0
         for m in range(mvf.shape[0]):
             mvf[m] = 0.0
-        compute_forces(bodies, pairs, walls, table, h, 0.0, gear.moved, no_friction_record())
+        compute_forces(bodies, pairs, walls, table, h, 0.0, gear.moved, no_friction_record(), samples.split)
         xc, vc, ac = drive_motion(drive, t)
         hs = h
         for i in range(n):
@@ -493,7 +498,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             _copy_tangential(hist_p, hist_w, npair, pairs, walls, True)
         tn = t + hs
         fwx, fwy, fwz, p_n, p_f, e_f, status, culprit = compute_forces(bodies, pairs, walls, table, _NO_CAP, hs,
-                                                                       gear.moved, record)
+                                                                       gear.moved, record, samples.split)
         if coupled:
             _copy_structure(drive.state, gear.saved_structure)
             advance_structure(drive, tn, hs, fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2])
@@ -503,7 +508,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
             for c in range(3):
                 dlt[i, c] = half_h2 * (force[i, c] * inv_m[i] + gvec[c] - ac * dvec[c]) - pred[2, i, c]
                 dlt[i, 3 + c] = half_h2 * torque[i, c] * inv_i[i] - pred[2, i, 3 + c]
-        dfx, dfy, dfz, dpf = _implicit_friction(bodies, dlt_x, dlt_a, hs, record)
+        dfx, dfy, dfz, dpf = _implicit_friction(bodies, dlt_x, dlt_a, hs, record, samples.split)
         fwx += dfx
         fwy += dfy
         fwz += dfz
@@ -561,6 +566,7 @@ def run_gear(span, bodies, gear, pairs, walls, search, table, drive, samples):
         if spring:
             sums[2] += e_f
         sums[3] += 0.5 * (fd + q_i) * hs
+        integrate_split(samples.split, hs, True, spring)
         q_w = vc * fd
         q_n = p_n
         q_f = p_f

@@ -1,16 +1,73 @@
 """What the time loops write at the end of each sample interval: the kernel channels of
 :class:`~pdamper.kernels.bundles.Samples` (wall force, energies, frames, the coupled structure).
-A channel with no rows is skipped, so a run computes only what its recorders read."""
+A channel with no rows is skipped, so a run computes only what its recorders read; the ledger's
+split by contact type (``samples.split``) is compiled in only when a run asks for it."""
 
 from __future__ import annotations
 
 import math
 
-from ..jit import njit
-from .forces import elastic_energy
+from numba.extending import overload
+
+from ..jit import JIT, njit
+from .forces import _is_split, elastic_energy
 from .structure import record_coupled
 
-__all__ = ["record_sample"]
+__all__ = ["record_sample", "integrate_split", "record_split"]
+
+
+def integrate_split(split, dt, trapezoid, spring):
+    """Add the last force evaluation's dissipation by contact type (``split.power``) over a step of
+    ``dt`` [s] to ``split.sums``, as the integrators add the totals to ``samples.sums``: Verlet the
+    power times the step, Gear (``trapezoid``) the trapezoid with the powers of the last accepted step
+    (``split.last``, updated); a tangential spring's loss (``spring``) as it is. Compiled kernels only:
+    nothing for the empty marker (:class:`~pdamper.kernels.bundles.SplitOff`)."""
+    raise NotImplementedError("integrate_split is compiled into the kernels")
+
+
+def record_split(k, split):
+    """Write the split's running sums into row ``k`` of its record (compiled kernels only; nothing for
+    the empty marker)."""
+    raise NotImplementedError("record_split is compiled into the kernels")
+
+
+@overload(integrate_split, inline="always", jit_options=JIT)
+def _integrate_split(split, dt, trapezoid, spring):
+    if not _is_split(split):
+        return lambda split, dt, trapezoid, spring: None
+
+    def impl(split, dt, trapezoid, spring):
+        p = split.power
+        q = split.last
+        s = split.sums
+        for k in range(p.shape[0]):
+            if trapezoid:
+                s[k, 0] += 0.5 * (p[k, 0] + q[k, 0]) * dt
+                s[k, 1] += 0.5 * (p[k, 1] + q[k, 1]) * dt
+                q[k, 0] = p[k, 0]
+                q[k, 1] = p[k, 1]
+            else:
+                s[k, 0] += p[k, 0] * dt
+                s[k, 1] += p[k, 1] * dt
+            if spring:
+                s[k, 1] += p[k, 2]
+
+    return impl
+
+
+@overload(record_split, inline="always", jit_options=JIT)
+def _record_split(k, split):
+    if not _is_split(split):
+        return lambda k, split: None
+
+    def impl(k, split):
+        rec = split.record
+        if k < rec.shape[0]:
+            for c in range(split.sums.shape[0]):
+                rec[k, c, 0] = split.sums[c, 0]
+                rec[k, c, 1] = split.sums[c, 1]
+
+    return impl
 
 
 @njit
@@ -73,4 +130,5 @@ def record_sample(k, samples, bodies, pairs, walls, drive, xc, vc):
                     traj[f, i, c] = pos[i, c]
                     traj[f, i, 3 + c] = vel[i, c]
                     traj[f, i, 6 + c] = omg[i, c]
+    record_split(k, samples.split)
     record_coupled(k, drive, samples.structure)

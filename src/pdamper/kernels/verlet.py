@@ -26,7 +26,7 @@ from .drive import drive_motion, is_coupled
 from .forces import (STATUS_LIST_OVERFLOW, STATUS_NAN, STATUS_OK, STATUS_WALL_OVERFLOW, compute_forces,
                      no_friction_record)
 from .neighbours import max_displacement_sq, rebuild_lists
-from .record import record_sample
+from .record import integrate_split, record_sample
 from .structure import advance_structure, ground_on_bed
 
 __all__ = ["run_verlet"]
@@ -78,7 +78,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         for i in range(n):
             for c in range(6):
                 mv[i, c] = 0.0
-        compute_forces(bodies, pairs, walls, table, dt, 0.0, mv, no_record)
+        compute_forces(bodies, pairs, walls, table, dt, 0.0, mv, no_record, samples.split)
         xc, vc, ac = drive_motion(drive, t0)
         for i in range(n):
             for c in range(3):
@@ -129,7 +129,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         # a component moved more than skin/(2 sqrt 3) in some direction: rebuild next step
         moved = 3.0 * disp > skin2
         fwx, fwy, fwz, p_n, p_f, e_f, status, culprit = compute_forces(bodies, pairs, walls, table, dt, dt, mv,
-                                                                       no_record)
+                                                                       no_record, samples.split)
         fd = fwx * dvec[0] + fwy * dvec[1] + fwz * dvec[2]
         if coupled:
             advance_structure(drive, t, dt, fd)
@@ -168,6 +168,7 @@ def run_verlet(span, bodies, state, pairs, walls, search, table, drive, samples)
         if spring:
             sums[2] += e_f
         sums[3] += fd * dt
+        integrate_split(samples.split, dt, False, spring)
         if bad:
             return STATUS_NAN, s + 1, culprit
         if status != STATUS_OK:

@@ -19,7 +19,10 @@ ends at ``(k + 1) / sample_rate`` after the drive starts.
 wall force along the drive (``"wall_force"``, impulse over the interval, so impacts are not
 aliased), the seven energies of the ledger (``"energy"``), frames of all spheres every
 ``frame_every`` samples (``"frames"``; the recorder sets ``frame_every``), the coupled
-structure's state (``"structure"``). A channel nobody asks for is not computed. The built-in
+structure's state (``"structure"``), the ledger's dissipation by contact type (``"energy_by_contact"``:
+normal damping and friction of sphere pairs, the floor, the other walls and the baffles,
+:class:`~pdamper.recorders.contacts.ContactEnergyRecorder`). A channel nobody asks for is not
+computed: without ``"energy_by_contact"`` the kernels are compiled without the split. The built-in
 recorders (:class:`~pdamper.recorders.signals.SignalsRecorder`,
 :class:`~pdamper.recorders.energy.EnergyRecorder`,
 :class:`~pdamper.recorders.trajectory.TrajectoryRecorder`,
@@ -28,7 +31,11 @@ recorders (:class:`~pdamper.recorders.signals.SignalsRecorder`,
 **Python recorders** set ``every > 0``: the simulation stops its compiled loop at the end of
 every ``every``-th sample and calls ``record(state)`` with a read-only :class:`State` (positions,
 velocities, spins, the container's motion, the running energy sums). That costs a return to
-Python per call (tens of microseconds), so choose ``every`` accordingly; no kernel changes.
+Python per call (tens of microseconds), so choose ``every`` accordingly; no kernel changes. A
+Python recorder that asks for the ``"contacts"`` channel finds in ``state.contacts`` the contacts
+touching at that sample and their normal forces (:class:`~pdamper.recorders.contacts.Contacts`,
+listed then and only for the samples such a recorder is due at;
+:class:`~pdamper.recorders.contacts.ContactsRecorder` keeps them, with the coordination number).
 
 Example -- the bed's kinetic energy in the lab frame, every 10 samples (``examples/
 kinetic_energy_recorder.py`` runs it; ``docs/engine.md`` explains it)::
@@ -68,8 +75,9 @@ import numpy as np
 
 __all__ = ["Recorder", "RunInfo", "State", "Recorded", "CHANNELS", "check_recorders"]
 
-#: The kernel channels a recorder may ask for.
-CHANNELS = ("wall_force", "energy", "frames", "structure")
+#: The channels a recorder may ask for: the kernel channels, and ``"contacts"`` (a Python recorder's
+#: ``state.contacts``).
+CHANNELS = ("wall_force", "energy", "frames", "structure", "energy_by_contact", "contacts")
 
 
 @runtime_checkable
@@ -116,7 +124,9 @@ class State:
     [rad/s], each (N, 3) in the container frame; the container's ``container_position`` [m],
     ``container_velocity`` [m/s], ``container_acceleration`` [m/s^2] along ``direction`` (3,);
     the running sums since the drive started: ``work`` done by the container on the spheres,
-    energy dissipated by normal ``damping`` and by ``friction`` [J].
+    energy dissipated by normal ``damping`` and by ``friction`` [J]; ``contacts`` the contacts
+    touching now (:class:`~pdamper.recorders.contacts.Contacts`) when a due recorder asks for the
+    ``"contacts"`` channel, else None.
     """
 
     sample: int
@@ -131,6 +141,7 @@ class State:
     work: float
     damping: float
     friction: float
+    contacts: Any = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -139,7 +150,8 @@ class Recorded:
 
     Attributes: ``info`` (:class:`RunInfo`); ``time_end`` [s] the end of each sample interval;
     ``channels``: name -> array of each channel the run recorded (``wall_force`` (n,) [N],
-    ``energy`` (n, 7) [J], ``frames`` (F, N, 9), ``structure`` (n, 4)).
+    ``energy`` (n, 7) [J], ``frames`` (F, N, 9), ``structure`` (n, 6 + modes), ``energy_by_contact``
+    (n, 4, 2) [J]: damping and friction by contact type, :data:`pdamper.kernels.bundles.CONTACT_TYPES`).
     """
 
     info: RunInfo
@@ -163,6 +175,9 @@ def check_recorders(recorders) -> list:
                              f"the kernel channels are {', '.join(CHANNELS)}")
         if not (isinstance(r.every, (int, np.integer)) and r.every >= 0):
             raise ValueError(f"recorder {r.name!r}: every = {r.every!r}; give a whole number of samples >= 0")
+        if "contacts" in r.channels and r.every == 0:
+            raise ValueError(f"recorder {r.name!r} asks for the contacts channel with every = 0; the contacts are "
+                             "listed at the samples a recorder is due at: give every >= 1")
         if r.name in names:
             raise ValueError(f"two recorders are named {r.name!r}; give each its own name")
         names.add(r.name)
