@@ -42,3 +42,13 @@ def _grid(a, shape, dtype):
 
 STROKES = [0.005, 0.007, 0.010, 0.020, 0.030]
 FREQS = [1.5, 2.0, 3.0]
+
+
+def constant_fields(m_a, c_a, strokes, freqs):
+    """Fields of a rigid mass m_a [kg] and a dashpot c_a [N s/m] (c_eq = eta* m_bed Omega) over
+    ``strokes`` [m] and ``freqs`` [Hz]."""
+    from pdamper.analysis.fields import DamperFields
+
+    w = 2 * np.pi * np.asarray(freqs)
+    eta = np.broadcast_to(c_a / (M_BED * w), (len(strokes), len(freqs)))
+    return DamperFields.from_results(results(strokes, freqs, eta, m_eff=m_a))

@@ -254,7 +254,11 @@ def test_examples_starting_positions_are_valid():
 
     from pdamper.initial import initial_positions
 
+    from pdamper.structure.opensees import available
+
     for path in sorted(EXAMPLES.glob("*.toml")):
+        if "opensees" in path.read_text() and available() is not None:
+            continue  # an OpenSees model: tests/structure/test_opensees.py, where openseespy loads
         c = load_case(path)
         assert initial_positions(c, np.random.default_rng(0)).shape == (c.n_particles, 3), path.name
 

@@ -49,14 +49,16 @@ def _base(cls):
 
 def test_every_section_key_comes_from_a_field_or_is_named_structure():
     """The sections are the dataclasses' fields; the few keys that are not fields are structure."""
-    structural = {"shape", "kind", "samples", "pair", "natural_frequency"}
+    # ([[damper]] node: where a damper sits on an OpenSees model, the structure's damper_nodes)
+    structural = {"shape", "kind", "samples", "pair", "natural_frequency", "node"}
     fields = {s.key or f.name for _, cls, _ in HOLDERS for f in dataclasses.fields(cls) for s in (spec_of(f),)}
     fields |= {s.key or f.name for cls in (Material,) for f in dataclasses.fields(cls) for s in (spec_of(f),)}
     from pdamper.excitation import SampledDrive, Still
-    from pdamper.structure import ModalStructure
+    from pdamper.structure import ModalStructure, OpenSeesStructure
     from pdamper.geometry.cylinder import Cylinder
+    from pdamper.params import Damper
     fields |= (set(config_keys(SampledDrive)) | set(config_keys(Still)) | set(config_keys(Cylinder))
-               | set(config_keys(ModalStructure)))
+               | set(config_keys(ModalStructure)) | set(OpenSeesStructure.table_keys()) | set(config_keys(Damper)))
     from pdamper.structure.loads import LOADS
     fields |= {k for cls in LOADS.values() for k in cls.table_keys()}
     for section, keys in SECTIONS.items():

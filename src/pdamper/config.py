@@ -92,10 +92,10 @@ from .io.records import read_signal
 from .structure.loads import LOADS
 from .geometry import SHAPES
 from .materials import LIBRARY, Material, read_material
-from .params import (Case, Container, ContactModel, InitialState, Numerics, ParticleSet, Recording, read_baffles,
-                     read_tilt, read_wall_materials, read_with_material)
+from .params import (Case, Container, ContactModel, Damper, InitialState, Numerics, ParticleSet, Recording,
+                     read_baffles, read_tilt, read_wall_materials, read_with_material)
 from .schema import (Spec, _choice, _grammar, _num, _quoted, check_keys, config_keys, plain_fields, read_fields,
-                     read_number, read_quantity, replace, suggest, write_fields)
+                     read_list, read_number, read_quantity, replace, suggest, write_fields)
 
 __all__ = ["load_case", "loads_case", "parse_toml", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
            "with_overrides", "key_spec", "SECTIONS"]
@@ -203,6 +203,8 @@ SECTIONS = _Sections({
     "recording": config_keys(Recording),
     "initial": config_keys(InitialState),
     "run": tuple(s.key or f.name for f, s in plain_fields(Case)),
+    # [[damper]]: one of several dampers on the structure (pdamper.params.Damper)
+    "damper": ("dof", "node", "angle", "direction", "container", "particles"),
 })
 _PAIR_KEYS = ("materials", "friction", "restitution")
 
@@ -406,9 +408,21 @@ class _Reader:
                 raise InputError(f"unknown section [{section}]; " + suggest(section, SECTIONS, "[{}]"))
         with _context("container"):
             container = self.container(self._table(data, "container"))
+        tables = self._damper_tables(data)
         with _context("particles"):
-            particles = self.particles(data.get("particles"))
+            own = data.get("particles")
+            if own is None and tables and all("particles" in t for t in tables):
+                own = tables[0]["particles"]  # the first damper's filling is the case's
+            particles = self.particles(own)
+        with _context("damper"):
+            dampers = tuple(self.damper(t, k, len(tables), data, container, particles) for k, t in enumerate(tables))
+            data = self._damper_points(data, tables)
+        if len(dampers) == 1:  # one damper: the case's own container and filling
+            container, particles, dampers = dampers[0].container, dampers[0].particles, ()
         drive, rig = self.drive(data)
+        if tables and not drive.coupled:
+            raise InputError("[[damper]] tables put dampers on a structure; this case has no [structure] (its drive "
+                             "moves one container): remove [[damper]] or give a [structure]")
         mats = [p.material for p in particles] + [container.material]
         for m in mats:
             if any(o.name == m.name and o != m for o in mats):
@@ -425,7 +439,95 @@ class _Reader:
             run = self._table(data, "run")
             check_keys(run, "run", SECTIONS["run"])
             return Case(particles=particles, container=container, drive=drive, contact=contact, **sections,
-                        **read_fields(run, "run", Case), **({"rig": rig} if rig is not None else {}))
+                        **read_fields(run, "run", Case), **({"rig": rig} if rig is not None else {}),
+                        **({"dampers": dampers} if dampers else {}))
+
+    # ---- several dampers ([[damper]])
+    def _damper_tables(self, data: dict) -> list:
+        value = data.get("damper")
+        if value is None:
+            return []
+        tables = value if isinstance(value, list) else [value]
+        if not tables or not all(isinstance(t, dict) for t in tables):
+            raise InputError("[[damper]] must be tables, each a damper on the structure: [[damper]] dof = 3 (or node = "
+                             "4), with its own [damper.container] and [damper.particles] where they differ")
+        for k, t in enumerate(tables):
+            try:
+                check_keys(t, "damper", SECTIONS["damper"])
+            except InputError as exc:
+                if len(tables) == 1:
+                    raise
+                raise InputError(f"{exc} (in [[damper]] table #{k + 1})") from None
+        return tables
+
+    def damper(self, t: dict, k: int, n: int, data: dict, container: Container, particles: tuple) -> Damper:
+        """Damper ``k`` of ``n`` of the ``[[damper]]`` table ``t``: its container (the ``[container]``
+        section's keys with its own over them; its own alone when it names another shape), its
+        filling (else the case's), its direction (else the structure's)."""
+        label = "damper" if n == 1 else f"damper #{k + 1}"
+        box = container
+        if "container" in t:
+            own = t["container"]
+            if not isinstance(own, dict):
+                raise InputError(f"[{label}] container = {own!r}: give a table, [damper.container] with the "
+                                 "[container] keys")
+            base = self._table(data, "container")
+            merged = own if own.get("shape", base.get("shape", "cuboid")) != base.get("shape", "cuboid") \
+                else {**base, **own}
+            with _context(f"{label} container"):
+                box = self.container(merged)
+        fill = particles
+        if "particles" in t:
+            with _context(f"{label} particles"):
+                fill = self.particles(t["particles"])
+        kw = {}
+        if "angle" in t:
+            kw["angle"] = read_quantity(t["angle"], f"[{label}] angle", "angle")
+        if "direction" in t:
+            v = t["direction"]
+            if isinstance(v, str):
+                from .excitation import _DIRECTION_WORDS
+
+                if v.strip().lower() not in _DIRECTION_WORDS:
+                    raise InputError(f"[{label}] direction = {v!r}; give three numbers [x, y, z] (lab frame, y up) or "
+                                     + ", ".join(repr(w) for w in _DIRECTION_WORDS))
+                v = list(_DIRECTION_WORDS[v.strip().lower()])
+            kw["direction"] = read_list(v, f"[{label}] direction", "dimensionless")
+        if n == 1 and kw:
+            raise InputError(f"[{label}] {', '.join(kw)}: one damper moves along the structure's direction; give "
+                             "[structure] angle or direction")
+        return Damper(container=box, particles=fill, **kw)
+
+    def _damper_points(self, data: dict, tables: list) -> dict:
+        """``data`` with the structure's damper points set from the tables' ``dof`` / ``node`` (the
+        structure's key, :attr:`~pdamper.structure.StructureBase.damper_points_key`), checked
+        against what ``[structure]`` gives."""
+        named = [k for k in ("dof", "node") if any(k in t for t in tables)]
+        if not named:
+            return data
+        if "structure" not in data:
+            raise InputError(f"[[damper]] {named[0]} puts the dampers on a structure; give a [structure] section")
+        st = self._table(data, "structure")
+        cls = _kind_of(st, "structure")
+        table_key, structure_key = cls.damper_points_key
+        if table_key is None:
+            raise InputError(f"[[damper]] {named[0]}: {cls.label()} has one point the dampers sit on; leave "
+                             f"{named[0]} out")
+        wrong = [k for k in named if k != table_key]
+        if wrong:
+            raise InputError(f"[[damper]] {wrong[0]}: the dampers of {cls.label()} are placed by {table_key} = ...")
+        missing = [k + 1 for k, t in enumerate(tables) if table_key not in t]
+        if missing:
+            raise InputError(f"[[damper]] #{missing[0]} has no {table_key}; give each damper its {table_key} (or none, "
+                             f"and the structure's {structure_key} = [...])")
+        points = [t[table_key] for t in tables]
+        given = st.get(structure_key)
+        if given is not None and list(given if isinstance(given, list) else [given]) != points:
+            raise InputError(f"[structure] {structure_key} = {given!r} and the [[damper]] tables' {table_key} "
+                             f"{points!r} differ; give the points in one place")
+        data = dict(data)
+        data["structure"] = {**st, structure_key: points if len(points) > 1 else points[0]}
+        return data
 
     def container(self, t) -> Container:
         check_keys(t, "container", SECTIONS["container"])
@@ -620,8 +722,7 @@ def case_to_dict(case: Case) -> dict:
     ``case_from_dict(case_to_dict(case)) == case``.
     """
     c = case.container
-    container = {**_fields_to(c.geometry), "material": _material_to(c.material), "tilt": [float(a) for a in c.tilt],
-                 **_fields_to(c)}
+    container = _container_to(c, baffles=False)
     parts = [{**_fields_to(p), "material": _material_to(p.material)} for p in case.particles]
 
     ct = case.contact
@@ -642,11 +743,7 @@ def case_to_dict(case: Case) -> dict:
         contact["pair"] = pairs
 
     out = {"container": container, "particles": parts[0] if len(parts) == 1 else parts}
-    if c.baffles:
-        container["baffles"] = [{**_fields_to(b), **({"material": _material_to(b.material)} if b.material else {})}
-                                for b in c.baffles]
-    if c.wall_materials:
-        container["wall_materials"] = {w: _material_to(m) for w, m in c.wall_materials.items()}
+    container.update(_container_to(c, baffles=True, only=True))
     out.update({"contact": contact, "numerics": _fields_to(case.numerics), "recording": _fields_to(case.recording),
                 "initial": _fields_to(case.initial), "run": _fields_to(case)})
     # each drive's table after the section it names ([drive] after [particles], [structure] last):
@@ -660,6 +757,34 @@ def case_to_dict(case: Case) -> dict:
         at = list(out).index(d.config_after) + 1
         items = list(out.items())
         out = dict(items[:at] + [(d.config_section, d.config_table()), *d.config_sections().items()] + items[at:])
+    if case.dampers:
+        out["damper"] = [_damper_to(d) for d in case.dampers]
+    return out
+
+
+def _container_to(c: Container, *, baffles: bool, only: bool = False) -> dict:
+    """The ``[container]`` table of ``c``: its shape's keys, material, tilt and own keys (``only``: none
+    of those), then (``baffles``) its baffles and wall materials where it has them (the order of the
+    text a store's fingerprint was taken of: those come after the [contact] section is made)."""
+    out = {} if only else {**_fields_to(c.geometry), "material": _material_to(c.material),
+                           "tilt": [float(a) for a in c.tilt], **_fields_to(c)}
+    if baffles and c.baffles:
+        out["baffles"] = [{**_fields_to(b), **({"material": _material_to(b.material)} if b.material else {})}
+                          for b in c.baffles]
+    if baffles and c.wall_materials:
+        out["wall_materials"] = {w: _material_to(m) for w, m in c.wall_materials.items()}
+    return out
+
+
+def _damper_to(d: Damper) -> dict:
+    """A ``[[damper]]`` table: its container and filling (its place is the structure's, in order)."""
+    box = {**_container_to(d.container, baffles=False), **_container_to(d.container, baffles=True, only=True)}
+    parts = [{**_fields_to(p), "material": _material_to(p.material)} for p in d.particles]
+    out = {"container": box, "particles": parts[0] if len(parts) == 1 else parts}
+    if d.angle is not None:
+        out["angle"] = float(d.angle)
+    if d.direction is not None:
+        out["direction"] = [float(x) for x in d.direction]
     return out
 
 

@@ -93,6 +93,10 @@ class DriveBase(OwnTable):
     analysable = False
     coupled = False
     counts_cycles = False
+    #: the dampers a drive moves (a structure may carry several) and whether another code advances
+    #: it (a co-simulated structure: :mod:`pdamper.cosim`)
+    damper_count = 1
+    cosimulated = False
     #: what a config file must give (its keys) and the values it may leave out
     config_required: tuple = ()
     config_defaults: dict = {}

@@ -27,7 +27,7 @@ from .materials import PVC, STEEL_S235, Material, read_material
 from .units import is_quantity, to_si
 from .schema import check_choice, check_keys, config_keys, convert_fields, param, read_fields, read_list, read_quantity, replace
 
-__all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case",
+__all__ = ["ParticleSet", "Container", "ContactModel", "Numerics", "Recording", "InitialState", "Case", "Damper",
            "PAPER_TILT", "with_stroke"]
 
 #: Largest gravity a case may have [m/s^2]: ten times Earth's.
@@ -378,6 +378,56 @@ class InitialState:
 
 
 @dataclass(frozen=True, kw_only=True)
+class Damper:
+    """One of several dampers on a structure (a ``[[damper]]`` table): its own container and
+    filling, and the direction it moves in (lab frame; default the structure's ``angle`` /
+    ``direction``). Where it sits is the structure's: the k-th table is at the structure's k-th
+    damper point (``damper_dof = [3, 1]``, ``damper_nodes``; the table's ``dof`` or ``node`` sets it),
+    or at its one point.
+
+    Parameters
+    ----------
+    container : :class:`Container`.
+    particles : tuple of :class:`ParticleSet`.
+    angle : float, the horizontal direction [rad] (as a drive's), or
+    direction : (x, y, z) in the lab frame, or None: the structure's.
+    """
+
+    container: Container = param(default_factory=Container, kind="custom")
+    particles: tuple = param(kind="custom")
+    angle: float | None = param(None, dimension="angle")
+    direction: tuple | None = param(None, kind="list")
+
+    def __post_init__(self):
+        convert_fields(self, "damper")
+        ps = (self.particles,) if isinstance(self.particles, ParticleSet) else tuple(self.particles)
+        if not ps or not all(isinstance(p, ParticleSet) for p in ps):
+            raise InputError("damper.particles: give one or more ParticleSet entries ([damper.particles] count = 36)")
+        object.__setattr__(self, "particles", ps)
+        if not isinstance(self.container, Container):
+            raise InputError(f"damper.container = {self.container!r}; give a Container ([damper.container] keys)")
+        if self.angle is not None and self.direction is not None:
+            raise InputError("damper: angle and direction are both given; give one")
+        if self.angle is not None and not math.isfinite(self.angle):
+            raise InputError(f"damper.angle = {self.angle!r}; must be a finite angle")
+        if self.direction is not None:
+            v = np.asarray(self.direction, dtype=float)
+            if v.shape != (3,) or not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
+                raise InputError(f"damper.direction = {self.direction!r}; give three finite numbers, not all 0 (lab "
+                                 "frame: y up)")
+            object.__setattr__(self, "direction", tuple(float(x) for x in v / np.linalg.norm(v)))
+
+    @property
+    def bed_mass(self) -> float:
+        """Its spheres' mass [kg]."""
+        return sum(p.count * p.mass for p in self.particles)
+
+    @property
+    def n_particles(self) -> int:
+        return sum(p.count for p in self.particles)
+
+
+@dataclass(frozen=True, kw_only=True)
 class Case:
     """One simulated case: what is simulated (particles, container, drive, contact laws), how
     (numerics), what is recorded, how it starts, and for how long (``cycles`` of the drive)."""
@@ -398,6 +448,10 @@ class Case:
     #: the case's drive): how the damper alone is driven on its test rig, for what characterises the
     #: damper (a sweep, the fields made of it; :attr:`on_rig`). None: ``drive`` is the only drive
     rig: DriveBase | None = param(None, kind="custom", section="drive")
+    #: several dampers on the structure (``[[damper]]`` tables), each its own container, filling and
+    #: direction, in the order of the structure's damper points; empty: the case's own container and
+    #: particles at every damper point of the structure (``damper_dof = [2, 1]``: the same damper at each)
+    dampers: tuple = param((), kind="custom", section="damper")
 
     def __post_init__(self):
         convert_fields(self, "run")
@@ -419,6 +473,18 @@ class Case:
         if self.rig is not None and (self.rig.coupled or not self.drive.coupled):
             raise InputError("case.rig: the damper's rig drive stands beside a structure only (a [drive] with a "
                              "[structure]); a case with a prescribed [drive] has no second drive")
+        ds = tuple(self.dampers)
+        object.__setattr__(self, "dampers", ds)
+        if ds:
+            if not all(isinstance(d, Damper) for d in ds):
+                raise InputError("case.dampers: give Damper entries ([[damper]] tables)")
+            if not self.drive.coupled:
+                raise InputError("[[damper]] tables put dampers on a structure; this case has no [structure] (its "
+                                 "drive moves one container): remove [[damper]] or give a [structure]")
+            if self.drive.damper_count not in (1, len(ds)):
+                raise InputError(f"[[damper]]: {len(ds)} tables, but the structure has {self.drive.damper_count} "
+                                 "damper points (damper_dof / damper_nodes); give a table for each, or let each "
+                                 "table name its own (dof = ..., node = ...)")
         if not (0 <= self.gravity <= MAX_GRAVITY):
             raise InputError(f"run.gravity = {shown(self.gravity)} m/s^2; must be in [0, {MAX_GRAVITY:g}] m/s^2: 0 for "
                              f"no gravity, 9.81 on Earth; above {MAX_GRAVITY:g} (ten g) no damper is tested and the "
@@ -458,9 +524,37 @@ class Case:
     @property
     def running_drive(self):
         """The drive as a run moves it: with the empty container's mass (``container.mass``) on it
-        (:meth:`~pdamper.excitation.DriveBase.carrying`: a structure carries it at the damper; a
-        prescribed motion is the drive itself)."""
-        return self.drive.carrying(self.container.mass)
+        (:meth:`~pdamper.excitation.DriveBase.carrying`: a structure carries it at the damper, each
+        damper's at its point; a prescribed motion is the drive itself)."""
+        if self.damper_count == 1:
+            return self.drive.carrying(self.container.mass)
+        masses = [0.0] * self.drive.damper_count
+        for k, d in enumerate(self.damper_beds()):
+            masses[self.damper_point(k)] += d.container.mass
+        return self.drive.carrying(masses if len(masses) > 1 else masses[0])
+
+    @property
+    def damper_count(self) -> int:
+        """The dampers of the case: its ``[[damper]]`` tables, or one at each of the structure's damper
+        points (one for a prescribed drive)."""
+        return len(self.dampers) or self.drive.damper_count
+
+    def damper_point(self, k: int) -> int:
+        """The structure's damper point (a row of its ``damper_shapes()``) damper ``k`` sits at."""
+        return k if self.drive.damper_count > 1 else 0
+
+    def damper_beds(self) -> tuple:
+        """Each damper's :class:`Damper` (container, particles, direction): its ``[[damper]]`` table,
+        or the case's own container and particles."""
+        if self.dampers:
+            return self.dampers
+        return tuple(Damper(container=self.container, particles=self.particles) for _ in range(self.damper_count))
+
+    @property
+    def in_loop(self) -> bool:
+        """Whether the case runs in the coupling loop (:mod:`pdamper.cosim`): several dampers, or a
+        structure another code advances; else the compiled tight coupling of one bed."""
+        return bool(self.drive.coupled and (self.damper_count > 1 or self.drive.cosimulated))
 
 
 def read_tilt(value, section: str = "container") -> tuple:

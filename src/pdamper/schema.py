@@ -78,6 +78,8 @@ class Spec:
         the field's default, so that the configs of cases that leave it alone -- and the
         fingerprints of the result stores made of them -- stay what they were before the key
         existed (a key added to an established section).
+    many : a whole number or a list of them (``damper_dof = 2`` or ``[2, 1]``: a damper at each);
+        the value is then an int or a tuple of ints, written as it is.
     """
 
     kind: str | None = None
@@ -92,6 +94,7 @@ class Spec:
     inline: bool = False
     read: Callable | None = None
     write_default: bool = True
+    many: bool = False
 
     def __post_init__(self):
         if self.kind is not None and self.kind not in KINDS:
@@ -281,11 +284,13 @@ def read_value(v, s: Spec, section: str, key: str):
                 raise InputError(f"{label} = {shown(v)} must be true or false")
             return v
         if s.kind == "whole":
-            if isinstance(v, float) and v.is_integer():
-                return int(v)
-            if isinstance(v, bool) or not isinstance(v, int):
-                raise InputError(f"{label} = {shown(v)} must be a whole number")
-            return _finite_size(v, label)
+            if s.many and isinstance(v, (list, tuple)):
+                if not v:
+                    raise InputError(f"{label} = []: give a whole number or a list of them, e.g. [2, 1]")
+                return tuple(_whole(x, f"{label}[{k}]") for k, x in enumerate(v))
+            if s.many and (isinstance(v, bool) or not isinstance(v, (int, float)) or not _integral(v)):
+                raise InputError(f"{label} = {shown(v)} must be a whole number or a list of them, e.g. [2, 1]")
+            return _whole(v, label)
         if s.kind == "list":
             return read_list(v, label, s.dimension or "dimensionless")
         if s.kind == "rows":
@@ -301,6 +306,19 @@ def read_value(v, s: Spec, section: str, key: str):
         if s.paper is None or "paper" in str(exc):
             raise
         raise InputError(f"{exc} (paper: {s.paper})") from None
+
+
+def _whole(v, label: str) -> int:
+    if isinstance(v, float) and v.is_integer():
+        return int(v)
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise InputError(f"{label} = {shown(v)} must be a whole number")
+    return _finite_size(v, label)
+
+
+def _integral(v) -> bool:
+    """A number with no fraction (an int of any size, a float like 3.0)."""
+    return isinstance(v, int) or (isinstance(v, float) and v.is_integer())
 
 
 def read_fields(t: dict, section: str, cls) -> dict:
@@ -339,7 +357,7 @@ def write_fields(obj) -> dict:
         elif s.kind == "text":
             out[key] = v
         elif s.kind == "whole":
-            out[key] = int(v)
+            out[key] = [int(x) for x in v] if isinstance(v, (list, tuple)) else int(v)
         elif s.kind == "list":
             out[key] = [float(x) for x in v]
         elif s.kind == "rows":

@@ -252,6 +252,26 @@ class Simulation:
                 progress(self.sample / self.n_samples)
         self._wall += _time.perf_counter() - t0
 
+    def advance_moved(self, n_samples: int, piece) -> float:
+        """One step of the coupling loop (:mod:`pdamper.cosim`), on a case whose drive is the seat of
+        the loop (:class:`~pdamper.structure.backend.BedSeat`): the container put where the structure is,
+        ``piece[:3]`` = (x [m], v [m/s], a [m/s^2]) now (where its velocity and acceleration differ from
+        the kernels' the spheres keep their lab velocity, as at the drive's start), then moved as
+        ``piece`` says (:meth:`~pdamper.structure.backend.BedSeat.write_piece`) for ``n_samples``
+        samples. Returns the mean force of the walls on the spheres along the drive over them [N]."""
+        self.settle()
+        e = self.engine
+        _, v, a = self.drive.container_motion(self.time, e.drive.state)
+        dv, da = float(piece[1]) - float(v), float(piece[2]) - float(a)
+        if dv or da:
+            d = e.drive.direction
+            e.bodies.velocity[:] -= dv * d
+            self.stepper.start_drive(dv * d, da)
+        k0 = self.sample
+        self.drive.write_piece(e.drive, self.time, piece)
+        self.advance(n_samples)
+        return float(np.mean(self.samples.wall_force[k0:self.sample]))
+
     def state(self, contacts: bool = False) -> State:
         """The state now, as the Python recorders see it (:class:`~pdamper.recorders.base.State`); with
         ``contacts``, the contacts touching now and their normal forces too (:meth:`contacts`)."""

@@ -24,9 +24,7 @@ FREQS = [1.5, 1.8, 2.0, 2.2, 2.5]
 
 def constant_fields(m_a, c_a, strokes=STROKES, freqs=FREQS):
     """Fields of a rigid mass m_a [kg] and a dashpot c_a [N s/m] (c_eq = eta* m_bed Omega)."""
-    w = 2 * np.pi * np.asarray(freqs)
-    eta = np.broadcast_to(c_a / (fh.M_BED * w), (len(strokes), len(freqs)))
-    return DamperFields.from_results(fh.results(strokes, freqs, eta, m_eff=m_a))
+    return fh.constant_fields(m_a, c_a, strokes, freqs)
 
 
 def modal_closed_form(s, f, F0, m_a, c_a):

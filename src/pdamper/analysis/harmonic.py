@@ -56,7 +56,7 @@ import numpy as np
 from ..errors import InputError, shown
 
 __all__ = ["receptances", "Solution", "FrequencyResponse", "solve_frequency", "solve_response",
-           "decay_envelope", "RESIDUAL_TOLERANCE"]
+           "decay_envelope", "RESIDUAL_TOLERANCE", "SeveralSolution", "solve_several", "solve_response_several"]
 
 #: |ln X - ln G(X)| above which a sign change refined by Brent's method is the fields' jump, not a root.
 RESIDUAL_TOLERANCE = 1e-6
@@ -291,6 +291,151 @@ def solve_response(modal, fields, frequencies, force_amplitude: float, *, extrap
         jumps.append({"frequency_hz": 0.5 * (lo + hi), "stable_below": len(sa), "stable_above": len(sb),
                       "families_below": list(sa), "families_above": list(sb)})
     return FrequencyResponse(frequencies=freqs, force_amplitude=float(force_amplitude), solutions=sols, jumps=jumps,
+                             time_s=np.asarray(times))
+
+
+# --------------------------------------------------------------------------- several dampers
+
+@dataclass(frozen=True)
+class SeveralSolution:
+    """One fixed point of the harmonic balance with several dampers at one frequency: each damper
+    point's amplitude [m] and complex amplitude, the response point's, each damper's fields there,
+    ``stable`` (the amplitudes' slow flow, see :func:`solve_several`) and the Jacobian's eigenvalue of
+    smallest real part (``slope``; one damper: dR/d ln X)."""
+
+    damper_amplitudes_m: tuple
+    damper_phasors: tuple
+    response_amplitude_m: float
+    response_phasor: complex
+    effective_masses_kg: tuple
+    equivalent_dampings_N_s_per_m: tuple
+    families: tuple
+    stable: bool
+    slope: float
+    extrapolated: bool
+
+    @property
+    def damper_amplitude_m(self) -> float:
+        """The first damper point's amplitude [m]."""
+        return float(self.damper_amplitudes_m[0])
+
+    def to_dict(self) -> dict:
+        return {"damper_amplitudes_m": list(self.damper_amplitudes_m),
+                "damper_phases_rad": [float(np.angle(z)) for z in self.damper_phasors],
+                "response_amplitude_m": self.response_amplitude_m,
+                "response_phase_rad": float(np.angle(self.response_phasor)),
+                "effective_masses_kg": list(self.effective_masses_kg),
+                "equivalent_dampings_N_s_per_m": list(self.equivalent_dampings_N_s_per_m),
+                "families": list(self.families), "stable": self.stable, "slope": self.slope,
+                "extrapolated": self.extrapolated}
+
+
+def _receptance_matrices(modal, shapes, frequency: float):
+    """(H_DD (n x n), H_Df (n), H_rD (n), H_rf) of the bare structure at ``frequency`` [Hz] with the
+    damper points' mode ``shapes`` (n x modes)."""
+    m, k, c, pd, pf, pr = (np.asarray(a, dtype=float) for a in modal)
+    P = np.asarray(shapes, dtype=float)
+    w = 2.0 * math.pi * float(frequency)
+    den = m * (k / m - w * w) + 1j * w * c
+    return (P / den) @ P.T, (P / den) @ pf, (P / den) @ pr, complex(np.sum(pr * pf / den))
+
+
+def solve_several(modal, shapes, fields, frequency: float, force_amplitude: float, *, extrapolate: bool = False,
+                  starts: int = 6) -> list:
+    """The fixed points of the harmonic balance with a damper at each of several points (mode
+    ``shapes``: points x modes), damper j as its ``fields[j]`` (a
+    :class:`~pdamper.analysis.fields.DamperFields`): the damper points' complex amplitudes solve
+
+        (I + H_DD Z(X)) x^ = H_Df F0,     Z = diag(Z_j(|x^_j|, f)),
+
+    so their amplitudes are a fixed point ``ln X = ln |x^(X)|`` in n dimensions. Found by Powell's
+    hybrid method (scipy ``root``) from ``starts`` starting points (the bare amplitudes, the solid-mass
+    ones and fractions of them), the distinct converged ones kept, by increasing first amplitude.
+    Each damper's fields as :meth:`~pdamper.analysis.fields.DamperFields.at` gives them (in a jump
+    interval: the jump at its geometric midpoint; the one-damper solver, :func:`solve_frequency`,
+    follows both segments and the bed switching between them).
+
+    **Stability**: the slow flow of the amplitudes, ``d(ln X)/dt = -(ln X - ln |x^(X)|)`` linearised at
+    the fixed point, is stable when every eigenvalue of its Jacobian has a positive real part -- for one
+    damper the slope criterion of :func:`solve_frequency`; for several a heuristic (the amplitudes'
+    phases are slaved to them here)."""
+    from scipy.optimize import root
+
+    f = float(frequency)
+    F0 = float(force_amplitude)
+    if not (F0 > 0 and math.isfinite(F0)):
+        raise InputError(f"force amplitude = {force_amplitude!r} N; must be > 0")
+    P = np.asarray(shapes, dtype=float)
+    n = P.shape[0]
+    if len(fields) != n:
+        raise InputError(f"{len(fields)} fields for {n} dampers: give one fields file a damper (or one for all)")
+    HDD, HDf, HrD, Hrf = _receptance_matrices(modal, P, f)
+    w = 2.0 * math.pi * f
+    boxes = [fl.amplitude_box(min(max(f, fl.frequencies[0]), fl.frequencies[-1])) for fl in fields]
+    for j, fl in enumerate(fields):
+        if not (fl.frequencies[0] <= f <= fl.frequencies[-1]) and not extrapolate:
+            raise InputError(f"f = {f:g} Hz is outside the frequencies of damper {j + 1}'s fields "
+                             f"({fl.frequencies[0]:g}-{fl.frequencies[-1]:g} Hz); choose --frequencies inside them "
+                             "or allow --extrapolate")
+
+    def state(u):
+        X = np.exp(u)
+        vals = [fl.at(float(X[j]), f, extrapolate=True) for j, fl in enumerate(fields)]
+        Z = np.array([complex(-w * w * v.effective_mass_kg, w * v.equivalent_damping_N_s_per_m) for v in vals])
+        x = np.linalg.solve(np.eye(n) + HDD * Z[None, :], HDf * F0)
+        return x, Z, vals
+
+    def residual(u):
+        x, _, _ = state(u)
+        return u - np.log(np.maximum(np.abs(x), 1e-300))
+
+    bare = np.abs(HDf * F0)
+    x0 = [bare, 0.5 * bare, 0.25 * bare, 2.0 * bare, np.array([math.sqrt(lo * hi) for lo, hi in boxes]),
+          np.array([hi for lo, hi in boxes])][:max(1, int(starts))]
+    found = []
+    for start in x0:
+        u0 = np.log(np.maximum(start, 1e-12))
+        sol = root(residual, u0, method="hybr", options={"xtol": 1e-12})
+        if not sol.success or not np.all(np.abs(residual(sol.x)) <= RESIDUAL_TOLERANCE):
+            continue
+        if any(np.max(np.abs(sol.x - g)) <= 1e-6 for g in found):
+            continue
+        found.append(sol.x)
+    out = []
+    for u in found:
+        X = np.exp(u)
+        outside = [j for j, (lo, hi) in enumerate(boxes) if not lo * (1 - 1e-9) <= X[j] <= hi * (1 + 1e-9)]
+        if outside and not extrapolate:
+            j = outside[0]
+            raise InputError(f"at f = {f:g} Hz and F0 = {F0:g} N damper {j + 1}'s amplitude {X[j] * 1e3:.4g} mm lies "
+                             f"outside its fields ({fields[j].box()}); extend that sweep or allow --extrapolate")
+        x, Z, vals = state(u)
+        h = 1e-5
+        J = np.column_stack([(residual(u + h * e) - residual(u - h * e)) / (2 * h) for e in np.eye(n)])
+        eig = np.linalg.eigvals(J)
+        xr = Hrf * F0 - HrD @ (Z * x)
+        out.append(SeveralSolution(damper_amplitudes_m=tuple(float(v) for v in np.abs(x)),
+                                   damper_phasors=tuple(complex(v) for v in x), response_amplitude_m=float(abs(xr)),
+                                   response_phasor=complex(xr),
+                                   effective_masses_kg=tuple(float(v.effective_mass_kg) for v in vals),
+                                   equivalent_dampings_N_s_per_m=tuple(float(v.equivalent_damping_N_s_per_m)
+                                                                       for v in vals),
+                                   families=tuple(v.family for v in vals), stable=bool(np.all(eig.real > 0)),
+                                   slope=float(np.min(eig.real)), extrapolated=bool(outside)))
+    return sorted(out, key=lambda s: s.damper_amplitudes_m[0])
+
+
+def solve_response_several(modal, shapes, fields, frequencies, force_amplitude: float, *,
+                           extrapolate: bool = False) -> FrequencyResponse:
+    """:func:`solve_several` at each of ``frequencies`` [Hz] (no jump search: the several dampers'
+    solutions are listed per frequency)."""
+    freqs = np.asarray(frequencies, dtype=float)
+    sols, times = [], []
+    for f in freqs:
+        t0 = time.perf_counter()
+        sols.append(solve_several(modal, shapes, fields, f, force_amplitude, extrapolate=extrapolate))
+        times.append(time.perf_counter() - t0)
+    return FrequencyResponse(frequencies=freqs, force_amplitude=float(force_amplitude), solutions=sols, jumps=[],
                              time_s=np.asarray(times))
 
 

@@ -78,8 +78,10 @@ def _particles_option(text):
 @click.option("--structure", "structure_file", type=click.Path(dir_okay=False), metavar="STRUCT.toml",
               help="Design for a structure: a config whose [structure] section gives the mode(s) "
                    "(the stroke is then the design's answer; give --force, not --frequency/--stroke).")
-@click.option("--mode", "mode_number", type=int, default=1, show_default=True,
-              help="With --structure: the mode to damp (1 = the lowest).")
+@click.option("--mode", "mode_number", type=int, multiple=True,
+              help="With --structure: the mode to damp (1 = the lowest) [default: 1]; repeat it for a damper per mode "
+                   "(--mode 1 --mode 2: the structure's damper points, damper_dof = [..] / damper_nodes = [..], one "
+                   "a mode, in that order).")
 @click.option("--force", type=Quantity("force"), help="With --structure: force amplitude at the mode's resonance, "
               "e.g. 1.5N.")
 @click.option("--frequency", type=Quantity("frequency"), help="Structure's frequency, e.g. 2Hz (without --structure).")
@@ -185,10 +187,14 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
 
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
     sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
+    modes = tuple(mode_number) or (1,)
     if target_peak_ratio is not None or target_rms_ratio is not None:
+        if len(modes) > 1:
+            raise InputError("--mode once with --target-peak-ratio / --target-rms-ratio: the design against a load in "
+                             "time is for one damper (a damper per mode: --mode 1 --mode 2 --force F)")
         return _design_load(structure_file, dict(
             force=force, frequency=frequency, stroke=stroke, target_ratio=target_ratio, verify=verify or None,
-            max_particles=max_particles, tilt=tilt, margin=margin, mode=mode_number if mode_number != 1 else None),
+            max_particles=max_particles, tilt=tilt, margin=margin, mode=modes[0] if mode_number else None),
             dict(target_peak_ratio=target_peak_ratio, target_rms_ratio=target_rms_ratio, dofs=judged_dofs,
                  shape=shape, sizes=sizes, sphere_radius=radius, density=density, length=length,
                  length_range=length_range, particles=particles, max_bed_mass=max_bed_mass,
@@ -198,12 +204,19 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
             raise InputError(f"{name} belongs to the design against a load in time: give --target-peak-ratio and/or "
                              "--target-rms-ratio with it")
     if structure_file is not None:
+        if len(modes) > 1:
+            return _design_several(structure_file, modes, force, write_case, as_json, dict(
+                shape=shape, length=length, length_range=length_range, sizes=sizes, radius=radius, density=density,
+                particles=particles, max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio,
+                target_ratio=target_ratio, margin=margin), verify)
         return _design_structure(structure_file, dict(
-            mode=mode_number, force=force, frequency=frequency, stroke=stroke, shape=shape, length=length,
+            mode=modes[0], force=force, frequency=frequency, stroke=stroke, shape=shape, length=length,
             length_range=length_range, sizes=sizes, radius=radius, density=density, max_particles=max_particles,
             particles=particles, max_bed_mass=max_bed_mass, max_mass_ratio=max_mass_ratio, target_ratio=target_ratio,
             margin=margin, write_case=write_case, tilt=tilt), verify, verify_cycles, verify_strokes, seeds, workers,
             as_json)
+    if len(modes) > 1 or mode_number:
+        raise InputError("--mode belongs to the design for a structure: give --structure STRUCT.toml with it")
     for name, value in (("--force", force), ("--length-range", length_range), ("--max-bed-mass", max_bed_mass),
                         ("--max-mass-ratio", max_mass_ratio), ("--particles", particles),
                         ("--target-ratio", target_ratio), ("--write-case", write_case)):
@@ -309,6 +322,55 @@ def _design_structure(structure_file, o: dict, verify, verify_cycles, verify_str
     lines[1:1] = mode_lines(out["mode_table"])
     click.echo("\n".join(lines))
 
+
+
+def _design_several(structure_file, modes, force, write_case, as_json, o: dict, verify) -> None:
+    """``pdamper design --structure S --mode 1 --mode 2``: a damper per mode at the structure's damper
+    points (:func:`pdamper.design.design_for_modes`), printed, and written as one case."""
+    from ..design import design_case_several, design_for_modes, load_structure
+    from ..config import dumps_case
+    from ..errors import InputError
+    from ..io.files import atomic_write
+
+    if verify:
+        raise InputError("--verify checks one damper: run pdamper design --mode K --verify for each mode, or "
+                         "pdamper response / transient on the case --write-case writes")
+    if force is None or not force > 0:
+        raise InputError("--force: give the force amplitude on the structure at each mode's resonance, > 0, e.g. "
+                         "--force 1.5N")
+    if write_case is not None:
+        _check_case_path(write_case)
+    length, rng = o["length"], _length_range(o["length_range"]) if o["length_range"] is not None else None
+    if isinstance(length, tuple):
+        length, rng = None, length
+    case = load_structure(structure_file)
+    sd = design_for_modes(case, force=force, modes=modes, shape=o["shape"], sizes=o["sizes"],
+                          sphere_radius=o["radius"], density=o["density"], length=length, length_range=rng,
+                          particles=_particles_option(o["particles"]) if o["particles"] is not None else None,
+                          max_bed_mass=o["max_bed_mass"], max_mass_ratio=o["max_mass_ratio"],
+                          target_ratio=o["target_ratio"], margin=o["margin"])
+    out = dict(sd.to_dict(), structure_file=str(structure_file))
+    lines = [f"pdamper design --structure {structure_file}: a damper per mode ({', '.join(map(str, modes))}), "
+             f"F = {force:.4g} N at each mode's resonance, each designed for its mode alone at its damper point"]
+    for k, d in enumerate(sd.designs):
+        f = d.filling
+        lines.append(f"  mode {d.mode} ({d.natural_frequency_hz:.4g} Hz) at damper point {k + 1}: {f.particles} "
+                     f"spheres ({1e3 * f.bed_mass_kg:.4g} g, {100 * d.mass_ratio:.3g} % of the mode's mass there) in a "
+                     f"{f.describe_container()}; stroke {1e3 * d.damper_stroke_m:.4g} mm, ratio {d.reduction:.3g}")
+    if write_case is not None:
+        from pathlib import Path
+
+        path = Path(write_case)
+        head = (f"# pdamper design: a damper per mode ({', '.join(map(str, modes))}) of {structure_file}, "
+                f"F = {force:.6g} N; each [[damper]] designed for its mode alone.\n# Run it: pdamper response "
+                f"{path.name} --frequencies {sd.designs[0].frequency_hz:.5g}Hz, pdamper transient {path.name}\n")
+        atomic_write(path, head + dumps_case(design_case_several(sd, case), name=path.name))
+        out["case_file"] = str(path)
+        lines.append(f"  wrote {path}")
+    if as_json:
+        echo_json(out)
+        return
+    click.echo("\n".join(lines))
 
 
 def _check_case_path(path) -> None:

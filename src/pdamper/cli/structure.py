@@ -132,9 +132,11 @@ def decay_command(config, cycles, seed, settings, plot, as_json, fields_path, ex
 @click.option("--force", "force", type=Quantity("force"), multiple=True,
               help="Force amplitude F0 on the structure, e.g. 0.4N (default: [structure] force_amplitude); repeat it "
                    "for several forces, overlaid in the figure (|X|/F0 panel).")
-@click.option("--fields", "fields_path", type=click.Path(dir_okay=False),
+@click.option("--fields", "fields_path", type=click.Path(dir_okay=False), multiple=True,
               help="The damper's fields (pdamper fields --out F.nc): the response by harmonic balance, in "
-                   "milliseconds, instead of DEM runs (with --start: the DEM runs, and the fields' prediction beside).")
+                   "milliseconds, instead of DEM runs (with --start: the DEM runs, and the fields' prediction beside). "
+                   "Several dampers ([[damper]], damper_dof = [..]): one --fields a damper, in their order (or one "
+                   "for all).")
 @click.option("--extrapolate", is_flag=True,
               help="With --fields: continue the fields' end values where the solution lies outside their box "
                    "(default: refuse).")
@@ -218,7 +220,11 @@ def response_command(config, cycles, seed, settings, plot, as_json, frequencies,
     if fields_path:
         from ..studies.fields import load_fields
 
-        fields = load_fields(fields_path)
+        fields = [load_fields(p) for p in fields_path]
+        if len(fields) > 1 and (start is not None or sweep is not None):
+            raise InputError("several --fields are the several dampers' harmonic balance; --start and --sweep take one")
+        fields = fields[0] if len(fields) == 1 else fields
+        fields_path = ", ".join(fields_path)
     elif start == "fields":
         raise InputError("--start fields needs the damper's fields: --fields F.nc")
     elif extrapolate:

@@ -115,24 +115,38 @@ def transient_lines(s: dict, config) -> list[str]:
              f"  damper point          peak {1e3 * s['damper_peak_m']:.4g} mm (without {1e3 * s['damper_peak_bare_m']:.4g}"
              f" mm: ratio {ratio(s['damper_peak_reduction'])}), rms {1e3 * s['damper_rms_m']:.4g} mm (without "
              f"{1e3 * s['damper_rms_bare_m']:.4g} mm: ratio {ratio(s['damper_rms_reduction'])})",
+             *([f"  damper points         {s['dampers']} dampers: peak "
+                + ", ".join(f"{1e3 * a:.4g}" for a in s["damper_points_peak_m"]) + " mm (without "
+                + ", ".join(f"{1e3 * a:.4g}" for a in s["damper_points_peak_bare_m"]) + " mm); beds "
+                + ", ".join(f"{1e3 * m:.4g}" for m in s["bed_masses_kg"]) + " g"] if s.get("dampers") else []),
              "  every dof" + (" (relative to the ground)" if s["relative_to_ground"] else "")
              + "; ratio = with / without the damper (< 1: reduced):",
              f"  {'dof':>9}  {'peak [mm]':>10}  {'bare [mm]':>10}  {'ratio':>6}  {'rms [mm]':>10}  {'bare [mm]':>10}"
              f"  {'ratio':>6}"]
+    residual = bool(s.get("nonlinear"))
+    if residual:
+        lines[-1] += f"  {'residual [mm]':>13}  {'bare [mm]':>10}"
     for k, d in enumerate(s["dofs"]):
         lines.append(f"  {str(d):>9}  {1e3 * s['peak_m'][k]:10.4g}  {1e3 * s['peak_bare_m'][k]:10.4g}  "
                      f"{ratio(s['peak_reduction'][k]):>6}  {1e3 * s['rms_m'][k]:10.4g}  {1e3 * s['rms_bare_m'][k]:10.4g}  "
-                     f"{ratio(s['rms_reduction'][k]):>6}")
+                     f"{ratio(s['rms_reduction'][k]):>6}"
+                     + (f"  {1e3 * s['residual_m'][k]:13.4g}  {1e3 * s['residual_bare_m'][k]:10.4g}" if residual else ""))
     if "random" in s:
         r = s["random"]
         lines.append(f"  random load           variance {r['load_variance']:.4g} (target {r['load_variance_target']:.4g}); "
                      f"H1 without the damper against the exact FRF: median error {100 * r['h1_bare_vs_exact_median_error']:.3g} "
                      f"% ({r['frequency_resolution_hz']:.3g} Hz resolution, JSON: random)")
+    c = s.get("coupling")
+    if c:
+        how = "OpenSees co-simulation" if c["coupling"] == "opensees" else "coupling loop"
+        lines.append(f"  coupling              {how}, step {1e3 * c['coupling_step_s']:.3g} ms; interface energy "
+                     f"error {c['interface_energy_error']:.2g} (of the work through the walls)")
     err = s["energy_balance_error"]
     lines.append("  energy balance error  " + (f"{err:.2g}" if err is not None else "n/a (" + s.get(
         "energy_balance_note", "") + ")"))
+    step = f" of {1e6 * s['time_step_s']:.3g} us" if math.isfinite(s["time_step_s"]) else ""
     lines.append(f"  DEM                   {s['duration_s']:.4g} s simulated in {s['wall_time_s']:.3g} s, "
-                 f"{s['steps']:,} steps of {1e6 * s['time_step_s']:.3g} us")
+                 f"{s['steps']:,} steps{step}")
     if s.get("plot"):
         lines.append(f"  wrote {s['plot']}")
     return lines

@@ -19,6 +19,9 @@ One module per idea (docs/structure.md, "Design for a structure"; docs/engine.md
   screened by the closed-form fields in the structure's equations in time, the lightest expected to
   meet the targets checked by coupled DEM transients), its :class:`TransientDesign`,
   :func:`load_design_case` and :func:`load_design_text` (the design with its load, one case);
+- :mod:`.several` -- one damper per mode: :func:`design_for_modes` (a damper for each of several
+  modes at the structure's damper points), :func:`design_case_several` (them as one case with a
+  ``[[damper]]`` each);
 - :mod:`.names` -- how its messages name its parameters (:func:`naming`: the CLI's options).
 
 The closed forms it rests on (:func:`rolling_mass_ratio`, :func:`closed_form_fields`,
@@ -38,6 +41,7 @@ from .names import naming
 from .search import StructureDesign, design_for_structure, structure_mode
 from .transient import (TransientCheck, TransientDesign, check_candidate, design_for_load, load_design_case,
                         load_design_text, measured_reasons, screen_candidates)
+from .several import SeveralDesign, design_case_several, design_for_modes
 from .verify import (ROLLING_MODE, VERIFY_REACH, FillingCheck, RigSweep, Verification, judge_verification,
                      rig_case, rig_sweep, verify_design, verify_factors, verify_filling)
 
@@ -48,4 +52,5 @@ __all__ = ["Design", "design_filling", "design_container", "check_fits", "most_s
            "verify_factors", "judge_verification", "ROLLING_MODE", "VERIFY_REACH", "verify_design", "verify_filling",
            "Verification", "FillingCheck", "RigSweep", "rig_case", "rig_sweep", "design_case", "design_case_text",
            "naming", "TransientDesign", "TransientCheck", "design_for_load", "screen_candidates", "check_candidate",
-           "measured_reasons", "load_design_case", "load_design_text"]
+           "measured_reasons", "load_design_case", "load_design_text",
+           "SeveralDesign", "design_for_modes", "design_case_several"]

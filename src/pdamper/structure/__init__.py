@@ -15,6 +15,10 @@ module registered with :func:`pdamper.excitation.register_drive`; :mod:`pdamper.
 :mod:`.matrices`       FE matrices: :func:`read_structure_matrices` (.npz, Matrix Market,
                        Harwell-Boeing), the modes of K phi = omega^2 M phi, the damping
                        (zeta, Rayleigh [alpha, beta] or zeta at two modes, a C matrix)
+:mod:`.opensees`       :class:`OpenSeesStructure`: an OpenSeesPy model file, its matrices (linear
+                       use) or OpenSees advancing it (co-simulation, :class:`OpenSeesBackend`)
+:mod:`.backend`        the structure backend protocol a coupling step at a time, and
+                       :class:`LinearBackend` (pdamper's own linear modes, exact between steps)
 =====================  ======================================================================
 
 The empty container's mass (``[container] mass``) moves with the structure: a run puts it at
@@ -25,6 +29,7 @@ from .base import StructureBase
 from .sdof import CoupledStructure
 from .modal import ModalStructure
 from .matrices import read_structure_matrices, rayleigh_coefficients
+from .opensees import OpenSeesStructure
 
-__all__ = ["StructureBase", "CoupledStructure", "ModalStructure", "read_structure_matrices",
+__all__ = ["StructureBase", "CoupledStructure", "ModalStructure", "OpenSeesStructure", "read_structure_matrices",
            "rayleigh_coefficients"]

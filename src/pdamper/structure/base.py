@@ -81,6 +81,9 @@ class StructureBase(DriveBase):
         single mode, the modes given as data and the matrices stay as given (and are written so,
         with the scales beside); what runs (:meth:`carrying`) has them taken in. From 0.01 to 100
         (:data:`SCALES`).
+    coupling_step : float or None
+        The coupling loop's step [s] (several dampers, a co-simulation: :mod:`pdamper.cosim`); None:
+        the case's sample interval.
     """
 
     force_amplitude: float = param(0.0, dimension="force")
@@ -97,9 +100,15 @@ class StructureBase(DriveBase):
     storey_dofs: tuple | None = param(None, kind="custom")
     stiffness_scale: float = param(1.0, dimension="dimensionless", write_default=False)
     mass_scale: float = param(1.0, dimension="dimensionless", write_default=False)
+    #: the coupling step of the coupling loop [s] (several dampers, a co-simulated structure:
+    #: :mod:`pdamper.cosim`); None: the case's sample interval
+    coupling_step: float | None = param(None, dimension="time", auto=True, write_default=False)
 
     config_section = "structure"
     coupled = True
+    #: how ``[[damper]]`` tables place their dampers: (the table's key, the ``[structure]`` key of the
+    #: list of damper points); (None, None): one point, every damper on it
+    damper_points_key = (None, None)
     config_writes_kind = False  # a [structure] tells its model by its keys
     config_after = "run"        # [structure] last
 
@@ -319,6 +328,39 @@ class StructureBase(DriveBase):
         st[1, 2] = float(np.dot(pr, q0))
         st[1, 3] = f0 if self.load.ground else 0.0
         return float(st[0, 2])
+
+    # ---- the dampers on it
+    @property
+    def damper_count(self) -> int:
+        """The damper points on the structure (one mode: one, its own dof; FE matrices: one at each
+        dof of ``damper_dof = [2, 1]``)."""
+        return 1
+
+    def damper_shapes(self) -> np.ndarray:
+        """(damper points, modes): the mode shapes at every damper point in the modes as the
+        structure runs; the first row is the damper of :meth:`modal_arrays`."""
+        return self.modal_arrays()[3][None, :].copy()
+
+    def at_damper(self, k: int):
+        """The structure with its damper point ``k`` as its one damper (a design for one of its modes
+        there); one point: itself."""
+        if k != 0:
+            raise InputError(f"damper point {k + 1}: the structure has one damper point")
+        return self
+
+    @property
+    def cosimulated(self) -> bool:
+        """Whether another code advances the structure (an OpenSees model with its own integrator
+        and materials: :mod:`pdamper.cosim`), not pdamper's compiled modal step."""
+        return False
+
+    def backend(self, step: float, duration: float, points, masses):
+        """The structure advanced a coupling step at a time (:mod:`pdamper.structure.backend`):
+        pdamper's own linear modes, exactly between the steps, the dampers at ``points`` (indices
+        of :meth:`damper_shapes`) carrying the empty containers' ``masses`` [kg]."""
+        from .backend import LinearBackend
+
+        return LinearBackend(self, step=step, duration=duration, points=points, masses=masses)
 
     # ---- every dof
     def dof_shapes(self):

@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import InputError, checked_file, shown, shown_path
 
 __all__ = ["read_structure_matrices", "check_matrices", "rayleigh_coefficients", "modes_from_matrices",
-           "MATRIX_READERS"]
+           "nonproportional", "MATRIX_READERS"]
 
 #: File endings of a matrix that scipy reads: Matrix Market and Harwell-Boeing (and numpy's own).
 MATRIX_READERS = {".mtx": "mmread", ".mm": "mmread", ".rb": "hb_read", ".rua": "hb_read", ".rsa": "hb_read",
@@ -198,28 +198,23 @@ def _rayleigh_pair(modes, ratios, n: int):
     return [int(v) - 1 for v in m], z
 
 
-def modes_from_matrices(s) -> dict:
+def modes_from_matrices(s, mats: dict | None = None, dofs: dict | None = None, labels=None) -> dict:
     """The modal data of the :class:`~pdamper.structure.ModalStructure` ``s`` from its
-    ``matrices``: the lowest ``modes_kept`` modes (mass-normalised), their damping, the mode
-    shapes at the damper, force and response dofs and the truncation error (see the module
-    docstring); ``shapes`` (dofs x modes) every dof's, ``mass_shapes`` = Phi^T M (a ground
-    acceleration's participation)."""
+    ``matrices`` (or the matrices ``mats`` in hand: ``{"M", "K", "C"}``, an OpenSees model's): the
+    lowest ``modes_kept`` modes (mass-normalised), their damping, the mode shapes at the damper,
+    force and response dofs and the truncation error (see the module docstring); ``shapes`` (dofs
+    x modes) every dof's, ``mass_shapes`` = Phi^T M (a ground acceleration's participation),
+    ``dampers`` (dampers x modes) the shapes at every damper dof (``damper_dof = [2, 1]``: a damper
+    at each). ``dofs``: the damper dofs (a list), the force and the response dof as indices, instead
+    of the structure's ``damper_dof``, ``force_dof``, ``response_dof`` (checked there); ``labels``
+    the dofs' labels (default 0 .. n - 1)."""
     from scipy.linalg import eigh
 
-    mats = read_structure_matrices(s.matrices)
+    if mats is None:
+        mats = read_structure_matrices(s.matrices)
     n = check_matrices(mats)
-    dofs = {}
-    for key in ("damper_dof", "force_dof", "response_dof"):
-        v = getattr(s, key)
-        if v is None:
-            if key == "damper_dof":
-                raise InputError("structure.damper_dof is missing: give the index (0-based) of the dof the "
-                                 f"container sits on, along the drive direction (0 to {n - 1})")
-            v = dofs["damper_dof"]
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 <= v < n:
-            raise InputError(f"structure.{key} = {shown(v)}; must be a dof index from 0 to {n - 1} (0-based; the "
-                             f"matrices have {n} dofs)")
-        dofs[key] = int(v)
+    if dofs is None:
+        dofs = _dof_indices(s, n)
     kept = n if s.modes_kept is None else s.modes_kept
     if isinstance(kept, bool) or not isinstance(kept, (int, np.integer)) or not 1 <= kept <= n:
         raise InputError(f"structure.modes_kept = {shown(s.modes_kept)}; must be from 1 to the number of dofs, {n}")
@@ -239,6 +234,7 @@ def modes_from_matrices(s) -> dict:
         top = max(kept, max(pair[0]) + 1)
     w2, phi = eigh(mats["K"], mats["M"], subset_by_index=[0, top - 1])
     w = np.sqrt(w2)
+    coupling = 0.0
     if s.rayleigh is not None:
         r = np.asarray(s.rayleigh, dtype=float)
         if r.shape != (2,) or not np.all(np.isfinite(r)) or np.any(r < 0):
@@ -261,20 +257,66 @@ def modes_from_matrices(s) -> dict:
         c = 2.0 * z * w
     else:
         c = np.einsum("ik,ij,jk->k", phi, mats["C"], phi)
+        coupling = nonproportional(phi[:, :kept].T @ mats["C"] @ phi[:, :kept])
     w2, w, phi, c = w2[:kept], w[:kept], phi[:, :kept], c[:kept]
     zeta = c / (2.0 * w)
     if np.any(zeta >= 1.0):
         k = int(np.argmax(zeta >= 1.0))
         raise InputError(f"structure: mode {k + 1} ({w[k] / (2 * math.pi):.4g} Hz) has damping ratio {zeta[k]:.3g} "
                          ">= 1 with this damping (rayleigh or C); the modal model needs underdamped modes")
-    d, f, r = dofs["damper_dof"], dofs["force_dof"], dofs["response_dof"]
+    ds, f, r = dofs["damper_dof"], dofs["force_dof"], dofs["response_dof"]
+    d = ds[0]
+    for dd in ds:
+        if not np.any(np.abs(phi[dd]) > 1e-12 * np.max(np.abs(phi))):
+            raise InputError(f"structure.{dofs.get('damper_key', 'damper_dof')} = {_shown(labels, dd)}: every kept "
+                             "mode shape is zero there; the damper would act on none of them (choose the dof the "
+                             "container moves with, or keep more modes)")
     pd = phi[d]
-    if not np.any(np.abs(pd) > 1e-12 * np.max(np.abs(phi))):
-        raise InputError(f"structure.damper_dof = {d}: every kept mode shape is zero there; the damper would act "
-                         "on none of them (choose the dof the container moves with, or keep more modes)")
     full = float(np.linalg.solve(mats["K"], np.eye(n)[:, d])[d])
     kept_c = float(np.sum(pd**2 / w2))
     return {"frequency": w / (2.0 * math.pi), "damping_ratio": zeta, "modal_mass": np.ones(kept),
             "damper": pd.copy(), "force": phi[f].copy(), "response": phi[r].copy(),
+            "dampers": phi[list(ds)].copy(), "damper_index": list(ds),
             "truncation_error": (full - kept_c) / full, "dofs": n,
-            "shapes": phi.copy(), "mass_shapes": phi.T @ mats["M"]}
+            "shapes": phi.copy(), "mass_shapes": phi.T @ mats["M"], "nonproportional": coupling,
+            "labels": list(range(n)) if labels is None else list(labels)}
+
+
+def _shown(labels, index):
+    return index if labels is None else labels[index]
+
+
+def nonproportional(P) -> float:
+    """How far the modal projection ``P = Phi^T C Phi`` of a damping matrix is from diagonal: the
+    largest |P_ij| / sqrt(P_ii P_jj) over i != j (0: classically damped, as Rayleigh damping of the
+    whole model is; the modal model keeps the diagonal only)."""
+    P = np.asarray(P, dtype=float)
+    if P.shape[0] < 2:
+        return 0.0
+    d = np.sqrt(np.maximum(np.abs(np.diag(P)), 1e-300))
+    R = np.abs(P) / np.outer(d, d)
+    np.fill_diagonal(R, 0.0)
+    return float(np.max(R))
+
+
+def _dof_indices(s, n: int) -> dict:
+    """The damper dofs (a list: ``damper_dof`` one index or several), the force and the response dof
+    of ``s`` as checked indices of ``n`` dofs."""
+    dofs = {}
+    for key in ("damper_dof", "force_dof", "response_dof"):
+        v = getattr(s, key)
+        if v is None:
+            if key == "damper_dof":
+                raise InputError("structure.damper_dof is missing: give the index (0-based) of the dof the "
+                                 f"container sits on, along the drive direction (0 to {n - 1}), or a list of them "
+                                 "(a damper at each)")
+            v = dofs["damper_dof"][0]
+        many = list(v) if key == "damper_dof" and isinstance(v, (list, tuple)) else [v]
+        if not many:
+            raise InputError(f"structure.{key} = []; give at least one dof index (0 to {n - 1})")
+        for x in many:
+            if isinstance(x, bool) or not isinstance(x, (int, np.integer)) or not 0 <= x < n:
+                raise InputError(f"structure.{key} = {shown(list(v)) if len(many) > 1 else shown(v)}; must be a dof "
+                                 f"index from 0 to {n - 1} (0-based; the matrices have {n} dofs)")
+        dofs[key] = [int(x) for x in many] if key == "damper_dof" else int(many[0])
+    return dofs

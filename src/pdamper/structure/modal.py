@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -76,7 +77,7 @@ class _Modes:
 
     modes: tuple = param((), kind="custom")
     matrices: object = param(None, kind="custom")
-    damper_dof: int | None = param(None, kind="whole")
+    damper_dof: int | tuple | None = param(None, kind="whole", many=True)
     force_dof: int | None = param(None, kind="whole")
     response_dof: int | None = param(None, kind="whole")
     rayleigh: tuple | None = param(None, kind="list")
@@ -126,13 +127,13 @@ class ModalStructure(StructureBase, _Modes):
 
     kind: str = param("modal", kind="tag")
     config_marks = ("modes", "matrices")
+    damper_points_key = ("dof", "damper_dof")
     config_label = "a structure of several modes"
     config_summary = "modes = [...] or matrices = ... (several modes)"
 
     def __post_init__(self):
         self._prepare()
         self._check_scales()
-        object.__setattr__(self, "_carried", 0.0)
         given = [k for k in ("modes", "matrices") if getattr(self, k)]
         if len(given) != 1:
             raise InputError("structure: give exactly one of modes = [{frequency, damping_ratio, modal_mass, damper, "
@@ -155,7 +156,16 @@ class ModalStructure(StructureBase, _Modes):
             if self.rayleigh_modes is not None:
                 object.__setattr__(self, "rayleigh_modes", tuple(int(v) if float(v).is_integer() else v
                                                                  for v in self.rayleigh_modes))
+            if isinstance(self.damper_dof, tuple):
+                object.__setattr__(self, "damper_dof", self.damper_dof[0] if len(self.damper_dof) == 1
+                                   else tuple(self.damper_dof))
             data = modes_from_matrices(self)
+        self._set_modal(data, "modes" if self.modes else "modes_kept")
+
+    def _set_modal(self, data: dict, key: str) -> None:
+        """Keep the modal ``data`` (:func:`~pdamper.structure.matrices.modes_from_matrices`'s, or of
+        modes given as data), check the highest mode (``key`` names what sets it) and what moves the
+        structure."""
         if self.stiffness_scale != 1.0 or self.mass_scale != 1.0:
             # K and M scaled: the same shapes, modal masses times mass_scale, frequencies times
             # sqrt(stiffness_scale / mass_scale), the damping ratios as they were
@@ -165,15 +175,17 @@ class ModalStructure(StructureBase, _Modes):
                 data["mass_shapes"] = data["mass_shapes"] * self.mass_scale
         # the modes as given (or computed): every dof's shape, a ground load's participation and
         # the container's mass carried later are taken in them (carrying: basis)
+        data.setdefault("dampers", data["damper"][None, :].copy())
         data.update(basis=np.eye(data["frequency"].size), damper0=data["damper"].copy(),
-                    modal_mass0=data["modal_mass"].copy())
+                    dampers0=data["dampers"].copy(), modal_mass0=data["modal_mass"].copy())
         object.__setattr__(self, "_modal", data)
+        object.__setattr__(self, "_carried", np.zeros(data["dampers"].shape[0]))
         top = float(np.max(data["frequency"]))
         if top > MODE_LIMIT_HZ:
-            key = "modes_kept" if self.matrices else "modes"
             raise InputError(f"structure.{key}: a mode at {top:.4g} Hz; keep modes below {MODE_LIMIT_HZ:g} Hz (the "
                              "structure's step is explicit in the stiffness: stable for omega h < 2, and Gear's steps "
-                             f"reach {_GEAR_STEP_BOUND * 1e6:g} us)" + (", e.g. modes_kept = 4" if self.matrices else ""))
+                             f"reach {_GEAR_STEP_BOUND * 1e6:g} us)" + (", e.g. modes_kept = 4" if key == "modes_kept"
+                                                                      else ""))
         self._check_motion()
         self._check_dofs()
 
@@ -198,28 +210,48 @@ class ModalStructure(StructureBase, _Modes):
             kw["matrices"] = m
         return kw
 
-    def carrying(self, mass: float):
-        """The structure with the empty container's ``mass`` [kg] rigidly at the damper: the modal
-        equations coupled by it, ``(diag m + m_c phi_d phi_d^T) q'' + diag c q' + diag k q = ...``,
+    def carrying(self, mass):
+        """The structure with the empty container's ``mass`` [kg] rigidly at the damper (several
+        dampers: at each, one mass for all or a sequence of one per damper): the modal equations
+        coupled by it, ``(diag m + sum_j m_j phi_j phi_j^T) q'' + diag c q' + diag k q = ...``,
         diagonalised again (the kept modes' subspace; the dashpots projected on the new modes'
         diagonal, as a C matrix is). Itself for no mass."""
-        if mass == 0.0:
+        masses = np.broadcast_to(np.asarray(mass, dtype=float), self._carried.shape).copy()
+        if not np.any(masses):
             return self
         from scipy.linalg import eigh
 
         m, k, c, pd, pf, pr = self._modal_arrays()
-        M = np.diag(m) + mass * np.outer(pd, pd)
+        P = self._modal["dampers"]
+        M = np.diag(m) + sum(mj * np.outer(pj, pj) for mj, pj in zip(masses, P))
         w2, psi = eigh(np.diag(k), M)  # psi^T M psi = 1
         w = np.sqrt(w2)
         c_new = np.einsum("ik,i,ik->k", psi, c, psi)
         data = dict(self._modal, frequency=w / (2.0 * math.pi), damping_ratio=c_new / (2.0 * w),
                     modal_mass=np.ones(w.size), damper=pd @ psi, force=pf @ psi, response=pr @ psi,
-                    basis=self._modal["basis"] @ psi)
+                    dampers=P @ psi, basis=self._modal["basis"] @ psi)
         new = copy.copy(self)
         new.__dict__.pop("_bare_peaks", None)
         object.__setattr__(new, "_modal", data)
-        object.__setattr__(new, "_carried", self._carried + mass)
+        object.__setattr__(new, "_carried", self._carried + masses)
         return new
+
+    @property
+    def damper_count(self) -> int:
+        """The dampers on the structure: one, or one at each dof of ``damper_dof = [2, 1]``."""
+        return int(self._modal["dampers"].shape[0])
+
+    def at_damper(self, k: int):
+        """The structure with its damper point ``k`` (of ``damper_dof = [..]``) as its one damper."""
+        dofs = self.damper_dof if isinstance(self.damper_dof, tuple) else (self.damper_dof,)
+        if not 0 <= k < self.damper_count or self.damper_dof is None:
+            return super().at_damper(k)
+        return dataclasses.replace(self, damper_dof=dofs[k])
+
+    def damper_shapes(self) -> np.ndarray:
+        """(dampers, modes): the mode shapes at every damper point, in the modes as the structure
+        runs (the first row is the damper of :meth:`modal_arrays`)."""
+        return self._modal["dampers"].copy()
 
     # -- the modal data ------------------------------------------------------------------
     @property
@@ -367,7 +399,8 @@ class ModalStructure(StructureBase, _Modes):
         structure runs (with the container's mass carried)."""
         m = self._modal
         if m["shapes"] is not None:
-            return self._named(list(range(m["shapes"].shape[0]))), m["shapes"] @ m["basis"]
+            return self._named(list(m["labels"] if "labels" in m else range(m["shapes"].shape[0]))), \
+                m["shapes"] @ m["basis"]
         return self._named(["damper", "force", "response"]), np.vstack([m["damper"], m["force"], m["response"]])
 
     def ground_participation(self, influence=None, participation=None) -> np.ndarray:
@@ -383,7 +416,7 @@ class ModalStructure(StructureBase, _Modes):
             if g.shape != (n_modes,):
                 raise InputError(f"load.participation has {g.size} value{'s' if g.size != 1 else ''}; the structure "
                                  f"has {n_modes} mode{'s' if n_modes != 1 else ''}: give one Gamma_k per mode")
-            L0, r_d = g * m["modal_mass0"], 1.0
+            L0, r_d = g * m["modal_mass0"], np.ones(self._carried.size)
         else:
             if m["shapes"] is None:
                 raise InputError("load.participation is missing: a structure of modes given as data needs each "
@@ -398,8 +431,9 @@ class ModalStructure(StructureBase, _Modes):
                                      f"pattern of one node's dofs (a divisor of {n}, e.g. [1, 0])")
                 r = np.tile(pattern, n // pattern.size)
             L0 = m["mass_shapes"] @ r
-            r_d = float(r[self.damper_dof])
-        return m["basis"].T @ (L0 + self._carried * m["damper0"] * r_d)
+            r_d = r[m["damper_index"]]
+        # the containers' masses carried at the dampers (the same products, in the same order, as one)
+        return m["basis"].T @ (L0 + sum(mj * pj * float(rj) for mj, pj, rj in zip(self._carried, m["dampers0"], r_d)))
 
     @property
     def initial_energy(self) -> float:
@@ -432,6 +466,8 @@ class ModalStructure(StructureBase, _Modes):
 
     def describe(self) -> str:
         fs = ", ".join(f"{f:.4g}" for f in self.mode_frequencies[:4]) + (", ..." if self.n_modes > 4 else "")
-        carried = f", carrying the container's {self._carried:g} kg" if self._carried else ""
+        total = float(np.sum(self._carried))
+        carried = (f", carrying the container's {total:g} kg" if self._carried.size == 1 else
+                   f", carrying the containers' {', '.join(f'{m:g}' for m in self._carried)} kg") if total else ""
         return (f"modal structure, {self.n_modes} mode{'s' if self.n_modes > 1 else ''} ({fs} Hz){carried}, "
                 f"{self._forced_words()}")

@@ -166,6 +166,10 @@ class CoupledStructure(StructureBase, _OneMode):
                                    force_amplitude=self.force_amplitude, force_frequency=self.force_frequency or 0.0,
                                    displacement=self.displacement, velocity=self.velocity)
 
+    def modal_motion(self, t):
+        """(q, q', q'') [each (1, len(t))] of its one mode (shape 1) without the bed: :meth:`motion`."""
+        return tuple(np.atleast_1d(np.asarray(z, dtype=float))[None, :] for z in self.motion(t))
+
     def kernel_drive(self):
         """(kernel kind, par, table, state) for the kernels (:mod:`pdamper.kernels.structure`);
         the state starts at rest at the initial displacement (held during settling). Under a load
@@ -178,10 +182,13 @@ class CoupledStructure(StructureBase, _OneMode):
         st[0, 0] = self.displacement
         return "structure", par, np.zeros((1, 5)), st
 
-    def carrying(self, mass: float):
-        """The structure with the empty container's ``mass`` [kg] on it: M + m_c, the same K and
-        the same dashpot c (its damping ratio falls as 1/sqrt(M + m_c)), the scales taken into M and
-        K (what runs: :attr:`pdamper.params.Case.running_drive`); itself for no mass and no scale."""
+    def carrying(self, mass):
+        """The structure with the empty container's ``mass`` [kg] on it (several containers: their
+        masses' sum): M + m_c, the same K and the same dashpot c (its damping ratio falls as
+        1/sqrt(M + m_c)), the scales taken into M and K (what runs:
+        :attr:`pdamper.params.Case.running_drive`); itself for no mass and no scale."""
+        if not isinstance(mass, (int, float)):
+            mass = float(np.sum(mass))
         if mass == 0.0 and self.stiffness_scale == 1.0 and self.mass_scale == 1.0:
             return self
         m2 = self._m + mass

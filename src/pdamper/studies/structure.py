@@ -25,7 +25,8 @@ from ..errors import InputError
 from ..structure import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
-from .structure_base import STEADY_TOLERANCE, bare_resonance, select_dofs, structure_numbers
+from .structure_base import (STEADY_TOLERANCE, bare_resonance, damped_run, select_dofs, solid_amplitude,
+                             structure_numbers)
 
 __all__ = ["DecayResult", "ResponseResult", "FieldsResponseResult", "load_forced", "run_decay", "run_response",
            "run_response_fields", "fields_decay", "response_case", "parse_frequencies", "default_frequencies",
@@ -86,6 +87,16 @@ class DecayResult:
     envelope_fields: tuple | None = None
 
 
+def _several(case: Case, rec) -> dict:
+    """What a run of several dampers (or in the coupling loop) adds to a summary: the dampers, their
+    beds, the coupling's numbers."""
+    if not rec.coupling:
+        return {}
+    beds = case.damper_beds()
+    return {"dampers": case.damper_count, "bed_masses_kg": [d.bed_mass for d in beds],
+            "damper_particles": [d.n_particles for d in beds], "coupling": rec.coupling}
+
+
 def _zeta_at(zeta: tuple, lo: float, hi: float) -> float:
     """Mean equivalent damping ratio over the extremes with amplitude in [lo, hi] [m]."""
     _, a, z = zeta
@@ -97,14 +108,13 @@ def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = Fal
     """Free decay of the structure of ``case`` with its bed and without (``case.cycles`` periods
     of the natural frequency). ``progress(fraction)`` is passed to the coupled run. ``fields``:
     also the envelope from the damper's fields (:func:`fields_decay`)."""
-    from ..simulation import Simulation, run_bare_structure
+    from ..simulation import run_bare_structure
 
     s = _structure(case)
     if s.force_amplitude > 0 or s.load is not None:  # a free decay: no force, no load in time
         case = dataclasses.replace(case, drive=dataclasses.replace(case.drive, force_amplitude=0.0, load=None))
         s = _structure(case)
-    res = Simulation(case).run(progress=progress)
-    rec = res.structure
+    rec = damped_run(case, progress=progress)
     fs = case.recording.sample_rate
     bare = run_bare_structure(s, case.duration, sample_rate=fs)
     t = rec.time
@@ -113,10 +123,13 @@ def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = Fal
     z_d, z_b = decay_damping(t, rec.displacement), decay_damping(t, bare.displacement)
     x0 = abs(s.displacement) if s.displacement else float(np.max(np.abs(rec.displacement)))
     scale = max(abs(s.displacement), float(np.max(np.abs(exact))), 1e-300)
+    beds = case.damper_beds()
+    bed_mass = float(sum(d.bed_mass for d in beds))
     summary = {
         "mass_kg": s.mass, "stiffness_N_m": s.stiffness, "natural_frequency_hz": s.natural_frequency,
-        "damping_ratio": s.modal_damping_ratio, "bed_mass_kg": case.bed_mass, "particles": case.n_particles,
-        "mass_ratio": case.bed_mass / s.mass, "initial_displacement_m": s.displacement,
+        "damping_ratio": s.modal_damping_ratio, "bed_mass_kg": bed_mass,
+        "particles": int(sum(d.n_particles for d in beds)),
+        "mass_ratio": bed_mass / s.mass, "initial_displacement_m": s.displacement,
         "duration_s": case.duration,
         "final_amplitude_damped_m": float(env_d[1][-1]) if env_d[1].size else math.nan,
         "final_amplitude_bare_m": float(env_b[1][-1]) if env_b[1].size else math.nan,
@@ -126,9 +139,9 @@ def run_decay(case: Case, *, progress=None, fields=None, extrapolate: bool = Fal
         "amplitude_at_zeta_max_m": float(z_d[1][np.nanargmax(z_d[2])]) if z_d[2].size else math.nan,
         "zeta_bare_mean": float(np.mean(z_b[2])) if z_b[2].size else math.nan,
         "bare_vs_closed_form_max_error": float(np.max(np.abs(bare.displacement - exact)) / scale),
-        "energy_balance_error": rec.balance_error(res.energy),
-        "steps": res.steps, "time_step_s": res.time_step_s, "wall_time_s": res.wall_time_s,
-        **s.structure_summary(),
+        "energy_balance_error": rec.energy_balance_error,
+        "steps": rec.steps, "time_step_s": rec.time_step_s, "wall_time_s": rec.wall_time_s,
+        **s.structure_summary(), **_several(case, rec),
     }
     env_f = None
     if fields is not None:
@@ -275,17 +288,14 @@ def grid_warnings(case: Case, frequencies, mode: int = 1) -> list[str]:
 def response_point(case: Case, measure_cycles: int) -> dict:
     """Run one forced case; the steady amplitude [m] over its last ``measure_cycles`` cycles."""
     from ..errors import SimulationError
-    from ..simulation import Simulation
 
     try:
-        res = Simulation(case).run()
+        rec = damped_run(case)
     except SimulationError as exc:
         return {"failed": str(exc)}
-    rec = res.structure
     f = case.drive.force_frequency
-    _, shapes = case.running_drive.dof_shapes()
-    dofs = rec.dof_displacements(shapes)
-    return {**_point_codes(case, res, dofs, measure_cycles),
+    dofs = rec.dofs
+    return {**_point_codes(case, rec, dofs, measure_cycles),
             "amplitude_m": harmonic_amplitude(rec.time, rec.displacement, f, cycles=measure_cycles),
             "dof_amplitudes_m": [harmonic_amplitude(rec.time, dofs[:, i], f, cycles=measure_cycles)
                                  for i in range(dofs.shape[1])],
@@ -293,24 +303,27 @@ def response_point(case: Case, measure_cycles: int) -> dict:
                                                              cycles=measure_cycles),
             "phase_rad": float(np.angle(harmonic_phasor(rec.time, rec.displacement, f, cycles=measure_cycles))),
             "peak_m": float(np.max(np.abs(rec.displacement[-int(measure_cycles / f * case.recording.sample_rate):]))),
-            "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps,
-            "wall_time_s": res.wall_time_s, **steadiness(rec.time, rec.displacement, f, measure_cycles)}
+            "energy_balance_error": rec.energy_balance_error, "steps": rec.steps,
+            "wall_time_s": rec.wall_time_s, **steadiness(rec.time, rec.displacement, f, measure_cycles),
+            **({"damper_points_amplitude_m": [harmonic_amplitude(rec.time, rec.dampers[:, j], f, cycles=measure_cycles)
+                                             for j in range(rec.dampers.shape[1])]} if rec.coupling else {})}
 
 
-def _point_codes(case: Case, res, dofs, measure_cycles: int) -> dict:
-    """Over the measured periods of a forced run ``res`` (every dof's displacement ``dofs``): the
+def _point_codes(case: Case, rec, dofs, measure_cycles: int) -> dict:
+    """Over the measured periods of a forced run ``rec`` (a
+    :class:`~pdamper.studies.structure_base.DampedRun`; every dof's displacement ``dofs``): the
     numbers codes ask for (``codes``: :func:`pdamper.analysis.codes.time_numbers`, no residual) and
-    the damper's equivalent mass and dashpot (``damper_fit``: :func:`pdamper.analysis.tmd.equivalent_damper`)."""
+    the (first) damper's equivalent mass and dashpot (``damper_fit``:
+    :func:`pdamper.analysis.tmd.equivalent_damper`)."""
     from ..analysis.codes import time_numbers
-    from ..analysis.tmd import bed_force, equivalent_damper
+    from ..analysis.tmd import equivalent_damper
 
-    rec = res.structure
-    n = int(round(measure_cycles / case.drive.force_frequency * case.recording.sample_rate))
+    n = int(round(measure_cycles / case.drive.force_frequency / float(rec.time[1] - rec.time[0])))
     n = max(3, min(n, rec.time.size))
     codes = time_numbers(rec.time[-n:], dofs[-n:], storeys=case.running_drive.storeys())
     for key in ("drift_ratio_residual", "residual_window_s"):  # a steady oscillation has none
         codes.pop(key, None)
-    fw, a, v = bed_force(res.signals, rec, container_mass=case.container.mass)
+    fw, a, v = rec.forces[:, 0], rec.accelerations[:, 0], rec.velocities[:, 0]
     return {"codes": codes, "damper_fit": equivalent_damper(fw[-n:], a[-n:], v[-n:])}
 
 
@@ -423,7 +436,7 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
                                 <= STEADY_TOLERANCE))  # against its exact steady amplitude
     bare = s.steady_amplitude(freqs, force_amplitude)
     # the bed as a rigid mass at the damper: same stiffness and damping, the mass added
-    solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
+    solid = solid_amplitude(case, s, freqs, force_amplitude)
     k = int(np.nanargmax(damped)) if np.any(np.isfinite(damped)) else 0
     nan_dofs = [math.nan] * len(s.dof_shapes()[0])
     dof_amp = np.array([p.get("dof_amplitudes_m", nan_dofs) for p in points], dtype=float)[:, idx]
@@ -576,10 +589,13 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
 
     s, freqs = _forced(case, frequencies, force_amplitude)
     labels, idx = select_dofs(s, dofs)
-    bed = fields.bed_mass
-    if math.isfinite(bed) and abs(bed - case.bed_mass) > 0.02 * case.bed_mass:
-        raise InputError(f"the fields were built for a bed of {bed * 1e3:.4g} g, the config's bed is "
-                         f"{case.bed_mass * 1e3:.4g} g; build the fields from a sweep of this damper")
+    if case.damper_count > 1:
+        return _response_fields_several(case, s, freqs, fields, force_amplitude, extrapolate, labels, idx)
+    if isinstance(fields, (list, tuple)):
+        if len(fields) != 1:
+            raise InputError(f"{len(fields)} fields files for one damper; give one")
+        fields = fields[0]
+    _check_bed(fields, case.bed_mass, "")
     sol = solve_response(s.modal_arrays(), fields, freqs, force_amplitude, extrapolate=extrapolate, points=points)
     bare = s.steady_amplitude(freqs, force_amplitude)
     solid = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass)
@@ -617,6 +633,84 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     summary["codes"], summary["tmd_equivalent"] = _fields_codes(s, sol, freqs, force_amplitude, labels, idx,
                                                                 case.bed_mass, summary, limits)
+    return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
+                                bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
+
+
+def _check_bed(fields, bed_mass: float, which: str) -> None:
+    bed = fields.bed_mass
+    if math.isfinite(bed) and abs(bed - bed_mass) > 0.02 * bed_mass:
+        raise InputError(f"the fields{which} were built for a bed of {bed * 1e3:.4g} g, the config's bed is "
+                         f"{bed_mass * 1e3:.4g} g; build the fields from a sweep of this damper")
+
+
+def _response_fields_several(case: Case, s, freqs, fields, force_amplitude: float, extrapolate: bool, labels,
+                             idx) -> FieldsResponseResult:
+    """:func:`run_response_fields` with several dampers: one fields a damper (one for all of them),
+    the harmonic balance in as many amplitudes (:func:`pdamper.analysis.harmonic.solve_several`)."""
+    from ..analysis.harmonic import solve_response_several
+
+    beds = case.damper_beds()
+    fl = list(fields) if isinstance(fields, (list, tuple)) else [fields]
+    if len(fl) == 1:
+        fl = fl * len(beds)
+    if len(fl) != len(beds):
+        raise InputError(f"{len(fl)} fields files for {len(beds)} dampers; give one a damper, in the dampers' order, "
+                         "or one for all")
+    for j, (f_, d) in enumerate(zip(fl, beds)):
+        _check_bed(f_, d.bed_mass, f" of damper {j + 1}")
+    P = s.damper_shapes()[[case.damper_point(k) for k in range(len(beds))]]
+    modal = s.modal_arrays()
+    sol = solve_response_several(modal, P, fl, freqs, force_amplitude, extrapolate=extrapolate)
+    bare = s.steady_amplitude(freqs, force_amplitude)
+    solid = solid_amplitude(case, s, freqs, force_amplitude)
+    bare_r = s.steady_amplitude(freqs, force_amplitude, point="response")
+    solid_r = solid_amplitude(case, s, freqs, force_amplitude, point="response")
+    xd = sol.stable("damper_amplitude_m")
+    xr = sol.stable("response_amplitude_m")
+    flat = [(x, f) for f, xs in zip(freqs, xd) for x in xs]
+    peak, f_peak = max(flat) if flat else (math.nan, math.nan)
+    mass, k, c, pd, pf, pr = modal
+    _, shapes = s.dof_shapes()
+    dof_amp = [[] for _ in idx]
+    for f, sols in zip(freqs, sol.solutions):
+        w = 2.0 * math.pi * float(f)
+        den = k - mass * w * w + 1j * c * w
+        per = []
+        for x in sols:
+            if not x.stable:
+                continue
+            Z = np.array([complex(-w * w * m_, w * c_) for m_, c_ in zip(x.effective_masses_kg,
+                                                                          x.equivalent_dampings_N_s_per_m)])
+            per.append(shapes[idx] @ ((pf * force_amplitude - P.T @ (Z * np.array(x.damper_phasors))) / den))
+        for i in range(len(idx)):
+            dof_amp[i].append(_one_or_list([float(abs(z[i])) for z in per]))
+    bed_mass = float(sum(d.bed_mass for d in beds))
+    summary = {
+        **structure_numbers(s),
+        "method": "fields", "dampers": len(beds), "force_amplitude_N": force_amplitude,
+        "particles": int(sum(d.n_particles for d in beds)), "bed_mass_kg": bed_mass, "mass_ratio": bed_mass / s.mass,
+        "bed_masses_kg": [d.bed_mass for d in beds], "frequencies_hz": freqs.tolist(),
+        "damper_amplitude_m": [_one_or_list(v) for v in xd],
+        "damper_points_amplitude_m": [[list(x.damper_amplitudes_m) for x in sols if x.stable] for sols in sol.solutions],
+        "dofs": list(labels), "response_amplitude_m": dof_amp,
+        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
+        "response_point_amplitude_m": [_one_or_list(v) for v in xr],
+        "branches": [[x.to_dict() for x in sols] for sols in sol.solutions],
+        "jump_frequencies_hz": [], "jumps": [],
+        "stability": "the amplitudes' slow flow d(ln X)/dt = -(ln X - ln |x^(X)|) linearised: stable where every "
+                     "eigenvalue of its Jacobian has a positive real part (one damper: the slope criterion)",
+        "amplitude_bare_m": bare.tolist(), "amplitude_solid_mass_m": solid.tolist(),
+        "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
+        "peak_damped_m": float(peak), "peak_damped_frequency_hz": float(f_peak),
+        "peak_bare_m": float(np.max(bare)),
+        **bare_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
+        "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
+        "fields_box": [f_.box() for f_ in fl], "fields_source": [str(f_.dataset.attrs.get("source", "")) for f_ in fl],
+        "solve_time_per_frequency_s": sol.time_s.tolist(), "solve_time_median_s": float(np.median(sol.time_s)),
+    }
+    summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
+    summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
                                 bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
 

@@ -9,12 +9,14 @@ other (an import-linter contract in pyproject.toml).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import InputError
 
 __all__ = ["STEADY_TOLERANCE", "parse_dofs", "select_dofs", "structure_numbers", "mode_table", "bare_resonance",
+           "DampedRun", "damped_run", "solid_amplitude",
            "bed_x_opt"]
 
 #: A point is steady when its amplitude over the last forcing period differs from the one over
@@ -120,3 +122,81 @@ def bed_x_opt(case) -> float | None:
     if not 1 <= n < n_max:
         return None
     return th.optimal_stroke(th.clearance(g.drive_length, n, n_max))
+
+
+@dataclass(frozen=True, kw_only=True)
+class DampedRun:
+    """A run of the structure with its dampers, as the studies read it: at the sample (or coupling
+    step) ends ``time`` [s], the first damper point's ``displacement`` [m], the response point's
+    ``response_displacement``, every dof's ``dofs`` [samples, dofs] (the labels of the structure's
+    :meth:`~pdamper.structure.StructureBase.dof_shapes`), each damper point's ``dampers`` [samples,
+    dampers]; each bed's wall force ``forces`` [N] and its container's absolute acceleration
+    ``accelerations`` [m/s^2] and velocity ``velocities`` [m/s] (interval means, [samples, dampers]),
+    the beds' energy ``dissipated`` from t = 0 [J]; the coupled ledger's error
+    (``energy_balance_error``; None where it is not closed); the run's numbers; ``coupling`` the coupling
+    loop's summary (empty for one bed in the compiled tight coupling)."""
+
+    time: np.ndarray
+    displacement: np.ndarray
+    response_displacement: np.ndarray
+    dofs: np.ndarray
+    dampers: np.ndarray
+    forces: np.ndarray
+    accelerations: np.ndarray
+    velocities: np.ndarray
+    dissipated: np.ndarray
+    energy_balance_error: float | None
+    steps: int
+    time_step_s: float
+    wall_time_s: float
+    coupling: dict = field(default_factory=dict)
+
+
+def damped_run(case, *, progress=None) -> DampedRun:
+    """Run ``case`` (a structure with its dampers): one bed by the compiled tight coupling
+    (:class:`~pdamper.simulation.Simulation`), several or a co-simulated structure by the coupling loop
+    (:func:`pdamper.cosim.run_coupled`). A :class:`~pdamper.errors.SimulationError` is the caller's."""
+    s = case.running_drive
+    if not case.in_loop:
+        from ..analysis.tmd import bed_force
+        from ..simulation import Simulation
+        from ..structure.linear import ground_velocity
+
+        res = Simulation(case).run(progress=progress)
+        rec = res.structure
+        edges = np.concatenate([[0.0], rec.time])
+        vg = ground_velocity(s.load, edges) if s.load is not None and s.load.ground else None
+        fw, a, v = bed_force(res.signals, rec, container_mass=case.container.mass, ground=vg)
+        lost = res.energy.damping + res.energy.friction
+        dissipated = np.interp(rec.time, res.energy.time, lost) - float(np.interp(0.0, res.energy.time, lost))
+        return DampedRun(time=rec.time, displacement=rec.displacement, response_displacement=rec.response_displacement,
+                         dofs=rec.dof_displacements(s.dof_shapes()[1]), dampers=rec.displacement[:, None],
+                         forces=fw[:, None], accelerations=a[:, None], velocities=v[:, None], dissipated=dissipated,
+                         energy_balance_error=rec.balance_error(res.energy), steps=res.steps,
+                         time_step_s=res.time_step_s, wall_time_s=res.wall_time_s)
+    from ..cosim import run_coupled
+
+    run = run_coupled(case, progress=progress)
+    c = dict(run.summary)
+    steps, wall = c.pop("steps"), c.pop("wall_time_s")
+    h = float(c["coupling_step_s"])
+    x, v = run.container_displacement, run.container_velocity
+    return DampedRun(time=run.time, displacement=run.displacement, response_displacement=run.response_displacement,
+                     dofs=run.displacements, dampers=run.damper_displacement, forces=run.forces,
+                     accelerations=np.diff(v, axis=0) / h, velocities=np.diff(x, axis=0) / h,
+                     dissipated=sum(L.damping + L.friction for L in run.ledgers),
+                     energy_balance_error=c["coupled_energy_balance_error"], steps=steps, time_step_s=math.nan,
+                     wall_time_s=wall, coupling=c)
+
+
+def solid_amplitude(case, s, frequencies, force_amplitude: float, point: str = "damper"):
+    """The steady amplitude [m] at the damper (or the response point) of the structure ``s`` (as it
+    runs) with each damper's bed as a rigid mass at its point, under ``force_amplitude`` [N] at each of
+    ``frequencies`` [Hz] (closed form)."""
+    if case.damper_count == 1:
+        return s.steady_amplitude(frequencies, force_amplitude, added_mass=case.bed_mass, point=point)
+    masses = np.zeros(s.damper_count)
+    for k, d in enumerate(case.damper_beds()):
+        masses[case.damper_point(k)] += d.bed_mass
+    return s.carrying(masses if masses.size > 1 else float(masses[0])).steady_amplitude(
+        frequencies, force_amplitude, point=point)

@@ -26,7 +26,8 @@ from ..errors import InputError
 from ..params import Case
 from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
-from .structure_base import STEADY_TOLERANCE, bare_resonance, mode_table, parse_dofs, select_dofs, structure_numbers
+from .structure_base import (STEADY_TOLERANCE, bare_resonance, damped_run, mode_table, parse_dofs, select_dofs,
+                             structure_numbers)
 
 __all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs",
            "select_dofs", "fit_sine", "sweeps_apart", "SWEEPS", "APART", "structure_numbers", "code_numbers",
@@ -58,16 +59,6 @@ def in_time(case: Case) -> Case:
     return case
 
 
-def _dem(case: Case, s, dofs, progress):
-    """(labels, indices, the run, displacements [samples, every dof]) of the dofs ``dofs`` of the
-    structure ``s`` (the case's as it runs) in the coupled DEM of ``case``."""
-    from ..simulation import Simulation
-
-    labels, idx = select_dofs(s, dofs)
-    res = Simulation(case).run(progress=progress)
-    return labels, idx, res, res.structure.dof_displacements(s.dof_shapes()[1])
-
-
 def _peak_rms(x: np.ndarray):
     return np.max(np.abs(x), axis=0), np.sqrt(np.mean(x * x, axis=0))
 
@@ -76,6 +67,27 @@ def _ratio(a, b):
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(b > 0, a / b, np.nan)
+
+
+def _bare(case: Case, s, t):
+    """(every dof [samples, dofs], the damper points [samples, dampers]) without the dampers at ``t``:
+    the exact linear response, or OpenSees' own run of a co-simulated model (:func:`pdamper.cosim.run_bare`)."""
+    if case.drive.cosimulated:
+        from ..cosim import run_bare
+
+        run = run_bare(case)
+        return run.displacements, run.damper_displacement
+    _, bare_all = dof_response(s, t)
+    q_bare, _ = modal_response(s, t)
+    shapes = s.damper_shapes()[[case.damper_point(k) for k in range(case.damper_count)]]
+    return bare_all, q_bare @ shapes.T
+
+
+def _residual(t, x, s) -> np.ndarray:
+    """The residual displacement [m] of each column of ``x`` after the load: its mean over the last two
+    periods of the structure's first mode (a yielded structure's offset; about 0 for a linear one)."""
+    keep = t >= t[-1] - 2.0 / float(np.min(s.mode_frequencies))
+    return np.mean(x[keep], axis=0)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -114,63 +126,83 @@ def run_transient(case: Case, *, dofs=None, progress=None, limits=None) -> Trans
     :func:`tmd_equivalent`) with them."""
     case = in_time(case)
     s = case.running_drive
-    labels, idx, res, damped_all = _dem(case, s, dofs, progress)
+    labels, idx = select_dofs(s, dofs)
+    run = damped_run(case, progress=progress)
+    ground = bool(s.load.ground)
+    t = run.time
+    damped_all = run.dofs
     damped = damped_all[:, idx]
-    rec = res.structure
-    t = rec.time
-    _, bare_all = dof_response(s, t)
+    bare_all, points_bare = _bare(case, s, t)
     bare = bare_all[:, idx]
-    pd = s.modal_arrays()[3]
-    q_bare, _ = modal_response(s, t)
-    damper_bare = q_bare @ pd
+    damper_bare = points_bare[:, 0]
     f = s.load.values(t)
     peak, rms = _peak_rms(damped)
     peak_b, rms_b = _peak_rms(bare)
-    dpk, drms = _peak_rms(rec.displacement[:, None])
-    dpk_b, drms_b = _peak_rms(damper_bare[:, None])
-    ground = bool(s.load.ground)
+    ppk, prms = _peak_rms(run.dampers)
+    ppk_b, prms_b = _peak_rms(points_bare)
+    beds = case.damper_beds()
+    bed_mass = float(sum(d.bed_mass for d in beds))
+    # the tight coupling's ledger is closed under every load (in the ground's frame, the ground's inertial
+    # force on the bed included); the loop's coupled ledger is None where it is not closed
+    err = run.energy_balance_error
     summary = {
         "load": s.load.describe(), "load_kind": s.load.kind, "ground": ground,
-        "relative_to_ground": ground, "duration_s": case.duration, "particles": case.n_particles,
-        "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
+        "relative_to_ground": ground, "duration_s": case.duration, "particles": int(sum(d.n_particles for d in beds)),
+        "bed_mass_kg": bed_mass, "mass_ratio": bed_mass / s.mass,
         "dofs": list(labels), "peak_m": peak.tolist(), "rms_m": rms.tolist(), "peak_bare_m": peak_b.tolist(),
         "rms_bare_m": rms_b.tolist(), "peak_reduction": _ratio(peak, peak_b).tolist(),
         "rms_reduction": _ratio(rms, rms_b).tolist(),
-        "damper_peak_m": float(dpk[0]), "damper_rms_m": float(drms[0]), "damper_peak_bare_m": float(dpk_b[0]),
-        "damper_rms_bare_m": float(drms_b[0]), "damper_peak_reduction": float(_ratio(dpk, dpk_b)[0]),
-        "damper_rms_reduction": float(_ratio(drms, drms_b)[0]),
+        "residual_m": _residual(t, damped, s).tolist(), "residual_bare_m": _residual(t, bare, s).tolist(),
+        "damper_peak_m": float(ppk[0]), "damper_rms_m": float(prms[0]), "damper_peak_bare_m": float(ppk_b[0]),
+        "damper_rms_bare_m": float(prms_b[0]), "damper_peak_reduction": float(_ratio(ppk, ppk_b)[0]),
+        "damper_rms_reduction": float(_ratio(prms, prms_b)[0]),
         "load_peak": float(np.max(np.abs(f))), "load_rms": float(np.sqrt(np.mean(f * f))),
-        # kept in the ground's frame under a ground acceleration, its inertial force on the bed included
-        "energy_balance_error": rec.balance_error(res.energy),
-        "steps": res.steps, "time_step_s": res.time_step_s, "wall_time_s": res.wall_time_s,
+        "energy_balance_error": err,
+        "steps": run.steps, "time_step_s": run.time_step_s, "wall_time_s": run.wall_time_s,
         "method": "dem", **structure_numbers(s),
     }
+    if case.damper_count > 1:
+        summary.update(dampers=case.damper_count, damper_points_peak_m=ppk.tolist(),
+                       damper_points_peak_bare_m=ppk_b.tolist(), damper_points_rms_m=prms.tolist(),
+                       damper_points_rms_bare_m=prms_b.tolist(), bed_masses_kg=[d.bed_mass for d in beds],
+                       damper_particles=[d.n_particles for d in beds])
+    if run.coupling:
+        summary["coupling"] = run.coupling
+    if err is None:
+        summary["energy_balance_note"] = (
+            "the coupling loop's coupled ledger is closed on pdamper's own structure under a force or a start; here "
+            "the coupling's energy error is coupling.interface_energy_error (the work the walls did on the beds "
+            "against the work their forces took from the structure)")
     random = _random_spectra(s, t, f, damped, bare, idx) if s.load.stationary else None
     if random is not None:
         summary["random"] = random
     summary["mode_table"] = mode_table(s)
-    summary["codes"] = code_numbers(s, t, damped_all, labels, idx, limits=limits)
-    summary["tmd_equivalent"] = [tmd_equivalent(case, res)]
-    lost = res.energy.damping + res.energy.friction
-    dissipated = np.interp(t, res.energy.time, lost) - float(np.interp(0.0, res.energy.time, lost))
-    return TransientResult(case=case, time=t, load=f, dofs=list(labels), damped=damped, bare=bare, dissipated=dissipated,
-                           damper=rec.displacement, damper_bare=damper_bare, random=random, summary=summary)
+    summary["codes"] = code_numbers(s, t, damped_all, labels, idx, limits=limits,
+                                    bare=bare_all if case.drive.cosimulated else None)
+    summary["tmd_equivalent"] = [tmd_equivalent(case, run, k) for k in range(case.damper_count)]
+    return TransientResult(case=case, time=t, load=f, dofs=list(labels), damped=damped, bare=bare,
+                           dissipated=run.dissipated, damper=run.displacement, damper_bare=damper_bare, random=random,
+                           summary=summary)
 
 
-def code_numbers(s, time, damped, labels, idx, *, limits=None) -> dict:
+def code_numbers(s, time, damped, labels, idx, *, limits=None, bare=None) -> dict:
     """The numbers codes ask for (:mod:`pdamper.analysis.codes`) of the structure ``s`` (as it runs)
     under its load in time, with the damper (``damped``: every dof's displacement [m] at the record's
     ``time`` [s], relative to the ground) and without (exact): the absolute floor accelerations of the
     dofs ``idx`` (``labels``), every storey's drift ratio (peak, RMS, and residual: the mean over the
     last two periods of the first mode), against ``limits``. The record starts from the structure's
-    state at t = 0."""
+    state at t = 0. ``bare``: every dof's displacement without the damper at ``time`` (a co-simulated
+    structure's own run; default the exact linear response)."""
     from ..analysis.codes import code_summary, time_numbers
 
     _, shapes = s.dof_shapes()
     t = np.concatenate([[0.0], np.asarray(time, dtype=float)])
     x0 = np.asarray(shapes) @ np.asarray(s.initial_modal_state()[0], dtype=float)
     x = np.vstack([x0[None, :], np.asarray(damped, dtype=float)])
-    _, xb = dof_response(s, t)
+    if bare is None:
+        _, xb = dof_response(s, t)
+    else:
+        xb = np.vstack([x0[None, :], np.asarray(bare, dtype=float)])
     ground = s.load.values(t) if s.load.ground else None
     storeys = s.storeys()
     window = 2.0 / float(s.natural_frequency)
@@ -183,21 +215,23 @@ def code_numbers(s, time, damped, labels, idx, *, limits=None) -> dict:
                         method=f"the second difference of the displacements sampled every {dt * 1e3:.3g} ms")
 
 
-def tmd_equivalent(case: Case, res) -> dict:
-    """The damper of ``case`` as an equivalent TMD (:mod:`pdamper.analysis.tmd`) from its coupled run
-    ``res``: the mass and dashpot fitted to the bed's force over the whole record and what they mean
-    for each mode of the structure (as it runs)."""
-    from ..analysis.tmd import bed_force, equivalent_damper, tmd_numbers
-    from ..structure.linear import ground_velocity
+def tmd_equivalent(case: Case, run, k: int = 0) -> dict:
+    """Damper ``k`` of ``case`` as an equivalent TMD (:mod:`pdamper.analysis.tmd`) from its coupled run
+    ``run`` (a :class:`~pdamper.studies.structure_base.DampedRun`): the mass and dashpot fitted to the
+    bed's force over the whole record and what they mean for each mode of the structure (as it runs),
+    seen at the damper's point."""
+    from ..analysis.tmd import equivalent_damper, tmd_numbers
 
     s = case.running_drive
-    rec = res.structure
-    edges = np.concatenate([[0.0], rec.time])
-    vg = ground_velocity(s.load, edges) if s.load is not None and s.load.ground else None
-    fw, a, v = bed_force(res.signals, rec, container_mass=case.container.mass, ground=vg)
-    eq = equivalent_damper(fw, a, v)
-    return {**tmd_numbers(s.modal_arrays(), bed_mass=case.bed_mass, damper=eq), "fit": eq,
-            "fit_over": "the whole record"}
+    eq = equivalent_damper(run.forces[:, k], run.accelerations[:, k], run.velocities[:, k])
+    mass, stiff, damp, _, pf, pr = s.modal_arrays()
+    shapes = s.damper_shapes()[case.damper_point(k)]
+    bed = case.damper_beds()[k].bed_mass
+    out = {**tmd_numbers((mass, stiff, damp, shapes, pf, pr), bed_mass=bed, damper=eq), "fit": eq,
+           "fit_over": "the whole record"}
+    if case.damper_count > 1:
+        out["damper"] = k + 1
+    return out
 
 
 def _random_spectra(s, t, f, damped, bare, idx) -> dict:
@@ -297,9 +331,9 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     drive = dataclasses.replace(case.drive, force_amplitude=0.0, load=load, displacement=0.0, velocity=0.0)
     run = dataclasses.replace(case, drive=drive)
     s = run.running_drive
-    labels, idx, res, X = _dem(run, s, dofs, progress)
-    X = X[:, idx]
-    rec = res.structure
+    labels, idx = select_dofs(s, dofs)
+    rec = damped_run(run, progress=progress)
+    X = rec.dofs[:, idx]
     t = rec.time
     starts = load.step_times()
     psi = load.force_phases()
@@ -337,7 +371,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
         "window_change": [float(v) for v in steady], "steady": [bool(v <= STEADY_TOLERANCE) for v in steady],
         "peak_damped_m": float(damped[k]), "peak_damped_frequency_hz": float(freqs[k]),
         "peak_bare_m": float(np.max(bare)), **bare_resonance(s, force_amplitude, float(freqs[k])),
-        "energy_balance_error": rec.balance_error(res.energy), "steps": res.steps, "wall_time_s": res.wall_time_s,
+        "energy_balance_error": rec.energy_balance_error, "steps": rec.steps, "wall_time_s": rec.wall_time_s,
         "duration_s": load.duration, **structure_numbers(s),
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
