@@ -469,7 +469,7 @@ class _Reader:
         if "container" in t:
             own = t["container"]
             if not isinstance(own, dict):
-                raise InputError(f"[{label}] container = {own!r}: give a table, [damper.container] with the "
+                raise InputError(f"[{label}] container = {shown(own)}: give a table, [damper.container] with the "
                                  "[container] keys")
             base = self._table(data, "container")
             merged = own if own.get("shape", base.get("shape", "cuboid")) != base.get("shape", "cuboid") \
@@ -489,7 +489,7 @@ class _Reader:
                 from .excitation import _DIRECTION_WORDS
 
                 if v.strip().lower() not in _DIRECTION_WORDS:
-                    raise InputError(f"[{label}] direction = {v!r}; give three numbers [x, y, z] (lab frame, y up) or "
+                    raise InputError(f"[{label}] direction = {shown(v)}; give three numbers [x, y, z] (lab frame, y up) or "
                                      + ", ".join(repr(w) for w in _DIRECTION_WORDS))
                 v = list(_DIRECTION_WORDS[v.strip().lower()])
             kw["direction"] = read_list(v, f"[{label}] direction", "dimensionless")
@@ -523,8 +523,8 @@ class _Reader:
         points = [t[table_key] for t in tables]
         given = st.get(structure_key)
         if given is not None and list(given if isinstance(given, list) else [given]) != points:
-            raise InputError(f"[structure] {structure_key} = {given!r} and the [[damper]] tables' {table_key} "
-                             f"{points!r} differ; give the points in one place")
+            raise InputError(f"[structure] {structure_key} = {shown(given)} and the [[damper]] tables' {table_key} "
+                             f"{shown(points)} differ; give the points in one place")
         data = dict(data)
         data["structure"] = {**st, structure_key: points if len(points) > 1 else points[0]}
         return data

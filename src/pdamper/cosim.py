@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, shown
 from .params import Case
 from .recorders.energy import EnergyRecorder
 from .simulation import Simulation
@@ -91,7 +91,7 @@ def coupling_step(case: Case) -> float:
     h = s.coupling_step if s.coupling_step is not None else 1.0 / case.recording.sample_rate
     top = float(np.max(s.mode_frequencies))
     if not (h > 0 and math.isfinite(h)):
-        raise InputError(f"structure.coupling_step = {h!r} s; must be > 0, e.g. '1ms'")
+        raise InputError(f"structure.coupling_step = {shown(h)} s; must be > 0, e.g. '1ms'")
     if h > 1.0 / (20.0 * top) * (1 + 1e-9):
         raise InputError(f"structure.coupling_step = {h * 1e3:.4g} ms is more than a twentieth of the period of the "
                          f"structure's highest mode ({top:.4g} Hz); give at most {1e3 / (20 * top):.3g} ms (or keep "

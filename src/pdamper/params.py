@@ -405,15 +405,15 @@ class Damper:
             raise InputError("damper.particles: give one or more ParticleSet entries ([damper.particles] count = 36)")
         object.__setattr__(self, "particles", ps)
         if not isinstance(self.container, Container):
-            raise InputError(f"damper.container = {self.container!r}; give a Container ([damper.container] keys)")
+            raise InputError(f"damper.container = {shown(self.container)}; give a Container ([damper.container] keys)")
         if self.angle is not None and self.direction is not None:
             raise InputError("damper: angle and direction are both given; give one")
         if self.angle is not None and not math.isfinite(self.angle):
-            raise InputError(f"damper.angle = {self.angle!r}; must be a finite angle")
+            raise InputError(f"damper.angle = {shown(self.angle)}; must be a finite angle")
         if self.direction is not None:
             v = np.asarray(self.direction, dtype=float)
             if v.shape != (3,) or not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
-                raise InputError(f"damper.direction = {self.direction!r}; give three finite numbers, not all 0 (lab "
+                raise InputError(f"damper.direction = {shown(self.direction)}; give three finite numbers, not all 0 (lab "
                                  "frame: y up)")
             object.__setattr__(self, "direction", tuple(float(x) for x in v / np.linalg.norm(v)))
 

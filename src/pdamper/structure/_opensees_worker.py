@@ -115,11 +115,19 @@ class _Proxy(types.ModuleType):
         return command
 
 
-def _build(path, real):
-    """Execute the model file ``path`` with the recording proxy as ``openseespy.opensees``;
-    returns the proxy (its ``calls``)."""
+def _compiled(path):
+    """The model file's code (a syntax error raised before OpenSees is loaded)."""
+    with open(path, "rb") as fh:
+        source = fh.read()
+    return compile(source, path, "exec")
+
+
+def _build(path, real, code=None):
+    """Execute the model file ``path`` (its ``code``) with the recording proxy as
+    ``openseespy.opensees``; returns the proxy (its ``calls``)."""
     import openseespy
 
+    code = _compiled(path) if code is None else code
     real.wipe()
     proxy = _Proxy(real)
     sys.modules["openseespy.opensees"] = proxy
@@ -127,9 +135,6 @@ def _build(path, real):
     folder = os.path.dirname(os.path.abspath(path))
     if folder not in sys.path:
         sys.path.insert(0, folder)
-    with open(path, "rb") as fh:
-        source = fh.read()
-    code = compile(source, path, "exec")
     scope = {"__name__": "__pdamper_model__", "__file__": path}
     exec(code, scope)
     sys.modules["openseespy.opensees"] = real
@@ -201,10 +206,11 @@ def _check_nodes(ops, options, equations):
 
 
 def _model(path, options):
+    code = _compiled(path)
     import numpy as np
     import openseespy.opensees as ops
 
-    proxy = _build(path, ops)
+    proxy = _build(path, ops, code)
     if not ops.getNodeTags():
         raise _Refused("the model file defines no nodes (ops.node)")
     M = _matrix(ops, 1.0, 0.0, 0.0)

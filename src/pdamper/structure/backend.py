@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..excitation import DriveBase
 from ..schema import param
 from .loads.base import FORM_LINEAR
@@ -272,7 +272,7 @@ class BedSeat(DriveBase):
         for key in ("apparent_mass", "duration_s"):
             v = getattr(self, key)
             if not (v > 0 and math.isfinite(v)):
-                raise InputError(f"the bed's seat: {key} = {v!r}; must be > 0")
+                raise InputError(f"the bed's seat: {key} = {shown(v)}; must be > 0")
 
     def duration(self, cycles: float | None = None) -> float:
         return self.duration_s

@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, SimulationError
+from ..errors import InputError, SimulationError, checked_file, shown, shown_path
 from ..excitation import register_drive
 from ..schema import config_keys, param
 from .modal import ModalStructure
@@ -266,7 +266,7 @@ class OpenSeesModel:
         keep = np.flatnonzero(np.abs(m) > 0)
         rest = np.flatnonzero(~(np.abs(m) > 0))
         if keep.size == 0:
-            raise InputError(f"structure.opensees = {self.path!r}: the model has no mass (ops.mass); pdamper needs "
+            raise InputError(f"structure.opensees = {shown_path(self.path)!r}: the model has no mass (ops.mass); pdamper needs "
                              "the masses of its floors")
         T = np.eye(self.M.shape[0])[:, keep]
         if rest.size:
@@ -274,7 +274,7 @@ class OpenSeesModel:
             try:
                 T[rest] = -np.linalg.solve(Kss, self.K[np.ix_(rest, keep)])
             except np.linalg.LinAlgError:
-                raise InputError(f"structure.opensees = {self.path!r}: the dofs without mass are not held by any "
+                raise InputError(f"structure.opensees = {shown_path(self.path)!r}: the dofs without mass are not held by any "
                                  "stiffness (a mechanism); fix them or give them mass") from None
         owner = {}
         for node, eqs in self.equations.items():
@@ -290,7 +290,12 @@ _MODELS: dict = {}
 
 def _resolved(path) -> Path:
     p = Path(path).expanduser()
-    return p if p.is_absolute() else (Path.cwd() / p).resolve()
+    if p.is_absolute():
+        return p
+    try:
+        return (Path.cwd() / p).resolve()
+    except (OSError, RuntimeError, ValueError):
+        return Path.cwd() / p
 
 
 def read_model(path, *, dof: int = 1, damper_nodes=(), force_nodes=(), response_nodes=(), keys=None,
@@ -298,15 +303,14 @@ def read_model(path, *, dof: int = 1, damper_nodes=(), force_nodes=(), response_
     """The :class:`OpenSeesModel` of the model file ``path`` (run in a child process under
     ``timeout`` [s]): the nodes named must exist and move along ``dof``, the damper nodes have mass
     there. Cached by the file's contents and the nodes asked about."""
-    p = _resolved(path)
-    label = f"structure.opensees = {str(path)!r}"
-    if not p.is_file():
-        raise InputError(f"{label}: file not found: {p}" if not p.is_dir() else f"{label}: {p} is a directory; give "
-                         "the Python file that builds the model")
+    label = f"structure.opensees = {shown_path(path)!r}"
     try:
+        p = checked_file(_resolved(path), "model file (the Python file that builds the OpenSees model)")
         content = p.read_bytes()
+    except InputError as exc:
+        raise InputError(f"{label}: {exc}") from None
     except OSError as exc:
-        raise InputError(f"{label}: cannot read {p}: {exc.strerror or exc}") from None
+        raise InputError(f"{label}: cannot read it: {exc.strerror or exc}") from None
     keys = keys or {"damper": "damper_node", "force": "force_node", "response": "response_node"}
     options = {"dof": int(dof), "damper_nodes": [int(n) for n in damper_nodes],
                "force_nodes": [int(n) for n in force_nodes], "response_nodes": [int(n) for n in response_nodes],
@@ -380,11 +384,15 @@ class OpenSeesStructure(ModalStructure, _OpenSees):
         if "opensees" in table:
             v = table["opensees"]
             if not isinstance(v, str) or not v.strip():
-                raise InputError(f"[structure] opensees = {v!r}; give the path of the Python file that builds the "
+                raise InputError(f"[structure] opensees = {shown(v)}; give the path of the Python file that builds the "
                                  "OpenSees model, e.g. opensees = 'frame.py'")
             p = Path(v).expanduser()
-            kw["opensees"] = str((p if p.is_absolute() else Path(base_dir if base_dir is not None else Path.cwd()) / p)
-                                 .resolve())
+            p = p if p.is_absolute() else Path(base_dir if base_dir is not None else Path.cwd()) / p
+            try:
+                p = p.resolve()
+            except (OSError, RuntimeError, ValueError):  # a name the system refuses: read_model says so
+                pass
+            kw["opensees"] = str(p)
         return kw
 
     def config_extra(self) -> dict:
@@ -400,11 +408,11 @@ class OpenSeesStructure(ModalStructure, _OpenSees):
         if not self.opensees:
             raise InputError("structure.opensees is missing: give the Python file that builds the model")
         if self.coupling not in COUPLINGS:
-            raise InputError(f"structure.coupling = {self.coupling!r}; choose one of "
+            raise InputError(f"structure.coupling = {shown(self.coupling)}; choose one of "
                              + ", ".join(repr(c) for c in COUPLINGS))
         d = self.dof
         if isinstance(d, bool) or not isinstance(d, int) or not 1 <= d <= 6:
-            raise InputError(f"structure.dof = {d!r}; give the nodes' dof the containers move with, 1 to 6 (1: x)")
+            raise InputError(f"structure.dof = {shown(d)}; give the nodes' dof the containers move with, 1 to 6 (1: x)")
         nodes = self.damper_node_tags
         model = read_model(self.opensees, dof=d, damper_nodes=nodes,
                            force_nodes=[self.force_node] if self.force_node is not None else [],
@@ -432,12 +440,12 @@ class OpenSeesStructure(ModalStructure, _OpenSees):
         short = model.rayleigh_shortfall()
         if short > NONPROPORTIONAL:
             a, bk, bi, bc = (list(model.rayleigh[-1]) + [0.0] * 4)[:4]
-            warnings.warn(f"structure.opensees = {self.opensees!r}: the model's damping is not the Rayleigh damping "
+            warnings.warn(f"structure.opensees = {shown_path(self.opensees)!r}: the model's damping is not the Rayleigh damping "
                           f"ops.rayleigh({a:g}, {bk:g}, {bi:g}, {bc:g}) asks for (C differs from alpha M + beta K by "
                           f"{short:.2g} of it): some elements take no part in it; a zeroLength element takes part "
                           "in the stiffness-proportional damping only with '-doRayleigh', 1", stacklevel=2)
         elif data["nonproportional"] > NONPROPORTIONAL:
-            warnings.warn(f"structure.opensees = {self.opensees!r}: the model's damping is not proportional (its "
+            warnings.warn(f"structure.opensees = {shown_path(self.opensees)!r}: the model's damping is not proportional (its "
                           f"modal projection's off-diagonal terms reach {data['nonproportional']:.2g} of the "
                           "diagonal's); pdamper keeps each mode's own damping. A zeroLength element takes part in "
                           "ops.rayleigh's stiffness-proportional damping only with '-doRayleigh', 1", stacklevel=2)
@@ -460,7 +468,7 @@ class OpenSeesStructure(ModalStructure, _OpenSees):
         nodes = list(v) if isinstance(v, (list, tuple)) else [v]
         for n in nodes:
             if isinstance(n, bool) or not isinstance(n, int):
-                raise InputError(f"structure.damper_node{'s' if len(nodes) > 1 else ''} = {v!r}; give node tags "
+                raise InputError(f"structure.damper_node{'s' if len(nodes) > 1 else ''} = {shown(v)}; give node tags "
                                  "(whole numbers)")
         return nodes
 
@@ -541,7 +549,7 @@ class OpenSeesBackend:
         self._response = self.labels.index(resp) if resp in self.labels else None
         self._g = ground_motion(load, t) if self.ground else None
         self._motion = Motion
-        self.worker = _Worker(f"structure.opensees = {structure.opensees!r}", Path(structure.opensees).parent)
+        self.worker = _Worker(f"structure.opensees = {shown_path(structure.opensees)!r}", Path(structure.opensees).parent)
         try:
             self._state = self.worker.request(("session", str(structure.opensees), opts), BUILD_TIMEOUT,
                                               "building the model")

@@ -26,8 +26,8 @@ from ..errors import InputError
 from ..params import Case
 from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
-from .structure_base import (STEADY_TOLERANCE, bare_resonance, damped_run, mode_table, parse_dofs, select_dofs,
-                             structure_numbers)
+from .structure_base import (STEADY_TOLERANCE, DampedRun, bare_resonance, damped_run, mode_table, parse_dofs,
+                             select_dofs, structure_numbers)
 
 __all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs",
            "select_dofs", "fit_sine", "sweeps_apart", "SWEEPS", "APART", "structure_numbers", "code_numbers",
@@ -217,12 +217,24 @@ def code_numbers(s, time, damped, labels, idx, *, limits=None, bare=None) -> dic
 
 def tmd_equivalent(case: Case, run, k: int = 0) -> dict:
     """Damper ``k`` of ``case`` as an equivalent TMD (:mod:`pdamper.analysis.tmd`) from its coupled run
-    ``run`` (a :class:`~pdamper.studies.structure_base.DampedRun`): the mass and dashpot fitted to the
+    ``run`` (a :class:`~pdamper.studies.structure_base.DampedRun`, or the RunRecord of one bed): the mass and dashpot fitted to the
     bed's force over the whole record and what they mean for each mode of the structure (as it runs),
     seen at the damper's point."""
     from ..analysis.tmd import equivalent_damper, tmd_numbers
 
     s = case.running_drive
+    if not isinstance(run, DampedRun):  # a RunRecord of the compiled tight coupling
+        from ..analysis.tmd import bed_force
+        from ..structure.linear import ground_velocity
+
+        rec = run.structure
+        edges = np.concatenate([[0.0], rec.time])
+        vg = ground_velocity(s.load, edges) if s.load is not None and s.load.ground else None
+        fw, a, v = bed_force(run.signals, rec, container_mass=case.container.mass, ground=vg)
+        run = DampedRun(time=rec.time, displacement=rec.displacement, response_displacement=rec.displacement,
+                        dofs=rec.displacement[:, None], dampers=rec.displacement[:, None], forces=fw[:, None],
+                        accelerations=a[:, None], velocities=v[:, None], dissipated=rec.time * 0.0,
+                        energy_balance_error=None, steps=0, time_step_s=0.0, wall_time_s=0.0)
     eq = equivalent_damper(run.forces[:, k], run.accelerations[:, k], run.velocities[:, k])
     mass, stiff, damp, _, pf, pr = s.modal_arrays()
     shapes = s.damper_shapes()[case.damper_point(k)]
