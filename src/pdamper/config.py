@@ -97,7 +97,7 @@ from .params import (Case, Container, ContactModel, Damper, InitialState, Numeri
 from .schema import (Spec, _choice, _grammar, _num, _quoted, check_keys, config_keys, plain_fields, read_fields,
                      read_list, read_number, read_quantity, replace, suggest, write_fields)
 
-__all__ = ["load_case", "loads_case", "parse_toml", "case_from_dict", "case_to_dict", "dump_case", "dumps_case",
+__all__ = ["load_case", "loads_case", "parse_toml", "case_from_dict", "case_to_dict", "case_with_keys", "dump_case", "dumps_case",
            "with_overrides", "key_spec", "SECTIONS"]
 
 # The sections are read from the parameter dataclasses' own fields (pdamper.schema): a field's
@@ -807,3 +807,63 @@ def dump_case(case: Case, path) -> Path:
     path = Path(path)
     atomic_write(path, dumps_case(case, name=path.name))
     return path
+
+
+# -- a case at config keys' values, tables' entries included (an ensemble's sample) ------------------
+#: ``contact.pair[a, b].friction`` / ``.restitution``: a material pair's value in its [[contact.pair]] table
+PAIR_KEY = re.compile(r"^contact\.pair\[\s*([^\],]+?)\s*,\s*([^\],]+?)\s*\]\.(friction|restitution)$")
+#: ``structure.modes[k].<key>``: a key of mode k of the modes given as data
+MODE_KEY = re.compile(r"^structure\.modes\[\s*(\d+)\s*\]\.(\w+)$")
+
+
+def _set_pair(data: dict, a: str, b: str, what: str, value) -> None:
+    contact = data.setdefault("contact", {})
+    pairs = contact.setdefault("pair", [])
+    if isinstance(pairs, dict):
+        pairs = contact["pair"] = [pairs]
+    for p in pairs:
+        if isinstance(p, dict) and sorted(map(str, p.get("materials", ()))) == sorted((a, b)):
+            p[what] = value
+            return
+    pairs.append({"materials": [a, b], what: value})
+
+
+def _set_mode(data: dict, k: int, what: str, value, key: str) -> None:
+    table = data.get("structure")
+    modes = table.get("modes") if isinstance(table, dict) else None
+    if not isinstance(modes, list):
+        raise InputError(f"{key}: this case's structure has no modes given as data (structure.modes = [...]); an "
+                         "FE structure's modes follow from its matrices: give structure.stiffness_scale or "
+                         "structure.mass_scale, or structure.damping_ratio")
+    if not 0 <= k < len(modes):
+        raise InputError(f"{key}: the structure has {len(modes)} mode{'s' if len(modes) != 1 else ''} "
+                         f"(structure.modes[0] to [{len(modes) - 1}])")
+    modes[k][what] = value
+
+
+def case_with_keys(base, values: dict, *, label: str = "sample"):
+    """The case ``base`` with config keys' ``values`` (``{key: value}``, SI; an ensemble's sample,
+    :mod:`pdamper.studies.unknowns`) set: written as its config (:func:`case_to_dict`), the values set there as ``--set`` sets them (a
+    material pair's or a mode's in its table), and read back, so every value is read and checked
+    as in a config file. An error names ``label`` (which sample) and the key."""
+    try:
+        data = case_to_dict(base)
+    except InputError as exc:
+        raise InputError(f"the ensemble's base case cannot be written as a config: {exc}") from None
+    overrides = {}
+    for key, v in values.items():
+        v = v.item() if hasattr(v, "item") else v
+        m, mm = PAIR_KEY.match(key), MODE_KEY.match(key)
+        if m:
+            _set_pair(data, m.group(1), m.group(2), m.group(3), v)
+        elif mm:
+            _set_mode(data, int(mm.group(1)), mm.group(2), v, key)
+        else:
+            overrides[key] = v
+    try:
+        return case_from_dict(data, overrides)
+    except InputError as exc:
+        said = ", ".join(f"{k} = {v:.6g}" if isinstance(v, float) else f"{k} = {shown(v)}" for k, v in values.items())
+        raise InputError(f"{label} ({said}) is not a valid case: {' '.join(str(exc).split())}; narrow the "
+                         "distribution (e.g. distribution = \"truncated\" with low/high, or a uniform)") from None
+

@@ -191,7 +191,7 @@ def test_a_model_file_that_loops_is_stopped(tmp_path):
 
 
 def test_the_missing_file_and_a_folder_say_so(tmp_path):
-    for path, said in ((tmp_path / "none.py", "file not found"), (tmp_path, "is a directory")):
+    for path, said in ((tmp_path / "none.py", "not found"), (tmp_path, "is a directory")):
         with pytest.raises(InputError, match=said):
             loads_case(f'[particles]\ncount = 4\n[structure]\nopensees = "{path}"\ndamper_node = 1\n'
                        'displacement = "1mm"\n')

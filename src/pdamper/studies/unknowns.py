@@ -55,6 +55,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..config import MODE_KEY as _MODE, PAIR_KEY as _PAIR, case_with_keys
 from ..errors import InputError
 
 __all__ = ["Unknown", "Unknowns", "Samples", "sample", "sample_case", "DISTRIBUTIONS", "KeyKind", "key_kind",
@@ -71,8 +72,6 @@ DISTRIBUTIONS = {
 _PARAMS = ("mean", "std", "low", "high", "values")
 _TABLE_KEYS = ("key", "distribution") + _PARAMS
 
-_PAIR = re.compile(r"^contact\.pair\[\s*([^\],]+?)\s*,\s*([^\],]+?)\s*\]\.(friction|restitution)$")
-_MODE = re.compile(r"^structure\.modes\[\s*(\d+)\s*\]\.(\w+)$")
 
 
 # ----------------------------------------------------------------------------- what a key holds
@@ -506,58 +505,8 @@ def sample(unknowns: Unknowns, n: int, seed: int = 0) -> Samples:
     return Samples(unknowns=unknowns, u=u, columns=columns, seed=int(seed))
 
 
-# ----------------------------------------------------------------------------- a case at a sample
-
-def _set_pair(data: dict, a: str, b: str, what: str, value) -> None:
-    contact = data.setdefault("contact", {})
-    pairs = contact.setdefault("pair", [])
-    if isinstance(pairs, dict):
-        pairs = contact["pair"] = [pairs]
-    for p in pairs:
-        if isinstance(p, dict) and sorted(map(str, p.get("materials", ()))) == sorted((a, b)):
-            p[what] = value
-            return
-    pairs.append({"materials": [a, b], what: value})
-
-
-def _set_mode(data: dict, k: int, what: str, value, key: str) -> None:
-    table = data.get("structure")
-    modes = table.get("modes") if isinstance(table, dict) else None
-    if not isinstance(modes, list):
-        raise InputError(f"{key}: this case's structure has no modes given as data (structure.modes = [...]); an "
-                         "FE structure's modes follow from its matrices: give structure.stiffness_scale or "
-                         "structure.mass_scale, or structure.damping_ratio")
-    if not 0 <= k < len(modes):
-        raise InputError(f"{key}: the structure has {len(modes)} mode{'s' if len(modes) != 1 else ''} "
-                         f"(structure.modes[0] to [{len(modes) - 1}])")
-    modes[k][what] = value
-
-
 def sample_case(base, values: dict, *, label: str = "sample"):
-    """The case ``base`` with the unknowns' ``values`` (``{key: value}``, SI) set: written as its
-    config (:func:`pdamper.config.case_to_dict`), the values set there as ``--set`` sets them (a
-    material pair's or a mode's in its table), and read back, so every value is read and checked
-    as in a config file. An error names ``label`` (which sample) and the key."""
-    from ..config import case_from_dict, case_to_dict
-
-    try:
-        data = case_to_dict(base)
-    except InputError as exc:
-        raise InputError(f"the ensemble's base case cannot be written as a config: {exc}") from None
-    overrides = {}
-    for key, v in values.items():
-        v = v.item() if hasattr(v, "item") else v
-        m, mm = _PAIR.match(key), _MODE.match(key)
-        if m:
-            _set_pair(data, m.group(1), m.group(2), m.group(3), v)
-        elif mm:
-            _set_mode(data, int(mm.group(1)), mm.group(2), v, key)
-        else:
-            overrides[key] = v
-    try:
-        return case_from_dict(data, overrides)
-    except InputError as exc:
-        shown = ", ".join(f"{k} = {v:.6g}" if isinstance(v, float) else f"{k} = {v!r}" for k, v in values.items())
-        raise InputError(f"{label} ({shown}) is not a valid case: {' '.join(str(exc).split())}; narrow the "
-                         "distribution (e.g. distribution = \"truncated\" with low/high, or a uniform)") from None
-
+    """The case ``base`` with the unknowns' ``values`` (``{key: value}``, SI) set, each read and
+    checked as a config file's (:func:`pdamper.config.case_with_keys`); an error names ``label``
+    (which sample) and the values."""
+    return case_with_keys(base, values, label=label)
