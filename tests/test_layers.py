@@ -1,4 +1,4 @@
-"""The layers hold: the import-linter contracts of pyproject.toml (docs/engine.md, "Layers")."""
+"""The layers hold: the import-linter contracts of pyproject.toml (docs/architecture.md, "The floors")."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The design workflow: which particle damper for a vibrating structure, and does it hold in the DEM.
 
-One module per idea (docs/structure.md, "Design for a structure"; docs/engine.md, the code map):
+One module per idea (docs/structure.md, "Design for a structure"; docs/architecture.md):
 
 - :mod:`.filling` -- the filling for a stroke: :func:`design_filling` (the N_p that puts a stroke
   at X_opt, eqs. 6, 17 inverted), :func:`check_fits`; the margin a design keeps above X_opt
