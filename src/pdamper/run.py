@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .analysis.steady import MIN_STEADY_CYCLES
-from .errors import InputError
+from .errors import InputError, shown
 from .params import Case
 from .simulation import Simulation, default_recorders
 from .recorders.trajectory import TrajectoryRecorder
@@ -182,7 +182,7 @@ def _check_until_steady(case: Case, until_steady, analyze: bool) -> None:
     if until_steady is None:
         return
     if not (until_steady > 0 and math.isfinite(until_steady)):
-        raise InputError(f"until_steady = {until_steady!r}: give eta*'s standard error to stop at, > 0 (e.g. 0.01)")
+        raise InputError(f"until_steady = {shown(until_steady)}: give eta*'s standard error to stop at, > 0 (e.g. 0.01)")
     if not (case.drive.periodic and analyze):
         raise InputError("until_steady needs a harmonic drive ([drive] stroke and frequency) and the analysis")
 

@@ -7,6 +7,7 @@ import functools
 
 import click
 
+from ..errors import shown, shown_path
 from .codes import mode_lines
 from .common import Quantity, ShapeChoice, echo_json, main, parse_sizes, renamed, size_option, user_errors
 
@@ -52,7 +53,7 @@ class _LengthOrRange(Quantity):
         if isinstance(value, str) and ":" in value:
             parts = value.split(":")
             if len(parts) != 2:
-                raise click.UsageError(f"--{param.name} {value!r}: write one length or LOW:HIGH, e.g. 80mm:160mm", ctx)
+                raise click.UsageError(f"--{param.name} {shown(value)}: write one length or LOW:HIGH, e.g. 80mm:160mm", ctx)
             return tuple(super(_LengthOrRange, self).convert(p, param, ctx) for p in parts)
         return super().convert(value, param, ctx)
 
@@ -70,7 +71,7 @@ def _particles_option(text):
     except ValueError:
         values = []
     if len(parts) > 2 or not values:
-        raise InputError(f"--particles {text!r}: give a number of spheres or LOW:HIGH, e.g. 36 or 20:60")
+        raise InputError(f"--particles {shown(text)}: give a number of spheres or LOW:HIGH, e.g. 36 or 20:60")
     return values[0] if len(values) == 1 else tuple(values)
 
 
@@ -383,7 +384,7 @@ def _check_case_path(path) -> None:
     if p.suffix.lower() != ".toml":
         raise InputError(f"--write-case {path}: give a .toml file name, e.g. frame_design.toml")
     if not p.parent.is_dir():
-        raise InputError(f"--write-case {path}: folder {str(p.parent)!r} does not exist; create it or choose another "
+        raise InputError(f"--write-case {path}: folder {shown_path(p.parent)} does not exist; create it or choose another "
                          "path")
 
 
@@ -422,7 +423,7 @@ def _length_range(text: str):
 
     parts = str(text).split(":")
     if len(parts) != 2:
-        raise InputError(f"--length-range {text!r}: write LOW:HIGH, e.g. 80mm:200mm")
+        raise InputError(f"--length-range {shown(text)}: write LOW:HIGH, e.g. 80mm:200mm")
     return tuple(parse_quantity(p, "length", name="--length-range") for p in parts)
 
 

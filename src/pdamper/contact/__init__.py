@@ -38,7 +38,7 @@ from .tangential import TangentialLaw
 from .friction_tanh import DEFAULT_TAU
 from .hertz import hertz_energy, hertz_stiffness
 from .hertz_gonthier import contact_time, damping_parameter
-from ..errors import InputError
+from ..errors import InputError, shown
 
 #: Damping law name -> :class:`~.damping.DampingLaw`: the registry of ``contact.damping``.
 DAMPING_LAWS = {law.name: law for law in (*hertz_gonthier.LAWS, *hertz_tsuji.LAWS)}
@@ -76,7 +76,7 @@ def read_restitution(value, section: str, key: str = "restitution"):
         if msg.startswith("["):
             raise
         if msg.startswith("restitution = ") and ": " in msg:
-            raise InputError(f"{name} = {value!r}: {msg.split(': ', 1)[1]}") from None
+            raise InputError(f"{name} = {shown(value)}: {msg.split(': ', 1)[1]}") from None
         raise InputError(f"[{section}] {msg}") from None
 
 
@@ -85,7 +85,7 @@ def _law(value, section, key):
     if isinstance(value, (bool, int, float, str)):
         return ConstantRestitution(value=read_coefficient(value, name))
     if not isinstance(value, dict):
-        raise InputError(f"{name} = {value!r}: give a number such as 0.9 or a table "
+        raise InputError(f"{name} = {shown(value)}: give a number such as 0.9 or a table "
                          "{law = 'table', speeds = [...], values = [...]} or {law = 'thornton', "
                          "yield_pressure = '1.5GPa'}")
     law = value.get("law")
@@ -95,7 +95,7 @@ def _law(value, section, key):
     if cls is None:
         near = difflib.get_close_matches(str(law), list(RESTITUTION_LAWS), n=1, cutoff=0.5)
         hint = f"did you mean {near[0]!r}? " if near else ""
-        raise InputError(f"{name}: law = {law!r} is unknown; {hint}choose {_choices(RESTITUTION_LAWS)}")
+        raise InputError(f"{name}: law = {shown(law)} is unknown; {hint}choose {_choices(RESTITUTION_LAWS)}")
     return cls.from_config(value, section, key)
 
 

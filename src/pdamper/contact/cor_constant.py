@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..schema import convert_fields, param, read_quantity
 from .restitution import RestitutionLaw, register_restitution
 
@@ -20,7 +20,7 @@ __all__ = ["ConstantRestitution", "read_coefficient"]
 def read_coefficient(value, label) -> float:
     """A coefficient of restitution as a config gives it (a number, a percentage), named ``label``."""
     if isinstance(value, bool) or isinstance(value, (dict, list)):
-        raise InputError(f"{label} = {value!r} must be a number")
+        raise InputError(f"{label} = {shown(value)} must be a number")
     return read_quantity(value, label, "dimensionless")
 
 
@@ -41,7 +41,7 @@ class ConstantRestitution(RestitutionLaw):
     def __post_init__(self):
         convert_fields(self, "restitution")
         if not (0.0 < self.value <= 1.0):
-            raise InputError(f"restitution = {self.value!r}: a coefficient of restitution must be in (0, 1] "
+            raise InputError(f"restitution = {shown(self.value)}: a coefficient of restitution must be in (0, 1] "
                              "(0.9 is the paper's default; 1 is elastic)")
 
     def restitution(self, speed, **_):

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..schema import convert_fields, param, read_list
 from .cor_constant import read_coefficient
 from .restitution import SPEED_GRID, RestitutionLaw, register_restitution, tabulate_law
@@ -68,7 +68,7 @@ class TabulatedRestitution(RestitutionLaw):
         speeds = read_list(table["speeds"], f"[{sub}] speeds", "velocity")
         vals = table["values"]
         if not isinstance(vals, list):
-            raise InputError(f"[{sub}] values = {vals!r} must be a list of numbers in (0, 1]")
+            raise InputError(f"[{sub}] values = {shown(vals)} must be a list of numbers in (0, 1]")
         return cls(speeds=speeds, values=tuple(read_coefficient(v, f"[{sub}] values[{k}]") for k, v in enumerate(vals)))
 
     @classmethod

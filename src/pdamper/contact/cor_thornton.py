@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..jit import njit
 from ..schema import convert_fields, param
 from .restitution import SPEED_GRID, RestitutionLaw, register_restitution
@@ -67,7 +67,7 @@ class ThorntonRestitution(RestitutionLaw):
     def __post_init__(self):
         convert_fields(self, "restitution")
         if not (self.yield_pressure > 0 and np.isfinite(self.yield_pressure)):
-            raise InputError(f"thornton restitution: yield_pressure = {self.yield_pressure!r} Pa; must be > 0")
+            raise InputError(f"thornton restitution: yield_pressure = {shown(self.yield_pressure)} Pa; must be > 0")
 
     def restitution(self, speed, *, e_star: float, r_star: float, m_star: float, **_):
         """epsilon at impact speed(s) [m/s] for a contact with E* [Pa], R* [m], m* [kg]."""

@@ -15,7 +15,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from ..errors import InputError
+from ..errors import InputError, shown_path
 from ..geometry import shape_from_keys
 from .filling import Design, size_name
 from . import names
@@ -59,16 +59,16 @@ def _load_table(path) -> dict:
 
     p = Path(path)
     if not p.is_file():
-        raise InputError(f"{names.name('load')} {str(path)!r}: no such file; give a record (.AT2, .csv) or a TOML file "
+        raise InputError(f"{names.name('load')} {shown_path(path)}: no such file; give a record (.AT2, .csv) or a TOML file "
                          "with a [load] section")
     if p.suffix.lower() != ".toml":
         return {"kind": "ground_acceleration", "file": str(p.resolve())}
     try:
         table = tomllib.loads(p.read_text(encoding="utf-8")).get("load")
     except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as exc:
-        raise InputError(f"{names.name('load')} {str(path)!r}: cannot be read as TOML ({exc})") from None
+        raise InputError(f"{names.name('load')} {shown_path(path)}: cannot be read as TOML ({exc})") from None
     if not isinstance(table, dict):
-        raise InputError(f"{names.name('load')} {str(path)!r}: the file has no [load] section")
+        raise InputError(f"{names.name('load')} {shown_path(path)}: the file has no [load] section")
     root = p.resolve().parent
     out = dict(table)
     for key in ("file", "files"):

@@ -23,7 +23,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 from .. import theory as th
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..geometry import shape_from_keys
 from ..theory.bounds import TILT_MARGIN  # the margin `pdamper theory` uses
 from ..units import quantities
@@ -135,7 +135,7 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
     check_fits(geo, r)
     n_max = max_particles if max_particles is not None else geo.clearance_capacity(r)
     if isinstance(n_max, bool) or not isinstance(n_max, int) or n_max < 2:
-        raise InputError(f"max_particles = {n_max!r} is not allowed: it must be a whole number >= 2 of spheres "
+        raise InputError(f"max_particles = {shown(n_max)} is not allowed: it must be a whole number >= 2 of spheres "
                          "covering the floor in one layer")
     per_row = max(1, geo.row_capacity(r))
     warnings = []
@@ -143,7 +143,7 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
     exact = n_max * (1.0 - h_wanted / big_l)
     n = math.ceil(exact - 1e-6) if particles is None else particles
     if particles is not None and not (isinstance(particles, int) and 1 <= particles < n_max):
-        raise InputError(f"particles = {particles!r}: give a filling from 1 to {n_max - 1} (N_p,max = {n_max})")
+        raise InputError(f"particles = {shown(particles)}: give a filling from 1 to {n_max - 1} (N_p,max = {n_max})")
     if n < 1:
         n = 1
         warnings.append(f"the stroke {x * 1e3:.4g} mm is too large for this container: even one sphere has "
@@ -151,7 +151,7 @@ def design_filling(*, frequency: float, stroke: float, sphere_radius: float, sha
                         f"least {h_wanted * 1e3:.4g} mm long along the drive (plus the bed) is needed")
     top = most_spheres(geo, r, n_max)
     if particles is not None and particles > top:
-        raise InputError(f"particles = {particles!r}: only {top} spheres fit on the floor in one layer (the initial "
+        raise InputError(f"particles = {shown(particles)}: only {top} spheres fit on the floor in one layer (the initial "
                          f"packing of a run); give a filling from 1 to {top}")
     if n > top:
         n = top
@@ -216,7 +216,7 @@ def _container(shape: str, *, length=None, width=None, container_radius=None, si
     keys = {"length": length, "width": width, "radius": container_radius, **(sizes or {})}
     for key, value in keys.items():
         if value is not None and not isinstance(value, str) and not (value > 0 and math.isfinite(value)):
-            raise InputError(f"{size_name(key)} = {value!r} m is not allowed: it must be > 0, a length such as "
+            raise InputError(f"{size_name(key)} = {shown(value)} m is not allowed: it must be > 0, a length such as "
                              "0.12 (120 mm)")
     return shape_from_keys(shape, keys, option=size_name)
 

@@ -20,7 +20,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 from .. import theory as th
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..geometry import Cuboid
 from ..theory.balance import Mode, operating_points
 from ..theory.fields import closed_form_fields
@@ -44,7 +44,7 @@ def structure_mode(structure, number: int = 1) -> Mode:
     (3.0, 1.0)
     """
     if isinstance(number, bool) or not isinstance(number, int):
-        raise InputError(f"{name('mode')} {number!r}: give the mode's number, 1 for the lowest")
+        raise InputError(f"{name('mode')} {shown(number)}: give the mode's number, 1 for the lowest")
     if not getattr(structure, "coupled", False):
         raise InputError("the structure must be a [structure] section (mass with stiffness or natural_frequency, "
                          "or modes = [...], or matrices = ...)")
@@ -155,7 +155,7 @@ def _particle_bounds(particles) -> tuple:
     lo, hi = particles if isinstance(particles, (tuple, list)) else (particles, particles)
     for v in (lo, hi):
         if isinstance(v, bool) or not isinstance(v, int) or v < 1:
-            raise InputError(f"{name('particles')} {particles!r}: give a whole number of spheres >= 1, or LOW:HIGH, e.g. 20:60")
+            raise InputError(f"{name('particles')} {shown(particles)}: give a whole number of spheres >= 1, or LOW:HIGH, e.g. 20:60")
     if lo > hi:
         raise InputError(f"{name('particles')} {lo}:{hi}: need LOW <= HIGH, e.g. 20:60")
     return lo, hi
@@ -164,8 +164,6 @@ def _particle_bounds(particles) -> tuple:
 def _mass_caps(max_bed_mass, max_mass_ratio, m_at_damper: float) -> dict:
     """The bed-mass bounds [kg] given, by the parameter that gives them: ``max_bed_mass`` [kg] and
     ``max_mass_ratio`` of the mode's mass at the damper ``m_at_damper`` [kg]."""
-    from ..errors import shown
-
     caps = {}
     for key, bound in (("max_bed_mass", max_bed_mass), ("max_mass_ratio", max_mass_ratio)):
         if bound is not None and not (bound > 0 and math.isfinite(bound)):
@@ -345,18 +343,18 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
     from ..theory._common import positive
 
     if not (isinstance(container_mass, (int, float)) and container_mass >= 0 and math.isfinite(container_mass)):
-        raise InputError(f"container mass = {container_mass!r} kg is not allowed: give the empty container's mass, "
+        raise InputError(f"container mass = {shown(container_mass)} kg is not allowed: give the empty container's mass, "
                          ">= 0 ([container] mass, e.g. '80g')")
     if getattr(structure, "coupled", False):
         structure = structure.carrying(container_mass)
     md = structure_mode(structure, mode)
     f0 = force
     if isinstance(f0, bool) or not isinstance(f0, (int, float)) or not (f0 > 0 and math.isfinite(f0)):
-        raise InputError(f"{name('force')} = {force!r} N is not allowed: give the force amplitude on the structure, > 0, "
+        raise InputError(f"{name('force')} = {shown(force)} N is not allowed: give the force amplitude on the structure, > 0, "
                          f"e.g. {name('force')} 1.5N")
     if target_ratio is not None and not (isinstance(target_ratio, (int, float)) and not isinstance(target_ratio, bool)
                                          and 0 < target_ratio < 1):
-        raise InputError(f"{name('target_ratio')} = {target_ratio!r}: give the resonant amplitude with the damper over the "
+        raise InputError(f"{name('target_ratio')} = {shown(target_ratio)}: give the resonant amplitude with the damper over the "
                          "bare structure's, between 0 and 1 (e.g. 0.5: half the bare amplitude)")
     r = positive("sphere_radius", sphere_radius, "m", "0.005 (5 mm)")
     rho = positive("density", density, "kg/m^3", "7900 (steel)")
@@ -366,7 +364,7 @@ def design_for_structure(structure, *, force: float, mode: int = 1, sphere_radiu
         raise InputError(f"give the container's width in the container itself ({name('width')} sets the cuboid's), not "
                          "both")
     if margin is not None and not (isinstance(margin, (int, float)) and margin >= 1.0):
-        raise InputError(f"{name('margin')} = {margin!r}: the operating stroke over X_opt must be >= 1 (default: by the "
+        raise InputError(f"{name('margin')} = {shown(margin)}: the operating stroke over X_opt must be >= 1 (default: by the "
                          "filling fraction, 1.2 to 1.75)")
     if length_range is None:
         length = container.drive_length if length is None else positive("length", length, "m", "0.12 (120 mm)")

@@ -73,6 +73,8 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
+from ..errors import shown
+
 __all__ = ["Recorder", "RunInfo", "State", "Recorded", "CHANNELS", "check_recorders"]
 
 #: The channels a recorder may ask for: the kernel channels, and ``"contacts"`` (a Python recorder's
@@ -167,18 +169,18 @@ def check_recorders(recorders) -> list:
     for r in out:
         missing = [a for a in ("name", "channels", "every", "start", "record", "finalize") if not hasattr(r, a)]
         if missing:
-            raise TypeError(f"{r!r} is not a recorder: it lacks {', '.join(missing)} "
+            raise TypeError(f"{shown(r)} is not a recorder: it lacks {', '.join(missing)} "
                             "(see pdamper.recorders.base for the protocol and an example)")
         unknown = set(r.channels) - set(CHANNELS)
         if unknown:
-            raise ValueError(f"recorder {r.name!r} asks for unknown channels {sorted(unknown)}; "
+            raise ValueError(f"recorder {shown(r.name)} asks for unknown channels {sorted(unknown)}; "
                              f"the kernel channels are {', '.join(CHANNELS)}")
         if not (isinstance(r.every, (int, np.integer)) and r.every >= 0):
-            raise ValueError(f"recorder {r.name!r}: every = {r.every!r}; give a whole number of samples >= 0")
+            raise ValueError(f"recorder {shown(r.name)}: every = {shown(r.every)}; give a whole number of samples >= 0")
         if "contacts" in r.channels and r.every == 0:
-            raise ValueError(f"recorder {r.name!r} asks for the contacts channel with every = 0; the contacts are "
+            raise ValueError(f"recorder {shown(r.name)} asks for the contacts channel with every = 0; the contacts are "
                              "listed at the samples a recorder is due at: give every >= 1")
         if r.name in names:
-            raise ValueError(f"two recorders are named {r.name!r}; give each its own name")
+            raise ValueError(f"two recorders are named {shown(r.name)}; give each its own name")
         names.add(r.name)
     return out

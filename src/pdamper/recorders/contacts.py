@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._repr import short_repr
+from ..errors import shown
 from ..kernels.bundles import CONTACT_TYPES
 
 __all__ = ["CONTACT_TYPES", "ContactLedger", "ContactEnergyRecorder", "Contacts", "ContactRecord", "ContactsRecorder",
@@ -56,7 +57,7 @@ class ContactLedger:
     def of(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
         """(damping, friction) [J] over time of one contact type (``"sphere"``, ``"floor"``, ...)."""
         if kind not in self.types:
-            raise ValueError(f"contact type {kind!r}: choose one of {', '.join(self.types)}")
+            raise ValueError(f"contact type {shown(kind)}: choose one of {', '.join(self.types)}")
         k = self.types.index(kind)
         return self.damping[:, k], self.friction[:, k]
 
@@ -165,7 +166,7 @@ class ContactsRecorder:
 
     def __init__(self, every: int = 10, *, name: str = "contacts"):
         if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
-            raise ValueError(f"ContactsRecorder: every = {every!r}; give a whole number of samples >= 1")
+            raise ValueError(f"ContactsRecorder: every = {shown(every)}; give a whole number of samples >= 1")
         self.every = int(every)
         self.name = name
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import shown
+
 __all__ = ["TrajectoryRecorder"]
 
 
@@ -20,7 +22,7 @@ class TrajectoryRecorder:
 
     def __init__(self, fps: float, *, name: str = "trajectory"):
         if not (fps > 0):
-            raise ValueError(f"TrajectoryRecorder: fps = {fps!r}; give frames per second > 0")
+            raise ValueError(f"TrajectoryRecorder: fps = {shown(fps)}; give frames per second > 0")
         self.fps = float(fps)
         self.name = name
 

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..params import Case
 from .store import ResultStore, VARIABLES, _command_line, _first_difference, clear_unfinished, make_directories
 from .unknowns import Samples, Unknown, Unknowns, key_kind, sample, sample_case, variable_name
@@ -533,7 +533,7 @@ def _ensemble_difference(old: dict, text: str, described: dict) -> str:
             if k == "samples":
                 return (f"{was.get(k)} samples there, {described.get(k)} now: a Latin hypercube of another N has other "
                         "strata")
-            return f"{k} = {was.get(k)!r} there, {described.get(k)!r} now"
+            return f"{k} = {shown(was.get(k))} there, {shown(described.get(k))} now"
     return "a setting differs"
 
 

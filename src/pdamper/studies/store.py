@@ -523,7 +523,7 @@ def _valid_record(f: Path):
     for name, (key, _, _) in VARIABLES.items():
         v = rec.get(key)
         if v is not None and not isinstance(v, (int, float)):
-            return f"{key} = {v!r} is not a number"
+            return f"{key} = {shown(v)} is not a number"
     if "eta_star" not in rec:
         return "no eta_star"
     return rec

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..analysis.decay import decay_damping, extrema, harmonic_amplitude, harmonic_phasor
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..structure import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
@@ -172,19 +172,19 @@ def parse_frequencies(text: str) -> np.ndarray:
     if ":" in text:
         parts = text.split(":")
         if len(parts) != 3:
-            raise InputError(f"--frequencies {text!r}: write LOW:HIGH:N, e.g. 1.5Hz:2.5Hz:11, or a list 1.8Hz,2Hz")
+            raise InputError(f"--frequencies {shown(text)}: write LOW:HIGH:N, e.g. 1.5Hz:2.5Hz:11, or a list 1.8Hz,2Hz")
         lo, hi = (parse_quantity(p, "frequency", name="--frequencies") for p in parts[:2])
         try:
             n = int(parts[2])
         except ValueError:
             n = 0
         if n < 1 or not (0 < lo <= hi):
-            raise InputError(f"--frequencies {text!r}: need 0 < LOW <= HIGH and a whole number N >= 1 of points, "
+            raise InputError(f"--frequencies {shown(text)}: need 0 < LOW <= HIGH and a whole number N >= 1 of points, "
                              "e.g. 1.5Hz:2.5Hz:11")
         return np.linspace(lo, hi, n) if n > 1 else np.array([lo])
     out = np.array([parse_quantity(p, "frequency", name="--frequencies") for p in text.split(",") if p.strip()])
     if out.size == 0 or np.any(out <= 0):
-        raise InputError(f"--frequencies {text!r}: give frequencies > 0, e.g. 1.8Hz,2Hz,2.2Hz or 1.5Hz:2.5Hz:11")
+        raise InputError(f"--frequencies {shown(text)}: give frequencies > 0, e.g. 1.8Hz,2Hz,2.2Hz or 1.5Hz:2.5Hz:11")
     return out
 
 
@@ -210,7 +210,7 @@ def start_phasors(case: Case, frequencies, force_amplitude: float, start: str = 
     from ..analysis.harmonic import receptances, solve_frequency
 
     if start not in STARTS:
-        raise InputError(f"--start {start!r}; choose one of {', '.join(STARTS)}")
+        raise InputError(f"--start {shown(start)}; choose one of {', '.join(STARTS)}")
     s = _structure(case)
     modal = s.modal_arrays()
     out = []
@@ -245,7 +245,7 @@ def mode_frequency(case: Case, mode: int = 1) -> float:
     s = _structure(case)
     fs = np.atleast_1d(s.mode_frequencies)
     if isinstance(mode, bool) or not isinstance(mode, (int, np.integer)) or not 1 <= mode <= fs.size:
-        raise InputError(f"--mode {mode!r}; the structure has {fs.size} mode{'s' if fs.size > 1 else ''}: "
+        raise InputError(f"--mode {shown(mode)}; the structure has {fs.size} mode{'s' if fs.size > 1 else ''}: "
                          f"give 1{f' to {fs.size}' if fs.size > 1 else ''}")
     return float(fs[mode - 1])
 
@@ -381,7 +381,7 @@ def _forced(case: Case, frequencies, force_amplitude: float):
     if freqs.ndim != 1 or freqs.size == 0 or np.any(~(freqs > 0)):
         raise InputError("frequencies: give one or more frequencies > 0 [Hz]")
     if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
-        raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
+        raise InputError(f"--force = {shown(force_amplitude)} N; must be > 0, e.g. 0.4N")
     return s, freqs
 
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["STEADY_TOLERANCE", "parse_dofs", "select_dofs", "structure_numbers", "mode_table", "bare_resonance",
            "DampedRun", "damped_run", "solid_amplitude",
@@ -47,13 +47,13 @@ def parse_dofs(text) -> list:
             except ValueError:
                 nums = []
             if len(bits) not in (2, 3) or len(nums) != len(bits) or (len(nums) == 3 and nums[2] <= 0):
-                raise InputError(f"--dofs {text!r}: {part!r} is not a range START:STOP[:STEP] of whole numbers, "
+                raise InputError(f"--dofs {shown(text)}: {shown(part)} is not a range START:STOP[:STEP] of whole numbers, "
                                  "e.g. 0:40:2")
             out += list(range(*nums))
         else:
             out.append(int(part) if part.lstrip("-").isdigit() else part)
     if not out:
-        raise InputError(f"--dofs {text!r}: name some dofs, e.g. 0,18,38 or 0:40:2")
+        raise InputError(f"--dofs {shown(text)}: name some dofs, e.g. 0,18,38 or 0:40:2")
     return out
 
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..params import Case
 from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
@@ -321,7 +321,7 @@ class SweepResult:
 def sweep_order(frequencies, direction: str) -> np.ndarray:
     """``frequencies`` [Hz] sorted for a sweep ``direction`` (``"up"``: rising, ``"down"``: falling)."""
     if direction not in SWEEPS:
-        raise InputError(f"--sweep {direction!r}; choose one of {', '.join(SWEEPS)}")
+        raise InputError(f"--sweep {shown(direction)}; choose one of {', '.join(SWEEPS)}")
     f = np.sort(np.unique(np.asarray(frequencies, dtype=float)))
     return f if direction == "up" else f[::-1]
 
@@ -334,7 +334,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     if not case.drive.coupled:
         raise InputError("the stepped sine needs a [structure] section (the container riding on a structure)")
     if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
-        raise InputError(f"--force = {force_amplitude!r} N; must be > 0, e.g. 0.4N")
+        raise InputError(f"--force = {shown(force_amplitude)} N; must be > 0, e.g. 0.4N")
     if case.cycles < measure_cycles + 2:
         raise InputError(f"run.cycles = {case.cycles:g} periods a step leave no transient to discard before the "
                          f"{measure_cycles} measured; give --cycles {measure_cycles + 2} or more")

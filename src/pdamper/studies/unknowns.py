@@ -56,7 +56,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import MODE_KEY as _MODE, PAIR_KEY as _PAIR, case_with_keys
-from ..errors import InputError
+from ..errors import InputError, shown
 
 __all__ = ["Unknown", "Unknowns", "Samples", "sample", "sample_case", "DISTRIBUTIONS", "KeyKind", "key_kind",
            "variable_name"]
@@ -495,9 +495,9 @@ def sample(unknowns: Unknowns, n: int, seed: int = 0) -> Samples:
     from scipy.stats import qmc
 
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise InputError(f"--samples {n!r}: give a whole number >= 1 of samples, e.g. 64")
+        raise InputError(f"--samples {shown(n)}: give a whole number >= 1 of samples, e.g. 64")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InputError(f"the samples' seed {seed!r}: give a whole number >= 0")
+        raise InputError(f"the samples' seed {shown(seed)}: give a whole number >= 0")
     if not isinstance(unknowns, Unknowns):
         unknowns = Unknowns(tuple(unknowns))
     u = qmc.LatinHypercube(d=len(unknowns), seed=np.random.default_rng(int(seed))).random(int(n))
