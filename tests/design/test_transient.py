@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from design_helpers import resonant_shake, tiny_load_case
 from pdamper.cli.common import main
 from pdamper.config import load_case
 from pdamper.design import design_for_load, load_design_text, load_structure
@@ -34,34 +35,8 @@ from pdamper.theory.balance import operating_points
 SPHERE = 7900.0 * 4.0 / 3.0 * math.pi * 0.005**3
 
 
-def _tiny(folder, acceleration, *, dt=0.005, length="60mm", name="tiny.toml"):
-    t = np.arange(len(acceleration)) * dt
-    text = f"""[container]
-length = "{length}"
-[particles]
-count = 1
-[initial]
-settle_time = "50ms"
-[structure]
-mass = "1kg"
-natural_frequency = "3Hz"
-damping_ratio = 0.005
-[load]
-kind = "ground_acceleration"
-time = {[round(float(x), 6) for x in t]}
-acceleration = {[round(float(x), 8) for x in acceleration]}
-"""
-    (folder / name).write_text(text)
-    return folder / name
-
-
-def _shake(duration=2.0, strong=1.5, amplitude=0.3, dt=0.005):
-    t = np.arange(0.0, duration + dt / 2, dt)
-    return amplitude * np.sin(2 * math.pi * 3.0 * t) * (t < strong)
-
-
 def test_the_design_s_case_meets_the_targets_in_its_own_transient(tmp_path):
-    path = _tiny(tmp_path, _shake())
+    path = tiny_load_case(tmp_path, resonant_shake())
     case = load_structure(path)
     td = design_for_load(case, target_peak_ratio=0.9, target_rms_ratio=0.9, checks=2)
     assert td.met and td.design is not None and td.design.met
@@ -81,7 +56,7 @@ def test_a_peak_that_comes_before_the_bed_engages_cannot_be_halved_and_the_desig
     dt = 0.002
     t = np.arange(0.0, 1.5, dt)
     pulse = 4.0 * np.where(t < 0.08, np.sin(math.pi * t / 0.08), 0.0)    # one blow: the first swing is the peak
-    case = load_structure(_tiny(tmp_path, pulse, dt=dt))
+    case = load_structure(tiny_load_case(tmp_path, pulse, dt=dt))
     td = design_for_load(case, target_peak_ratio=0.5, checks=1)
     assert not td.met and td.design is None and td.best is not None
     d = td.to_dict()
@@ -93,7 +68,7 @@ def test_a_peak_that_comes_before_the_bed_engages_cannot_be_halved_and_the_desig
 
 
 def test_a_bed_whose_x_opt_is_above_the_response_is_said_to_stay_below_it(tmp_path):
-    case = load_structure(_tiny(tmp_path, _shake(amplitude=0.15)))           # 5.6 mm bare peak
+    case = load_structure(tiny_load_case(tmp_path, resonant_shake(amplitude=0.15)))           # 5.6 mm bare peak
     td = design_for_load(case, target_rms_ratio=0.5, particles=(1, 3), checks=1)
     m = td.best.measured
     assert not td.met and m["largest_stroke_m"] < m["x_opt_m"] and m["stroke_below_x_opt_share"] == 1.0
@@ -134,7 +109,7 @@ def test_the_screen_reaches_the_energy_balance_s_operating_point_under_a_harmoni
 
 
 def test_the_command_prints_json_with_met_and_refuses_what_does_not_apply(tmp_path):
-    path = _tiny(tmp_path, _shake())
+    path = tiny_load_case(tmp_path, resonant_shake())
     r = CliRunner().invoke(main, ["design", "--structure", str(path), "--target-peak-ratio", "0.9",
                                   "--target-rms-ratio", "0.9", "--checks", "1", "--json",
                                   "--write-case", str(tmp_path / "out.toml")])
@@ -162,7 +137,7 @@ def test_against_a_suite_the_ratio_is_that_of_the_means_over_the_records(tmp_pat
         names.append(f"r{k}.csv")
         (tmp_path / names[-1]).write_text("time [s],acceleration [m/s^2]\n"
                                           + "".join(f"{x:.4f},{y:.8g}\n" for x, y in zip(t, a)))
-    text = _tiny(tmp_path, _shake()).read_text()
+    text = tiny_load_case(tmp_path, resonant_shake()).read_text()
     text = text[:text.index("[load]")] + f'[load]\nkind = "ground_acceleration"\nfiles = {names!r}\n'
     (tmp_path / "suite.toml").write_text(text)
     case = load_structure(tmp_path / "suite.toml")

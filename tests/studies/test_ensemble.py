@@ -23,7 +23,8 @@ from sweep_helpers import kill_after
 from dem_fixtures import locked_case
 from pdamper.config import loads_case
 from pdamper.errors import InputError
-from pdamper.studies.ensemble import EnsembleSpec, EnsembleStore, open_ensemble, run_ensemble, summarize
+from pdamper.studies.ensemble import (EnsembleSpec, EnsembleStore, damper_point, open_ensemble, run_ensemble,
+                                      summarize)
 from pdamper.studies.unknowns import Unknown, Unknowns, sample
 from pdamper.theory import oscillator_response
 
@@ -123,6 +124,21 @@ def test_the_store_refuses_another_ensemble_naming_the_difference(tmp_path):
         EnsembleStore.create_or_open(tmp_path / "store", EnsembleSpec(base=spec.base, unknowns=other, samples=3,
                                                                        study="transient", dofs=("damper", "response")))
     assert len(EnsembleStore.create_or_open(tmp_path / "store", spec).records()) == 3  # the same one reopens
+
+
+def test_the_damper_point_s_ratios_are_judged_as_one_dof_with_their_shares_and_ranking(tmp_path):
+    # sample i: the damper point's peak ratio 0.5 + 0.1 i (RMS 0.9 of it), the response dof 0.95 everywhere
+    _, store = synthetic_store(tmp_path, [(0.5 + 0.1 * i, 0.95) for i in range(5)])
+    at = damper_point(store.dataset())
+    assert at.peak_ratio.dims == ("sample", "dof") and at.dof.values.tolist() == ["damper"]
+    assert at.peak_ratio.values[:, 0].tolist() == [0.5 + 0.1 * i for i in range(5)]
+    assert at.rms_ratio.values[:, 0] == pytest.approx([0.9 * (0.5 + 0.1 * i) for i in range(5)])
+    s = summarize(at, target_peak_ratio=0.75, target_rms_ratio=0.6)
+    # the damper point's: 0.5, 0.6, 0.7 meet 0.75 (the response dof's 0.95 would meet none); RMS 0.45, 0.54 meet 0.6
+    assert (s["targets"]["peak_ratio"]["met"], s["targets"]["rms_ratio"]["met"], s["targets"]["both"]["met"]) == (3, 2, 2)
+    assert s["dofs"] == ["damper"] and s["peak_ratio"]["p50"] == [pytest.approx(0.7)]
+    with pytest.raises(InputError, match="has no damper point's peak and RMS ratios"):
+        damper_point(store.dataset().drop_vars("damper_rms_ratio"))
 
 
 U_TINY = """

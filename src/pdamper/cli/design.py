@@ -10,6 +10,7 @@ import click
 from ..errors import shown, shown_path
 from .codes import mode_lines
 from .common import Quantity, ShapeChoice, echo_json, main, parse_sizes, renamed, size_option, user_errors
+from .ensemble import uncertain_options
 
 __all__ = ["design_command", "design_option"]
 
@@ -19,7 +20,8 @@ _OPTIONS = {"force": "--force", "mode": "--mode", "target_ratio": "--target-rati
             "container_radius": "--container-radius", "sphere_radius": "--sphere-radius", "particles": "--particles",
             "max_bed_mass": "--max-bed-mass", "max_mass_ratio": "--max-mass-ratio", "strokes": "--verify-strokes",
             "cycles": "--verify-cycles", "verify": "--verify", "target_peak_ratio": "--target-peak-ratio",
-            "target_rms_ratio": "--target-rms-ratio", "checks": "--checks", "dofs": "--dofs", "load": "--load"}
+            "target_rms_ratio": "--target-rms-ratio", "checks": "--checks", "dofs": "--dofs", "load": "--load",
+            "robust": "--robust", "samples": "--samples", "unknowns": "--uncertain"}
 
 
 def _in_its_options(func):
@@ -141,14 +143,24 @@ def _particles_option(text):
               help="With --structure: strokes of the DEM check (0.85 to 1.15 times the operating stroke).")
 @click.option("--seeds", type=click.IntRange(min=1), default=2, show_default=True,
               help="With --structure: DEM seeds per stroke of the check.")
-@click.option("--workers", type=click.IntRange(min=1), help="Local worker processes for --verify (default: all cores).")
+@click.option("--robust", metavar="SHARE",
+              help="With the targets and --uncertain U.toml: the lightest filling whose targets hold in at least this "
+                   "share of --samples samples of the unknowns, e.g. 0.9 (each candidate's DEM ensemble at the same "
+                   "samples; the share with its Wilson interval).")
+@click.option("--plot", type=click.Path(dir_okay=False),
+              help="With --robust: write the CDF of the design's peak ratio (RMS ratio with only its target) over the "
+                   "samples against the target (png, svg, pdf).")
+@click.option("--workers", type=click.IntRange(min=1),
+              help="Local worker processes for --verify and --robust (default: all cores).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (SI units).")
+@uncertain_options(executor=False, store_default="<structure file's name>_robust, a store a candidate")
 @user_errors
 @_in_its_options
 def design_command(structure_file, mode_number, force, frequency, stroke, shape, length, length_range, width,
                    container_radius, sizes, sphere_radius, radius, density, max_particles, particles, max_bed_mass,
                    max_mass_ratio, target_ratio, target_peak_ratio, target_rms_ratio, judged_dofs, load_file, checks,
-                   margin, write_case, tilt, verify, verify_cycles, verify_strokes, seeds, workers, as_json):
+                   margin, write_case, tilt, verify, verify_cycles, verify_strokes, seeds, robust, plot, workers,
+                   as_json, ensemble):
     """The filling (N_p of N_p,max) that puts the structure's stroke at the damper's optimum X_opt.
 
     With a stroke (--frequency, --stroke): inverts eqs. (6), (17): h = X / 0.4075,
@@ -181,6 +193,16 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
 
     Example: pdamper design --structure examples/frame_quake.toml --target-peak-ratio 0.97 --target-rms-ratio 0.93
     --length 80mm:200mm --write-case quake_design.toml
+
+    Robust (--robust SHARE --uncertain U.toml --samples N, with the targets): the lightest filling
+    whose targets hold in at least SHARE of N Latin hypercube samples of the unknowns: the
+    candidates screened at every sample, the lightest expected to reach the share run as DEM
+    ensembles at the same samples (at most --checks), each a resumable store under --store; the
+    share with its Wilson interval, the ratios' percentiles, and unmet the best share and the
+    unknowns that drive the failures (docs/structure.md, "A robust design").
+
+    Example: pdamper design --structure examples/frame_quake.toml --target-rms-ratio 0.97 --robust 0.8
+    --uncertain examples/unknowns/frame_quake.toml --samples 16 --length 120mm:140mm
     """
     from ..design import design_filling, verify_filling
     from ..errors import InputError
@@ -189,6 +211,11 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
     radius = renamed(sphere_radius, radius, new="--sphere-radius", old="--radius")
     sizes = {"width": width, "radius": container_radius, **parse_sizes(sizes)}
     modes = tuple(mode_number) or (1,)
+    if robust is not None or ensemble is not None:
+        robust = _check_robust(robust, ensemble, (target_peak_ratio, target_rms_ratio))
+    elif plot is not None:
+        raise InputError("--plot belongs to the robust design (the CDF of its ratio over the samples): give --robust "
+                         "SHARE and --uncertain U.toml with it")
     if target_peak_ratio is not None or target_rms_ratio is not None:
         if len(modes) > 1:
             raise InputError("--mode once with --target-peak-ratio / --target-rms-ratio: the design against a load in "
@@ -199,7 +226,8 @@ def design_command(structure_file, mode_number, force, frequency, stroke, shape,
             dict(target_peak_ratio=target_peak_ratio, target_rms_ratio=target_rms_ratio, dofs=judged_dofs,
                  shape=shape, sizes=sizes, sphere_radius=radius, density=density, length=length,
                  length_range=length_range, particles=particles, max_bed_mass=max_bed_mass,
-                 max_mass_ratio=max_mass_ratio, checks=checks), load_file, write_case, as_json)
+                 max_mass_ratio=max_mass_ratio, checks=checks), load_file, write_case, as_json,
+            robust=(robust, ensemble, plot, workers) if robust is not None else None)
     for name, value in (("--dofs", judged_dofs), ("--load", load_file)):
         if value is not None:
             raise InputError(f"{name} belongs to the design against a load in time: give --target-peak-ratio and/or "
@@ -495,7 +523,36 @@ def _design_structure_lines(sd, out, structure_file) -> list:
     return lines
 
 
-def _design_load(structure_file, refused: dict, o: dict, load_file, write_case, as_json):
+def _check_robust(robust, ensemble, targets) -> float:
+    """The robust design's options go together: --robust (the share, returned as a number),
+    --uncertain and a target."""
+    import math
+
+    from ..errors import InputError
+
+    if robust is None:
+        raise InputError("--uncertain with design belongs to the robust design: give --robust SHARE and "
+                         "--target-peak-ratio and/or --target-rms-ratio with it (the lightest filling whose targets "
+                         "hold in that share of the samples); a design for a harmonic force is checked over the "
+                         "unknowns by pdamper response on its --write-case: pdamper response DESIGN.toml "
+                         "--uncertain U.toml")
+    try:
+        share = float(robust)
+    except ValueError:
+        share = math.nan
+    if not 0 < share <= 1:
+        raise InputError(f"--robust {robust}: give the share of the samples in which the targets must hold, above 0 "
+                         "and at most 1 (e.g. 0.9: in 90 % of them)")
+    if ensemble is None:
+        raise InputError(f"--robust {robust} is a share of the samples of the unknowns: give --uncertain U.toml (the "
+                         "unknowns) and --samples N with it")
+    if all(t is None for t in targets):
+        raise InputError(f"--robust {robust} is the share of the samples in which the targets hold: give "
+                         "--target-peak-ratio and/or --target-rms-ratio with it (e.g. 0.7 and 0.6)")
+    return share
+
+
+def _design_load(structure_file, refused: dict, o: dict, load_file, write_case, as_json, robust=None):
     """``pdamper design --structure CASE --target-peak-ratio R --target-rms-ratio R``: the design
     against the case's load in time (:func:`pdamper.design.design_for_load`), printed, its case
     written."""
@@ -526,6 +583,8 @@ def _design_load(structure_file, refused: dict, o: dict, load_file, write_case, 
     case = load_structure(structure_file, load=load_file)
     o["dofs"] = parse_dofs(o["dofs"])
     o["particles"] = _particles_option(o["particles"]) if o["particles"] is not None else None
+    if robust is not None:
+        return _design_robust(structure_file, case, o, length, rng, given, load_file, write_case, as_json, *robust)
     td = design_for_load(case, length=length, length_range=rng, **o)
     out = td.to_dict()
     out["structure_file"] = str(structure_file)
@@ -574,6 +633,15 @@ def _load_command_line(structure_file, td, o: dict, load_file) -> str:
     return " ".join(words)
 
 
+def _verdict_lines(met: bool, chosen, verdict: str, reasons: list) -> list:
+    """The design's line (its bed, then ``verdict``), or unmet the reasons."""
+    if met:
+        return [f"  design                {chosen.particles} of {chosen.max_particles} spheres, "
+                f"{chosen.bed_mass_kg * 1e3:.4g} g, in a {chosen.container} (X_opt = {1e3 * chosen.x_opt_m:.4g} mm): "
+                + verdict]
+    return ["  not met: " + reasons[0]] + [f"    why: {r}" for r in reasons[1:]]
+
+
 def design_load_lines(td, out, structure_file) -> list:
     """The report of a design against a load in time (``td``: :class:`pdamper.design.TransientDesign`)."""
     mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
@@ -598,15 +666,108 @@ def design_load_lines(td, out, structure_file) -> list:
                      f"  peak {words(c.peak_ratio)} (screen {words(c.screen_peak_ratio)})  RMS {words(c.rms_ratio)} "
                      f"(screen {words(c.screen_rms_ratio)})  {'meets' if c.met else 'misses'}")
     chosen = td.design if td.met else td.best
-    if td.met:
-        lines.append(f"  design                {chosen.particles} of {chosen.max_particles} spheres, "
-                     f"{chosen.bed_mass_kg * 1e3:.4g} g, in a {chosen.container} (X_opt = {mm(chosen.x_opt_m)}): peak "
-                     f"ratio {words(chosen.peak_ratio)}, RMS ratio {words(chosen.rms_ratio)} (DEM): met")
-    else:
-        lines.append("  not met: " + td.reasons[0])
-        lines += [f"    why: {r}" for r in td.reasons[1:]]
+    lines += _verdict_lines(td.met, chosen, f"peak ratio {words(chosen.peak_ratio)}, RMS ratio "
+                            f"{words(chosen.rms_ratio)} (DEM): met", td.reasons)
     lines += [f"warning: {w}" for w in td.warnings]
     if "case_file" in out:
         lines.append(f"  wrote {out['case_file']} (the {'design' if td.met else 'best achievable'} with the [load]: "
+                     "pdamper transient runs it)")
+    return lines
+
+
+def _design_robust(structure_file, case, o, length, rng, given, load_file, write_case, as_json, robust, ensemble, plot,
+                   workers):
+    """``pdamper design ... --robust SHARE --uncertain U.toml``: the robust design
+    (:func:`pdamper.design.design_robust`), printed, its figures drawn, its case written."""
+    import sys
+    import warnings
+    from pathlib import Path
+
+    from ..design import design_robust, robust_design_text
+    from ..io.files import atomic_write
+    from ..plotting.figure import check_path
+    from ..studies.ensemble import summary_lines
+
+    check_path(plot)
+    check_path(ensemble.tornado)
+    store = Path(ensemble.store or f"{Path(structure_file).stem}_robust")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        rd = design_robust(case, ensemble.uncertain, robust=robust, samples=ensemble.samples,
+                           sample_seed=ensemble.sample_seed, store=store, length=length, length_range=rng,
+                           workers=workers, progress=False if as_json else None,
+                           history="pdamper " + " ".join(sys.argv[1:]), **o)
+    said = []
+    for w in caught:
+        if str(w.message) not in said:
+            said.append(str(w.message))
+            click.echo(f"warning: {w.message}", err=True)
+    out = rd.to_dict()
+    out["structure_file"] = str(structure_file)
+    out["uncertain"] = str(ensemble.uncertain)
+    chosen = rd.chosen
+    if plot or ensemble.tornado:
+        ds = chosen.dataset()
+        if plot:
+            from ..plotting.ensemble import cdf_figure
+
+            q = "peak_ratio" if rd.target_peak_ratio is not None else "rms_ratio"
+            cdf_figure(ds, plot, quantity=q, target=rd.target_peak_ratio if q == "peak_ratio" else rd.target_rms_ratio)
+        if ensemble.tornado:
+            from ..plotting.ensemble import tornado_figure
+
+            q = chosen.drivers[0]["ratio"] if chosen.drivers else None
+            tornado_figure(ds, ensemble.tornado, quantity=q)
+    out["plot"], out["tornado"] = plot, ensemble.tornado
+    if write_case is not None:
+        path = Path(write_case)
+        command = (_load_command_line(structure_file, rd, given, load_file)
+                   + f" --robust {robust:g} --uncertain {ensemble.uncertain} --samples {ensemble.samples}"
+                   + (f" --sample-seed {ensemble.sample_seed}" if ensemble.sample_seed else ""))
+        atomic_write(path, robust_design_text(rd, case, command=command, name=path.name, uncertain=ensemble.uncertain))
+        out["case_file"] = str(path)
+    if as_json:
+        echo_json(out)
+        return
+    click.echo("\n".join(design_robust_lines(rd, out, structure_file, summary_lines(chosen.summary))))
+
+
+def design_robust_lines(rd, out, structure_file, ensemble_lines) -> list:
+    """The report of a robust design (``rd``: :class:`pdamper.design.RobustDesign`); ``ensemble_lines``
+    the chosen candidate's ensemble summary (:func:`pdamper.studies.ensemble.summary_lines`)."""
+    mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
+    pct = lambda x: f"{100 * x:.3g} %"  # noqa: E731
+    aims = [f"peak ratio <= {rd.target_peak_ratio:g}" if rd.target_peak_ratio is not None else "",
+            f"RMS ratio <= {rd.target_rms_ratio:g}" if rd.target_rms_ratio is not None else ""]
+    b = rd.search
+    lines = [f"pdamper design --structure {structure_file}: a robust design against a load in time, "
+             f"{' and '.join(a for a in aims if a)} (with / without the damper) at {', '.join(map(str, rd.dofs))} in "
+             f"at least {pct(rd.robust)} of {rd.samples} samples of {len(rd.unknowns)} unknown"
+             f"{'s' if len(rd.unknowns) != 1 else ''} ({out['uncertain']})",
+             f"  load                  {rd.load}",
+             f"  structure             first mode {rd.natural_frequency_hz:.5g} Hz, {rd.mass_at_damper_kg:.4g} kg at the "
+             "damper",
+             f"  screened              {rd.candidates} fillings (lengths {b['lengths_m'][0] * 1e3:.4g}-"
+             f"{b['lengths_m'][1] * 1e3:.4g} mm" + "".join(f", {k} {v * 1e3:.4g} g" for k, v in
+                                                            b["max_bed_mass_kg"].items())
+             + f") at each sample: {rd.screen_met} expected to meet the targets in {pct(rd.robust)} of them",
+             f"  DEM ensembles         {len(rd.checks)} (at most {b['checks']}), lightest expected first, the same "
+             f"{rd.samples} samples each:"]
+    for c in rd.checks:
+        lines.append(f"    {c.particles:>4} of {c.max_particles:<4} {c.bed_mass_kg * 1e3:8.4g} g in "
+                     f"{c.length_m * 1e3:6.4g} mm  meets the targets in {c.met_samples:>3} of {c.samples}: "
+                     f"{pct(c.share):>7} ({100 * c.confidence:.0f} % interval {pct(c.low)}-{pct(c.high)}; screen "
+                     f"{pct(c.screen_share)})  {'reaches' if c.met else 'misses'} {pct(rd.robust)}")
+    c = rd.chosen
+    lines += _verdict_lines(rd.met, c, f"the targets hold in {pct(c.share)} of the samples ({100 * c.confidence:.0f} % "
+                            f"interval {pct(c.low)}-{pct(c.high)}, Wilson): met", rd.reasons)
+    lines.append(f"  the {'design' if rd.met else 'best achievable'}'s ensemble ({c.store}):")
+    lines += ["  " + ln for ln in ensemble_lines]
+    lines += [f"warning: {w}" for w in rd.warnings]
+    figures = [p for p in (out.get("plot"), out.get("tornado")) if p]
+    lines.append(f"  ensembles             {rd.store} (one store a candidate; a rerun resumes them)"
+                 + "".join(f"; figure: {p}" for p in figures))
+    if "case_file" in out:
+        lines.append(f"  wrote {out['case_file']} (the {'design' if rd.met else 'best achievable'} with the [load]: "
                      "pdamper transient runs it)")
     return lines

@@ -40,16 +40,23 @@ _NAMES = ("uncertain", "samples", "sample_seed", "store", "tornado", "target_pea
           "target_eta_star")
 
 
-def uncertain_options(*, executor: bool = True, ratios: bool = False, eta: bool = False, store: bool = True):
+def uncertain_options(*, executor: bool = True, ratios: bool = False, eta: bool = False, store: bool = True,
+                      store_default: str = "<config name>_ensemble"):
     """The options of an ensemble, passed to the command as ``ensemble`` (an :class:`EnsembleOptions`,
     None without ``--uncertain``): ``executor`` adds ``--workers`` and ``--scheduler`` (a command that has
     its own passes them in), ``ratios`` the targets of the peak and RMS ratios, ``eta`` the target of
-    eta*, ``store`` the store's ``--store`` (a sweep's is its ``--out``)."""
+    eta*, ``store`` the store's ``--store`` (a sweep's is its ``--out``; ``store_default`` its default
+    in words)."""
 
     def deco(func):
+        # only the options added here: a command's own options of the same name (design's targets) stay its own
+        mine = (["uncertain", "samples", "sample_seed", "tornado"] + ["store"] * store
+                + ["target_peak_ratio", "target_rms_ratio"] * ratios + ["target_eta_star"] * eta)
+
         @functools.wraps(func)
         def wrapper(*args, **kw):
-            given = {n: kw.pop(n, None) for n in _NAMES}
+            given = {n: kw.pop(n, None) for n in mine}
+            given.update({n: None for n in _NAMES if n not in mine})
             own = {} if not executor else {"workers": kw.pop("ens_workers", None),
                                            "scheduler": kw.pop("ens_scheduler", None)}
             if given["uncertain"] is None:
@@ -78,7 +85,7 @@ def uncertain_options(*, executor: bool = True, ratios: bool = False, eta: bool 
         if store:
             opts.append(click.option("--store", type=click.Path(file_okay=False),
                                      help="With --uncertain: the ensemble's result store (default: "
-                                          "<config name>_ensemble); re-running resumes it."))
+                                          f"{store_default}); re-running resumes it."))
         if executor:
             opts += [click.option("--workers", "ens_workers", type=click.IntRange(min=1),
                                   help="With --uncertain: local worker processes (default: all cores)."),

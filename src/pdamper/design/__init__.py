@@ -22,6 +22,12 @@ One module per idea (docs/structure.md, "Design for a structure"; docs/architect
 - :mod:`.several` -- one damper per mode: :func:`design_for_modes` (a damper for each of several
   modes at the structure's damper points), :func:`design_case_several` (them as one case with a
   ``[[damper]]`` each);
+- :mod:`.robust` -- the robust design against a load in time: :func:`design_robust` (the lightest
+  filling whose targets hold in a given share of an ensemble over the unknowns: the candidates
+  screened at every sample, the lightest expected to reach the share run as DEM ensembles at the
+  same samples), its :class:`RobustDesign` and :class:`RobustCheck` (the share with its Wilson
+  interval, the ratios' percentiles, the unknowns that drive the failures), :func:`robust_design_text`
+  (the design with its load, one case);
 - :mod:`.names` -- how its messages name its parameters (:func:`naming`: the CLI's options).
 
 The closed forms it rests on (:func:`rolling_mass_ratio`, :func:`closed_form_fields`,
@@ -38,6 +44,7 @@ from .case import design_case, design_case_text, design_container, design_for_ca
 from .filling import (MARGIN_MEASURED, MARGIN_TABLE, MARGINAL, MIN_ROWS, TILT_MARGIN, Design, auto_margin,
                       check_fits, design_filling, margin_note, most_spheres)
 from .names import naming
+from .robust import RobustCheck, RobustDesign, design_robust, robust_design_text
 from .search import StructureDesign, design_for_structure, structure_mode
 from .transient import (TransientCheck, TransientDesign, check_candidate, design_for_load, load_design_case,
                         load_design_text, measured_reasons, screen_candidates)
@@ -53,4 +60,5 @@ __all__ = ["Design", "design_filling", "design_container", "check_fits", "most_s
            "Verification", "FillingCheck", "RigSweep", "rig_case", "rig_sweep", "design_case", "design_case_text",
            "naming", "TransientDesign", "TransientCheck", "design_for_load", "screen_candidates", "check_candidate",
            "measured_reasons", "load_design_case", "load_design_text",
-           "SeveralDesign", "design_for_modes", "design_case_several"]
+           "SeveralDesign", "design_for_modes", "design_case_several", "RobustDesign", "RobustCheck", "design_robust",
+           "robust_design_text"]

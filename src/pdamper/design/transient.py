@@ -48,7 +48,7 @@ from .filling import design_filling
 from .names import name
 from .search import _Candidate, _candidates, _lengths, _mass_caps, _particle_bounds, structure_mode
 
-__all__ = ["TransientDesign", "TransientCheck", "Screen", "design_for_load", "screen_candidates", "check_candidate",
+__all__ = ["TransientDesign", "TransientCheck", "CheckedBed", "Screen", "design_for_load", "screen_candidates", "check_candidate",
            "measured_reasons", "load_design_case", "load_design_text", "ENGAGED", "STRONG"]
 
 #: The bed "works" from the time it has dissipated this share of the energy it takes over the run
@@ -72,13 +72,11 @@ class Screen:
 
 
 @dataclass(frozen=True, kw_only=True)
-class TransientCheck:
-    """The DEM check of one candidate under the load (:func:`check_candidate`), SI units: its bed
-    (``particles`` of ``max_particles``, ``bed_mass_kg``, the container ``length_m`` along the
-    drive, ``x_opt_m``), the ratios at the dofs judged (``dofs``; ``peak_ratio``, ``rms_ratio``
-    per dof; under a suite the mean over the records with the damper over the mean without),
-    whether it meets the targets (``met``), the screen's estimate for it, the numbers its reasons
-    were measured from (``measured``, :func:`measured_reasons`) and the run's summary."""
+class CheckedBed:
+    """The bed of a candidate the DEM checked, SI units: ``particles`` of ``max_particles``,
+    ``bed_mass_kg``, the container ``length_m`` along the drive, ``x_opt_m``, the ``container`` in
+    words; the check's ``summary`` and the candidate's filling (a
+    :class:`~pdamper.design.filling.Design`) beside them."""
 
     particles: int
     max_particles: int
@@ -86,6 +84,32 @@ class TransientCheck:
     length_m: float
     x_opt_m: float
     container: str
+    summary: dict = field(default_factory=dict, repr=False)
+    filling: object = field(default=None, repr=False, compare=False)
+
+    @staticmethod
+    def of(cand) -> dict:
+        """The bed's fields of the candidate ``cand``."""
+        return dict(particles=cand.particles, max_particles=cand.max_particles, bed_mass_kg=cand.bed_mass,
+                    length_m=float(cand.geometry.drive_length), x_opt_m=float(cand.x_opt),
+                    container=cand.geometry.describe())
+
+    def to_dict(self) -> dict:
+        """Every field but the filling object (its numbers are in ``particles`` ...) and the check's summary."""
+        out = asdict(self)
+        out.pop("filling")
+        out.pop("summary")
+        return out
+
+
+@dataclass(frozen=True, kw_only=True)
+class TransientCheck(CheckedBed):
+    """The DEM check of one candidate under the load (:func:`check_candidate`), SI units: its bed
+    (:class:`CheckedBed`), the ratios at the dofs judged (``dofs``; ``peak_ratio``, ``rms_ratio``
+    per dof; under a suite the mean over the records with the damper over the mean without),
+    whether it meets the targets (``met``), the screen's estimate for it, the numbers its reasons
+    were measured from (``measured``, :func:`measured_reasons`) and the run's summary."""
+
     dofs: list
     peak_ratio: list
     rms_ratio: list
@@ -95,15 +119,6 @@ class TransientCheck:
     measured: dict
     reasons: list
     records: int
-    summary: dict = field(default_factory=dict, repr=False)
-    filling: object = field(default=None, repr=False, compare=False)
-
-    def to_dict(self) -> dict:
-        """Every field but the filling object (its numbers are in ``particles`` ...) and the run's summary."""
-        out = asdict(self)
-        out.pop("filling")
-        out.pop("summary")
-        return out
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -274,9 +289,7 @@ def check_candidate(case, cand: _Candidate, *, dofs=None, targets=(None, None), 
     met = _meets(peak, rms, targets)
     measured, reasons = measured_reasons(run, x_opt=cand.x_opt, bed_mass=cand.bed_mass, targets=targets,
                                          peak=peak, rms=rms)
-    return TransientCheck(particles=cand.particles, max_particles=cand.max_particles, bed_mass_kg=cand.bed_mass,
-                          length_m=float(cand.geometry.drive_length), x_opt_m=float(cand.x_opt),
-                          container=cand.geometry.describe(), dofs=list(_labels(case, dofs)),
+    return TransientCheck(**CheckedBed.of(cand), dofs=list(_labels(case, dofs)),
                           peak_ratio=[float(x) for x in peak], rms_ratio=[float(x) for x in rms], met=met,
                           screen_peak_ratio=_floats(screen[0]), screen_rms_ratio=_floats(screen[1]),
                           measured=measured, reasons=reasons if not met else [],
@@ -427,22 +440,33 @@ def _running_max(x: np.ndarray, width: int) -> np.ndarray:
 
 # --------------------------------------------------------------------------- the design
 
-def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_ratio: float | None = None,
-                    dofs=None, shape: str | None = None, sizes: dict | None = None, sphere_radius: float | None = None,
-                    density: float | None = None, length: float | None = None, length_range=None, particles=None,
-                    max_bed_mass: float | None = None, max_mass_ratio: float | None = None, checks: int = 3,
-                    kappa: float = 1.0, progress=None) -> TransientDesign:
-    """The lightest filling whose coupled DEM transient under the structure's load in time meets
-    the targets (module docstring): ``case`` a structure file with a ``[load]``
-    (:func:`~pdamper.design.case.load_structure`), ``target_peak_ratio`` / ``target_rms_ratio``
-    (0 < R < 1, at least one) at every dof of ``dofs`` (labels; None: the damper point); the
-    container and spheres as :func:`~pdamper.design.case.design_for_case` takes them (``shape``,
-    ``sizes``, ``sphere_radius``, ``density``; ``length`` or ``length_range``, ``particles``,
-    ``max_bed_mass`` [kg], ``max_mass_ratio`` of the first mode's mass at the damper); at most
-    ``checks`` DEM runs (a suite: each one transient a record). ``progress(fraction)`` of each run.
+@dataclass(frozen=True, kw_only=True)
+class _Setup:
+    """What a design against a load in time starts from (:func:`_setup`)."""
 
-    A DEM run starts no worker process; a script may call it as it is.
-    """
+    structure: object
+    targets: tuple
+    labels: list
+    cands: list
+    radius: float
+    density: float
+    lengths: object
+    bounds: tuple
+    caps: dict
+    mass_at_damper: float
+
+    def search(self, checks: int) -> dict:
+        """The search's bounds, for the report (JSON)."""
+        lengths, bounds = self.lengths, self.bounds
+        return {"lengths_m": [float(lengths[0]), float(lengths[-1])], "length_steps": int(len(lengths)),
+                "particles": [int(bounds[0]), None if math.isinf(bounds[1]) else int(bounds[1])],
+                "max_bed_mass_kg": {k.replace("_", "-"): float(v) for k, v in self.caps.items()}, "checks": checks}
+
+
+def _setup(case, *, target_peak_ratio, target_rms_ratio, dofs, shape, sizes, sphere_radius, density, length,
+           length_range, particles, max_bed_mass, max_mass_ratio, checks) -> _Setup:
+    """The checks of a design against a load in time's arguments (:func:`design_for_load`) and its
+    candidates."""
     s = case.running_drive
     if not getattr(s, "coupled", False) or s.load is None:
         raise InputError("the design against a load in time needs a [structure] and a [load] (a force history, a "
@@ -478,6 +502,32 @@ def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_
     if not cands:
         raise InputError(f"no filling fits the bounds (lengths {lengths[0] * 1e3:.4g}-{lengths[-1] * 1e3:.4g} mm, "
                          f"bed mass <= {cap * 1e3:.4g} g): widen {name('length_range')} or the mass bounds")
+    return _Setup(structure=s, targets=targets, labels=list(labels), cands=cands, radius=r, density=rho,
+                  lengths=lengths, bounds=bounds, caps=caps, mass_at_damper=m_at_damper)
+
+
+def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_ratio: float | None = None,
+                    dofs=None, shape: str | None = None, sizes: dict | None = None, sphere_radius: float | None = None,
+                    density: float | None = None, length: float | None = None, length_range=None, particles=None,
+                    max_bed_mass: float | None = None, max_mass_ratio: float | None = None, checks: int = 3,
+                    kappa: float = 1.0, progress=None) -> TransientDesign:
+    """The lightest filling whose coupled DEM transient under the structure's load in time meets
+    the targets (module docstring): ``case`` a structure file with a ``[load]``
+    (:func:`~pdamper.design.case.load_structure`), ``target_peak_ratio`` / ``target_rms_ratio``
+    (0 < R < 1, at least one) at every dof of ``dofs`` (labels; None: the damper point); the
+    container and spheres as :func:`~pdamper.design.case.design_for_case` takes them (``shape``,
+    ``sizes``, ``sphere_radius``, ``density``; ``length`` or ``length_range``, ``particles``,
+    ``max_bed_mass`` [kg], ``max_mass_ratio`` of the first mode's mass at the damper); at most
+    ``checks`` DEM runs (a suite: each one transient a record). ``progress(fraction)`` of each run.
+
+    A DEM run starts no worker process; a script may call it as it is.
+    """
+    setup = _setup(case, target_peak_ratio=target_peak_ratio, target_rms_ratio=target_rms_ratio, dofs=dofs,
+                   shape=shape, sizes=sizes, sphere_radius=sphere_radius, density=density, length=length,
+                   length_range=length_range, particles=particles, max_bed_mass=max_bed_mass,
+                   max_mass_ratio=max_mass_ratio, checks=checks)
+    s, targets, labels, cands = setup.structure, setup.targets, setup.labels, setup.cands
+    r, rho, m_at_damper = setup.radius, setup.density, setup.mass_at_damper
     screen = screen_candidates(s, cands, dofs=dofs, kappa=kappa)
     ex = np.array([_excess(p, q, targets) for p, q in zip(screen.peak_ratio, screen.rms_ratio)])
     mass = np.array([c.bed_mass for c in cands])
@@ -538,12 +588,7 @@ def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_
                            checks=checked, candidates=len(cands), screen_met=screen_met, reasons=reasons,
                            records=len(s.load.records()), load=s.load.describe(),
                            natural_frequency_hz=float(np.min(s.mode_frequencies)), mass_at_damper_kg=m_at_damper,
-                           search={"lengths_m": [float(lengths[0]), float(lengths[-1])],
-                                   "length_steps": int(len(lengths)),
-                                   "particles": [int(bounds[0]), None if math.isinf(bounds[1]) else int(bounds[1])],
-                                   "max_bed_mass_kg": {k.replace("_", "-"): float(v) for k, v in caps.items()},
-                                   "checks": checks},
-                           warnings=warnings)
+                           search=setup.search(checks), warnings=warnings)
 
 
 def _words(ratios) -> str:

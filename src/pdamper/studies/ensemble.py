@@ -43,7 +43,7 @@ from ..params import Case
 from .store import ResultStore, VARIABLES, _command_line, _first_difference, clear_unfinished, make_directories
 from .unknowns import Samples, Unknown, Unknowns, key_kind, sample, sample_case, variable_name
 
-__all__ = ["EnsembleSpec", "EnsembleStore", "run_ensemble", "open_ensemble", "summarize", "summary_lines",
+__all__ = ["EnsembleSpec", "EnsembleStore", "run_ensemble", "open_ensemble", "summarize", "summary_lines", "damper_point",
            "Unknown", "Unknowns", "sample", "sample_case", "STUDIES", "FORMAT"]
 
 FORMAT = "pdamper-ensemble-store/1"
@@ -614,6 +614,22 @@ def _listed(ds) -> dict:
         if u.get("distribution") == "choice":
             kind = key_kind(u["key"])
             out[u["key"]] = [Path(v).name if kind.file else v for v in u["values"]]
+    return out
+
+
+def damper_point(ds):
+    """A transient ensemble's dataset ``ds`` judged at the damper point: its ``peak_ratio`` and
+    ``rms_ratio`` those of the damper point (``damper_peak_ratio``, ``damper_rms_ratio``) over one
+    dof labelled ``"damper"``, the other per-dof quantities left out (nothing recomputed), so that
+    :func:`summarize` gives the damper point's percentiles, shares and ranking."""
+    if "damper_rms_ratio" not in ds:
+        raise InputError(f"a {ds.attrs.get('study', 'run')} ensemble has no damper point's peak and RMS ratios; "
+                         "they belong to a transient ensemble")
+    out = ds.drop_dims("dof") if "dof" in ds.dims else ds.copy()
+    for q in ("peak_ratio", "rms_ratio"):
+        v = ds[f"damper_{q}"]
+        out[q] = v.expand_dims(dof=["damper"], axis=v.dims.index("sample") + 1).assign_attrs(v.attrs)
+    out["dof"].attrs["long_name"] = "the damper point"
     return out
 
 
