@@ -345,10 +345,13 @@ def design_robust(case, unknowns, *, robust: float = 0.9, samples: int = 32, sam
     mass = np.array([c.bed_mass for c in cands])
     bias = np.ones((samples, 2))   # per sample: the last ensemble's DEM ratio over the screen's (peak, RMS)
 
+    def excess():
+        """The worst ratio over its target [samples, candidates] the screen expects (corrected)."""
+        return _excess(sp * bias[:, 0][:, None, None], sr * bias[:, 1][:, None, None], targets)
+
     def screened():
         """The share of the samples each candidate is expected to meet the targets in (corrected)."""
-        ex = _excess(sp * bias[:, 0][:, None, None], sr * bias[:, 1][:, None, None], targets)
-        return np.mean(ex <= 1.0, axis=0)
+        return np.mean(excess() <= 1.0, axis=0)
 
     screen_met = int(np.sum(screened() >= robust - 1e-12))
     done: dict[int, RobustCheck] = {}
@@ -381,8 +384,9 @@ def design_robust(case, unknowns, *, robust: float = 0.9, samples: int = 32, sam
             design = chk  # and on to a lighter one, if the ensemble's correction expects one to reach it too
     if design is None and len(done) < checks:
         # none expected to reach the share (any more): the screen's best, for the best achievable
-        shares = screened()
-        rest = [j for j in np.lexsort((mass, -shares)) if j not in done]
+        ex = excess()
+        closest = np.mean(np.where(np.isfinite(ex), ex, 1e9), axis=0)  # ties in the share: the nearest on average
+        rest = [j for j in np.lexsort((mass, closest, -np.mean(ex <= 1.0, axis=0))) if j not in done]
         if rest:
             chk = run(int(rest[0]))
             if chk.met:
@@ -395,7 +399,8 @@ def design_robust(case, unknowns, *, robust: float = 0.9, samples: int = 32, sam
                        f"({len(checked)} ensemble{'s' if len(checked) != 1 else ''} run; the screen over the samples "
                        f"expected {screen_met} of {len(cands)} candidates to); the best share: {_pct(best.share)} "
                        f"({best.met_samples} of {best.samples}, {100 * best.confidence:.0f} % interval "
-                       f"{_pct(best.low)}-{_pct(best.high)}, Wilson) with {best.particles} spheres, "
+                       f"{_pct(best.low)}-{_pct(best.high)}, Wilson) with {best.particles} "
+                       f"sphere{'s' if best.particles != 1 else ''}, "
                        f"{best.bed_mass_kg * 1e3:.4g} g, in {best.length_m * 1e3:.4g} mm")
         if best.drivers:
             reasons.append(f"what drives the failures ({best.drivers[0]['ratio'].replace('_', ' ')}, Spearman rho over "
