@@ -162,6 +162,8 @@ def test_a_share_that_a_small_ensemble_cannot_bound_is_said_to_be_a_point_estima
     said = _check_ensemble(0.9, 16, 0.95)
     assert len(said) == 1 and "starts at 80.6 %" in said[0] and "35 samples all meeting would bound it" in said[0]
     assert _check_ensemble(0.8, 16, 0.95) == []
+    # 100 %: every sample must meet, and no ensemble bounds it
+    assert "no finite ensemble bounds a share of 100 %" in _check_ensemble(1.0, 3, 0.95)[0]
     for bad in (1.5, 0, -0.1, True, "0.9"):
         with pytest.raises(InputError, match=re.escape(f"robust = {shown(bad)}: give the share of the samples")):
             _check_ensemble(bad, 16, 0.95)

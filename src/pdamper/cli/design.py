@@ -644,7 +644,6 @@ def _verdict_lines(met: bool, chosen, verdict: str, reasons: list) -> list:
 
 def design_load_lines(td, out, structure_file) -> list:
     """The report of a design against a load in time (``td``: :class:`pdamper.design.TransientDesign`)."""
-    mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
     words = lambda rs: ", ".join(f"{r:.3g}" for r in rs)  # noqa: E731
     aims = [f"peak ratio <= {td.target_peak_ratio:g}" if td.target_peak_ratio is not None else "",
             f"RMS ratio <= {td.target_rms_ratio:g}" if td.target_rms_ratio is not None else ""]
@@ -735,7 +734,6 @@ def _design_robust(structure_file, case, o, length, rng, given, load_file, write
 def design_robust_lines(rd, out, structure_file, ensemble_lines) -> list:
     """The report of a robust design (``rd``: :class:`pdamper.design.RobustDesign`); ``ensemble_lines``
     the chosen candidate's ensemble summary (:func:`pdamper.studies.ensemble.summary_lines`)."""
-    mm = lambda x: f"{1e3 * x:.4g} mm"  # noqa: E731
     pct = lambda x: f"{100 * x:.3g} %"  # noqa: E731
     aims = [f"peak ratio <= {rd.target_peak_ratio:g}" if rd.target_peak_ratio is not None else "",
             f"RMS ratio <= {rd.target_rms_ratio:g}" if rd.target_rms_ratio is not None else ""]
@@ -745,8 +743,8 @@ def design_robust_lines(rd, out, structure_file, ensemble_lines) -> list:
              f"at least {pct(rd.robust)} of {rd.samples} samples of {len(rd.unknowns)} unknown"
              f"{'s' if len(rd.unknowns) != 1 else ''} ({out['uncertain']})",
              f"  load                  {rd.load}",
-             f"  structure             first mode {rd.natural_frequency_hz:.5g} Hz, {rd.mass_at_damper_kg:.4g} kg at the "
-             "damper",
+             f"  structure             first mode {rd.natural_frequency_hz:.5g} Hz, {rd.mass_at_damper_kg:.4g} kg at "
+             "the damper",
              f"  screened              {rd.candidates} fillings (lengths {b['lengths_m'][0] * 1e3:.4g}-"
              f"{b['lengths_m'][1] * 1e3:.4g} mm" + "".join(f", {k} {v * 1e3:.4g} g" for k, v in
                                                             b["max_bed_mass_kg"].items())

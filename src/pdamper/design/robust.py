@@ -40,14 +40,14 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError, shown
 from .names import name
-from .transient import CheckedBed, _candidate_case, _setup, screen_candidates
+from .transient import CheckedBed, LoadDesign, _candidate_case, _lightest_first, _setup, screen_candidates
 
 __all__ = ["RobustCheck", "RobustDesign", "design_robust", "robust_screen", "decidable_samples", "robust_design_text",
            "DESIGN_KEYS"]
@@ -98,35 +98,20 @@ class RobustCheck(CheckedBed):
 
 
 @dataclass(frozen=True, kw_only=True)
-class RobustDesign:
-    """The robust design (:func:`design_robust`): ``met`` (a candidate's ensemble meets the targets
-    in at least ``robust`` of its samples), ``design`` the lightest such (None when unmet), ``best``
-    the design or, unmet, the candidate with the largest share (the best achievable), every
-    ensemble in the order run (``checks``), what the screen over the samples found (``candidates``,
-    ``screen_met`` of them expected to reach the share), the ``reasons`` when unmet, the targets,
-    the dofs judged, the ensemble (``samples``, ``sample_seed``, ``unknowns``, ``store``), the
-    structure's first mode and ``warnings``."""
+class RobustDesign(LoadDesign):
+    """The robust design (:func:`design_robust`; the fields of
+    :class:`~pdamper.design.transient.LoadDesign`): ``met`` (a candidate's ensemble meets the
+    targets in at least ``robust`` of its samples), ``design`` the lightest such (a
+    :class:`RobustCheck`, None when unmet), ``best`` the design or, unmet, the candidate with the
+    largest share (the best achievable), every ensemble in the order run (``checks``), what the
+    screen over the samples found (``screen_met`` of the ``candidates`` expected to reach the
+    share), the ensemble (``samples``, ``sample_seed``, ``unknowns``, ``store``)."""
 
-    met: bool
     robust: float
-    target_peak_ratio: float | None
-    target_rms_ratio: float | None
-    dofs: list
-    design: RobustCheck | None
-    best: RobustCheck | None
-    checks: list
-    candidates: int
-    screen_met: int
-    reasons: list
     samples: int
     sample_seed: int
     unknowns: list
     store: str
-    load: str
-    natural_frequency_hz: float
-    mass_at_damper_kg: float
-    search: dict = field(default_factory=dict)
-    warnings: list = field(default_factory=list)
 
     @property
     def chosen(self) -> RobustCheck | None:
@@ -166,6 +151,8 @@ def decidable_samples(robust: float) -> int:
 def _check_ensemble(robust, samples: int, confidence: float) -> list:
     """Refuse a ``robust`` outside (0, 1] or ``samples`` too few to decide it; the warnings of a
     share whose interval stays wide even when every sample meets the targets."""
+    from scipy.stats import norm
+
     from ..analysis.ensemble import share_meeting
 
     if isinstance(robust, bool) or not isinstance(robust, (int, float)) or not 0 < robust <= 1:
@@ -178,18 +165,20 @@ def _check_ensemble(robust, samples: int, confidence: float) -> list:
     k = int(math.ceil(robust * samples - 1e-9))
     at = share_meeting(np.r_[np.zeros(k), np.ones(samples - k)], 0.5, confidence=confidence)
     if samples < need:
-        raise InputError(f"{name('samples')} = {samples} cannot decide a share of {100 * robust:.3g} %: the share moves "
-                         f"in steps of {100 / samples:.3g} %, so only every sample meeting the targets would do, and "
-                         f"the {100 * confidence:.0f} % interval of {k} of {samples} is {100 * at['low']:.3g}-"
-                         f"{100 * at['high']:.3g} % wide; give at least {need} samples (or {name('robust')} 1: every "
+        raise InputError(f"{name('samples')} = {samples} cannot decide a share of {100 * robust:.3g} %: the share "
+                         f"moves in steps of {100 / samples:.3g} %, so only every sample meeting the targets would "
+                         f"do, and the {100 * confidence:.0f} % interval of {k} of {samples} is {100 * at['low']:.3g}-"
+                         f"{100 * at['high']:.3g} %; give at least {need} samples (or {name('robust')} 1: every "
                          "sample)")
     every = share_meeting(np.zeros(samples), 0.5, confidence=confidence)
     if every["low"] < robust:
-        enough = next(n for n in range(samples, 100_000)
-                      if share_meeting(np.zeros(n), 0.5, confidence=confidence)["low"] >= robust)
-        return [f"with {samples} samples even every one meeting the targets gives a share whose {100 * confidence:.0f} % "
-                f"interval starts at {100 * every['low']:.3g} %: a share of {100 * robust:.3g} % is a point estimate "
-                f"here, not a bound ({enough} samples all meeting would bound it)"]
+        # every sample meeting: Wilson's interval starts at n / (n + z^2), above robust from n >= z^2 r / (1 - r)
+        z2 = float(norm.ppf(0.5 + confidence / 2)) ** 2
+        bound = (f"{int(math.ceil(z2 * robust / (1.0 - robust) - 1e-9))} samples all meeting would bound it"
+                 if robust < 1 else "no finite ensemble bounds a share of 100 %")
+        return [f"with {samples} samples even every one meeting the targets gives a share whose "
+                f"{100 * confidence:.0f} % interval starts at {100 * every['low']:.3g} %: a share of "
+                f"{100 * robust:.3g} % is a point estimate here, not a bound ({bound})"]
     return []
 
 
@@ -353,45 +342,31 @@ def design_robust(case, unknowns, *, robust: float = 0.9, samples: int = 32, sam
         """The share of the samples each candidate is expected to meet the targets in (corrected)."""
         return np.mean(excess() <= 1.0, axis=0)
 
-    screen_met = int(np.sum(screened() >= robust - 1e-12))
-    done: dict[int, RobustCheck] = {}
-    order: list[int] = []
+    expected = {"share": screened()}    # the screened shares, again after each ensemble's correction
+    screen_met = int(np.sum(expected["share"] >= robust - 1e-12))
 
     def run(j):
         chk, dem, _ = _run_candidate(case, cands[j], u, samples, store, seed=sample_seed, dofs=dofs, targets=targets,
                                      robust=robust, radius=setup.radius, density=setup.density,
-                                     screen_share=screened()[j], confidence=confidence, workers=workers,
+                                     screen_share=expected["share"][j], confidence=confidence, workers=workers,
                                      scheduler=scheduler, progress=progress, history=history)
-        done[j] = chk
-        order.append(j)
         for i, (d, scr) in enumerate(((dem[0], sp[:, j]), (dem[1], sr[:, j]))):
             with np.errstate(divide="ignore", invalid="ignore"):
                 ratio = np.max(d / scr, axis=1)
             ok = np.isfinite(ratio)
             bias[ok, i] = ratio[ok]
+        expected["share"] = screened()
         return chk
 
-    design = None
-    while len(done) < checks:
-        shares = screened()
-        hopeful = [j for j in np.argsort(mass, kind="stable") if j not in done and shares[j] >= robust - 1e-12]
-        if design is not None:
-            hopeful = [j for j in hopeful if mass[j] < design.bed_mass_kg - 1e-12]
-        if not hopeful:
-            break
-        chk = run(int(hopeful[0]))
-        if chk.met:
-            design = chk  # and on to a lighter one, if the ensemble's correction expects one to reach it too
-    if design is None and len(done) < checks:
-        # none expected to reach the share (any more): the screen's best, for the best achievable
+    def nearest():
+        """The candidates by their screened share, ties by their mean excess over the samples."""
         ex = excess()
-        closest = np.mean(np.where(np.isfinite(ex), ex, 1e9), axis=0)  # ties in the share: the nearest on average
-        rest = [j for j in np.lexsort((mass, closest, -np.mean(ex <= 1.0, axis=0))) if j not in done]
-        if rest:
-            chk = run(int(rest[0]))
-            if chk.met:
-                design = chk
-    checked = [done[j] for j in order]
+        closest = np.mean(np.where(np.isfinite(ex), ex, 1e9), axis=0)
+        return np.lexsort((mass, closest, -np.mean(ex <= 1.0, axis=0)))
+
+    # after a met, on to a lighter one while the ensembles' correction expects one to reach the share too
+    design, checked = _lightest_first(mass, lambda j: expected["share"][j] >= robust - 1e-12, nearest, run, checks,
+                                     lighter_after_met=True)
     best = design if design is not None else max(checked, key=lambda c: (c.share, -c.bed_mass_kg))
     reasons = []
     if design is None:
@@ -445,9 +420,10 @@ def robust_design_text(rd: RobustDesign, case, *, command: str, name: str = "des
     lines = [f"pdamper design (pdamper {__version__}): a robust particle damper against a load in time and the "
              "structure it was designed for, in one case.", "",
              f"Designed by:  {command}",
-             f"Aim:          the lightest filling whose coupled DEM transient meets {' and '.join(a for a in aims if a)} "
-             f"(with / without the damper) at {', '.join(map(str, rd.dofs))} in at least {100 * rd.robust:.3g} % of "
-             f"{rd.samples} Latin hypercube samples (seed {rd.sample_seed}) of the unknowns {keys}",
+             "Aim:          the lightest filling whose coupled DEM transient meets "
+             f"{' and '.join(a for a in aims if a)} (with / without the damper) at {', '.join(map(str, rd.dofs))} "
+             f"in at least {100 * rd.robust:.3g} % of {rd.samples} Latin hypercube samples (seed {rd.sample_seed}) "
+             f"of the unknowns {keys}",
              f"Load:         {rd.load}",
              f"The damper:   {c.particles} of {c.max_particles} spheres ({c.bed_mass_kg * 1e3:.4g} g) in a "
              f"{c.container} (X_opt = {c.x_opt_m * 1e3:.4g} mm)",

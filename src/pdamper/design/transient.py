@@ -48,7 +48,7 @@ from .filling import design_filling
 from .names import name
 from .search import _Candidate, _candidates, _lengths, _mass_caps, _particle_bounds, structure_mode
 
-__all__ = ["TransientDesign", "TransientCheck", "CheckedBed", "Screen", "design_for_load", "screen_candidates", "check_candidate",
+__all__ = ["TransientDesign", "TransientCheck", "CheckedBed", "LoadDesign", "Screen", "design_for_load", "screen_candidates", "check_candidate",
            "measured_reasons", "load_design_case", "load_design_text", "ENGAGED", "STRONG"]
 
 #: The bed "works" from the time it has dissipated this share of the energy it takes over the run
@@ -122,31 +122,41 @@ class TransientCheck(CheckedBed):
 
 
 @dataclass(frozen=True, kw_only=True)
-class TransientDesign:
-    """The design against a load in time (:func:`design_for_load`): ``met`` (some candidate's DEM
-    check meets every target), ``design`` the lightest such check (None when unmet), ``best`` the
-    best checked (the design, or for an unmet target the best achievable: the smallest worst
-    ratio over its target), every DEM check in the order run (``checks``), what the screen found
-    (``candidates`` screened, ``screen_met`` of them expected to meet the targets), the
-    ``reasons`` an unmet target was not met (measured on the best's run), the targets and the
-    dofs judged, the ``search`` bounds and ``warnings``."""
+class LoadDesign:
+    """What every design against a load in time reports: ``met``, the targets (``target_peak_ratio``,
+    ``target_rms_ratio``) at the ``dofs`` judged, ``design`` (None when unmet) and ``best`` (the
+    design, or unmet the best achievable), every check in the order run (``checks``), the
+    ``candidates`` screened and ``screen_met`` of them expected to meet the targets, the
+    ``reasons`` when unmet, the ``load`` in words, the structure's first mode
+    (``natural_frequency_hz``, ``mass_at_damper_kg``), the ``search`` bounds and ``warnings``."""
 
     met: bool
     target_peak_ratio: float | None
     target_rms_ratio: float | None
     dofs: list
-    design: TransientCheck | None
-    best: TransientCheck | None
+    design: object
+    best: object
     checks: list
     candidates: int
     screen_met: int
     reasons: list
-    records: int
     load: str
     natural_frequency_hz: float
     mass_at_damper_kg: float
     search: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+
+
+@dataclass(frozen=True, kw_only=True)
+class TransientDesign(LoadDesign):
+    """The design against a load in time (:func:`design_for_load`; the fields of
+    :class:`LoadDesign`): ``met`` (some candidate's DEM check meets every target), ``design`` the
+    lightest such check (a :class:`TransientCheck`, None when unmet), ``best`` the best checked
+    (the design, or for an unmet target the best achievable: the smallest worst ratio over its
+    target), every DEM check in the order run (``checks``), the ``reasons`` an unmet target was not
+    met (measured on the best's run), the ``records`` of a suite."""
+
+    records: int
 
     def to_dict(self) -> dict:
         """Every field, the checks as dicts (for JSON): ``peak_ratio`` / ``rms_ratio`` of the design
@@ -532,8 +542,6 @@ def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_
     ex = np.array([_excess(p, q, targets) for p, q in zip(screen.peak_ratio, screen.rms_ratio)])
     mass = np.array([c.bed_mass for c in cands])
     screen_met = int(np.sum(ex <= 1.0))
-    done: dict[int, TransientCheck] = {}
-    order: list[int] = []
     bias = [1.0, 1.0]   # the DEM's ratio over the screen's, worst measured so far (peak, RMS)
 
     def corrected(j):
@@ -545,8 +553,6 @@ def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_
         chk = check_candidate(case, cands[j], dofs=dofs, targets=targets,
                               screen=(screen.peak_ratio[j], screen.rms_ratio[j]), radius=r, density=rho,
                               progress=progress)
-        done[j] = chk
-        order.append(j)
         for i, (dem, scr) in enumerate(((chk.peak_ratio, screen.peak_ratio[j]), (chk.rms_ratio, screen.rms_ratio[j]))):
             with np.errstate(divide="ignore", invalid="ignore"):
                 ratio = np.asarray(dem, dtype=float) / np.asarray(scr, dtype=float)
@@ -554,25 +560,9 @@ def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_
                 bias[i] = max(bias[i], float(np.max(ratio))) if not chk.met else bias[i]
         return chk
 
-    design = None
-    while len(done) < checks:
-        hopeful = [j for j in np.argsort(mass, kind="stable") if j not in done and corrected(j) <= 1.0]
-        if design is not None:
-            hopeful = [j for j in hopeful if mass[j] < design.bed_mass_kg - 1e-12]
-        if not hopeful:
-            break
-        chk = run(int(hopeful[0]))
-        if chk.met:
-            design = chk
-            break  # the lightest expected to meet it met it
-    if design is None and len(done) < checks:
-        # none expected to meet it (any more): the screen's best candidate, for the best achievable
-        rest = [j for j in np.argsort(ex, kind="stable") if j not in done]
-        if rest:
-            chk = run(int(rest[0]))
-            if chk.met:
-                design = chk
-    checked = [done[j] for j in order]
+    # the lightest expected to meet it met it: done; none expected (any more), the screen's best candidate
+    design, checked = _lightest_first(mass, lambda j: corrected(j) <= 1.0, lambda: np.argsort(ex, kind="stable"), run,
+                                     checks)
     best = design if design is not None else min(checked, key=lambda c: _excess(c.peak_ratio, c.rms_ratio, targets))
     reasons = [] if design is not None else list(best.reasons)
     if design is None:
@@ -589,6 +579,37 @@ def design_for_load(case, *, target_peak_ratio: float | None = None, target_rms_
                            records=len(s.load.records()), load=s.load.describe(),
                            natural_frequency_hz=float(np.min(s.mode_frequencies)), mass_at_damper_kg=m_at_damper,
                            search=setup.search(checks), warnings=warnings)
+
+
+def _lightest_first(mass, hopeful, fallback, run, checks: int, *, lighter_after_met: bool = False):
+    """The search of a design against a load in time over candidates of bed ``mass``: the lightest
+    not yet checked that ``hopeful(j)`` expects to meet the targets is checked (``run(j)``, a check
+    with ``met``), at most ``checks``; after one met, only lighter ones, and only while
+    ``lighter_after_met`` (else the search ends at the first met); none met, the first candidate of
+    the order ``fallback()`` not checked (the best achievable). Returns (the lightest check that met
+    or None, every check in the order run)."""
+    done: dict = {}
+    design = None
+    while len(done) < checks:
+        expected = [j for j in np.argsort(mass, kind="stable") if j not in done and hopeful(j)]
+        if design is not None:
+            expected = [j for j in expected if mass[j] < design.bed_mass_kg - 1e-12]
+        if not expected:
+            break
+        j = int(expected[0])
+        done[j] = run(j)
+        if done[j].met:
+            design = done[j]
+            if not lighter_after_met:
+                break
+    if design is None and len(done) < checks:
+        rest = [j for j in fallback() if j not in done]
+        if rest:
+            j = int(rest[0])
+            done[j] = run(j)
+            if done[j].met:
+                design = done[j]
+    return design, list(done.values())
 
 
 def _words(ratios) -> str:
