@@ -84,15 +84,11 @@ def _ptx_report(tmp_path, kernels):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="issue 38 not met yet: Gear 176-220 registers, Verlet 168-210, no spills "
-                          "(benchmarks/gpu.py --ptx, docs/performance.md)")
 def test_production_kernels_keep_to_128_registers_without_spills(tmp_path):
     """The largest and the smallest production kernel (Gear with the spring, Verlet with the tanh law;
     ``benchmarks/gpu.py --ptx`` gives all four) through numba-cuda, the gpu extra's NVVM and ptxas for
     sm_90 (no GPU needed; about two minutes of compiling): each assembles, with at most 128 registers
-    a thread and no spill stores or loads. (Strict xfail while the kernels are above it: when they
-    meet it, this fails until the mark goes.)"""
+    a thread and no spill stores or loads (issue 38's target; docs/performance.md has all four)."""
     part = _ptx_report(tmp_path, "gear-spring,verlet-tanh")
     assert set(part) == {"gear, spring", "verlet, tanh"}
     for name, k in part.items():

@@ -90,7 +90,7 @@ CI = 64
 #: clock, flags and times live in the case's rows, read where they are used, not in registers through
 #: every phase; integer slot ``k`` of thread ``t`` at ``ci[CI + k bd + t]``, float slot ``k`` after the
 #: threads' ledger rows in ``cf`` (:data:`F_STATE`).
-STATE_SLOTS = 20
+STATE_SLOTS = 21
 
 # ---- cf: the case's float slots
 (F_DT, F_INTERVAL, F_SAMPLE_INTERVAL, F_SKIN, F_BED_MASS, F_T, F_H, F_HS, F_TOL, F_H_MIN, F_H_MAX) = range(11)

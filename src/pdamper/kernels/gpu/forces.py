@@ -77,6 +77,8 @@ class Block(NamedTuple):
     walls: np.ndarray   #: (W, 7)
     sh: np.ndarray      #: the block's shared memory: SHARED_FIELDS values a sphere
     red: np.ndarray     #: shared: a word a warp for the block's reductions
+    bt: tuple           #: the whole batch (:class:`~.batch.Batch`), the kernel's argument
+    c: int              #: the case
 
 
 @cuda.jit(device=True, inline="always")
@@ -84,7 +86,7 @@ def block(bt, c, sh, red):
     """Case ``c``'s :class:`Block` for the calling thread (``bt``: the :class:`~.batch.Batch`)."""
     ci = bt.ci[c]
     return Block(cuda.threadIdx.x, cuda.blockDim.x, ci[I_N], ci[O_N], bt.st[c], bt.gv[c], bt.th[c], bt.iv[c], ci,
-                 bt.cf[c], bt.walls[c * ci[O_W]:(c + 1) * ci[O_W]], sh, red)
+                 bt.cf[c], bt.walls[c * ci[O_W]:(c + 1) * ci[O_W]], sh, red, bt, c)
 
 
 if SIMULATOR:
@@ -107,11 +109,15 @@ if SIMULATOR:
 else:
     @cuda.jit(device=True)
     def fresh(b):
-        """``b`` with its thread, block size and sphere counts read afresh (:func:`~.warp.opaque`): what
-        a phase computes from them (a field's offset, the first sphere of a lane) is its own, not
-        hoisted out of the persistent loop and kept live through every other phase."""
-        return Block(opaque(b.tid), opaque(b.bd), opaque(b.n), opaque(b.N), b.st, b.gv, b.th, b.iv, b.ci, b.cf,
-                     b.walls, b.sh, b.red)
+        """``b`` made afresh (:func:`~.warp.opaque`): the case's rows from the kernel's arguments and the
+        case's index, the thread, block size and sphere counts read again. What a phase computes from
+        them (a row's address, a field's offset, the first sphere of a lane) is its own, not hoisted
+        out of the persistent loop and kept live through every other phase: the rows' addresses are
+        the arguments' (which the assembler reads from the parameter bank where it needs them) and one
+        multiply-add."""
+        a = block(b.bt, opaque(b.c), b.sh, b.red)
+        return Block(opaque(a.tid), opaque(a.bd), opaque(a.n), opaque(a.N), a.st, a.gv, a.th, a.iv, a.ci, a.cf,
+                     a.walls, a.sh, a.red, a.bt, a.c)
 
     @cuda.jit(device=True)
     def get(b, k):
@@ -288,6 +294,51 @@ def _pair_within(b, i, j, skin):
 
 
 @cuda.jit(device=True)
+def _list_pair(b, table, i, j, k, lb, tb):
+    """Spheres ``i < j`` as pair ``k`` of list buffer ``1 - lb`` (:func:`rebuild`'s): its spheres,
+    material pair, Hertz stiffness and friction guard, and the history of time buffer ``tb`` it has
+    in the list ``lb`` if any (transfer_history's); the offsets read here, not held by the build's
+    loops."""
+    b = fresh(b)
+    N = b.N
+    ci = b.ci
+    iv = b.iv
+    gv = b.gv
+    P = ci[O_P]
+    nb = 1 - lb
+    iv[ci[O_SEC] + nb * P + k] = j
+    iv[ci[O_FIRST] + nb * P + k] = i
+    mp = ci[I_ROW0] + iv[ci[O_MAT] + i] * ci[I_NMAT] + iv[ci[O_MAT] + j]
+    iv[ci[O_MP] + nb * P + k] = mp
+    ri = b.sh[S_RAD * N + i]
+    mi = b.st[MASS * N + i]
+    rj = b.sh[S_RAD * N + j]
+    mj = b.st[MASS * N + j]
+    gv[ci[O_PK] + nb * P + k] = hertz_stiffness(table.modulus[mp], ri * rj / (ri + rj))
+    gv[ci[O_PCAP] + nb * P + k] = FRICTION_CAP * mi * mj / (mi + mj)
+    # the history of the pair if the old list has it (transfer_history's)
+    v = 0.0
+    d = 0.0
+    e_old = -1
+    row_old = ci[O_ROW] + lb * (N + 1)
+    sec_old = ci[O_SEC] + lb * P
+    for e in range(iv[row_old + i], iv[row_old + i + 1]):
+        if iv[sec_old + e] == j:
+            v = gv[ci[O_PV] + (lb * 2 + tb) * P + e]
+            d = gv[ci[O_PD] + (lb * 2 + tb) * P + e]
+            e_old = e
+            break
+    gv[ci[O_PV] + (nb * 2 + tb) * P + k] = v
+    gv[ci[O_PD] + (nb * 2 + tb) * P + k] = d
+    if keeps_history(table.tangential):
+        th = b.th
+        r_new = _pair_row(b, nb, tb, k)
+        r_old = _pair_row(b, lb, tb, e_old)
+        for q in range(5):
+            th[r_new, q] = th[r_old, q] if e_old >= 0 else 0.0
+
+
+@cuda.jit(device=True)
 def rebuild(b, table, lb, tb):
     """Rebuild the pair list into list buffer ``1 - lb`` at the shared positions, carrying the
     history of time buffer ``tb`` over (:func:`pdamper.kernels.neighbours.rebuild_lists`' build and
@@ -301,24 +352,10 @@ def rebuild(b, table, lb, tb):
     N = b.N
     ci = b.ci
     iv = b.iv
-    gv = b.gv
     P = ci[O_P]
-    spring = keeps_history(table.tangential)
     nb = 1 - lb
     skin = b.cf[F_SKIN]
-    row_old = ci[O_ROW] + lb * (N + 1)
-    sec_old = ci[O_SEC] + lb * P
     row = ci[O_ROW] + nb * (N + 1)
-    sec = ci[O_SEC] + nb * P
-    first = ci[O_FIRST] + nb * P
-    mpa = ci[O_MP] + nb * P
-    v_old = ci[O_PV] + (lb * 2 + tb) * P
-    d_old = ci[O_PD] + (lb * 2 + tb) * P
-    v_new = ci[O_PV] + (nb * 2 + tb) * P
-    d_new = ci[O_PD] + (nb * 2 + tb) * P
-    th = b.th
-    nmat = ci[I_NMAT]
-    row0 = ci[I_ROW0]
     base = 0
     start = 0
     while start < n:
@@ -332,37 +369,11 @@ def rebuild(b, table, lb, tb):
         if i < n:
             k = base + before
             iv[row + i] = k
-            ri = b.sh[S_RAD * N + i]
-            mi = b.st[MASS * N + i]
             for j in range(i + 1, n):
                 if not _pair_within(b, i, j, skin):
                     continue
                 if k < P:
-                    iv[sec + k] = j
-                    iv[first + k] = i
-                    mp = row0 + iv[ci[O_MAT] + i] * nmat + iv[ci[O_MAT] + j]
-                    iv[mpa + k] = mp
-                    rj = b.sh[S_RAD * N + j]
-                    mj = b.st[MASS * N + j]
-                    gv[ci[O_PK] + nb * P + k] = hertz_stiffness(table.modulus[mp], ri * rj / (ri + rj))
-                    gv[ci[O_PCAP] + nb * P + k] = FRICTION_CAP * mi * mj / (mi + mj)
-                    # the history of the pair if the old list has it (transfer_history's)
-                    v = 0.0
-                    d = 0.0
-                    e_old = -1
-                    for e in range(iv[row_old + i], iv[row_old + i + 1]):
-                        if iv[sec_old + e] == j:
-                            v = gv[v_old + e]
-                            d = gv[d_old + e]
-                            e_old = e
-                            break
-                    gv[v_new + k] = v
-                    gv[d_new + k] = d
-                    if spring:
-                        r_new = _pair_row(b, nb, tb, k)
-                        r_old = _pair_row(b, lb, tb, e_old)
-                        for q in range(5):
-                            th[r_new, q] = th[r_old, q] if e_old >= 0 else 0.0
+                    _list_pair(b, table, i, j, k, lb, tb)
                 k += 1
         base += total
         start += bd
@@ -373,6 +384,7 @@ def rebuild(b, table, lb, tb):
         iv[row + n] = base
     sync(bd)
     # each sphere's pairs it is the second of, ascending first sphere (the pair list's order)
+    sec = ci[O_SEC] + nb * P
     inrow = ci[O_INROW] + nb * (N + 1)
     inpair = ci[O_INPAIR] + nb * P
     base = 0
@@ -410,6 +422,26 @@ def pair_laws(b, table, lb, tb, dt, step):
     pairs' powers and a spring's loss go to this thread's sums of the step (:func:`ledger`). Returns
     ``(status, culprit)`` of this thread's pairs; a barrier after."""
     b = fresh(b)
+    status = STATUS_OK
+    culprit = -1
+    p = b.tid
+    while p < b.iv[b.ci[O_ROW] + lb * (b.N + 1) + b.n]:
+        i = _pair_law(b, table, p, lb, tb, dt, step)
+        if i >= 0:
+            status = STATUS_OVERLAP
+            culprit = i
+        b = fresh(b)
+        p += b.bd
+    sync(b.bd)
+    return status, culprit
+
+
+@cuda.jit(device=True)
+def _pair_law(b, table, p, lb, tb, dt, step):
+    """Pair ``p``'s contact law (:func:`pair_laws`', one pair), what it needs read here, so that
+    nothing of one pair is held through the next. Returns its first sphere when the overlap passes
+    the limit, else -1."""
+    b = fresh(b)
     N = b.N
     ci = b.ci
     iv = b.iv
@@ -418,81 +450,70 @@ def pair_laws(b, table, lb, tb, dt, step):
     P = ci[O_P]
     tlaw = table.tangential
     spring = keeps_history(tlaw)
-    friction = table.friction
-    limit = table.overlap_limit
-    row = ci[O_ROW] + lb * (N + 1)
-    sec = ci[O_SEC] + lb * P
-    first = ci[O_FIRST] + lb * P
-    v_old = ci[O_PV] + (lb * 2 + tb) * P
-    d_old = ci[O_PD] + (lb * 2 + tb) * P
-    v_new = ci[O_PV] + (lb * 2 + 1 - tb) * P
-    d_new = ci[O_PD] + (lb * 2 + 1 - tb) * P
-    res = ci[O_RES]
     th = b.th
-    status = STATUS_OK
-    culprit = -1
-    p = b.tid
-    while p < iv[row + b.n]:
-        i = iv[first + p]
-        j = iv[sec + p]
-        ri = sh[S_RAD * N + i]
-        rj = sh[S_RAD * N + j]
-        dx = sh[S_X * N + j] - sh[S_X * N + i]
-        dy = sh[(S_X + 1) * N + j] - sh[(S_X + 1) * N + i]
-        dz = sh[(S_X + 2) * N + j] - sh[(S_X + 2) * N + i]
-        cut = ri + rj
-        d2 = dx * dx + dy * dy + dz * dz
-        v_in = gv[v_old + p]
-        hrow = _pair_row(b, lb, 1 - tb, p)  # (the history's row of this step)
-        _carry(th, _pair_row(b, lb, tb, p), hrow, spring)
-        if d2 >= cut * cut:
-            gv[v_new + p] = 0.0
-            gv[d_new + p] = 0.0
-            if v_in != 0.0:
-                _add_step(b, 0.0, 0.0, drop_history(tlaw, th, hrow), 0.0)
-            p += b.bd
-            continue
-        nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
-            dx, dy, dz, d2, cut, sh[S_V * N + i] - sh[S_V * N + j], sh[(S_V + 1) * N + i] - sh[(S_V + 1) * N + j],
-            sh[(S_V + 2) * N + i] - sh[(S_V + 2) * N + j], ri * sh[S_SPIN * N + i] + rj * sh[S_SPIN * N + j],
-            ri * sh[(S_SPIN + 1) * N + i] + rj * sh[(S_SPIN + 1) * N + j],
-            ri * sh[(S_SPIN + 2) * N + i] + rj * sh[(S_SPIN + 2) * N + j])
-        if delta > limit * min(ri, rj):
-            status = STATUS_OVERLAP
-            culprit = i
-        dsx = dsy = dsz = 0.0
-        if spring:
-            m = S_MOVED * N
-            dsx, dsy, dsz, dsn = pair_point_velocity(
-                sh[m + i] - sh[m + j], sh[m + N + i] - sh[m + N + j], sh[m + 2 * N + i] - sh[m + 2 * N + j],
-                ri * sh[m + 3 * N + i] + rj * sh[m + 3 * N + j], ri * sh[m + 4 * N + i] + rj * sh[m + 4 * N + j],
-                ri * sh[m + 5 * N + i] + rj * sh[m + 5 * N + j], nx, ny, nz)
-        cap = gv[ci[O_PCAP] + lb * P + p]
-        mp = iv[ci[O_MP] + lb * P + p]
-        fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, th, hrow,
-            ContactConstants(mp, friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap),
-            ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), v_in, gv[d_old + p], dt, step)
-        gv[v_new + p] = vin
-        gv[d_new + p] = dd
-        _add_step(b, pn, pf, ef, 0.0)
-        gv[res + R_F * P + p] = -fn * nx + ftx
-        gv[res + (R_F + 1) * P + p] = -fn * ny + fty
-        gv[res + (R_F + 2) * P + p] = -fn * nz + ftz
-        gv[res + R_N * P + p] = nx
-        gv[res + (R_N + 1) * P + p] = ny
-        gv[res + (R_N + 2) * P + p] = nz
-        gv[res + R_T * P + p] = ftx
-        gv[res + (R_T + 1) * P + p] = fty
-        gv[res + (R_T + 2) * P + p] = ftz
-        gv[res + R_S * P + p] = tx
-        gv[res + (R_S + 1) * P + p] = ty
-        gv[res + (R_S + 2) * P + p] = tz
-        gv[res + R_C * P + p] = ff
-        gv[res + R_LIM * P + p] = lim
-        p += b.bd
-    sync(b.bd)
-    return status, culprit
+    i = iv[ci[O_FIRST] + lb * P + p]
+    j = iv[ci[O_SEC] + lb * P + p]
+    ri = sh[S_RAD * N + i]
+    rj = sh[S_RAD * N + j]
+    dx = sh[S_X * N + j] - sh[S_X * N + i]
+    dy = sh[(S_X + 1) * N + j] - sh[(S_X + 1) * N + i]
+    dz = sh[(S_X + 2) * N + j] - sh[(S_X + 2) * N + i]
+    cut = ri + rj
+    d2 = dx * dx + dy * dy + dz * dz
+    v_in = gv[ci[O_PV] + (lb * 2 + tb) * P + p]
+    hrow = _pair_row(b, lb, 1 - tb, p)  # (the history's row of this step)
+    _carry(th, _pair_row(b, lb, tb, p), hrow, spring)
+    if d2 >= cut * cut:
+        gv[ci[O_PV] + (lb * 2 + 1 - tb) * P + p] = 0.0
+        gv[ci[O_PD] + (lb * 2 + 1 - tb) * P + p] = 0.0
+        if v_in != 0.0:
+            _add_step(b, 0.0, 0.0, drop_history(tlaw, th, hrow), 0.0)
+        return -1
+    nx, ny, nz, delta, ddot, tx, ty, tz, vt = pair_geometry(
+        dx, dy, dz, d2, cut, sh[S_V * N + i] - sh[S_V * N + j], sh[(S_V + 1) * N + i] - sh[(S_V + 1) * N + j],
+        sh[(S_V + 2) * N + i] - sh[(S_V + 2) * N + j], ri * sh[S_SPIN * N + i] + rj * sh[S_SPIN * N + j],
+        ri * sh[(S_SPIN + 1) * N + i] + rj * sh[(S_SPIN + 1) * N + j],
+        ri * sh[(S_SPIN + 2) * N + i] + rj * sh[(S_SPIN + 2) * N + j])
+    culprit = i if delta > table.overlap_limit * min(ri, rj) else -1
+    dsx = dsy = dsz = 0.0
+    if spring:
+        m = S_MOVED * N
+        dsx, dsy, dsz, dsn = pair_point_velocity(
+            sh[m + i] - sh[m + j], sh[m + N + i] - sh[m + N + j], sh[m + 2 * N + i] - sh[m + 2 * N + j],
+            ri * sh[m + 3 * N + i] + rj * sh[m + 3 * N + j], ri * sh[m + 4 * N + i] + rj * sh[m + 4 * N + j],
+            ri * sh[m + 5 * N + i] + rj * sh[m + 5 * N + j], nx, ny, nz)
+    # the normal and the slip kept at the pair before the law, read back after it: not held through it
+    res = ci[O_RES]
+    gv[res + R_N * P + p] = nx
+    gv[res + (R_N + 1) * P + p] = ny
+    gv[res + (R_N + 2) * P + p] = nz
+    gv[res + R_S * P + p] = tx
+    gv[res + (R_S + 1) * P + p] = ty
+    gv[res + (R_S + 2) * P + p] = tz
+    cap = gv[ci[O_PCAP] + lb * P + p]
+    mp = iv[ci[O_MP] + lb * P + p]
+    fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
+        table, th, hrow,
+        ContactConstants(mp, table.friction[mp], gv[ci[O_PK] + lb * P + p], ri * rj / cut, cap / FRICTION_CAP, cap),
+        ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), v_in,
+        gv[ci[O_PD] + (lb * 2 + tb) * P + p], dt, step)
+    b = fresh(b)
+    ci = b.ci
+    gv = b.gv
+    P = ci[O_P]
+    gv[ci[O_PV] + (lb * 2 + 1 - tb) * P + p] = vin
+    gv[ci[O_PD] + (lb * 2 + 1 - tb) * P + p] = dd
+    _add_step(b, pn, pf, ef, 0.0)
+    res = ci[O_RES]
+    gv[res + R_F * P + p] = -fn * gv[res + R_N * P + p] + ftx
+    gv[res + (R_F + 1) * P + p] = -fn * gv[res + (R_N + 1) * P + p] + fty
+    gv[res + (R_F + 2) * P + p] = -fn * gv[res + (R_N + 2) * P + p] + ftz
+    gv[res + R_T * P + p] = ftx
+    gv[res + (R_T + 1) * P + p] = fty
+    gv[res + (R_T + 2) * P + p] = ftz
+    gv[res + R_C * P + p] = ff
+    gv[res + R_LIM * P + p] = lim
+    return culprit
 
 
 @cuda.jit(device=True)
@@ -549,19 +570,11 @@ def _pair_sums(b, acc, i, lb, tb):
 
 
 @cuda.jit(device=True)
-def _note_wall(b, i, w, nx, ny, nz, tx, ty, tz, c, lim):
-    """A sphere-wall contact's friction row (Gear's implicit pass)."""
+def _wall_row_at(b, i, w):
+    """Where sphere ``i``'s friction row at wall ``w`` starts in ``gv``, and its values' stride:
+    the unit normal (3), the slip (3), the friction coefficient, the limit (Gear's implicit pass)."""
     N = b.N
-    at = b.ci[O_WROW] + w * N + i
-    wn = b.ci[O_W] * N
-    b.gv[at] = nx
-    b.gv[at + wn] = ny
-    b.gv[at + 2 * wn] = nz
-    b.gv[at + 3 * wn] = tx
-    b.gv[at + 4 * wn] = ty
-    b.gv[at + 5 * wn] = tz
-    b.gv[at + 6 * wn] = c
-    b.gv[at + 7 * wn] = lim
+    return b.ci[O_WROW] + w * N + i, b.ci[O_W] * N
 
 
 @cuda.jit(device=True)
@@ -572,102 +585,123 @@ def sphere_force(b, table, acc, i, lb, tb, dt, step):
     buffer ``tb`` into ``1 - tb``, the friction rows noted), summed one after another as the CPU sums
     them. The walls' powers, a spring's loss and their force along the drive go to this thread's
     sums of the step (:func:`ledger`). Returns the status."""
-    b = fresh(b)
-    N = b.N
-    ci = b.ci
-    gv = b.gv
-    sh = b.sh
-    nW = ci[O_W]
-    tlaw = table.tangential
-    spring = keeps_history(tlaw)
-    friction = table.friction
-    limit = table.overlap_limit
-    wv_old = ci[O_WV] + tb * nW * N
-    wd_old = ci[O_WD] + tb * nW * N
-    wv_new = ci[O_WV] + (1 - tb) * nW * N
-    wd_new = ci[O_WD] + (1 - tb) * nW * N
-    th = b.th
-    floor = ci[I_FLOOR]
-    ri = sh[S_RAD * N + i]
-    mi = b.st[MASS * N + i]
-    x = sh[S_X * N + i]
-    y = sh[(S_X + 1) * N + i]
-    z = sh[(S_X + 2) * N + i]
-    vx = sh[S_V * N + i]
-    vy = sh[(S_V + 1) * N + i]
-    vz = sh[(S_V + 2) * N + i]
-    m = S_MOVED * N + i
     _pair_sums(b, acc, i, lb, tb)
-    dvx = b.cf[F_DIRECTION]
-    dvy = b.cf[F_DIRECTION + 1]
-    dvz = b.cf[F_DIRECTION + 2]
+    b = fresh(b)
+    floor = b.ci[I_FLOOR]
     status = STATUS_OK
-    for w in range(ci[I_NW]):
+    for w in range(b.ci[I_NW]):
         # the floor first, then the other walls (the CPU's loops' order for a sphere)
         if floor >= 0:
             wall = floor if w == 0 else (w - 1 if w <= floor else w)
         else:
             wall = w
-        at = wall * N + i
-        row = _wall_row(b, 1 - tb, i, wall)
-        v_in = gv[wv_old + at]
-        _carry(th, _wall_row(b, tb, i, wall), row, spring)
-        if wall == floor:
-            delta = ri - y
-            nx, ny, nz = 0.0, 1.0, 0.0
-        else:
-            s, nx, ny, nz = wall_distance(b.iv[ci[O_WKIND] + wall], b.walls, wall, x, y, z)
-            delta = ri - s
-        if delta <= 0.0:
-            gv[wv_new + at] = 0.0
-            gv[wd_new + at] = 0.0
-            if v_in != 0.0:
-                _add_step(b, 0.0, 0.0, drop_history(tlaw, th, row), 0.0)
-            continue
-        if delta > limit * ri:
+        if _wall_contact(b, table, acc, i, wall, tb, dt, step) != STATUS_OK:
             status = STATUS_OVERLAP
-        dsx = dsy = dsz = 0.0
-        if wall == floor:
-            ddot = -vy
-            tx, tz = floor_slip(vx, vz, sh[S_SPIN * N + i], sh[(S_SPIN + 2) * N + i], ri)
-            ty = 0.0
-            vt = math.sqrt(tx * tx + tz * tz)
-            if spring:
-                dsx, dsz = floor_slip(sh[m], sh[m + 2 * N], sh[m + 3 * N], sh[m + 5 * N], ri)
-        else:
-            ddot = -(vx * nx + vy * ny + vz * nz)
-            cvx, cvy, cvz, cn = wall_point_velocity(vx, vy, vz, sh[S_SPIN * N + i], sh[(S_SPIN + 1) * N + i],
-                                                    sh[(S_SPIN + 2) * N + i], ri, nx, ny, nz)
-            tx = cvx - cn * nx
-            ty = cvy - cn * ny
-            tz = cvz - cn * nz
-            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
-            if spring:
-                dsx, dsy, dsz, dsn = wall_point_velocity(sh[m], sh[m + N], sh[m + 2 * N], sh[m + 3 * N],
-                                                         sh[m + 4 * N], sh[m + 5 * N], ri, nx, ny, nz)
-        mp = b.iv[ci[O_WMP] + at]
-        fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
-            table, th, row, ContactConstants(mp, friction[mp], gv[ci[O_WK] + at], gv[ci[O_WRS] + at], mi, FRICTION_CAP * mi),
-            ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), v_in, gv[wd_old + at], dt, step)
-        gv[wv_new + at] = vin
-        gv[wd_new + at] = dd
-        _note_wall(b, i, wall, nx, ny, nz, tx, ty, tz, ff, lim)
-        if wall == floor:
-            # (the floor's tangential force has no y part: the slip has none, and neither has a spring)
-            fty = 0.0
-            ex, ey, ez = ftx, fn, ftz
-        else:
-            ex = fn * nx + ftx
-            ey = fn * ny + fty
-            ez = fn * nz + ftz
-        acc[i, 0] += ex
-        acc[i, 1] += ey
-        acc[i, 2] += ez
-        cx, cy, cz = _cross(nx, ny, nz, ftx, fty, ftz)
-        acc[i, 3] += -ri * cx
-        acc[i, 4] += -ri * cy
-        acc[i, 5] += -ri * cz
-        _add_step(b, pn, pf, ef, ex * dvx + ey * dvy + ez * dvz)
+    return status
+
+
+@cuda.jit(device=True)
+def _wall_contact(b, table, acc, i, wall, tb, dt, step):
+    """Sphere ``i``'s contact with wall ``wall`` (:func:`sphere_force`'s, one wall): its law, its
+    force and torque added to ``acc[i]``, its history and friction row; what it needs read here, so
+    that nothing of one wall's contact is held through the next. Returns the status."""
+    b = fresh(b)
+    N = b.N
+    ci = b.ci
+    gv = b.gv
+    sh = b.sh
+    tlaw = table.tangential
+    spring = keeps_history(tlaw)
+    th = b.th
+    floor = ci[I_FLOOR]
+    at = wall * N + i
+    row = _wall_row(b, 1 - tb, i, wall)
+    v_in = gv[ci[O_WV] + tb * ci[O_W] * N + at]
+    _carry(th, _wall_row(b, tb, i, wall), row, spring)
+    ri = sh[S_RAD * N + i]
+    if wall == floor:
+        delta = ri - sh[(S_X + 1) * N + i]
+        nx, ny, nz = 0.0, 1.0, 0.0
+    else:
+        s, nx, ny, nz = wall_distance(b.iv[ci[O_WKIND] + wall], b.walls, wall, sh[S_X * N + i],
+                                      sh[(S_X + 1) * N + i], sh[(S_X + 2) * N + i])
+        delta = ri - s
+    if delta <= 0.0:
+        gv[ci[O_WV] + (1 - tb) * ci[O_W] * N + at] = 0.0
+        gv[ci[O_WD] + (1 - tb) * ci[O_W] * N + at] = 0.0
+        if v_in != 0.0:
+            _add_step(b, 0.0, 0.0, drop_history(tlaw, th, row), 0.0)
+        return STATUS_OK
+    status = STATUS_OVERLAP if delta > table.overlap_limit * ri else STATUS_OK
+    vx = sh[S_V * N + i]
+    vy = sh[(S_V + 1) * N + i]
+    vz = sh[(S_V + 2) * N + i]
+    m = S_MOVED * N + i
+    dsx = dsy = dsz = 0.0
+    if wall == floor:
+        ddot = -vy
+        tx, tz = floor_slip(vx, vz, sh[S_SPIN * N + i], sh[(S_SPIN + 2) * N + i], ri)
+        ty = 0.0
+        vt = math.sqrt(tx * tx + tz * tz)
+        if spring:
+            dsx, dsz = floor_slip(sh[m], sh[m + 2 * N], sh[m + 3 * N], sh[m + 5 * N], ri)
+    else:
+        ddot = -(vx * nx + vy * ny + vz * nz)
+        cvx, cvy, cvz, cn = wall_point_velocity(vx, vy, vz, sh[S_SPIN * N + i], sh[(S_SPIN + 1) * N + i],
+                                                sh[(S_SPIN + 2) * N + i], ri, nx, ny, nz)
+        tx = cvx - cn * nx
+        ty = cvy - cn * ny
+        tz = cvz - cn * nz
+        vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+        if spring:
+            dsx, dsy, dsz, dsn = wall_point_velocity(sh[m], sh[m + N], sh[m + 2 * N], sh[m + 3 * N],
+                                                     sh[m + 4 * N], sh[m + 5 * N], ri, nx, ny, nz)
+    # the friction row's normal and slip noted before the law, read back after it: not held through it
+    fr, wn = _wall_row_at(b, i, wall)
+    gv[fr] = nx
+    gv[fr + wn] = ny
+    gv[fr + 2 * wn] = nz
+    gv[fr + 3 * wn] = tx
+    gv[fr + 4 * wn] = ty
+    gv[fr + 5 * wn] = tz
+    mp = b.iv[ci[O_WMP] + at]
+    mi = b.st[MASS * N + i]
+    fn, ftx, fty, ftz, ff, lim, vin, dd, pn, pf, ef = contact(
+        table, th, row, ContactConstants(mp, table.friction[mp], gv[ci[O_WK] + at], gv[ci[O_WRS] + at], mi,
+                                         FRICTION_CAP * mi),
+        ContactGeometry(delta, ddot, nx, ny, nz, tx, ty, tz, vt, dsx, dsy, dsz), v_in,
+        gv[ci[O_WD] + tb * ci[O_W] * N + at], dt, step)
+    b = fresh(b)
+    ci = b.ci
+    N = b.N
+    at = wall * N + i
+    b.gv[ci[O_WV] + (1 - tb) * ci[O_W] * N + at] = vin
+    b.gv[ci[O_WD] + (1 - tb) * ci[O_W] * N + at] = dd
+    fr, wn = _wall_row_at(b, i, wall)
+    gv = b.gv
+    gv[fr + 6 * wn] = ff
+    gv[fr + 7 * wn] = lim
+    nx = gv[fr]
+    ny = gv[fr + wn]
+    nz = gv[fr + 2 * wn]
+    if wall == ci[I_FLOOR]:
+        # (the floor's tangential force has no y part: the slip has none, and neither has a spring)
+        fty = 0.0
+        ex, ey, ez = ftx, fn, ftz
+    else:
+        ex = fn * nx + ftx
+        ey = fn * ny + fty
+        ez = fn * nz + ftz
+    acc[i, 0] += ex
+    acc[i, 1] += ey
+    acc[i, 2] += ez
+    cx, cy, cz = _cross(nx, ny, nz, ftx, fty, ftz)
+    ri = b.sh[S_RAD * N + i]
+    acc[i, 3] += -ri * cx
+    acc[i, 4] += -ri * cy
+    acc[i, 5] += -ri * cz
+    cf = b.cf
+    _add_step(b, pn, pf, ef, ex * cf[F_DIRECTION] + ey * cf[F_DIRECTION + 1] + ez * cf[F_DIRECTION + 2])
     return status
 
 
@@ -721,6 +755,26 @@ def elastic(b, i, lb, tb, spring):
 
 
 @cuda.jit(device=True)
+def _sphere_energies(b, i, vc):
+    """Sphere ``i``'s kinetic energy in the lab frame (the container at velocity ``vc`` along the
+    drive), its rotational energy and ``m g . x`` (:func:`record_sample`'s terms, read here)."""
+    b = fresh(b)
+    N = b.N
+    cf = b.cf
+    sh = b.sh
+    mi = b.st[MASS * N + i]
+    ux = sh[S_V * N + i] + vc * cf[F_DIRECTION]
+    uy = sh[(S_V + 1) * N + i] + vc * cf[F_DIRECTION + 1]
+    uz = sh[(S_V + 2) * N + i] + vc * cf[F_DIRECTION + 2]
+    ekin = 0.5 * mi * (ux * ux + uy * uy + uz * uz)
+    erot = 0.5 / b.st[IINERT * N + i] * (sh[S_SPIN * N + i] ** 2 + sh[(S_SPIN + 1) * N + i] ** 2
+                                         + sh[(S_SPIN + 2) * N + i] ** 2)
+    g = mi * (cf[F_GRAVITY] * sh[S_X * N + i] + cf[F_GRAVITY + 1] * sh[(S_X + 1) * N + i]
+              + cf[F_GRAVITY + 2] * sh[(S_X + 2) * N + i])
+    return ekin, erot, g
+
+
+@cuda.jit(device=True)
 def record_sample(b, out, kk, motion, lb, tb, spring):
     """Sample ``kk`` of the case (:func:`pdamper.kernels.record.record_sample`) into its row ``out``:
     the block's sums of the threads' running sums (:func:`ledger`; the impulse restarts), the
@@ -734,27 +788,22 @@ def record_sample(b, out, kk, motion, lb, tb, spring):
     tid = b.tid
     bd = b.bd
     xc, vc = motion
-    gvx = cf[F_GRAVITY]
-    gvy = cf[F_GRAVITY + 1]
-    gvz = cf[F_GRAVITY + 2]
-    dvx = cf[F_DIRECTION]
-    dvy = cf[F_DIRECTION + 1]
-    dvz = cf[F_DIRECTION + 2]
     ekin = erot = epot = eel = 0.0
     erec = kk < ci[I_EN_ROWS]
     if erec:
         i = tid
         while i < b.n:
-            mi = b.st[MASS * N + i]
-            ux = sh[S_V * N + i] + vc * dvx
-            uy = sh[(S_V + 1) * N + i] + vc * dvy
-            uz = sh[(S_V + 2) * N + i] + vc * dvz
-            ekin += 0.5 * mi * (ux * ux + uy * uy + uz * uz)
-            erot += 0.5 / b.st[IINERT * N + i] * (sh[S_SPIN * N + i] ** 2 + sh[(S_SPIN + 1) * N + i] ** 2
-                                                  + sh[(S_SPIN + 2) * N + i] ** 2)
-            epot -= mi * (gvx * sh[S_X * N + i] + gvy * sh[(S_X + 1) * N + i] + gvz * sh[(S_X + 2) * N + i])
+            ek, er, eg = _sphere_energies(b, i, vc)
+            ekin += ek
+            erot += er
+            epot -= eg
             eel += elastic(b, i, lb, tb, spring)
-            i += bd
+            i += fresh(b).bd
+    b = fresh(b)
+    ci = b.ci
+    cf = b.cf
+    tid = b.tid
+    bd = b.bd
     r = ledger(b, RUNNING)
     impulse = block_sum(cf[r + 3], tid, bd, b.red)
     cf[r + 3] = 0.0
@@ -771,7 +820,10 @@ def record_sample(b, out, kk, motion, lb, tb, spring):
         eel = block_sum(eel, tid, bd, b.red)
         if tid == 0:
             # the lab frame's potential energy (record_sample): the bed raised with the container
-            gd = gvx * dvx + gvy * dvy + gvz * dvz
+            gvx = cf[F_GRAVITY]
+            gvy = cf[F_GRAVITY + 1]
+            gvz = cf[F_GRAVITY + 2]
+            gd = gvx * cf[F_DIRECTION] + gvy * cf[F_DIRECTION + 1] + gvz * cf[F_DIRECTION + 2]
             if abs(gd) > 1e-12 * math.sqrt(gvx ** 2 + gvy ** 2 + gvz ** 2):
                 epot -= cf[F_BED_MASS] * gd * xc
             out[e] = ekin

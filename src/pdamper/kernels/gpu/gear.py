@@ -305,9 +305,10 @@ def _unpack(b, hs):
 #: steps, the list and history buffers, whether the drive has started and the run is primed, the
 #: status and culprit, the attempts of this launch, whether its time is up, the launch's clock at its
 #: start, the sample the step ends on; the time, the next step, the step taken, the sample's time, the
-#: rescale of the Nordsieck vector, the container's position and velocity at the step's end.
+#: rescale of the Nordsieck vector, the container's position, velocity and acceleration at the step's end
+#: (the acceleration kept there while the lane's spheres' forces are summed).
 (U_SPAN, U_STEPS, U_REJECTED, U_LB, U_TK, U_STARTED, U_PRIMED, U_STATUS, U_CULPRIT, U_DONE, U_STOP, U_START, U_KB,
- U_T, U_H, U_HS, U_TB_END, U_RATIO, U_XC, U_VC) = range(20)
+ U_T, U_H, U_HS, U_TB_END, U_RATIO, U_XC, U_VC, U_AC) = range(21)
 
 
 @cuda.jit(device=True)
@@ -475,15 +476,18 @@ def _prime(b, table, dl, spring):
     b = fresh(b)
     xc, vc, ac = motion_at(b, getf(b, U_T))
     putf(b, U_HS, h)
-    hs = h
-    N = b.N
-    st = b.st
-    sh = b.sh
-    cf = b.cf
-    tk = get(b, U_TK)
+    putf(b, U_AC, ac)
     i = b.tid
     while i < b.n:
-        sphere_force(b, table, dl, i, lb, tk, h, 0.0)
+        sphere_force(b, table, dl, i, get(b, U_LB), get(b, U_TK), getf(b, U_HS), 0.0)
+        # (what the Nordsieck vector needs, read after the sum of the forces: not held through it)
+        b = fresh(b)
+        N = b.N
+        st = b.st
+        sh = b.sh
+        cf = b.cf
+        hs = getf(b, U_HS)
+        ac = getf(b, U_AC)
         im = st[IMASS * N + i]
         ii = st[IINERT * N + i]
         for k in range(3):
@@ -595,18 +599,21 @@ def _increments(b, table, dl):
     xc, vc, ac = motion_at(b, getf(b, U_T) + hs)
     putf(b, U_XC, xc)
     putf(b, U_VC, vc)
-    half_h2 = 0.5 * hs * hs
-    N = b.N
-    st = b.st
-    cf = b.cf
-    lb = get(b, U_LB)
-    tk = get(b, U_TK)
+    putf(b, U_AC, ac)
     i = b.tid
     while i < b.n:
-        st_ = sphere_force(b, table, dl, i, lb, tk, NO_CAP, hs)
+        st_ = sphere_force(b, table, dl, i, get(b, U_LB), get(b, U_TK), NO_CAP, getf(b, U_HS))
         if st_ != STATUS_OK:
             put(b, U_STATUS, st_)
             put(b, U_CULPRIT, i)
+        # (what the increments need, read after the sum of the forces: not held through it)
+        b = fresh(b)
+        N = b.N
+        st = b.st
+        cf = b.cf
+        hs = getf(b, U_HS)
+        half_h2 = 0.5 * hs * hs
+        ac = getf(b, U_AC)
         im = st[IMASS * N + i]
         ii = st[IINERT * N + i]
         for k in range(3):

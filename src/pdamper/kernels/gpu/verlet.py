@@ -63,9 +63,10 @@ def case_time(g, dt, settle, seg_steps, seg_samples, interval):
 #: The Verlet kernel's state slots (:func:`~.forces.get`): its step, list and time buffers, whether the
 #: list is to be rebuilt, the drive has started and the run is primed, the status and culprit of a
 #: failure, the steps of this launch, whether its time is up, the launch's clock at its start; the
-#: container's position and velocity at the step's end, the lane's largest squared displacement.
+#: container's position and velocity at the step's end, the lane's largest squared displacement, the
+#: container's acceleration at the step's end (kept there while the lane's spheres' forces are summed).
 (U_G, U_LB, U_TK, U_MOVED, U_STARTED, U_PRIMED, U_STATUS, U_CULPRIT, U_DONE, U_STOP, U_START, U_XC, U_VC,
- U_DISP) = range(14)
+ U_DISP, U_AC) = range(15)
 
 
 def batch_verlet(bt, tb, law, tlaw, max_steps, max_cycles):
@@ -175,13 +176,16 @@ def _prime(b, table, acc):
     put(b, U_STATUS, status)
     b = fresh(b)
     xc, vc, ac = motion_at(b, _time(b, get(b, U_G)))
-    N = b.N
-    st = b.st
-    cf = b.cf
-    tk = get(b, U_TK)
+    putf(b, U_AC, ac)
     i = b.tid
     while i < b.n:
-        sphere_force(b, table, acc, i, lb, tk, dt, 0.0)
+        sphere_force(b, table, acc, i, get(b, U_LB), get(b, U_TK), b.cf[F_DT], 0.0)
+        # (what the sum of the forces needs, read after it: not held through it)
+        b = fresh(b)
+        N = b.N
+        st = b.st
+        cf = b.cf
+        ac = getf(b, U_AC)
         im = st[IMASS * N + i]
         ii = st[IINERT * N + i]
         for k in range(3):
@@ -235,24 +239,25 @@ def _drift(b, spring):
 def _kick(b, table, acc):
     """Each lane's spheres' force and torque (:func:`~.forces.sphere_force`) and the half kick with
     the new accelerations; the container's motion at the step's end into the thread's slots."""
-    dt = b.cf[F_DT]
-    half = 0.5 * dt
     xc, vc, ac = motion_at(b, _time(b, get(b, U_G) + 1))
     putf(b, U_XC, xc)
     putf(b, U_VC, vc)
-    b = fresh(b)
-    N = b.N
-    st = b.st
-    sh = b.sh
-    cf = b.cf
-    lb = get(b, U_LB)
-    tk = get(b, U_TK)
-    i = b.tid
-    while i < b.n:
-        st_ = sphere_force(b, table, acc, i, lb, tk, dt, dt)
+    putf(b, U_AC, ac)
+    i = fresh(b).tid
+    while i < fresh(b).n:
+        dt = fresh(b).cf[F_DT]
+        st_ = sphere_force(b, table, acc, i, get(b, U_LB), get(b, U_TK), dt, dt)
         if st_ != STATUS_OK:
             put(b, U_STATUS, st_)
             put(b, U_CULPRIT, i)
+        # (what the kick needs, read after the sum of the forces: not held through it)
+        b = fresh(b)
+        N = b.N
+        st = b.st
+        sh = b.sh
+        cf = b.cf
+        half = 0.5 * cf[F_DT]
+        ac = getf(b, U_AC)
         im = st[IMASS * N + i]
         ii = st[IINERT * N + i]
         bad = False
