@@ -37,6 +37,7 @@ def _workers():
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(available() is not None or not Path("/proc").is_dir(),
                     reason=f"needs openseespy and Linux /proc: {available()}")
 def test_kill_9_during_a_cosimulation_leaves_nothing_half_written_and_no_child(tmp_path):

@@ -27,6 +27,7 @@ def site(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_every_docs_page_is_in_the_site(site):
     for md in (ROOT / "docs").rglob("*.md"):
         rel = md.relative_to(ROOT / "docs").with_suffix("")

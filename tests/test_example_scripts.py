@@ -32,6 +32,7 @@ def test_analyze_record_example(tmp_path):
     assert "cycles used          18" in proc.stdout
 
 
+@pytest.mark.slow
 def test_kinetic_energy_recorder_example():
     proc = subprocess.run([sys.executable, str(EXAMPLES / "kinetic_energy_recorder.py")], capture_output=True,
                           text=True, timeout=300)

@@ -46,6 +46,7 @@ def test_stored_with_outputs(name):
     assert f"({name})" in (EXAMPLES / "README.md").read_text(encoding="utf-8"), f"{name} not in examples/README.md"
 
 
+@pytest.mark.slow
 def test_theory_and_run_notebook(tmp_path):
     text = _text(_execute("tutorial_theory_and_run.ipynb", tmp_path))
     assert re.search(r"X_opt\s+12\.23 mm", text)
@@ -53,6 +54,7 @@ def test_theory_and_run_notebook(tmp_path):
     assert 0.3 < float(eta) < 1.2 and mode == "rolling-collect-and-collide"
 
 
+@pytest.mark.slow
 def test_sweep_notebook(tmp_path):
     nb = _execute("tutorial_sweep.ipynb", tmp_path)
     text = _text(nb)

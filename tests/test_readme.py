@@ -69,6 +69,7 @@ def test_the_test_environment_is_pinned_for_every_dependency():
         assert req.specifier.contains(pins[name], prereleases=True), (req, pins[name])
 
 
+@pytest.mark.slow
 def test_main_job_arguments_are_valid_and_the_figure_is_in_the_repo(tmp_path):
     """The main job's command line runs (cut down to one short case here; the full sweep is
     what the README promises a user, minutes on two cores) and writes its figure."""

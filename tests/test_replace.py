@@ -110,6 +110,7 @@ def test_a_sweep_point_by_replace_is_the_one_the_config_reader_made(point):
     assert dumps_case(new) == dumps_case(old)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["cuboid_36", "cylinder_30", "structure_36"])
 def test_every_scalar_key_of_the_examples_as_the_config_reader_read_it(name):
     """Every single-value key of each example, at a few values: replace makes the case (or the

@@ -164,6 +164,7 @@ def test_work_minus_dissipation_is_the_change_of_the_beds_energy(damper_run):
     assert w == pytest.approx(d + dm, abs=e.balance_error() * np.max(np.abs(e.work)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("integrator", ["gear", "verlet"])
 def test_ledger_dissipation_per_cycle_agrees_with_the_complex_power(integrator):
     # over a steadier window (6 cycles, 2 dropped) the drive's work goes into dissipation, up to

@@ -97,6 +97,7 @@ def test_animate_of_a_missing_directory(tmp_path):
     assert result.exit_code == 2 and "run directory not found" in result.output
 
 
+@pytest.mark.slow
 def test_plot_modes_of_a_store(tiny, tmp_path):
     store = tmp_path / "store"
     result = invoke(["sweep", str(tiny), "--strokes", "2mm,13mm", "--cycles", "2", "--workers", "1", "--out", str(store),

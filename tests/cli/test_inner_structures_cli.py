@@ -31,6 +31,7 @@ def inner(tmp_path_factory):
     return path
 
 
+@pytest.mark.slow
 def test_run_and_animate_a_container_with_a_baffle_and_coated_walls(inner, tmp_path):
     out = tmp_path / "r"
     res = invoke(["run", str(inner), "--trajectory", "--fps", "20", "--json", "--out", str(out)])
@@ -49,6 +50,7 @@ def test_run_and_animate_a_container_with_a_baffle_and_coated_walls(inner, tmp_p
     assert gif.stat().st_size > 0
 
 
+@pytest.mark.slow
 def test_sweep_and_plot_a_coated_container(inner, tmp_path):
     store = tmp_path / "s"
     res = invoke(["sweep", str(inner), "--strokes", "5mm,20mm", "--cycles", "3", "--json", "--out", str(store),
@@ -62,6 +64,7 @@ def test_sweep_and_plot_a_coated_container(inner, tmp_path):
     assert res.exit_code == 0, res.output
 
 
+@pytest.mark.slow
 def test_sweep_a_vertically_driven_multi_layer_bed(tmp_path):
     cfg = tmp_path / "v.toml"
     cfg.write_text("""

@@ -77,6 +77,7 @@ def test_table_output_with_overrides(tiny):
     assert "standard error over the cycles" in lines[k + 1] and lines[k + 2].strip().startswith("motion mode")
 
 
+@pytest.mark.slow
 def test_set_overrides_any_key(tiny, tmp_path):
     out = tmp_path / "r"
     result = invoke(["run", str(tiny), "--set", "particles.count=4", "--set", "run.cycles=2",

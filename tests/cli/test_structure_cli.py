@@ -81,6 +81,7 @@ def test_run_on_a_structure_prints_its_amplitude_and_the_damper_stroke():
     assert s["structure_amplitude_m"] == s["damper_stroke_m"] and s["modes_kept"] == 1
 
 
+@pytest.mark.slow
 def test_decay_and_response_on_a_two_mode_structure():
     r = run(["decay", MAST_MODAL, "--cycles", "2", *SMALL, "--json"])
     assert r.exit_code == 0, r.output

@@ -38,6 +38,7 @@ def _stored_case(store_dir):
     return loads_case(json.loads((store_dir / "store.json").read_text())["config"])
 
 
+@pytest.mark.slow
 def test_set_reaches_every_setting_and_a_store_refuses_other_overrides(study_file, tmp_path):
     out = tmp_path / "s"
     args = ["study", str(study_file), "--strokes", "13mm", "--cycles", "2", "--workers", "1", "--out", str(out)]

@@ -108,6 +108,7 @@ def test_transient_needs_a_load_in_time(tmp_path):
     assert r.exit_code == 2 and "needs a load in time" in r.output
 
 
+@pytest.mark.slow
 def test_response_sweep_and_dofs(config, tmp_path):
     """A stepped sine both ways on the locked bed (short: the keys, not the physics, which
     tests/studies/test_transient.py checks)."""

@@ -66,6 +66,7 @@ def _wall_impact(v, eps, damping, integrator="verlet", gear_tolerance=None):
     return sim.bodies.velocity[0, 0] / v, res
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(DAMPING_LAWS))
 @pytest.mark.parametrize("eps", [0.5, 0.8, 0.95])
 def test_the_engine_rebounds_as_the_laws_own_force_says(name, eps):
@@ -95,6 +96,7 @@ def test_pair_impacts_rebound_at_the_cor_asked_for(name, eps):
     assert sim.bodies.velocity[:, 0].sum() == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["calibrated", "tsuji"])
 @pytest.mark.parametrize("tolerance, rel", [(None, 5e-3), (1e-10, 2e-3)])
 def test_gear_rebounds_like_verlet(name, tolerance, rel):

@@ -84,6 +84,7 @@ def test_the_written_case_is_the_design_and_says_how_it_was_made(tmp_path):
     assert "DEM check:    not run" in head and "pdamper sweep frame_design.toml" in head
 
 
+@pytest.mark.slow
 def test_sweep_fields_and_response_run_on_the_written_case(tmp_path):
     out, _ = _design(tmp_path)
     store, fields = tmp_path / "sweep", tmp_path / "fields.nc"

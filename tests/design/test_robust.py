@@ -58,6 +58,7 @@ def _met(ds) -> int:
                                                                                   axis=1)))
 
 
+@pytest.mark.slow
 def test_the_design_meets_the_targets_in_the_share_asked_and_a_lighter_filling_does_not(robust):
     folder, case, rd = robust
     assert rd.met and rd.design is not None and rd.design.met

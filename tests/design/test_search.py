@@ -25,6 +25,7 @@ def test_the_mode_of_one_degree_of_freedom_and_its_bare_amplitude():
     assert d.amplitude_damper_bare_m == pytest.approx(F0 / (2 * ZETA * K), rel=1e-12)
 
 
+@pytest.mark.slow
 def test_design_lowers_the_amplitude_and_operates_at_its_margin_above_x_opt():
     d = design_for_structure(frame(), force=F0, length_range=(0.08, 0.2), max_mass_ratio=0.01)
     assert d.amplitude_damper_m < d.amplitude_damper_bare_m

@@ -81,6 +81,7 @@ def test_the_verdict_against_the_target_passes_the_laws_and_judges_a_jump_by_its
     assert failed["verdict"] == "no verdict"
 
 
+@pytest.mark.slow
 def test_verify_runs_the_dem_at_ci_size_and_gives_a_verdict():
     r = CliRunner().invoke(main, ["design", "--structure", str(FRAME), "--force", "1.5N", "--verify",
                                   "--verify-cycles", "3", "--verify-strokes", "2", "--seeds", "1", "--workers", "1",

@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from pdamper.engine import warmup
 from pdamper.engine.build import build
 from pdamper.engine.steppers import stepper_for
@@ -34,6 +35,7 @@ print(json.dumps({k: (sum(h.values()), sum(m.values())) for k, (h, m) in stats.i
 """
 
 
+@pytest.mark.slow
 def test_the_helper_fills_a_fresh_cache_with_the_callees_a_run_then_loads(tmp_path):
     """The helper compiles the callees, not the kernel, with the kernel's argument types: the main
     run finds each one in the cache and compiles only the kernel."""

@@ -217,6 +217,7 @@ def test_a_damper_run_is_the_same_with_direct_and_cell_search():
     np.testing.assert_allclose(sc.bodies.velocity, sd.bodies.velocity, rtol=0, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_longer_runs_part_only_by_amplified_round_off():
     # The two searches order the partners of a sphere differently, so force sums may differ in
     # the last bit; the bed is chaotic and amplifies that (measured with Verlet: first difference

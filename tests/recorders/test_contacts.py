@@ -21,6 +21,7 @@ def _baffled(**over):
     return loads_case(TINY_CONFIG, {"container.baffles": [{"position": "0mm"}], "drive.stroke": "20mm", **over})
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("over", [{"numerics.integrator": "verlet"}, {"numerics.integrator": "gear"},
                                   {"numerics.integrator": "verlet", "contact.tangential": "spring"}],
                          ids=["verlet", "gear", "verlet-spring"])

@@ -117,6 +117,7 @@ def test_the_frf_is_the_steady_phasor():
     assert np.allclose(H * 0.4, s.dof_phasors(f, 0.4), rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_white_noise_on_a_sdof_has_the_variance_of_random_vibration_theory():
     """sigma^2 = pi S0 / (2 zeta omega^3 m^2) for two-sided white noise S0 per rad/s (Crandall & Mark,
     Random Vibration, 1963; S0 = G / 4 pi for the one-sided G per Hz), against the mean square of

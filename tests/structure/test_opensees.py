@@ -180,6 +180,7 @@ def test_a_bad_model_file_gives_one_line(tmp_path, capfd, what):
     assert "the model file prints" not in out.out + out.err
 
 
+@pytest.mark.slow
 def test_a_model_file_that_loops_is_stopped(tmp_path):
     """A file that never ends: stopped at the time limit, one line."""
     from pdamper.structure.opensees import read_model

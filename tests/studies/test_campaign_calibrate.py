@@ -69,6 +69,7 @@ def test_a_folder_of_logger_files_becomes_a_campaign(rig, tmp_path):
     assert ds.eta_star.sel(stroke=0.02, method="nearest").values[0] == pytest.approx(one.eta_star, abs=0.01)
 
 
+@pytest.mark.slow
 def test_calibration_recovers_the_friction_of_a_synthetic_campaign(rig, tmp_path):
     d, base = rig
     files = [d / f"x{x}.txt" for x in STROKES]

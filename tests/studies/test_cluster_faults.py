@@ -53,6 +53,7 @@ def _when_cases(store, n, action, timeout=120.0):
     return t
 
 
+@pytest.mark.slow
 def test_a_worker_killed_mid_study_is_retried_and_the_numbers_are_bit_identical(spec, undisturbed, tmp_path):
     from dask.distributed import Client, LocalCluster
 
@@ -85,6 +86,7 @@ def _start(cmd, **kw):
     return subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True, **kw)
 
 
+@pytest.mark.slow
 def test_a_scheduler_that_goes_away_is_a_clear_error_and_the_store_resumes_locally(spec, undisturbed, tmp_path):
     info = tmp_path / "scheduler.json"
     dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]

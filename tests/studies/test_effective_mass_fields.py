@@ -67,6 +67,7 @@ def test_a_campaign_refuses_a_negative_container_mass(tmp_path):
     assert out.exit_code != 0 and "container mass" in out.output
 
 
+@pytest.mark.slow
 def test_a_sweep_store_keeps_them_with_cf_attributes_reanalyses_them_and_maps_them(tiny_config, tmp_path):
     m_c = 0.05
     base = load_case(tiny_config, {"container.mass": m_c})

@@ -49,6 +49,7 @@ def _peak(case, scale: float, added: float) -> float:
     return float(np.max(np.abs(x)))
 
 
+@pytest.mark.slow
 def test_every_sample_is_its_closed_form_with_and_without_the_bed(tmp_path):
     base = _forced_locked_bed()
     ds = run_ensemble(base, STIFFNESS, 4, tmp_path / "store", study="transient", workers=1, progress=False)
@@ -216,6 +217,7 @@ def test_a_gpu_that_fails_mid_ensemble_is_one_line_and_keeps_what_finished(tiny_
     assert all((tmp_path / "store" / "cases" / k).read_bytes() == v for k, v in stored.items())
 
 
+@pytest.mark.slow
 @pytest.mark.cluster
 def test_an_ensemble_on_a_dask_scheduler_gives_the_numbers_of_the_local_cores(tiny_config, tmp_path):
     """The same samples on a Dask cluster given by its address (``--scheduler``) and on the local

@@ -106,6 +106,7 @@ def _fail_writes_of(monkeypatch, name, code=errno.ENOSPC):
     monkeypatch.setattr(files, "atomic_write", atomic)
 
 
+@pytest.mark.slow
 def test_a_full_disk_while_results_nc_is_written_keeps_the_store_resumable(tiny_config, tmp_path, monkeypatch):
     # the probe of issue 24: the case files were written, then results.nc ended in a traceback
     store = tmp_path / "store"
@@ -123,6 +124,7 @@ def test_a_full_disk_while_results_nc_is_written_keeps_the_store_resumable(tiny_
     np.testing.assert_array_equal(open_results(store / "results.nc").eta_star.values, ds.eta_star.values)
 
 
+@pytest.mark.slow
 def test_a_full_disk_while_a_case_is_written_from_the_command_line(tiny_config, tmp_path, monkeypatch):
     from click.testing import CliRunner
 

@@ -35,6 +35,7 @@ def store(tmp_path_factory):
     return d / "store"
 
 
+@pytest.mark.slow
 def test_fields_of_a_sweep_keep_its_mean_spread_modes_and_provenance(store, tmp_path):
     ds = open_results(store)
     fields = build_fields(store, command="pdamper fields test")

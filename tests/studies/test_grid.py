@@ -74,6 +74,7 @@ def _grid(cfg, frictions=(0.01, 1.0), strokes=(0.002, 0.012), seeds=(0,), **over
                      axes=[Axis(key="contact.friction", values=frictions)], seeds=seeds)
 
 
+@pytest.mark.slow
 def test_a_two_dimensional_sweep_keeps_signals_reanalyses_and_opens_without_writing(tiny_config, tmp_path):
     store = tmp_path / "grid"
     ds = run_sweep(_grid(tiny_config), store, workers=2, progress=False, history="pdamper sweep (test)")
@@ -117,6 +118,7 @@ def test_a_two_dimensional_sweep_keeps_signals_reanalyses_and_opens_without_writ
     assert reanalyze(tmp_path / "bare").attrs["not_reanalysed"] == 1 and np.isfinite(bare.eta_star).all()
 
 
+@pytest.mark.slow
 def test_a_two_dimensional_sweep_resumes_after_kill_minus_nine(tiny_config, tmp_path):
     store = tmp_path / "store"
     cmd = [sys.executable, "-m", "pdamper.cli", "sweep", str(tiny_config), "--vary", "drive.stroke=1mm:20mm:3",

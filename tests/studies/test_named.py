@@ -50,6 +50,7 @@ def test_an_unknown_study_suggests_the_near_name():
         study_settings("frction")
 
 
+@pytest.mark.slow
 def test_a_study_runs_into_one_dataset_with_a_setting_dimension(tmp_path):
     ds = run_study("fig4", tmp_path / "s", strokes=(0.013,), seeds=(0,), cycles=2.5, drop_cycles=1, workers=2,
                    progress=False)
@@ -65,6 +66,7 @@ def test_a_study_runs_into_one_dataset_with_a_setting_dimension(tmp_path):
     assert sorted(p.stat().st_mtime_ns for p in (tmp_path / "s").rglob("cases/*.json")) == stamps
 
 
+@pytest.mark.slow
 def test_a_users_study_file_runs_and_bad_files_are_explained(tiny_config, tmp_path):
     from pdamper.errors import InputError
     from pdamper.plotting.sweep import study_figure

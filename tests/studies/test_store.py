@@ -20,6 +20,7 @@ def _spec(cfg, strokes=(0.002, 0.012), seeds=(0, 1), **over):
     return SweepSpec(base=load_case(cfg, over or None), strokes=strokes, seeds=seeds)
 
 
+@pytest.mark.slow
 def test_a_sweep_on_a_local_cluster_stores_every_case_and_resumes_without_recomputing(tiny_config, tmp_path):
     store = tmp_path / "store"
     ds = run_sweep(_spec(tiny_config), store, workers=2, progress=False)
@@ -58,6 +59,7 @@ def test_a_sweep_on_a_local_cluster_stores_every_case_and_resumes_without_recomp
     assert all(line.rsplit(",", 1)[1] in MODES for line in csv[1:])
 
 
+@pytest.mark.slow
 def test_same_seeds_same_numbers_on_an_external_dask_cluster(tiny_config, tmp_path):
     from dask.distributed import LocalCluster
 
@@ -97,6 +99,7 @@ def test_a_partial_store_gives_nan_for_the_missing_cases(tiny_config, tmp_path):
     assert np.isnan(ds.eta_star.sel(stroke=0.012, seed=1))
 
 
+@pytest.mark.slow
 def test_kill_minus_nine_loses_nothing_finished_and_the_rerun_completes(tiny_config, tmp_path):
     store = tmp_path / "store"
     cmd = [sys.executable, "-m", "pdamper.cli", "sweep", str(tiny_config), "--strokes", "1mm:20mm:6",
@@ -131,6 +134,7 @@ def test_a_store_without_modes_opens_with_unknown_modes(tiny_config, tmp_path):
     assert ds2["mode"].values.tolist() == [["unknown"], ["failed"], [""]]
 
 
+@pytest.mark.slow
 def test_a_store_heals_a_bad_case_file_and_a_lost_store_json(tiny_config, tmp_path):
     store = tmp_path / "store"
     spec = _spec(tiny_config, strokes=(0.002, 0.012), seeds=(0,))

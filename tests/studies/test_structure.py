@@ -53,6 +53,7 @@ def test_the_coupled_ledger_closes_and_the_bed_damps(integrator):
     assert lost_to_bed > 0.01 * rec.initial_energy  # 16 spheres, scattered at 20 mm: ~2 % in 3 cycles
 
 
+@pytest.mark.slow
 def test_decay_study_summary():
     res = run_decay(_small(count=36, cycles=4))
     s = res.summary
@@ -64,6 +65,7 @@ def test_decay_study_summary():
     assert res.envelope_damped[1][-1] < res.envelope_bare[1][-1]
 
 
+@pytest.mark.slow
 def test_response_study_without_and_with_bed():
     case = _small(count=8, cycles=6)
     res = run_response(case, [1.9, 2.1], force_amplitude=0.2, measure_cycles=2, workers=1, progress=False)

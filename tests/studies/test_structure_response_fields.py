@@ -86,6 +86,7 @@ def test_steadiness_compares_the_last_two_periods():
     assert b["last_period_change"] < 0.02 < b["window_change"] and not b["steady"]
 
 
+@pytest.mark.slow
 def test_start_on_the_bare_orbit_is_steady_from_the_first_period():
     case = load_case(EXAMPLE, {"particles.count": 4, "run.cycles": 4})
     (z,) = start_phasors(case, [2.0], 0.4, "bare")

@@ -16,6 +16,7 @@ from pdamper.studies import SweepSpec, run_sweep
 pytestmark = pytest.mark.cluster
 
 
+@pytest.mark.slow
 def test_a_sweep_with_the_users_client_open_writes_its_results_and_leaves_the_client_as_it_was(tmp_path):
     from dask.distributed import Client, LocalCluster, get_client
 

@@ -19,6 +19,7 @@ def _module():
     return load_script("benchmarks/gpu.py")
 
 
+@pytest.mark.slow
 def test_tiny_study_runs_in_the_simulator(tmp_path, monkeypatch):
     """The fig4 part on tiny cases: a study through the GPU engine, its JSON and markdown written,
     eta* compared with a CPU reference (seeds 0-2) and with further CPU runs of the same stroke: a
@@ -70,6 +71,12 @@ def _ptx_report(tmp_path, kernels):
     simulator: its JSON's ``ptx`` part (skipped, with the one-line reason, where NVVM or ptxas is
     absent)."""
     pytest.importorskip("numba_cuda", reason="numba-cuda is not installed")
+    from importlib import metadata
+
+    try:  # the gpu extra's toolkit wheels (NVVM's PTX needs their ptxas); without them nothing to compile
+        metadata.version("nvidia-cuda-nvcc")
+    except metadata.PackageNotFoundError:
+        pytest.skip("the PTX compile needs the gpu extra (pip install -e '.[gpu]': the CUDA toolkit's wheels)")
     out = tmp_path / "ptx.json"
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
@@ -125,6 +132,7 @@ def test_paper_part_compares_with_the_cpu_reference(tmp_path, monkeypatch):
         assert d["rms_dev_vs_cpu"] == pytest.approx(abs(d["mean_dev_vs_cpu"]))
 
 
+@pytest.mark.slow
 def test_agree_part_runs_in_the_simulator():
     """The agree part on the tiny cases, Gear with the spring, in its own process: in the simulator
     the kernels call the CPU's compiled functions, so the two engines agree to rounding at every

@@ -13,6 +13,7 @@ import dataclasses
 import warnings
 
 import numpy as np
+import pytest
 
 from gpu_helpers import on_both as _both
 from gpu_helpers import pile_case as _pile
@@ -98,6 +99,7 @@ def test_gear_implicit_pair_rows_in_the_cpus_order():
     _same_nordsieck(st, batch, t, 1e-10)  # (the step control amplifies rounding: 1.6e-11 here)
 
 
+@pytest.mark.slow
 def test_gear_bits_do_not_depend_on_the_threads_of_a_block():
     """The 13-sphere pile's ten steps on blocks of 1, 2, 4 and 34 threads (a lane takes 13, 7, 4 or
     one sphere, and the pairs a block's width apart; 34 threads are two warps, whose barriers are the
@@ -129,6 +131,7 @@ def test_gear_step_by_step_with_the_tangential_spring():
     assert np.max(np.abs(ours - ref)) <= 1e-9 * np.max(np.abs(ref))
 
 
+@pytest.mark.slow
 def test_gear_run_agrees_to_its_tolerance():
     """A whole short run (settling, drive, friction): positions within 100 x gear_tolerance, the same
     number of steps within 2 %, the wall force within 5 % of its peak."""
@@ -163,6 +166,7 @@ def case_tol(case):
     return case.numerics.gear_tolerance
 
 
+@pytest.mark.slow
 def test_gear_kernel_gives_the_same_bits_run_after_run():
     """A 4 x 3 pile (18 spheres, up to 23 touching pairs) on 3 threads, 100 steps in launches of 25,
     twice: the same bits. The simulator runs each GPU thread as a Python thread and switches between

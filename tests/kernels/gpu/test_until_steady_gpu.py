@@ -54,6 +54,7 @@ def test_each_case_of_a_batch_stops_where_the_cpu_engine_stops():
         assert g.extras["steady"] == c.extras["steady"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("integrator, strokes, force_rel", [("verlet", (STEADY, DRIFTING), 1e-9),
                                                              ("gear", (STEADY,), 1e-3)])
 def test_a_running_case_is_stopped_between_launches_and_the_others_run_on(integrator, strokes, force_rel):

@@ -23,6 +23,7 @@ from pdamper.materials import Material
 from pdamper.params import Case, InitialState, Numerics, ParticleSet, Recording
 from pdamper.simulation import Simulation, run_on_gpu
 
+@pytest.mark.slow
 def test_same_trajectory_as_the_cpu_engine_in_one_batch():
     """A tilted cuboid with a baffle and a coated floor, driven along a direction with a vertical part,
     and a cylinder of another size in the same batch (padding, per-case tables and walls): the same
@@ -142,6 +143,7 @@ def test_a_launch_bounded_by_time_stops_each_case_at_its_own_step():
                 assert np.array_equal(getattr(a, name), getattr(b, name)), name
 
 
+@pytest.mark.slow
 def test_eta_star_of_a_short_ensemble():
     """Three seeds of a short run on both engines (soft spheres, so that 310 steps make three cycles):
     the GPU's eta* of every seed within a tenth of the CPU's seed spread of it; the mean inside the
