@@ -21,7 +21,7 @@ import os
 import re
 from pathlib import Path
 
-__all__ = ["PdamperError", "InputError", "SimulationError", "shown", "shown_path", "checked_file", "read_text_file",
+__all__ = ["PdamperError", "InputError", "SimulationError", "shown", "shown_path", "checked_file", "resolved", "read_text_file",
            "unreadable_file"]
 
 
@@ -151,6 +151,18 @@ def unreadable_file(path, exc: BaseException, what: str = "file") -> "InputError
     """The :class:`InputError` of a file that cannot be opened or read (``exc`` the ``OSError``,
     ``ValueError`` or ``UnicodeError`` the system raised), naming it with :func:`shown_path`."""
     return InputError(f"cannot read the {what} {shown_path(path)}: {_os_words(exc)}")
+
+
+def resolved(path, base=None) -> Path:
+    """``path`` made absolute (relative to ``base``, default the working directory) and resolved
+    where the system can; a name it refuses (a NUL character, too long, a link loop) is kept as
+    given, for :func:`checked_file` to say what is wrong with it when it is read."""
+    p = Path(os.fsdecode(path) if isinstance(path, bytes) else path).expanduser()
+    p = p if p.is_absolute() else Path(base if base is not None else Path.cwd()) / p
+    try:
+        return p.resolve()
+    except (OSError, RuntimeError, ValueError):
+        return p
 
 
 def checked_file(path, what: str = "file", *, directory_ok: bool = False, missing: str | None = None) -> Path:

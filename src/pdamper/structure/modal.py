@@ -7,11 +7,10 @@ import copy
 import dataclasses
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, shown
+from ..errors import InputError, resolved, shown
 from ..excitation import register_drive
 from ..schema import param
 from .base import StructureBase
@@ -198,9 +197,7 @@ class ModalStructure(StructureBase, _Modes):
             kw["modes"] = table["modes"]
         if "matrices" in table:
             def path(value):
-                p = Path(value)
-                return str((p if p.is_absolute() else Path(base_dir if base_dir is not None else Path.cwd()) / p)
-                           .resolve())
+                return str(resolved(value, base_dir))
 
             m = table["matrices"]
             if isinstance(m, str):

@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, SimulationError, checked_file, shown, shown_path
+from ..errors import InputError, SimulationError, checked_file, resolved, shown, shown_path
 from ..excitation import register_drive
 from ..schema import config_keys, param
 from .modal import ModalStructure
@@ -288,16 +288,6 @@ class OpenSeesModel:
 _MODELS: dict = {}
 
 
-def _resolved(path) -> Path:
-    p = Path(path).expanduser()
-    if p.is_absolute():
-        return p
-    try:
-        return (Path.cwd() / p).resolve()
-    except (OSError, RuntimeError, ValueError):
-        return Path.cwd() / p
-
-
 def read_model(path, *, dof: int = 1, damper_nodes=(), force_nodes=(), response_nodes=(), keys=None,
                timeout: float = BUILD_TIMEOUT) -> OpenSeesModel:
     """The :class:`OpenSeesModel` of the model file ``path`` (run in a child process under
@@ -305,7 +295,7 @@ def read_model(path, *, dof: int = 1, damper_nodes=(), force_nodes=(), response_
     there. Cached by the file's contents and the nodes asked about."""
     label = f"structure.opensees = {shown_path(path)!r}"
     try:
-        p = checked_file(_resolved(path), "model file (the Python file that builds the OpenSees model)")
+        p = checked_file(resolved(path), "model file (the Python file that builds the OpenSees model)")
         content = p.read_bytes()
     except InputError as exc:
         raise InputError(f"{label}: {exc}") from None
@@ -386,13 +376,7 @@ class OpenSeesStructure(ModalStructure, _OpenSees):
             if not isinstance(v, str) or not v.strip():
                 raise InputError(f"[structure] opensees = {shown(v)}; give the path of the Python file that builds the "
                                  "OpenSees model, e.g. opensees = 'frame.py'")
-            p = Path(v).expanduser()
-            p = p if p.is_absolute() else Path(base_dir if base_dir is not None else Path.cwd()) / p
-            try:
-                p = p.resolve()
-            except (OSError, RuntimeError, ValueError):  # a name the system refuses: read_model says so
-                pass
-            kw["opensees"] = str(p)
+            kw["opensees"] = str(resolved(v, base_dir))  # a name the system refuses: read_model says so
         return kw
 
     def config_extra(self) -> dict:
