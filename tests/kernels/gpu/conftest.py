@@ -9,6 +9,12 @@ import os
 import pytest
 
 os.environ.setdefault("NUMBA_ENABLE_CUDASIM", "1")
+# numba reads its environment when it is first imported (the modules collected before this one
+# import it) and again only when it compiles; on a warm kernel cache nothing may compile before the
+# first simulator test, so read it again now, or numba.cuda would come up without the simulator
+import numba.core.config  # noqa: E402
+
+numba.core.config.reload_config()
 
 
 @pytest.fixture(autouse=True)
