@@ -612,19 +612,11 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
         "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
         "frequencies_hz": freqs.tolist(),
         "damper_amplitude_m": [_one_or_list(v) for v in xd],
-        "dofs": list(labels), "response_amplitude_m": dof_amp,
-        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
-        "response_point_amplitude_m": [_one_or_list(v) for v in xr],
-        "branches": [[x.to_dict() for x in sols] for sols in sol.solutions],
+        **_amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xr, (bare, solid, bare_r, solid_r),
+                      (peak, f_peak)),
         "jump_frequencies_hz": [j["frequency_hz"] for j in sol.jumps], "jumps": sol.jumps,
         "stability": "slope criterion: stable where d(ln X - ln G(X))/d ln X > 0, G(X) = F0 |H_df| / "
                      "|1 + H_dd Z(X, f)| (the fold where a branch ends; phase instabilities not seen)",
-        "amplitude_bare_m": bare.tolist(), "amplitude_solid_mass_m": solid.tolist(),
-        "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
-        "peak_damped_m": float(peak), "peak_damped_frequency_hz": float(f_peak),
-        "peak_bare_m": float(np.max(bare)),
-        **bare_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
-        "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
         "fields_box": fields.box(), "fields_source": str(fields.dataset.attrs.get("source", "")),
         "solve_time_per_frequency_s": sol.time_s.tolist(),
         "solve_time_median_s": float(np.median(sol.time_s)),
@@ -693,19 +685,11 @@ def _response_fields_several(case: Case, s, freqs, fields, force_amplitude: floa
         "bed_masses_kg": [d.bed_mass for d in beds], "frequencies_hz": freqs.tolist(),
         "damper_amplitude_m": [_one_or_list(v) for v in xd],
         "damper_points_amplitude_m": [[list(x.damper_amplitudes_m) for x in sols if x.stable] for sols in sol.solutions],
-        "dofs": list(labels), "response_amplitude_m": dof_amp,
-        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
-        "response_point_amplitude_m": [_one_or_list(v) for v in xr],
-        "branches": [[x.to_dict() for x in sols] for sols in sol.solutions],
+        **_amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xr, (bare, solid, bare_r, solid_r),
+                      (peak, f_peak)),
         "jump_frequencies_hz": [], "jumps": [],
         "stability": "the amplitudes' slow flow d(ln X)/dt = -(ln X - ln |x^(X)|) linearised: stable where every "
                      "eigenvalue of its Jacobian has a positive real part (one damper: the slope criterion)",
-        "amplitude_bare_m": bare.tolist(), "amplitude_solid_mass_m": solid.tolist(),
-        "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
-        "peak_damped_m": float(peak), "peak_damped_frequency_hz": float(f_peak),
-        "peak_bare_m": float(np.max(bare)),
-        **bare_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
-        "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
         "fields_box": [f_.box() for f_ in fl], "fields_source": [str(f_.dataset.attrs.get("source", "")) for f_ in fl],
         "solve_time_per_frequency_s": sol.time_s.tolist(), "solve_time_median_s": float(np.median(sol.time_s)),
     }
@@ -713,6 +697,27 @@ def _response_fields_several(case: Case, s, freqs, fields, force_amplitude: floa
     summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
                                 bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
+
+
+def _amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xr, curves, peak) -> dict:
+    """The summary's amplitudes of a response from the fields, one damper or several: every dof's
+    with and without the bed, the branches, the bare and solid-mass curves (``curves``: bare,
+    solid, bare at the response point, solid there), the damped peak (``peak``: amplitude,
+    frequency) beside the bare resonance."""
+    bare, solid, bare_r, solid_r = curves
+    x_peak, f_peak = peak
+    return {
+        "dofs": list(labels), "response_amplitude_m": dof_amp,
+        "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
+        "response_point_amplitude_m": [_one_or_list(v) for v in xr],
+        "branches": [[x.to_dict() for x in sols] for sols in sol.solutions],
+        "amplitude_bare_m": bare.tolist(), "amplitude_solid_mass_m": solid.tolist(),
+        "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
+        "peak_damped_m": float(x_peak), "peak_damped_frequency_hz": float(f_peak),
+        "peak_bare_m": float(np.max(bare)),
+        **bare_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
+        "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
+    }
 
 
 def _fields_codes(s, sol, freqs, force_amplitude, labels, idx, bed_mass, summary, limits):
