@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -115,17 +116,32 @@ def test_response_sweep_and_dofs(config, tmp_path):
     png = tmp_path / "s.png"
     args = ["response", str(config), "--force", "1N", "--frequencies", "2.9Hz,3.1Hz", "--cycles", "4",
             "--measure-cycles", "2", "--sweep", "both", "--dofs", "0"]
-    r = run([*args, "--json"])
+    r = run([*args, "--json", "--limit", "acceleration=0.1m/s^2"])
     assert r.exit_code == 0, r.output
     up, down = json.loads(r.stdout)["sweeps"]
     assert up["sweep"] == "up" and up["frequencies_hz"] == [2.9, 3.1] and down["frequencies_hz"] == [3.1, 2.9]
     for s in (up, down):
         assert s["dofs"] == [0] and s["response_amplitude_m"][0] == pytest.approx(s["damper_amplitude_m"])
         assert s["method"] == "dem" and len(s["amplitude_bare_sweep_m"]) == 2
+        # what codes ask for, step by step over the measured periods: the peak acceleration at least
+        # (2 pi f)^2 times the amplitude fitted there (up to the second difference's error; more where
+        # the short steps have not settled), the largest over the steps reported; without the damper
+        # the steady closed form's (2 pi f)^2 |x^|
+        c = s["codes"]
+        f = np.array(s["frequencies_hz"])
+        w2 = (2 * np.pi * f) ** 2
+        acc = np.array(c["by_frequency"]["acceleration_peak_m_s2"][0])
+        assert np.all(acc >= 0.97 * w2 * np.array(s["damper_amplitude_m"])) and np.all(acc < 2 * w2 * np.array(
+            s["damper_amplitude_m"]))
+        assert c["acceleration_peak_m_s2"][0] == pytest.approx(acc.max())
+        assert c["by_frequency_bare"]["acceleration_peak_m_s2"][0] == pytest.approx(w2 * np.array(s["amplitude_bare_m"]),
+                                                                                     rel=1e-9)
+        assert c["limits"]["acceleration"]["verdict"] == ["pass" if acc.max() <= 0.1 else "exceed"]
     r = run([*args, "--plot", str(png)])
     assert r.exit_code == 0, r.output
     assert "--sweep up" in r.output and "--sweep down" in r.output and "up and down differ" in r.output
     assert "every dof asked for" in r.output and png.stat().st_size > 10_000
+    assert "floor accelerations [m/s^2]" in r.output
     r = run([*args[:-4], "--sweep", "up", "--start", "bare"])
     assert r.exit_code == 2 and "--start does not apply to --sweep" in r.output
 

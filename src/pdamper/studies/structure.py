@@ -25,8 +25,8 @@ from ..errors import InputError, shown
 from ..structure import CoupledStructure, ModalStructure
 from ..params import Case
 from ..units import quantities
-from .structure_base import (STEADY_TOLERANCE, bare_resonance, damped_run, select_dofs, solid_amplitude,
-                             structure_numbers)
+from .structure_base import (STEADY_TOLERANCE, bare_resonance, codes_over_frequencies, damped_run, response_codes,
+                             select_dofs, solid_amplitude, structure_numbers)
 
 __all__ = ["DecayResult", "ResponseResult", "FieldsResponseResult", "load_forced", "run_decay", "run_response",
            "run_response_fields", "fields_decay", "response_case", "parse_frequencies", "default_frequencies",
@@ -479,46 +479,6 @@ def run_response(case: Case, frequencies, *, force_amplitude: float, measure_cyc
 
 
 _NO_FIT = {"mass_kg": math.nan, "damping_N_s_per_m": math.nan, "offset_N": math.nan, "r2": math.nan, "samples": 0}
-
-
-def codes_over_frequencies(s, frequencies, per: dict, force_amplitude: float, labels, idx, *, limits=None,
-                           method: str = "") -> dict:
-    """The JSON ``codes`` of a forced response (:func:`pdamper.analysis.codes.code_summary`): ``per``
-    the numbers with the damper per dof (every dof of ``s``) or storey and frequency (key -> a list
-    over the frequencies of lists over the dofs or storeys, None for a failed point), without it the
-    structure's steady harmonic response (:func:`pdamper.analysis.codes.harmonic_numbers`); each dof's (``idx``, ``labels``) and storey's
-    largest over the ``frequencies`` [Hz] and where (``_at_hz``), the lists per frequency in
-    ``by_frequency`` (``by_frequency_bare``)."""
-    from ..analysis.codes import code_summary, harmonic_numbers, worst
-
-    storeys = s.storeys()
-    freqs = np.asarray(frequencies, dtype=float)
-    width = {"acceleration": len(s.dof_shapes()[0]), "drift": len(storeys.labels) if storeys else 0}
-
-    def rows(key, table):  # [frequency][dof] -> [dof][frequency], the dofs asked for
-        w = width[key.split("_")[0]]
-        arr = np.array([r if r is not None else [math.nan] * w for r in table], dtype=float).reshape(freqs.size, w).T
-        return (arr[idx] if key.startswith("acceleration") else arr).tolist()
-
-    damped = {key: rows(key, per[key]) for key in per}
-    bare_all = harmonic_numbers(freqs, s.dof_phasors(freqs, force_amplitude), storeys=storeys)
-    bare = {key: (np.asarray(v)[idx].tolist() if key.startswith("acceleration") else v) for key, v in bare_all.items()}
-    out = code_summary(worst(damped, freqs), worst(bare, freqs), dofs=labels, storeys=storeys, limits=limits,
-                       method=method)
-    out.update(frequencies_hz=freqs.tolist(), by_frequency=damped, by_frequency_bare=bare)
-    return out
-
-
-def response_codes(s, frequencies, point_codes: list, force_amplitude: float, labels, idx, *, limits=None) -> dict:
-    """:func:`codes_over_frequencies` of a DEM response: ``point_codes`` each point's ``codes`` (over its
-    measured periods, :func:`response_point`; None: the point failed)."""
-    keys = ["acceleration_peak_m_s2", "acceleration_rms_m_s2"]
-    if s.storeys() is not None:
-        keys += ["drift_ratio_peak", "drift_ratio_rms"]
-    per = {key: [pc[key] if pc else None for pc in point_codes] for key in keys}
-    return codes_over_frequencies(s, frequencies, per, force_amplitude, labels, idx, limits=limits,
-                                  method="DEM: peak and RMS over the measured periods, the second difference of "
-                                         "the sampled displacements; without the damper: the steady harmonic response")
 
 
 def response_tmd(s, bed_mass: float, summary: dict, fit: dict | None, *, over: str = "") -> dict:

@@ -17,7 +17,7 @@ from ..errors import InputError, shown
 
 __all__ = ["STEADY_TOLERANCE", "parse_dofs", "select_dofs", "structure_numbers", "mode_table", "bare_resonance",
            "DampedRun", "damped_run", "solid_amplitude",
-           "bed_x_opt"]
+           "bed_x_opt", "codes_over_frequencies", "response_codes"]
 
 #: A point is steady when its amplitude over the last forcing period differs from the one over
 #: the period before, and the two halves of the measured periods from each other, by at most
@@ -200,3 +200,44 @@ def solid_amplitude(case, s, frequencies, force_amplitude: float, point: str = "
         masses[case.damper_point(k)] += d.bed_mass
     return s.carrying(masses if masses.size > 1 else float(masses[0])).steady_amplitude(
         frequencies, force_amplitude, point=point)
+
+
+def codes_over_frequencies(s, frequencies, per: dict, force_amplitude: float, labels, idx, *, limits=None,
+                           method: str = "") -> dict:
+    """The JSON ``codes`` of a forced response (:func:`pdamper.analysis.codes.code_summary`): ``per``
+    the numbers with the damper per dof (every dof of ``s``) or storey and frequency (key -> a list
+    over the frequencies of lists over the dofs or storeys, None for a failed point), without it the
+    structure's steady harmonic response (:func:`pdamper.analysis.codes.harmonic_numbers`); each dof's (``idx``, ``labels``) and storey's
+    largest over the ``frequencies`` [Hz] and where (``_at_hz``), the lists per frequency in
+    ``by_frequency`` (``by_frequency_bare``)."""
+    from ..analysis.codes import code_summary, harmonic_numbers, worst
+
+    storeys = s.storeys()
+    freqs = np.asarray(frequencies, dtype=float)
+    width = {"acceleration": len(s.dof_shapes()[0]), "drift": len(storeys.labels) if storeys else 0}
+
+    def rows(key, table):  # [frequency][dof] -> [dof][frequency], the dofs asked for
+        w = width[key.split("_")[0]]
+        arr = np.array([r if r is not None else [math.nan] * w for r in table], dtype=float).reshape(freqs.size, w).T
+        return (arr[idx] if key.startswith("acceleration") else arr).tolist()
+
+    damped = {key: rows(key, per[key]) for key in per}
+    bare_all = harmonic_numbers(freqs, s.dof_phasors(freqs, force_amplitude), storeys=storeys)
+    bare = {key: (np.asarray(v)[idx].tolist() if key.startswith("acceleration") else v) for key, v in bare_all.items()}
+    out = code_summary(worst(damped, freqs), worst(bare, freqs), dofs=labels, storeys=storeys, limits=limits,
+                       method=method)
+    out.update(frequencies_hz=freqs.tolist(), by_frequency=damped, by_frequency_bare=bare)
+    return out
+
+
+def response_codes(s, frequencies, point_codes: list, force_amplitude: float, labels, idx, *, limits=None) -> dict:
+    """:func:`codes_over_frequencies` of a DEM response: ``point_codes`` each point's ``codes`` (over its
+    measured periods, :func:`pdamper.studies.structure.response_point`, or a stepped sine's step;
+    None: the point failed)."""
+    keys = ["acceleration_peak_m_s2", "acceleration_rms_m_s2"]
+    if s.storeys() is not None:
+        keys += ["drift_ratio_peak", "drift_ratio_rms"]
+    per = {key: [pc[key] if pc else None for pc in point_codes] for key in keys}
+    return codes_over_frequencies(s, frequencies, per, force_amplitude, labels, idx, limits=limits,
+                                  method="DEM: peak and RMS over the measured periods, the second difference of "
+                                         "the sampled displacements; without the damper: the steady harmonic response")

@@ -27,7 +27,7 @@ from ..params import Case
 from ..structure.linear import dof_response, frequency_response, modal_response
 from ..structure.loads import SteppedSine
 from .structure_base import (STEADY_TOLERANCE, DampedRun, bare_resonance, damped_run, mode_table, parse_dofs,
-                             select_dofs, structure_numbers)
+                             response_codes, select_dofs, structure_numbers)
 
 __all__ = ["TransientResult", "SweepResult", "run_transient", "in_time", "run_stepped_sine", "parse_dofs",
            "select_dofs", "fit_sine", "sweeps_apart", "SWEEPS", "APART", "structure_numbers", "code_numbers",
@@ -327,10 +327,15 @@ def sweep_order(frequencies, direction: str) -> np.ndarray:
 
 
 def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, direction: str = "up",
-                     measure_cycles: int = 8, dofs=None, progress=None) -> SweepResult:
+                     measure_cycles: int = 8, dofs=None, progress=None, limits=None) -> SweepResult:
     """The stepped sine of ``force_amplitude`` [N] over ``frequencies`` [Hz] in ``direction`` (each
     step ``case.cycles`` periods, the last ``measure_cycles`` fitted; one DEM run, the state carried
-    from step to step), with the bare structure's exact stepped sine and steady closed form."""
+    from step to step), with the bare structure's exact stepped sine and steady closed form; the
+    numbers codes ask for over each step's measured periods (summary ``codes``:
+    :func:`~pdamper.studies.structure_base.response_codes`, against ``limits``, a
+    :class:`~pdamper.analysis.codes.Limits`; without the damper the steady harmonic response)."""
+    from ..analysis.codes import time_numbers
+
     if not case.drive.coupled:
         raise InputError("the stepped sine needs a [structure] section (the container riding on a structure)")
     if not (force_amplitude > 0 and math.isfinite(force_amplitude)):
@@ -349,10 +354,12 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
     t = rec.time
     starts = load.step_times()
     psi = load.force_phases()
-    damped, phase, dof_amp, bare_sweep, steady = [], [], [], [], []
+    damped, phase, dof_amp, bare_sweep, steady, step_codes = [], [], [], [], [], []
+    storeys = s.storeys()
     for j, fj in enumerate(freqs):
         end = starts[j + 1]
         sel = (t > end - measure_cycles / fj - 1e-12) & (t <= end + 1e-12)
+        step_codes.append(time_numbers(t[sel], rec.dofs[sel], storeys=storeys))
         z = fit_sine(t[sel], rec.displacement[sel], fj)
         damped.append(abs(z))
         phase.append(float(np.angle(z * np.exp(-1j * psi[j]))))
@@ -387,6 +394,7 @@ def run_stepped_sine(case: Case, frequencies, *, force_amplitude: float, directi
         "duration_s": load.duration, **structure_numbers(s),
     }
     summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
+    summary["codes"] = response_codes(s, freqs, step_codes, float(force_amplitude), labels, idx, limits=limits)
     return SweepResult(case=case, force_amplitude=float(force_amplitude), direction=direction, frequencies=freqs,
                        damped=damped, phase=np.array(phase), bare=bare, bare_sweep=bare_sweep, solid=solid,
                        dof_amplitudes=np.array(dof_amp), time=t, displacement=rec.displacement, summary=summary)
