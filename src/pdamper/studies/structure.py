@@ -562,8 +562,6 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
     bare_r = s.steady_amplitude(freqs, force_amplitude, point="response")
     solid_r = s.steady_amplitude(freqs, force_amplitude, added_mass=case.bed_mass, point="response")
     xd, xr = sol.stable("damper_amplitude_m"), sol.stable("response_amplitude_m")
-    flat = [(x, f) for f, xs in zip(freqs, xd) for x in xs]
-    peak, f_peak = max(flat) if flat else (math.nan, math.nan)
     phasors = _dof_phasors(s, sol, force_amplitude, idx)
     dof_amp = [[_one_or_list([float(abs(z[i])) for z in zs]) for zs in phasors] for i in range(len(idx))]
     summary = {
@@ -572,8 +570,7 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
         "bed_mass_kg": case.bed_mass, "mass_ratio": case.bed_mass / s.mass,
         "frequencies_hz": freqs.tolist(),
         "damper_amplitude_m": [_one_or_list(v) for v in xd],
-        **_amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xr, (bare, solid, bare_r, solid_r),
-                      (peak, f_peak)),
+        **_amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xd, xr, (bare, solid, bare_r, solid_r)),
         "jump_frequencies_hz": [j["frequency_hz"] for j in sol.jumps], "jumps": sol.jumps,
         "stability": "slope criterion: stable where d(ln X - ln G(X))/d ln X > 0, G(X) = F0 |H_df| / "
                      "|1 + H_dd Z(X, f)| (the fold where a branch ends; phase instabilities not seen)",
@@ -581,8 +578,6 @@ def run_response_fields(case: Case, frequencies, fields, *, force_amplitude: flo
         "solve_time_per_frequency_s": sol.time_s.tolist(),
         "solve_time_median_s": float(np.median(sol.time_s)),
     }
-    summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
-    summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     summary["codes"], summary["tmd_equivalent"] = _fields_codes(s, sol, freqs, force_amplitude, labels, idx,
                                                                 case.bed_mass, summary, limits)
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
@@ -620,8 +615,6 @@ def _response_fields_several(case: Case, s, freqs, fields, force_amplitude: floa
     solid_r = solid_amplitude(case, s, freqs, force_amplitude, point="response")
     xd = sol.stable("damper_amplitude_m")
     xr = sol.stable("response_amplitude_m")
-    flat = [(x, f) for f, xs in zip(freqs, xd) for x in xs]
-    peak, f_peak = max(flat) if flat else (math.nan, math.nan)
     mass, k, c, pd, pf, pr = modal
     _, shapes = s.dof_shapes()
     dof_amp = [[] for _ in idx]
@@ -645,27 +638,26 @@ def _response_fields_several(case: Case, s, freqs, fields, force_amplitude: floa
         "bed_masses_kg": [d.bed_mass for d in beds], "frequencies_hz": freqs.tolist(),
         "damper_amplitude_m": [_one_or_list(v) for v in xd],
         "damper_points_amplitude_m": [[list(x.damper_amplitudes_m) for x in sols if x.stable] for sols in sol.solutions],
-        **_amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xr, (bare, solid, bare_r, solid_r),
-                      (peak, f_peak)),
+        **_amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xd, xr, (bare, solid, bare_r, solid_r)),
         "jump_frequencies_hz": [], "jumps": [],
         "stability": "the amplitudes' slow flow d(ln X)/dt = -(ln X - ln |x^(X)|) linearised: stable where every "
                      "eigenvalue of its Jacobian has a positive real part (one damper: the slope criterion)",
         "fields_box": [f_.box() for f_ in fl], "fields_source": [str(f_.dataset.attrs.get("source", "")) for f_ in fl],
         "solve_time_per_frequency_s": sol.time_s.tolist(), "solve_time_median_s": float(np.median(sol.time_s)),
     }
-    summary["peak_reduction"] = summary["peak_damped_m"] / summary["resonance_bare_m"]
-    summary["peak_reduction_on_grid"] = summary["peak_damped_m"] / summary["peak_bare_m"]
     return FieldsResponseResult(case=case, force_amplitude=force_amplitude, frequencies=freqs, solution=sol,
                                 bare=bare, solid=solid, bare_response=bare_r, solid_response=solid_r, summary=summary)
 
 
-def _amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xr, curves, peak) -> dict:
+def _amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xd, xr, curves) -> dict:
     """The summary's amplitudes of a response from the fields, one damper or several: every dof's
     with and without the bed, the branches, the bare and solid-mass curves (``curves``: bare,
-    solid, bare at the response point, solid there), the damped peak (``peak``: amplitude,
-    frequency) beside the bare resonance."""
+    solid, bare at the response point, solid there), the damped peak (the largest of the stable
+    damper amplitudes ``xd``) beside the bare resonance, and their ratios."""
     bare, solid, bare_r, solid_r = curves
-    x_peak, f_peak = peak
+    flat = [(x, f) for f, xs in zip(freqs, xd) for x in xs]
+    x_peak, f_peak = max(flat) if flat else (math.nan, math.nan)
+    resonance = bare_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0]))
     return {
         "dofs": list(labels), "response_amplitude_m": dof_amp,
         "response_amplitude_bare_m": np.abs(s.dof_phasors(freqs, force_amplitude)[:, idx]).T.tolist(),
@@ -675,7 +667,9 @@ def _amplitudes(s, sol, freqs, force_amplitude, labels, idx, dof_amp, xr, curves
         "response_bare_m": bare_r.tolist(), "response_solid_mass_m": solid_r.tolist(),
         "peak_damped_m": float(x_peak), "peak_damped_frequency_hz": float(f_peak),
         "peak_bare_m": float(np.max(bare)),
-        **bare_resonance(s, force_amplitude, float(f_peak) if math.isfinite(f_peak) else float(freqs[0])),
+        **resonance,
+        "peak_reduction": float(x_peak) / resonance["resonance_bare_m"],
+        "peak_reduction_on_grid": float(x_peak) / float(np.max(bare)),
         "extrapolated": bool(any(x.extrapolated for sols in sol.solutions for x in sols)),
     }
 
