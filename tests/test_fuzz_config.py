@@ -318,6 +318,13 @@ def test_set_load_file_to_5000_digits_is_one_line():
     assert re.search(r"7{20}\.\.\.7{20}7* \(\d+ characters\): the file name is too long", r.output), r.output
 
 
+@pytest.mark.parametrize("key", ["load.file", "structure.matrices"])
+def test_a_file_name_with_a_nul_in_a_config_is_one_line(key):
+    """A NUL character in the name of a file a config reads (a load's record, the FE matrices) is
+    refused in one line naming the key, not a ValueError from os.path.realpath."""
+    with pytest.raises(InputError, match=r"(\[load\] file|\[structure\] matrices).*(NUL|cannot read|\.npz)"):
+        load_case(EXAMPLES / "mast_hammer.toml", {key: "a\x00b"})
+
 def test_a_5000_character_file_name_in_a_config_is_one_line(tmp_path):
     """Issue 42: ``[load] file = "<5,000 characters>"`` was an OSError (File name too long) from deep inside."""
     from click.testing import CliRunner

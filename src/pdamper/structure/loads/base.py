@@ -49,7 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputError, shown
+from ...errors import InputError, resolved, shown
 from ...schema import OwnTable, param, read_fields, register_tagged, write_fields
 
 __all__ = ["LoadBase", "SampledLoad", "SampledFields", "Record", "LOADS", "register_load", "FORM_LINEAR", "FORM_SINE",
@@ -315,10 +315,7 @@ class SampledLoad(LoadBase):
         column = table.get("column")
         if column is not None and (not isinstance(column, str) or not column.strip()):
             raise InputError(f"[load] column = {shown(column)} must be the name of the {cls.samples_field} column")
-        path = Path(value)
-        if not path.is_absolute():
-            path = Path(base_dir if base_dir is not None else Path.cwd()) / path
-        path = path.resolve()
+        path = resolved(value, base_dir)  # a name the system refuses: the reader says so
         if read_signal is None:
             raise InputError(f"[load] file = {shown(value)}: no reader given (read the case with pdamper.config)")
         try:
